@@ -1,0 +1,42 @@
+"""Flow-induced anisotropy of dense non-Brownian suspensions.
+
+Reproduces and extends Acharya & Mari, "Modelling the evolution of flow-induced
+anisotropy of concentrated suspensions": LAMMPS discrete-element simulations of
+startup shear and shear rotation, near-contact fabric tensors from the
+trajectories, and the Gillissen-Wilson (G-W) fabric model with its modification.
+
+Conventions (the single source of truth; every module follows them)
+--------------------------------------------------------------------
+Units
+    Strain rate gammadot = 1, small-particle diameter d = 1, mass rho d^3 with
+    rho = 1 for particles and fluid. Time therefore equals strain.
+
+Paper frame
+    e1 flow, e2 gradient, e3 = e1 x e2 vorticity. Simple shear is
+    L = gammadot e1 e2 (L_ij = du_i/dx_j, so L_12 = gammadot).
+
+Simulation frame (LAMMPS triclinic box)
+    z is the gradient direction for the whole run. A shear with flow direction
+    f = (cos t, sin t, 0) is ``fix deform ... xz erate cos(t) yz erate sin(t)``.
+    Startup uses t = 0, where e1 = x, e2 = z, e3 = -y.
+
+Shear rotation by theta
+    Flow e1 and vorticity e3 turn by theta about e2, right-handed:
+    e1' = cos(theta) e1 - sin(theta) e3,  e3' = sin(theta) e1 + cos(theta) e3.
+    In the simulation frame that is the flow direction f = (cos theta, sin theta, 0).
+    After a rotation every reported component is in the rotated frame
+    (e1', e2, e3'). Just after the rotation of a steady fabric,
+    <nn>'_12 = cos(theta) <nn>_12^ss and <nn>'_23 = sin(theta) <nn>_12^ss.
+
+Fabric
+    A near contact is a pair with surface gap h < eps * min(d_i, d_j), eps = 0.01.
+    <nn>_ij = (1/N) sum over near-contact pairs (each once) of n_i n_j, with N the
+    number of particles; hence Tr<nn> = Z/2, Z the near-contact coordination.
+
+Modules
+    frames   -- paper/simulation/rotated frame bases and tensor rotations
+    model    -- G-W and modified G-W models: closure, rhs, integration,
+                steady states, fits, shear-rotation predictions
+"""
+
+__version__ = "0.1.0"
