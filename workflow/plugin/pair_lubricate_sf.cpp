@@ -1,0 +1,259 @@
+/* pair_style lubricate/sf: leading-order lubrication between two spheres of radii
+   a_i, a_j (Jeffrey & Onishi 1984, J. Fluid Mech. 139, 261; Kim & Karrila 1991 ch. 11),
+   the near-field model of Mari, Seto, Morris & Denn, J. Rheol. 58, 1693 (2014).
+
+   Geometry: r = |x_j - x_i|, n = (x_j - x_i)/r (from i to j), surface gap h = r - a_i - a_j,
+   reduced gap xi = 2h/(a_i + a_j), lambda = a_j/a_i.  Regularised gap: xi_r = max(xi, 0) + delta,
+   so an overlapping (contact) pair keeps the resistance of h = 0.  Pairs with xi >= h_out feel
+   nothing.  With L = log(1/xi_r) and eta = eta_f, the dimensional resistances are
+     squeeze  X   = 6 pi eta a_i g1(l) / xi_r,       g1(l)   = 2 l^2 / (1+l)^3
+     shear    YA  = 6 pi eta a_i gYA(l) L,           gYA(l)  = (4/15) l (2 + l + 2 l^2) / (1+l)^3
+     pump     YBi = 4 pi eta a_i^2 gYB(l) L,         gYB(l)  = -(1/5) l (4 + l) / (1+l)^2
+              YBj = 4 pi eta a_j^2 gYB(1/l) L
+     rotation YCi = 8 pi eta a_i^3 gYC(l) L,         gYC(l)  = (2/5) l / (1+l)
+              YCj = 8 pi eta a_j^3 gYC(1/l) L
+              YCx = pi eta (a_i + a_j)^3 g4(l) L,    g4(l)   = (4/5) l^2 / (1+l)^4
+   and, with du = v_i - v_j - Omega_inf x (x_i - x_j), w_k = omega_k - Omega_inf,
+   P = I - nn (tangential projector):
+     F_i = -X (n.du) n - YA P du - YBi n x w_i - YBj n x w_j,          F_j = -F_i
+     T_i = -YBi du x n - P (YCi w_i + YCx w_j)
+     T_j = -YBj du x n - P (YCx w_i + YCj w_j)
+   This is -R_FU (U - U_inf) + R_FE : E_inf at leading order: the singular strain terms cancel
+   the strain part of the imposed relative velocity, so only the rotational part is removed.
+   Forces obey F_i + F_j = 0 exactly; T_i + T_j + (x_i - x_j) x F_i = 0 holds at h = 0 (the
+   resistance functions satisfy it identically there) and is O(h log h) otherwise. */
+
+#include "pair_lubricate_sf.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "force.h"
+#include "memory.h"
+#include "neigh_list.h"
+#include "neighbor.h"
+#include "utils.h"
+
+#include "imposed_flow.h"
+
+#include <cmath>
+#include <vector>
+
+using namespace LAMMPS_NS;
+
+PairLubricateSF::PairLubricateSF(LAMMPS *lmp) :
+    Pair(lmp), eta_f(0.0), delta(0.0), gap_out(0.0), maxrad_type(nullptr)
+{
+  single_enable = 0;
+  restartinfo = 0;    // re-issue pair_style/pair_coeff after read_restart
+  finitecutflag = 1;
+}
+
+PairLubricateSF::~PairLubricateSF()
+{
+  if (allocated) {
+    memory->destroy(setflag);
+    memory->destroy(cutsq);
+  }
+  memory->destroy(maxrad_type);
+}
+
+void PairLubricateSF::allocate()
+{
+  allocated = 1;
+  const int n = atom->ntypes + 1;
+  memory->create(setflag, n, n, "pair:setflag");
+  for (int i = 0; i < n; i++)
+    for (int j = 0; j < n; j++) setflag[i][j] = 0;
+  memory->create(cutsq, n, n, "pair:cutsq");
+  memory->create(maxrad_type, n, "pair:maxrad_type");
+}
+
+void PairLubricateSF::settings(int narg, char **arg)
+{
+  if (narg != 3)
+    error->all(FLERR, "Illegal pair_style lubricate/sf command: expected <eta_f> <delta> <h_out>");
+  eta_f = utils::numeric(FLERR, arg[0], false, lmp);
+  delta = utils::numeric(FLERR, arg[1], false, lmp);
+  gap_out = utils::numeric(FLERR, arg[2], false, lmp);
+  if (eta_f < 0.0) error->all(FLERR, "pair_style lubricate/sf: eta_f must be >= 0");
+  if (delta <= 0.0) error->all(FLERR, "pair_style lubricate/sf: delta must be > 0");
+  // log(1/xi) must stay positive inside the cutoff
+  if (gap_out <= 0.0 || gap_out + delta >= 1.0)
+    error->all(FLERR, "pair_style lubricate/sf: need 0 < h_out and h_out + delta < 1 (reduced gaps)");
+}
+
+void PairLubricateSF::coeff(int narg, char **arg)
+{
+  if (narg != 2)
+    error->all(FLERR, "Illegal pair_coeff command for lubricate/sf: takes no coefficients");
+  if (!allocated) allocate();
+  int ilo, ihi, jlo, jhi;
+  utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
+  utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
+  int count = 0;
+  for (int i = ilo; i <= ihi; i++)
+    for (int j = MAX(jlo, i); j <= jhi; j++) {
+      setflag[i][j] = 1;
+      count++;
+    }
+  if (count == 0) error->all(FLERR, "Incorrect args for pair coefficients");
+}
+
+void PairLubricateSF::update_type_radii()
+{
+  const int n = atom->ntypes + 1;
+  std::vector<double> local(n, 0.0);
+  const double *radius = atom->radius;
+  const int *type = atom->type;
+  for (int i = 0; i < atom->nlocal; i++) local[type[i]] = MAX(local[type[i]], radius[i]);
+  MPI_Allreduce(local.data(), maxrad_type, n, MPI_DOUBLE, MPI_MAX, world);
+}
+
+void PairLubricateSF::init_style()
+{
+  if (!atom->radius_flag || !atom->omega_flag || !atom->torque_flag)
+    error->all(FLERR, "Pair lubricate/sf requires atom style sphere");
+  if (comm->ghost_velocity == 0)
+    error->all(FLERR, "Pair lubricate/sf requires ghost atoms store velocity: comm_modify vel yes");
+
+  update_type_radii();
+  double maxrad = 0.0;
+  for (int i = 1; i <= atom->ntypes; i++) maxrad = MAX(maxrad, maxrad_type[i]);
+  // size-aware lists keep pairs with r < a_i + a_j + skin, so the skin must cover the range
+  const double range = gap_out * maxrad;
+  if (neighbor->skin < range)
+    error->all(FLERR,
+               "Pair lubricate/sf: neighbor skin {} is smaller than the largest lubrication "
+               "range h_out*max(radius) = {}; increase the skin",
+               neighbor->skin, range);
+
+  neighbor->add_request(this, NeighConst::REQ_SIZE);
+}
+
+void PairLubricateSF::setup()
+{
+  // domain->deform_* are only current once the run is set up
+  if (domain->deform_flag && !domain->deform_vremap)
+    error->all(FLERR, "Pair lubricate/sf needs fix deform with 'remap v' (ghost velocities)");
+}
+
+double PairLubricateSF::init_one(int i, int j)
+{
+  if (setflag[i][j] == 0) error->all(FLERR, "All pair lubricate/sf coeffs are not set");
+  return (maxrad_type[i] + maxrad_type[j]) * (1.0 + 0.5 * gap_out);
+}
+
+void PairLubricateSF::compute(int eflag, int vflag)
+{
+  ev_init(eflag, vflag);
+
+  double **x = atom->x;
+  double **v = atom->v;
+  double **f = atom->f;
+  double **omega = atom->omega;
+  double **torque = atom->torque;
+  const double *radius = atom->radius;
+  const int nlocal = atom->nlocal;
+  const int newton_pair = force->newton_pair;
+
+  const SuspensionFabric::ImposedFlow flow(domain);
+  const double *W = flow.omega;
+  const double cutfac = 1.0 + 0.5 * gap_out;
+  const double pi_eta = M_PI * eta_f;
+
+  const int inum = list->inum;
+  const int *ilist = list->ilist;
+  const int *numneigh = list->numneigh;
+  int **firstneigh = list->firstneigh;
+
+  for (int ii = 0; ii < inum; ii++) {
+    const int i = ilist[ii];
+    const double ai = radius[i];
+    const double wi[3] = {omega[i][0] - W[0], omega[i][1] - W[1], omega[i][2] - W[2]};
+    const int *jlist = firstneigh[i];
+    const int jnum = numneigh[i];
+
+    for (int jj = 0; jj < jnum; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      const double delx = x[i][0] - x[j][0];
+      const double dely = x[i][1] - x[j][1];
+      const double delz = x[i][2] - x[j][2];
+      const double rsq = delx * delx + dely * dely + delz * delz;
+      const double aj = radius[j];
+      const double radsum = ai + aj;
+      const double rcut = radsum * cutfac;
+      if (rsq >= rcut * rcut) continue;
+
+      const double r = sqrt(rsq);
+      const double rinv = 1.0 / r;
+      const double n[3] = {-delx * rinv, -dely * rinv, -delz * rinv};    // from i to j
+
+      const double xi = MAX(2.0 * (r - radsum) / radsum, 0.0) + delta;
+      const double invxi = 1.0 / xi;
+      const double logxi = log(invxi);
+
+      const double l = aj / ai;
+      const double lp1 = 1.0 + l;
+      const double ilp1 = 1.0 / lp1;
+      const double ilp1_2 = ilp1 * ilp1;
+      const double ilp1_3 = ilp1_2 * ilp1;
+
+      const double X = 6.0 * pi_eta * ai * (2.0 * l * l * ilp1_3) * invxi;
+      const double YA = 6.0 * pi_eta * ai * ((4.0 / 15.0) * l * (2.0 + l + 2.0 * l * l) * ilp1_3) * logxi;
+      const double YBi = 4.0 * pi_eta * ai * ai * (-0.2 * l * (4.0 + l) * ilp1_2) * logxi;
+      const double YBj = 4.0 * pi_eta * aj * aj * (-0.2 * (4.0 * l + 1.0) * ilp1_2) * logxi;
+      const double YCi = 8.0 * pi_eta * ai * ai * ai * (0.4 * l * ilp1) * logxi;
+      const double YCj = 8.0 * pi_eta * aj * aj * aj * (0.4 * ilp1) * logxi;
+      const double YCx = pi_eta * radsum * radsum * radsum * (0.8 * l * l * ilp1_2 * ilp1_2) * logxi;
+
+      // relative velocity without the rigid rotation of the imposed flow
+      const double du[3] = {v[i][0] - v[j][0] - (W[1] * delz - W[2] * dely),
+                            v[i][1] - v[j][1] - (W[2] * delx - W[0] * delz),
+                            v[i][2] - v[j][2] - (W[0] * dely - W[1] * delx)};
+      const double wj[3] = {omega[j][0] - W[0], omega[j][1] - W[1], omega[j][2] - W[2]};
+
+      const double un = du[0] * n[0] + du[1] * n[1] + du[2] * n[2];
+      const double dut[3] = {du[0] - un * n[0], du[1] - un * n[1], du[2] - un * n[2]};
+      const double win = wi[0] * n[0] + wi[1] * n[1] + wi[2] * n[2];
+      const double wjn = wj[0] * n[0] + wj[1] * n[1] + wj[2] * n[2];
+      const double wit[3] = {wi[0] - win * n[0], wi[1] - win * n[1], wi[2] - win * n[2]};
+      const double wjt[3] = {wj[0] - wjn * n[0], wj[1] - wjn * n[1], wj[2] - wjn * n[2]};
+      // n x w_i, n x w_j, du x n
+      const double nxwi[3] = {n[1] * wi[2] - n[2] * wi[1], n[2] * wi[0] - n[0] * wi[2],
+                              n[0] * wi[1] - n[1] * wi[0]};
+      const double nxwj[3] = {n[1] * wj[2] - n[2] * wj[1], n[2] * wj[0] - n[0] * wj[2],
+                              n[0] * wj[1] - n[1] * wj[0]};
+      const double duxn[3] = {du[1] * n[2] - du[2] * n[1], du[2] * n[0] - du[0] * n[2],
+                              du[0] * n[1] - du[1] * n[0]};
+
+      double fi[3], ti[3], tj[3];
+      for (int k = 0; k < 3; k++) {
+        fi[k] = -X * un * n[k] - YA * dut[k] - YBi * nxwi[k] - YBj * nxwj[k];
+        ti[k] = -YBi * duxn[k] - YCi * wit[k] - YCx * wjt[k];
+        tj[k] = -YBj * duxn[k] - YCx * wit[k] - YCj * wjt[k];
+      }
+
+      f[i][0] += fi[0];
+      f[i][1] += fi[1];
+      f[i][2] += fi[2];
+      torque[i][0] += ti[0];
+      torque[i][1] += ti[1];
+      torque[i][2] += ti[2];
+      if (newton_pair || j < nlocal) {
+        f[j][0] -= fi[0];
+        f[j][1] -= fi[1];
+        f[j][2] -= fi[2];
+        torque[j][0] += tj[0];
+        torque[j][1] += tj[1];
+        torque[j][2] += tj[2];
+      }
+
+      if (evflag)
+        ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, fi[0], fi[1], fi[2], delx, dely, delz);
+    }
+  }
+
+  if (vflag_fdotr) virial_fdotr_compute();
+}
