@@ -10,3 +10,16 @@ def __getattr__(name: str):
 
         return getattr(plugin, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+# Running the workflow/lammps scripts (pack, startup shear, shear rotation).
+from .runner import (  # noqa: E402
+    COMPLETION_MARKER, ForceModel, LammpsRunError, PackResult, ShearRunResult,
+    is_complete, iter_dump_frames, max_overlap_in_dump, pack, read_stress_table,
+    run_rotation, run_startup,
+)
+
+__all__ += [
+    "COMPLETION_MARKER", "ForceModel", "LammpsRunError", "PackResult", "ShearRunResult",
+    "is_complete", "iter_dump_frames", "max_overlap_in_dump", "pack", "read_stress_table",
+    "run_rotation", "run_startup",
+]
