@@ -1,0 +1,245 @@
+"""Real LAMMPS runs of workflow/lammps/{pack,startup,rotate}.lmp through the Python runner.
+
+Small systems (N = 60, strains of a few 1e-3 at dt = 1e-6, i.e. a few thousand steps),
+seconds each, with the project's plugin force model (built on demand by plugin_path()).
+Units: strain rate 1, d_small = 1, time = strain.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from suspension_fabric.lammps import (
+    COMPLETION_MARKER,
+    ForceModel,
+    LammpsRunError,
+    is_complete,
+    iter_dump_frames,
+    pack,
+    read_stress_table,
+    run_rotation,
+    run_startup,
+)
+from suspension_fabric.lammps import runner
+from suspension_fabric.lammps.plugin import plugin_path
+
+pytestmark = pytest.mark.lammps
+
+N_PARTICLES = 60
+DT = 1.0e-6
+SMALL_RUN = dict(dt=DT, dump_strain=0.001, table_strain=0.0005, thermo_strain=0.0005,
+                 restart_strain=0.001, progress=None)
+
+
+@pytest.fixture(scope="module")
+def force_model():
+    return ForceModel(plugin=plugin_path())
+
+
+@pytest.fixture(scope="module")
+def packing(tmp_path_factory):
+    return pack(tmp_path_factory.mktemp("pack") / "packing", N_PARTICLES, phi=0.45, seed=7)
+
+
+@pytest.fixture(scope="module")
+def startup(tmp_path_factory, packing, force_model):
+    return run_startup(tmp_path_factory.mktemp("startup") / "run", packing.data_file, 0.002,
+                       force_model=force_model, **SMALL_RUN)
+
+
+def read_data_atoms(path):
+    """(radii, positions, box edge rows) from a LAMMPS data file of atom style sphere."""
+    lines = Path(path).read_text().splitlines()
+    bounds = {}
+    for line in lines:
+        parts = line.split()
+        if len(parts) == 4 and parts[2:] in (["xlo", "xhi"], ["ylo", "yhi"], ["zlo", "zhi"]):
+            bounds[parts[2][0]] = float(parts[1]) - float(parts[0])
+        if len(parts) == 6 and parts[3:] == ["xy", "xz", "yz"]:
+            tilts = [float(p) for p in parts[:3]]
+    start = next(k for k, line in enumerate(lines) if line.startswith("Atoms")) + 2
+    rows = []
+    for line in lines[start:]:
+        if not line.strip():
+            break
+        rows.append([float(v) for v in line.split()[:7]])
+    atoms = np.array(rows)
+    xy, xz, yz = tilts
+    box = np.array([[bounds["x"], 0, 0], [xy, bounds["y"], 0], [xz, yz, bounds["z"]]])
+    return atoms[:, 2] / 2.0, atoms[:, 4:7], box
+
+
+def brute_force_max_overlap(radii, positions, box):
+    """Largest a_i + a_j - r over all pairs and the 27 nearest images (no shortcuts)."""
+    shifts = np.array([(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)]) @ box
+    largest = -np.inf
+    for i in range(len(positions) - 1):
+        d = positions[i + 1:, None, :] - positions[i] + shifts[None, :, :]
+        r = np.linalg.norm(d, axis=2).min(axis=1)
+        largest = max(largest, np.max(radii[i] + radii[i + 1:] - r))
+    return largest
+
+
+def test_packing_reaches_target_phi_without_overlap_and_is_reproducible(packing, tmp_path):
+    """pack(): phi equals the target, an independent all-pairs check finds no overlap
+    above 1e-6 d, the 50:50 number split holds, the same seed gives a byte-identical
+    data file and another seed a different one."""
+    radii, positions, box = read_data_atoms(packing.data_file)
+    volume_fraction = np.sum(4.0 / 3.0 * np.pi * radii**3) / abs(np.linalg.det(box))
+    assert volume_fraction == pytest.approx(0.45, rel=1e-9)
+    assert packing.phi == pytest.approx(0.45, rel=1e-9)
+    assert brute_force_max_overlap(radii, positions, box) < 1e-6
+    assert packing.max_overlap < 1e-6
+    assert (packing.n_small, packing.n_large) == (30, 30)
+    assert sorted(set(np.round(2 * radii, 12))) == [1.0, 1.4]
+    assert is_complete(packing.output_dir)
+
+    again = pack(tmp_path / "again", N_PARTICLES, phi=0.45, seed=7)
+    assert again.data_file.read_bytes() == packing.data_file.read_bytes()
+    other = pack(tmp_path / "other", N_PARTICLES, phi=0.45, seed=8)
+    assert other.data_file.read_bytes() != packing.data_file.read_bytes()
+
+
+def test_packing_split_by_volume(tmp_path):
+    """split='volume' gives equal solid volumes of small and large spheres (to one particle)."""
+    result = pack(tmp_path / "volume", 200, phi=0.45, seed=3, split="volume")
+    assert result.n_small + result.n_large == 200
+    assert abs(result.n_small * 1.0 - result.n_large * 1.4**3) <= 1.4**3
+    assert result.phi == pytest.approx(0.45, rel=1e-9)
+
+
+def test_startup_writes_outputs_and_strain_is_step_dt_rate(startup):
+    """run_startup(): dump, table, restart files, checkpoint, log and completion marker
+    exist; the table's strain equals step*dt*rate; the xz tilt grows as strain*lz and yz
+    stays 0; dump frames come every dump_strain with id type radius x y z."""
+    out = startup.output_dir
+    for name in ("trajectory.dump", "stress.txt", "checkpoint.rst", "restart.a.rst",
+                 "restart.b.rst", "log.lammps", COMPLETION_MARKER):
+        assert (out / name).is_file(), name
+    table = read_stress_table(startup.table_file)
+    np.testing.assert_allclose(table["strain"], table["step"] * DT * 1.0, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(table["strain"], np.arange(0, 0.002 + 1e-12, 0.0005), atol=1e-15)
+    np.testing.assert_allclose(table["xz"], table["strain"] * table["lz"], rtol=1e-9, atol=1e-12)
+    assert np.all(table["yz"] == 0.0)
+    assert np.all(np.isfinite(table["pxz"])) and np.any(table["pxz"] != 0.0)
+    assert startup.strain == pytest.approx(0.002, abs=1e-12)
+    assert (startup.first_step, startup.last_step) == (0, 2000)
+    frames = list(iter_dump_frames(startup.dump_file))
+    assert [f.step for f in frames] == [0, 1000, 2000]
+    assert all(len(f.ids) == N_PARTICLES for f in frames)
+    assert frames[-1].box.xz == pytest.approx(0.002 * frames[-1].box.lz, rel=1e-9)
+
+
+def test_restart_does_not_change_the_physics(tmp_path, packing, startup, force_model):
+    """A run of 0.002 + 0.002 strain with a restart in between (rotate.lmp at theta = 0
+    from the checkpoint) matches an uninterrupted run of 0.004: positions agree to
+    round-off just after the restart (1e-10 d) and stay close at the end (1e-6 d), and
+    the stress table agrees closely (mean pxz over the second half within 1e-4)."""
+    fine = dict(SMALL_RUN, dump_strain=0.0001)
+    whole = run_startup(tmp_path / "whole", packing.data_file, 0.004, force_model=force_model, **fine)
+    first = run_startup(tmp_path / "first", packing.data_file, 0.002, force_model=force_model, **fine)
+    second = run_rotation(tmp_path / "second", first.checkpoint_file, 0.0, 0.002,
+                          force_model=force_model, **fine)
+    assert (second.first_step, second.last_step) == (2000, 4000)
+
+    whole_frames = {f.step: f for f in iter_dump_frames(whole.dump_file)}
+    second_frames = {f.step: f for f in iter_dump_frames(second.dump_file)}
+    assert sorted(second_frames) == [s for s in sorted(whole_frames) if s >= 2000]
+    np.testing.assert_array_equal(second_frames[2000].positions, whole_frames[2000].positions)
+    deviation = {s: np.abs(second_frames[s].positions - whole_frames[s].positions).max()
+                 for s in second_frames}
+    assert deviation[2100] < 1e-10
+    assert deviation[4000] < 1e-6
+
+    whole_table = read_stress_table(whole.table_file)
+    second_table = read_stress_table(second.table_file)
+    after = whole_table["step"] >= 2000
+    np.testing.assert_array_equal(second_table["step"], whole_table["step"][after])
+    np.testing.assert_allclose(second_table["strain"], whole_table["strain"][after] - 0.002, atol=1e-15)
+    np.testing.assert_allclose(second_table["xz"], whole_table["xz"][after], rtol=1e-12)
+    late = second_table["step"] >= 3000
+    assert np.mean(second_table["pxz"][late]) == pytest.approx(
+        np.mean(whole_table["pxz"][after][late]), rel=1e-4)
+
+
+@pytest.mark.parametrize("theta_deg", [30.0, 90.0, 135.0])
+def test_rotation_turns_the_flow(tmp_path, startup, force_model, theta_deg):
+    """rotate.lmp by theta: d xz/dt : d yz/dt = cos theta : sin theta (each = rate*trig*lz),
+    strain counts from the rotation step, and the first frame is the checkpoint state."""
+    rotated = run_rotation(tmp_path / "rot", startup.checkpoint_file, theta_deg, 0.002,
+                           force_model=force_model, **SMALL_RUN)
+    table = read_stress_table(rotated.table_file)
+    assert table["strain"][0] == 0.0 and table["step"][0] == startup.last_step
+    np.testing.assert_allclose(table["strain"], (table["step"] - startup.last_step) * DT, atol=1e-15)
+    theta = np.radians(theta_deg)
+    lz = table["lz"][0]
+    slope_xz = np.polyfit(table["strain"], table["xz"], 1)[0]
+    slope_yz = np.polyfit(table["strain"], table["yz"], 1)[0]
+    assert slope_xz / lz == pytest.approx(np.cos(theta), abs=1e-9)
+    assert slope_yz / lz == pytest.approx(np.sin(theta), abs=1e-9)
+    assert table["xz"][0] == pytest.approx(0.002 * lz, rel=1e-9)  # carried over from startup
+    last_startup = list(iter_dump_frames(startup.dump_file))[-1]
+    first_rotated = next(iter_dump_frames(rotated.dump_file))
+    np.testing.assert_array_equal(first_rotated.positions, last_startup.positions)
+
+
+def test_failed_run_raises_and_leaves_no_complete_output(tmp_path, packing, force_model):
+    """An absurd time step (dt = 0.05) blows the run up: LammpsRunError names the cause,
+    output_dir does not exist, and the partial files sit in output_dir.failed without a
+    completion marker."""
+    target = tmp_path / "blowup"
+    with pytest.raises(LammpsRunError, match=r"(Lost atoms|non-finite|Non-numeric|overlap)"):
+        run_startup(target, packing.data_file, 1.0, force_model=force_model, dt=0.05,
+                    dump_strain=0.05, table_strain=0.05, thermo_strain=0.05, restart_strain=0.5,
+                    progress=None)
+    assert not target.exists()
+    failed = tmp_path / "blowup.failed"
+    assert failed.is_dir() and not (failed / COMPLETION_MARKER).exists()
+    assert not is_complete(failed)
+    assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []
+
+
+def test_rotation_refuses_an_unfinished_checkpoint(tmp_path, startup, force_model):
+    """A checkpoint outside a finished run directory is refused unless asked for."""
+    loose = tmp_path / "loose"
+    loose.mkdir()
+    (loose / "checkpoint.rst").write_bytes(startup.checkpoint_file.read_bytes())
+    with pytest.raises(LammpsRunError, match="not in a finished run directory"):
+        run_rotation(tmp_path / "rot", loose / "checkpoint.rst", 90.0, 0.001,
+                     force_model=force_model, **SMALL_RUN)
+
+
+def test_stock_stand_in_model_runs(tmp_path, packing):
+    """The development stand-in (lubricate/poly + drag by fix addforce) still runs."""
+    result = run_startup(tmp_path / "stock", packing.data_file, 0.001,
+                         force_model=ForceModel(lubrication="stock"), **SMALL_RUN)
+    assert is_complete(result.output_dir)
+
+
+def _script_defaults(name):
+    text = (runner.SCRIPTS_DIR / name).read_text()
+    return dict(re.findall(r"^variable\s+(\w+)\s+index\s+(\S+)", text, flags=re.M))
+
+
+@pytest.mark.parametrize("script", ["startup.lmp", "rotate.lmp"])
+def test_python_defaults_equal_script_defaults(script):
+    """ForceModel and run_startup/run_rotation defaults equal the .lmp index defaults,
+    so a run by hand and a run from Python do the same thing."""
+    defaults = _script_defaults(script)
+    model = ForceModel()
+    for name in ("eta_f", "kn", "mu", "delta", "h_out"):
+        assert float(defaults[name]) == getattr(model, name), name
+    assert defaults["newton_pair"] == model.newton_pair
+    assert defaults["lubrication"] == model.lubrication
+    assert defaults["kt"] == "$(2.0/7.0*v_kn)" and model.kt is None
+    function = run_startup if script == "startup.lmp" else run_rotation
+    import inspect
+
+    parameters = inspect.signature(function).parameters
+    for name in ("dt", "rate", "dump_strain", "table_strain", "thermo_strain", "restart_strain",
+                 "skin", "strain_total"):
+        assert float(defaults[name]) == parameters[name].default, name
