@@ -51,7 +51,6 @@ __all__ = [
     "COMPONENTS",
     "NearContacts",
     "box_vectors",
-    "minimum_image",
     "near_contact_pairs",
     "fabric_tensor",
     "tensor_components",
@@ -70,11 +69,6 @@ COMPONENTS: dict[str, tuple[int, int]] = {
 # Relative widening of the neighbour-search cutoff: the search runs in float32
 # inside MDAnalysis, the exact test afterwards in float64.
 _SEARCH_CUTOFF_MARGIN = 1e-3
-
-# Integer shifts of the 27 neighbouring images (including the cell itself).
-_IMAGE_SHIFTS = np.array(
-    [(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)], dtype=float
-)
 
 
 @dataclass
@@ -109,8 +103,8 @@ def box_vectors(dimensions) -> np.ndarray:
 
     The rows are lower triangular as in LAMMPS (a along x, b in the xy plane) with
     tilts reduced to |b_x| <= a_x / 2, |c_x| <= a_x / 2, |c_y| <= b_y / 2 by adding
-    lattice vectors; the periodic system is unchanged, and checking the 27
-    neighbouring images of a rounded fractional vector then finds the minimum image.
+    lattice vectors (as LAMMPS' ``flip`` does); the periodic system is unchanged and
+    the cell is as wide as possible, so boxes with unflipped tilts work too.
     """
     vectors = triclinic_vectors(_check_dimensions(dimensions), dtype=np.float64)
     if not np.any(vectors):
@@ -127,21 +121,6 @@ def _perpendicular_widths(vectors: np.ndarray) -> np.ndarray:
     a, b, c = vectors
     volume = abs(np.dot(a, np.cross(b, c)))
     return volume / np.linalg.norm([np.cross(b, c), np.cross(c, a), np.cross(a, b)], axis=1)
-
-
-def minimum_image(vectors, box_rows: np.ndarray) -> np.ndarray:
-    """Minimum-image versions of separation ``vectors`` (M, 3) for reduced ``box_rows``.
-
-    Rounds the fractional components, then keeps the shortest of the 27 neighbouring
-    images (float64 throughout; MDAnalysis' own ``minimize_vectors`` casts the box to
-    float32).
-    """
-    vectors = np.asarray(vectors, dtype=float)
-    fractional = vectors @ np.linalg.inv(box_rows)
-    fractional -= np.round(fractional)
-    candidates = (fractional[:, None, :] + _IMAGE_SHIFTS[None, :, :]) @ box_rows
-    best = np.argmin(np.einsum("mkx,mkx->mk", candidates, candidates), axis=1)
-    return candidates[np.arange(len(vectors)), best]
 
 
 def _check_configuration(positions, radii, eps):
@@ -168,7 +147,8 @@ def near_contact_pairs(positions, radii, dimensions, eps: float = DEFAULT_EPS) -
     ``radii`` (N,), ``dimensions`` = [lx, ly, lz, alpha, beta, gamma] as in MDAnalysis.
     Candidates come from ``MDAnalysis.lib.distances.self_capped_distance`` with cutoff
     2 a_max (1 + eps), the largest centre distance a near contact can have; each
-    candidate is then tested exactly in float64. Raises ``ValueError`` if the box is
+    candidate is then tested exactly, with its minimum-image vector computed in float64
+    (MDAnalysis' ``minimize_vectors`` would cast the box to float32). Raises ``ValueError`` if the box is
     so small that a pair could be in near contact through two images
     (cutoff >= half the smallest distance between opposite faces).
     """
@@ -184,7 +164,9 @@ def near_contact_pairs(positions, radii, dimensions, eps: float = DEFAULT_EPS) -
             f"box too small: near-contact distance {max_contact_distance:.6g} is not below half "
             f"the smallest cell width ({half_width:.6g}); the minimum image is ambiguous"
         )
-    fractional = positions @ np.linalg.inv(rows)
+    inverse = np.linalg.inv(rows)
+    # Wrap in float64 so the float32 search sees coordinates inside its cell.
+    fractional = positions @ inverse
     wrapped = (fractional - np.floor(fractional)) @ rows
     search_cutoff = min(max_contact_distance * (1.0 + _SEARCH_CUTOFF_MARGIN), 0.999 * half_width)
     candidates = self_capped_distance(
@@ -194,7 +176,11 @@ def near_contact_pairs(positions, radii, dimensions, eps: float = DEFAULT_EPS) -
         return empty
     candidates = np.sort(np.asarray(candidates, dtype=np.intp), axis=1)
     i, j = candidates[:, 0], candidates[:, 1]
-    separations = minimum_image(wrapped[j] - wrapped[i], rows)
+    # Rounding the fractional components gives the exact minimum image here: a vector
+    # shorter than half of every face distance has all fractional components in
+    # (-1/2, 1/2), and the box check above guarantees that for near contacts.
+    fractional = (wrapped[j] - wrapped[i]) @ inverse
+    separations = (fractional - np.round(fractional)) @ rows
     distances = np.linalg.norm(separations, axis=1)
     gaps = distances - (radii[i] + radii[j])
     is_contact = gaps < eps * 2.0 * np.minimum(radii[i], radii[j])

@@ -1,0 +1,258 @@
+"""Tidy fabric tables: per-run CSV, seed aggregation, steady-state estimates.
+
+Per-run table (one row per analysed frame; CSV written by :func:`write_fabric_table`)
+    Columns, in this order:
+
+    ======== ===============================================================
+    seed     integer seed of the run (packing / initial condition)
+    theta    shear-rotation angle in degrees (0 for startup shear); the
+             components are in the paper frame of this shear (e1', e2, e3')
+    N        number of particles
+    phi      volume fraction sum(4/3 pi a^3) / V (measured from the dump
+             unless given)
+    step     LAMMPS step of the frame
+    strain   strain since the start of this shear, (step - start) dt rate
+    n11 n22 n33 n12 n13 n23
+             fabric components <nn>_kl (1/N sum over near contacts of n_k n_l)
+    Z        near-contact coordination number, 2 n_pairs / N = 2 Tr<nn>
+    ======== ===============================================================
+
+    The file is plain comma-separated text with one header line, no index column,
+    floats written with full round-trip precision (pandas ``to_csv`` defaults);
+    ``pandas.read_csv(path)`` reads it, :func:`read_fabric_table` also checks it.
+
+Seed aggregation (:func:`aggregate_seeds`)
+    Per (theta, frame): the strain, n_seeds, and for every value column ``c``
+    ``c_mean`` and ``c_sem`` (standard error of the mean over seeds,
+    std(ddof=1)/sqrt(n_seeds); NaN for a single seed). All seeds of one theta must
+    have the same strain grid, else ``ValueError``.
+
+Steady state (:func:`steady_state`)
+    For every theta and value column, the mean over the frames with
+    strain_min <= strain <= strain_max of each seed, averaged over seeds with equal
+    weights. The error accounts for time correlation through the integrated
+    autocorrelation time tau of each seed's series (Sokal's automatic window:
+    the smallest window M with M >= c tau(M), c = 5): the variance of a seed's mean
+    is C(0) 2 tau / n, and the error of the seed average is
+    sqrt(sum_s var_s) / n_seeds. The spread of the seed means,
+    std(ddof=1)/sqrt(n_seeds), is reported alongside as an assumption-free check.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from .fabric import COMPONENTS
+
+__all__ = [
+    "METADATA_COLUMNS",
+    "VALUE_COLUMNS",
+    "TABLE_COLUMNS",
+    "fabric_table",
+    "write_fabric_table",
+    "read_fabric_table",
+    "aggregate_seeds",
+    "integrated_autocorrelation_time",
+    "steady_state",
+]
+
+METADATA_COLUMNS: tuple[str, ...] = ("seed", "theta", "N", "phi")
+VALUE_COLUMNS: tuple[str, ...] = (*COMPONENTS, "Z")
+TABLE_COLUMNS: tuple[str, ...] = (*METADATA_COLUMNS, "step", "strain", *VALUE_COLUMNS)
+
+
+def fabric_table(analysis, *, seed: int, phi: float | None = None) -> pd.DataFrame:
+    """Per-run tidy table from a finished :class:`~suspension_fabric.fabric.FabricAnalysis`.
+
+    ``theta`` is the analysis' flow angle in degrees; ``phi`` defaults to the mean
+    measured volume fraction of the analysed frames.
+    """
+    results = analysis.results
+    if "strain" not in results:
+        raise ValueError("the analysis has not been run (call .run() first)")
+    n_frames = len(results.strain)
+    measured_phi = float(np.mean(results.volume_fraction)) if n_frames else np.nan
+    table = pd.DataFrame(
+        {
+            "seed": np.full(n_frames, int(seed), dtype=np.int64),
+            "theta": np.full(n_frames, float(analysis.flow_angle_deg)),
+            "N": np.full(n_frames, int(results.n_particles), dtype=np.int64),
+            "phi": np.full(n_frames, measured_phi if phi is None else float(phi)),
+            "step": np.asarray(results.step, dtype=np.int64),
+            "strain": np.asarray(results.strain, dtype=float),
+            **{name: np.asarray(results[name], dtype=float) for name in COMPONENTS},
+            "Z": np.asarray(results.coordination, dtype=float),
+        }
+    )
+    return table[list(TABLE_COLUMNS)]
+
+
+def _check_table(table: pd.DataFrame, source: str) -> pd.DataFrame:
+    missing = [c for c in TABLE_COLUMNS if c not in table.columns]
+    if missing:
+        raise ValueError(f"{source}: fabric table lacks column(s) {missing}")
+    numeric = ["theta", "phi", "strain", *VALUE_COLUMNS]
+    values = table[numeric].to_numpy(dtype=float)
+    if not np.all(np.isfinite(values)):
+        bad = [c for c in numeric if not np.all(np.isfinite(table[c].to_numpy(dtype=float)))]
+        raise ValueError(f"{source}: non-finite values in column(s) {bad}")
+    return table
+
+
+def write_fabric_table(table: pd.DataFrame, path: str | os.PathLike) -> Path:
+    """Write a per-run (or concatenated) fabric table as CSV (format in the module docstring)."""
+    path = Path(path)
+    _check_table(table, str(path))
+    table[list(TABLE_COLUMNS)].to_csv(path, index=False)
+    return path
+
+
+def read_fabric_table(path: str | os.PathLike) -> pd.DataFrame:
+    """Read a fabric-table CSV, checking the columns; errors name the file."""
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"fabric table not found: {path}")
+    table = pd.read_csv(path)
+    return _check_table(table, str(path))[list(TABLE_COLUMNS)]
+
+
+def _seed_series(group: pd.DataFrame, theta: float) -> dict[int, pd.DataFrame]:
+    series = {}
+    for seed, rows in group.groupby("seed", sort=True):
+        rows = rows.sort_values("strain", kind="stable")
+        if rows["strain"].duplicated().any():
+            raise ValueError(f"theta={theta}: seed {seed} has duplicated strain values")
+        series[int(seed)] = rows
+    return series
+
+
+def aggregate_seeds(table: pd.DataFrame) -> pd.DataFrame:
+    """Mean and standard error over seeds per (theta, strain) of every value column.
+
+    Raises ``ValueError`` if the seeds of one theta do not share the same strain grid
+    (compared with a relative tolerance of 1e-9) or the same N.
+    """
+    _check_table(table, "aggregate_seeds")
+    blocks = []
+    for theta, group in table.groupby("theta", sort=True):
+        series = _seed_series(group, theta)
+        seeds = list(series)
+        reference_seed = seeds[0]
+        strain = series[reference_seed]["strain"].to_numpy()
+        for seed in seeds[1:]:
+            other = series[seed]["strain"].to_numpy()
+            if len(other) != len(strain) or not np.allclose(other, strain, rtol=1e-9, atol=1e-12):
+                raise ValueError(
+                    f"theta={theta}: strain grid of seed {seed} ({len(other)} frames) differs from "
+                    f"that of seed {reference_seed} ({len(strain)} frames)"
+                )
+        n_values = group["N"].unique()
+        if len(n_values) != 1:
+            raise ValueError(f"theta={theta}: seeds have different N {sorted(n_values.tolist())}")
+        stacked = np.stack([series[s][list(VALUE_COLUMNS)].to_numpy(dtype=float) for s in seeds])
+        n_seeds = len(seeds)
+        mean = stacked.mean(axis=0)
+        if n_seeds > 1:
+            sem = stacked.std(axis=0, ddof=1) / np.sqrt(n_seeds)
+        else:
+            sem = np.full_like(mean, np.nan)
+        block = pd.DataFrame(
+            {
+                "theta": theta,
+                "N": int(n_values[0]),
+                "phi": float(group["phi"].mean()),
+                "strain": strain,
+                "n_seeds": n_seeds,
+            }
+        )
+        for k, name in enumerate(VALUE_COLUMNS):
+            block[f"{name}_mean"] = mean[:, k]
+            block[f"{name}_sem"] = sem[:, k]
+        blocks.append(block)
+    return pd.concat(blocks, ignore_index=True)
+
+
+def integrated_autocorrelation_time(series, window_factor: float = 5.0) -> float:
+    """Integrated autocorrelation time tau = 1/2 + sum_{t>=1} rho(t), in frames.
+
+    rho is the normalised autocovariance (FFT, biased estimator); the sum is cut at
+    Sokal's automatic window, the smallest M with M >= window_factor * tau(M) (or the
+    whole series if none). tau = 1/2 for uncorrelated data, so that the variance of
+    the mean is C(0) 2 tau / n; the result is clipped below at 1/2, and a constant
+    series gives 1/2.
+    """
+    x = np.asarray(series, dtype=float)
+    n = len(x)
+    if n < 2:
+        raise ValueError(f"need at least 2 values for an autocorrelation time, got {n}")
+    x = x - x.mean()
+    size = 1 << (2 * n - 1).bit_length()
+    spectrum = np.fft.rfft(x, size)
+    autocovariance = np.fft.irfft(spectrum * np.conj(spectrum), size)[:n] / n
+    if autocovariance[0] <= 0:
+        return 0.5
+    rho = autocovariance / autocovariance[0]
+    tau = 0.5 + np.cumsum(rho[1:])  # tau[M - 1] = tau(M)
+    windows = np.arange(1, n)
+    acceptable = np.flatnonzero(windows >= window_factor * tau)
+    value = tau[acceptable[0]] if len(acceptable) else tau[-1]
+    return float(max(value, 0.5))
+
+
+def steady_state(
+    table: pd.DataFrame,
+    strain_min: float,
+    strain_max: float,
+    window_factor: float = 5.0,
+) -> pd.DataFrame:
+    """Steady-state means over strain_min <= strain <= strain_max, one row per (theta, quantity).
+
+    Columns: theta, quantity, mean, sem (correlation-aware, see module docstring),
+    sem_between_seeds, tau_strain (mean over seeds of tau times the median strain
+    spacing), n_frames (per seed, smallest), n_seeds, strain_min, strain_max.
+    Raises ``ValueError`` if a seed has fewer than 2 frames in the window.
+    """
+    if not strain_max > strain_min:
+        raise ValueError(f"empty strain window [{strain_min}, {strain_max}]")
+    _check_table(table, "steady_state")
+    rows = []
+    for theta, group in table.groupby("theta", sort=True):
+        windows = {}
+        for seed, series in _seed_series(group, theta).items():
+            inside = series[(series["strain"] >= strain_min) & (series["strain"] <= strain_max)]
+            if len(inside) < 2:
+                raise ValueError(
+                    f"theta={theta}: seed {seed} has {len(inside)} frame(s) in the strain window "
+                    f"[{strain_min}, {strain_max}], need at least 2"
+                )
+            windows[seed] = inside
+        n_seeds = len(windows)
+        for name in VALUE_COLUMNS:
+            means, variances, taus, spacings = [], [], [], []
+            for inside in windows.values():
+                values = inside[name].to_numpy(dtype=float)
+                tau = integrated_autocorrelation_time(values, window_factor)
+                means.append(values.mean())
+                variances.append(values.var() * 2.0 * tau / len(values))
+                taus.append(tau)
+                spacings.append(np.median(np.diff(inside["strain"].to_numpy())))
+            means = np.array(means)
+            rows.append(
+                {
+                    "theta": theta,
+                    "quantity": name,
+                    "mean": means.mean(),
+                    "sem": np.sqrt(np.sum(variances)) / n_seeds,
+                    "sem_between_seeds": means.std(ddof=1) / np.sqrt(n_seeds) if n_seeds > 1 else np.nan,
+                    "tau_strain": float(np.mean(np.array(taus) * np.array(spacings))),
+                    "n_frames": min(len(w) for w in windows.values()),
+                    "n_seeds": n_seeds,
+                    "strain_min": strain_min,
+                    "strain_max": strain_max,
+                }
+            )
+    return pd.DataFrame(rows)
