@@ -1,0 +1,157 @@
+"""The paper's figures from the study's tables (matplotlib, Agg backend).
+
+Figure 1 (:func:`figure_startup`): fabric components versus strain in startup
+shear; simulation seed means with standard errors (symbols) against (a) G-W and
+(b) the modified model (lines), fitted parameters in the legends.
+
+Figure 2 (:func:`figure_rotation`): polar maps, radius = post-rotation strain,
+angle = rotation angle theta, colour = <nn>'_12/<nn>_12^ss and <nn>'_23/<nn>_12^ss,
+rows simulation / G-W / modified, one colour scale per component (column). When
+only theta >= 0 was simulated the negative half is filled by the exact symmetry
+of shear rotation (12 even, 23 odd in theta) and the figure says so.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
+
+from .study import MODEL_NAMES  # noqa: E402
+
+__all__ = ["figure_startup", "figure_rotation", "save_figure", "mirror_negative_angles"]
+
+_STARTUP_COMPONENTS = {"n11": "C0", "n22": "C1", "n33": "C2", "n12": "C3"}
+_LABELS = {"n11": r"$\langle nn\rangle_{11}$", "n22": r"$\langle nn\rangle_{22}$",
+           "n33": r"$\langle nn\rangle_{33}$", "n12": r"$\langle nn\rangle_{12}$"}
+# Parity of each component under theta -> -theta (mirror e3 -> -e3).
+_PARITY = {"n11": 1, "n22": 1, "n33": 1, "n12": 1, "n13": -1, "n23": -1, "Z": 1}
+
+
+def save_figure(fig, stem: str | os.PathLike) -> list[Path]:
+    """Save ``fig`` as ``<stem>.pdf`` and ``<stem>.png`` (200 dpi); returns the paths."""
+    stem = Path(stem)
+    stem.parent.mkdir(parents=True, exist_ok=True)
+    paths = [stem.with_suffix(".pdf"), stem.with_suffix(".png")]
+    fig.savefig(paths[0])
+    fig.savefig(paths[1], dpi=200)
+    plt.close(fig)
+    return paths
+
+
+def _legend_label(key: str, fits: dict) -> str:
+    if key == "gw":
+        return rf"G-W, $\beta$ = {fits['gw']['beta']:.3g}"
+    return rf"modified, $\beta$ = {fits['modified']['beta']:.3g}, $A$ = {fits['modified']['A']:.3g}"
+
+
+def figure_startup(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: dict, max_markers: int = 40):
+    """Paper Fig. 1 from the startup seed aggregate and the model predictions."""
+    sim = simulation[np.isclose(simulation["theta"], 0.0)].sort_values("strain")
+    stride = max(1, len(sim) // max_markers)
+    shown = sim.iloc[::stride]
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True, constrained_layout=True)
+    for ax, (key, title) in zip(axes, MODEL_NAMES.items()):
+        pred = predictions[(predictions["model"] == key) & (predictions["protocol"] == "startup")]
+        for name, colour in _STARTUP_COMPONENTS.items():
+            ax.errorbar(shown["strain"], shown[f"{name}_mean"], yerr=shown[f"{name}_sem"].fillna(0.0),
+                        fmt="o", ms=3.5, color=colour, mfc="none", label=f"{_LABELS[name]} simulation")
+            ax.plot(pred["strain"], pred[name], "-", color=colour, lw=1.5)
+        ax.plot([], [], "k-", label=_legend_label(key, fits))
+        ax.axhline(0.0, color="0.7", lw=0.5)
+        ax.set_xlabel(r"strain $\gamma$")
+        ax.set_title(f"({'ab'[list(MODEL_NAMES).index(key)]}) {title}")
+        ax.legend(fontsize=7, loc="best")
+    axes[0].set_ylabel(r"$\langle nn\rangle_{ij}$")
+    n_seeds = int(sim["n_seeds"].iloc[0]) if "n_seeds" in sim else 0
+    fig.suptitle(f"Startup shear, N = {int(sim['N'].iloc[0])}, phi = {fits['phi']:.3g}, "
+                 f"{n_seeds} seeds (error bars: standard error over seeds)", fontsize=9)
+    return fig
+
+
+def mirror_negative_angles(table: pd.DataFrame, value_columns) -> tuple[pd.DataFrame, bool]:
+    """Add theta -> -theta copies by parity when only theta in [0, 180] is present.
+
+    Returns (table, mirrored). Components follow ``_PARITY`` (12 even, 23 odd);
+    theta = 0 is not duplicated; theta = 180 is copied to -180.
+    """
+    thetas = table["theta"].to_numpy()
+    if np.any(thetas < 0):
+        return table, False
+    # theta = 180 is the same rotation as -180; copy it so the map closes at the back.
+    copy = table[table["theta"] > 0].copy()
+    copy["theta"] = -copy["theta"]
+    for column in value_columns:
+        base = column.split("_")[0]
+        copy[column] = _PARITY[base] * copy[column]
+    return pd.concat([table, copy], ignore_index=True), True
+
+
+def _edges(centres):
+    centres = np.asarray(centres, dtype=float)
+    if len(centres) == 1:
+        return np.array([centres[0] - 0.5, centres[0] + 0.5])
+    mids = 0.5 * (centres[1:] + centres[:-1])
+    return np.concatenate([[centres[0] - (mids[0] - centres[0])], mids, [centres[-1] + (centres[-1] - mids[-1])]])
+
+
+def _polar_grid(table: pd.DataFrame, column: str):
+    """(theta_edges_rad, strain_edges, values[strain, theta]) from a tidy table."""
+    thetas = np.sort(table["theta"].unique())
+    strains = np.sort(table[table["theta"] == thetas[0]]["strain"].unique())
+    grid = np.full((len(strains), len(thetas)), np.nan)
+    for k, theta in enumerate(thetas):
+        rows = table[table["theta"] == theta].sort_values("strain")
+        if len(rows) != len(strains):
+            raise ValueError(f"theta={theta}: {len(rows)} strain points, expected {len(strains)}")
+        grid[:, k] = rows[column].to_numpy()
+    theta_edges = np.clip(_edges(thetas), -180.0, 180.0)
+    strain_edges = np.clip(_edges(strains), 0.0, None)
+    # Split each angular cell into sub-cells of <= 2 degrees so wedges are drawn as arcs.
+    fine_edges, owner = [theta_edges[0]], []
+    for k, (lo, hi) in enumerate(zip(theta_edges[:-1], theta_edges[1:])):
+        n_sub = max(1, int(np.ceil((hi - lo) / 2.0)))
+        fine_edges.extend(np.linspace(lo, hi, n_sub + 1)[1:])
+        owner.extend([k] * n_sub)
+    return np.radians(fine_edges), strain_edges, grid[:, owner]
+
+
+def figure_rotation(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: dict):
+    """Paper Fig. 2 from the rotation seed aggregate (theta in degrees) and model predictions."""
+    n12_ss = fits["targets"]["n12"]["mean"]
+    sim, mirrored = mirror_negative_angles(simulation, ["n12_mean", "n23_mean"])
+    rows = [("simulation", sim.rename(columns={"n12_mean": "n12", "n23_mean": "n23"}))]
+    for key, name in MODEL_NAMES.items():
+        pred = predictions[(predictions["model"] == key) & (predictions["protocol"] == "rotation")]
+        pred, _ = mirror_negative_angles(pred, ["n12", "n23"])
+        rows.append((name, pred))
+    columns = {"n12": r"$\langle nn\rangle'_{12}/\langle nn\rangle_{12}^{ss}$",
+               "n23": r"$\langle nn\rangle'_{23}/\langle nn\rangle_{12}^{ss}$"}
+    grids = {(r, c): _polar_grid(table, c) for r, (_, table) in enumerate(rows) for c in columns}
+    limits = {c: np.nanmax([np.nanmax(np.abs(grids[(r, c)][2] / n12_ss)) for r in range(len(rows))]) for c in columns}
+    fig, axes = plt.subplots(len(rows), 2, subplot_kw={"projection": "polar"}, figsize=(8.5, 12),
+                             constrained_layout=True)
+    for r, (row_name, _) in enumerate(rows):
+        for c, (column, label) in enumerate(columns.items()):
+            ax = axes[r, c]
+            theta_edges, strain_edges, grid = grids[(r, column)]
+            mesh = ax.pcolormesh(theta_edges, strain_edges, grid / n12_ss, cmap="RdBu_r",
+                                 vmin=-limits[column], vmax=limits[column], shading="flat")
+            ax.set_thetamin(-180)
+            ax.set_thetamax(180)
+            ax.set_title(f"({'abcdef'[2 * r + c]}) {row_name}", fontsize=9)
+            ax.tick_params(labelsize=7)
+            if r == len(rows) - 1:
+                fig.colorbar(mesh, ax=axes[:, c], orientation="horizontal", shrink=0.8, label=label)
+    note = ("Radius: strain after rotation; angle: rotation angle theta. "
+            f"<nn>_12^ss = {n12_ss:.4g} (simulated steady state).")
+    if mirrored:
+        note += " theta < 0 of the simulation filled by symmetry (12 even, 23 odd in theta)."
+    fig.suptitle(note, fontsize=8, wrap=True)
+    return fig

@@ -1,0 +1,209 @@
+"""Model side of the study: fits to the simulated steady state, predictions, errors.
+
+Inputs are the seed-aggregated simulation tables of :mod:`suspension_fabric.tables`
+(columns ``theta, strain, n11_mean, n11_sem, ...``) and the steady-state table of
+:func:`suspension_fabric.tables.steady_state`. Everything is in the paper frame of
+the current shear (rotated frame (e1', e2, e3') after a rotation by theta).
+
+Protocol of the model predictions (paper Sec. 4)
+    Both models start from the simulated seed-mean fabric at strain 0 of startup
+    shear (the random packing is not contact-free), are sheared to the startup
+    strain of the simulations, then rotated by theta and sheared again. G-W uses the
+    beta fitted to the steady <nn>_12; the modified model the (beta, A) fitted to
+    the steady <nn>_11 and <nn>_12 (paper Sec. 4.1). Fit uncertainties are the
+    linear propagation of the standard errors of the targets.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import astuple
+import os
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from . import model
+from .fabric import COMPONENTS
+
+__all__ = [
+    "fit_steady_state",
+    "write_fits",
+    "read_fits",
+    "initial_fabric",
+    "predict",
+    "model_errors",
+    "MODEL_NAMES",
+]
+
+#: Model keys used in tables and fits.json, with their display names.
+MODEL_NAMES = {"gw": "G-W (Eq. 1)", "modified": "modified G-W (Eq. 2)"}
+
+
+def _steady_value(steady: pd.DataFrame, quantity: str, theta: float = 0.0):
+    rows = steady[(steady["quantity"] == quantity) & np.isclose(steady["theta"], theta)]
+    if len(rows) != 1:
+        raise ValueError(f"steady-state table has {len(rows)} rows for {quantity} at theta={theta}, expected 1")
+    row = rows.iloc[0]
+    return float(row["mean"]), float(row["sem"])
+
+
+def fit_steady_state(steady: pd.DataFrame, phi: float) -> dict:
+    """Fit both models to the startup (theta = 0) steady state; returns the fits.json content.
+
+    ``gw.beta`` from <nn>_12, ``modified.beta`` and ``modified.A`` from <nn>_11 and
+    <nn>_12, each with a 1-sigma error from the standard errors of the targets
+    (finite-difference Jacobian of the fit). ``targets`` holds every steady
+    component with its error and the strain window.
+    """
+    n11, n11_err = _steady_value(steady, "n11")
+    n12, n12_err = _steady_value(steady, "n12")
+    beta_gw = model.fit_gw(n12, phi)
+    mod = model.fit_modified(n11, n12, phi)
+
+    def propagated(func, values, errors):
+        """sqrt(sum_k (df/dx_k sigma_k)^2) with central differences of a tenth of sigma."""
+        total = np.zeros_like(np.atleast_1d(func(*values)), dtype=float)
+        for k, sigma in enumerate(errors):
+            if not np.isfinite(sigma) or sigma == 0.0:
+                continue
+            step = 0.1 * sigma
+            plus, minus = list(values), list(values)
+            plus[k] += step
+            minus[k] -= step
+            try:
+                derivative = (np.atleast_1d(func(*plus)) - np.atleast_1d(func(*minus))) / (2 * step)
+            except ValueError:  # the target +- sigma/10 leaves the fittable range
+                return np.full_like(total, np.nan)
+            total += (derivative * sigma) ** 2
+        return np.sqrt(total)
+
+    gw_err = propagated(lambda a: model.fit_gw(a, phi), [n12], [n12_err])[0]
+    mod_err = propagated(
+        lambda a, b: np.array(astuple(model.fit_modified(a, b, phi))), [n11, n12], [n11_err, n12_err]
+    )
+    targets = {}
+    for quantity in (*COMPONENTS, "Z"):
+        mean, sem = _steady_value(steady, quantity)
+        targets[quantity] = {"mean": mean, "sem": sem}
+    window = steady[np.isclose(steady["theta"], 0.0)].iloc[0]
+    return {
+        "phi": float(phi),
+        "steady_window": [float(window["strain_min"]), float(window["strain_max"])],
+        "n_seeds": int(window["n_seeds"]),
+        "targets": targets,
+        "gw": {"beta": beta_gw, "beta_err": float(gw_err), "fitted_to": ["n12"]},
+        "modified": {
+            "beta": mod.beta, "beta_err": float(mod_err[0]),
+            "A": mod.A, "A_err": float(mod_err[1]), "fitted_to": ["n11", "n12"],
+        },
+        "model_steady_state": {
+            "gw": _as_components(model.steady_state_ode(beta_gw, None, phi)),
+            "modified": _as_components(model.steady_state_ode(mod.beta, mod.A, phi)),
+        },
+    }
+
+
+def _as_components(tensor) -> dict:
+    return {name: float(tensor[i, j]) for name, (i, j) in COMPONENTS.items()}
+
+
+def write_fits(fits: dict, path: str | os.PathLike) -> Path:
+    """Write fits as indented JSON (NaN errors become null)."""
+    path = Path(path)
+    text = json.dumps(fits, indent=2, sort_keys=False, allow_nan=True).replace("NaN", "null")
+    path.write_text(text + "\n")
+    return path
+
+
+def read_fits(path: str | os.PathLike) -> dict:
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"fits file not found: {path}")
+    fits = json.loads(path.read_text())
+    for key in ("phi", "gw", "modified"):
+        if key not in fits:
+            raise ValueError(f"{path}: missing key {key!r}")
+    return fits
+
+
+def initial_fabric(startup_aggregate: pd.DataFrame) -> np.ndarray:
+    """Seed-mean simulated fabric at the first frame (strain 0) of startup shear, 3x3 paper frame."""
+    rows = startup_aggregate[np.isclose(startup_aggregate["theta"], 0.0)].sort_values("strain")
+    if rows.empty:
+        raise ValueError("startup aggregate table has no theta = 0 rows")
+    first = rows.iloc[0]
+    tensor = np.zeros((3, 3))
+    for name, (i, j) in COMPONENTS.items():
+        tensor[i, j] = tensor[j, i] = first[f"{name}_mean"]
+    return tensor
+
+
+def _parameters(fits: dict, key: str):
+    if key == "gw":
+        return fits["gw"]["beta"], None
+    return fits["modified"]["beta"], fits["modified"]["A"]
+
+
+def _tidy(key, protocol, theta_deg, strains, tensors) -> pd.DataFrame:
+    frame = pd.DataFrame({"model": key, "protocol": protocol, "theta": theta_deg, "strain": strains})
+    for name, (i, j) in COMPONENTS.items():
+        frame[name] = tensors[:, i, j]
+    frame["Z"] = 2.0 * np.trace(tensors, axis1=-2, axis2=-1)
+    return frame
+
+
+def predict(fits: dict, fabric0, startup_strains, startup_strain: float, thetas_deg, rotation_strains,
+            extra_thetas_deg=()) -> pd.DataFrame:
+    """Tidy predictions of both models: startup shear and shear rotations.
+
+    Rotations are predicted at ``thetas_deg`` (the simulated angles) and at
+    ``extra_thetas_deg`` (e.g. a fine grid for the polar maps). Columns: model
+    (gw | modified), protocol (startup | rotation), theta (degrees; 0 for startup),
+    strain (since the start of the current shear), n11 ... n23, Z.
+    """
+    phi = fits["phi"]
+    startup_strains = np.asarray(startup_strains, dtype=float)
+    rotation_strains = np.asarray(rotation_strains, dtype=float)
+    thetas_deg = np.union1d(np.asarray(thetas_deg, dtype=float), np.asarray(extra_thetas_deg, dtype=float))
+    blocks = []
+    for key in MODEL_NAMES:
+        beta, A = _parameters(fits, key)
+        blocks.append(_tidy(key, "startup", 0.0, startup_strains,
+                            model.startup_shear(startup_strains, beta, A, phi, fabric0)))
+        rotated = model.shear_rotation(np.radians(thetas_deg), rotation_strains, beta, A, phi,
+                                       startup_strain=startup_strain, fabric0=fabric0)
+        for theta, tensors in zip(thetas_deg, rotated):
+            blocks.append(_tidy(key, "rotation", theta, rotation_strains, tensors))
+    return pd.concat(blocks, ignore_index=True)
+
+
+def model_errors(simulation: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float, protocol: str) -> pd.DataFrame:
+    """Model-versus-simulation error per angle and component, normalised by |<nn>_12^ss|.
+
+    ``simulation`` is a seed aggregate (``<c>_mean`` columns) and ``predictions``
+    the output of :func:`predict`, evaluated at the simulation's strains (matched by
+    theta and strain to 1e-9). Returns one row per (model, theta, component) with
+    rms_error = sqrt(mean_strain (model - sim)^2) / |n12_ss|, max_abs_error and the
+    number of strain points; the paper only says the modified model is
+    "significantly better", this table says by how much.
+    """
+    rows = []
+    preds = predictions[predictions["protocol"] == protocol]
+    for key in MODEL_NAMES:
+        mine = preds[preds["model"] == key]
+        for theta, sim in simulation.groupby("theta", sort=True):
+            pred = mine[np.isclose(mine["theta"], theta)].sort_values("strain")
+            sim = sim.sort_values("strain")
+            if len(pred) != len(sim) or not np.allclose(pred["strain"].to_numpy(), sim["strain"].to_numpy(),
+                                                        rtol=1e-9, atol=1e-9):
+                raise ValueError(f"{protocol}: model {key} at theta={theta} is not on the simulation's strain grid")
+            for name in (*COMPONENTS, "Z"):
+                diff = (pred[name].to_numpy() - sim[f"{name}_mean"].to_numpy()) / abs(n12_ss)
+                rows.append({
+                    "protocol": protocol, "model": key, "theta": float(theta), "component": name,
+                    "rms_error": float(np.sqrt(np.mean(diff**2))), "max_abs_error": float(np.abs(diff).max()),
+                    "n_strains": len(diff),
+                })
+    return pd.DataFrame(rows)
