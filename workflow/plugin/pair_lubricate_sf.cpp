@@ -45,7 +45,9 @@ using namespace LAMMPS_NS;
 PairLubricateSF::PairLubricateSF(LAMMPS *lmp) :
     Pair(lmp), eta_f(0.0), delta(0.0), gap_out(0.0), maxrad_type(nullptr)
 {
-  single_enable = 0;
+  single_enable = 1;
+  single_extra = 3;
+  svector = new double[single_extra];
   restartinfo = 0;    // re-issue pair_style/pair_coeff after read_restart
   finitecutflag = 1;
 }
@@ -57,6 +59,7 @@ PairLubricateSF::~PairLubricateSF()
     memory->destroy(cutsq);
   }
   memory->destroy(maxrad_type);
+  delete[] svector;
 }
 
 void PairLubricateSF::allocate()
@@ -145,95 +148,102 @@ double PairLubricateSF::init_one(int i, int j)
   return (maxrad_type[i] + maxrad_type[j]) * (1.0 + 0.5 * gap_out);
 }
 
+/* Lubrication force on i (fi, with -fi on j) and torques on i and j for the pair (i, j).
+   Returns false if the pair is beyond the outer cutoff. */
+bool PairLubricateSF::pair_interaction(int i, int j, const double *W, double *fi, double *ti,
+                                       double *tj) const
+{
+  double **x = atom->x;
+  double **v = atom->v;
+  double **omega = atom->omega;
+  const double *radius = atom->radius;
+
+  const double delx = x[i][0] - x[j][0];
+  const double dely = x[i][1] - x[j][1];
+  const double delz = x[i][2] - x[j][2];
+  const double rsq = delx * delx + dely * dely + delz * delz;
+  const double ai = radius[i];
+  const double aj = radius[j];
+  const double radsum = ai + aj;
+  const double rcut = radsum * (1.0 + 0.5 * gap_out);
+  if (rsq >= rcut * rcut) return false;
+
+  const double r = sqrt(rsq);
+  const double rinv = 1.0 / r;
+  const double n[3] = {-delx * rinv, -dely * rinv, -delz * rinv};    // from i to j
+
+  const double xi = MAX(2.0 * (r - radsum) / radsum, 0.0) + delta;
+  const double invxi = 1.0 / xi;
+  const double logxi = log(invxi);
+
+  const double pi_eta = M_PI * eta_f;
+  const double l = aj / ai;
+  const double ilp1 = 1.0 / (1.0 + l);
+  const double ilp1_2 = ilp1 * ilp1;
+  const double ilp1_3 = ilp1_2 * ilp1;
+
+  const double X = 6.0 * pi_eta * ai * (2.0 * l * l * ilp1_3) * invxi;
+  const double YA = 6.0 * pi_eta * ai * ((4.0 / 15.0) * l * (2.0 + l + 2.0 * l * l) * ilp1_3) * logxi;
+  const double YBi = 4.0 * pi_eta * ai * ai * (-0.2 * l * (4.0 + l) * ilp1_2) * logxi;
+  const double YBj = 4.0 * pi_eta * aj * aj * (-0.2 * (4.0 * l + 1.0) * ilp1_2) * logxi;
+  const double YCi = 8.0 * pi_eta * ai * ai * ai * (0.4 * l * ilp1) * logxi;
+  const double YCj = 8.0 * pi_eta * aj * aj * aj * (0.4 * ilp1) * logxi;
+  const double YCx = pi_eta * radsum * radsum * radsum * (0.8 * l * l * ilp1_2 * ilp1_2) * logxi;
+
+  // relative velocity without the rigid rotation of the imposed flow
+  const double du[3] = {v[i][0] - v[j][0] - (W[1] * delz - W[2] * dely),
+                        v[i][1] - v[j][1] - (W[2] * delx - W[0] * delz),
+                        v[i][2] - v[j][2] - (W[0] * dely - W[1] * delx)};
+  const double wi[3] = {omega[i][0] - W[0], omega[i][1] - W[1], omega[i][2] - W[2]};
+  const double wj[3] = {omega[j][0] - W[0], omega[j][1] - W[1], omega[j][2] - W[2]};
+
+  const double un = du[0] * n[0] + du[1] * n[1] + du[2] * n[2];
+  const double win = wi[0] * n[0] + wi[1] * n[1] + wi[2] * n[2];
+  const double wjn = wj[0] * n[0] + wj[1] * n[1] + wj[2] * n[2];
+  const double nxwi[3] = {n[1] * wi[2] - n[2] * wi[1], n[2] * wi[0] - n[0] * wi[2],
+                          n[0] * wi[1] - n[1] * wi[0]};
+  const double nxwj[3] = {n[1] * wj[2] - n[2] * wj[1], n[2] * wj[0] - n[0] * wj[2],
+                          n[0] * wj[1] - n[1] * wj[0]};
+  const double duxn[3] = {du[1] * n[2] - du[2] * n[1], du[2] * n[0] - du[0] * n[2],
+                          du[0] * n[1] - du[1] * n[0]};
+
+  for (int k = 0; k < 3; k++) {
+    const double dut = du[k] - un * n[k];
+    const double wit = wi[k] - win * n[k];
+    const double wjt = wj[k] - wjn * n[k];
+    fi[k] = -X * un * n[k] - YA * dut - YBi * nxwi[k] - YBj * nxwj[k];
+    ti[k] = -YBi * duxn[k] - YCi * wit - YCx * wjt;
+    tj[k] = -YBj * duxn[k] - YCx * wit - YCj * wjt;
+  }
+  return true;
+}
+
 void PairLubricateSF::compute(int eflag, int vflag)
 {
   ev_init(eflag, vflag);
 
   double **x = atom->x;
-  double **v = atom->v;
   double **f = atom->f;
-  double **omega = atom->omega;
   double **torque = atom->torque;
-  const double *radius = atom->radius;
   const int nlocal = atom->nlocal;
   const int newton_pair = force->newton_pair;
 
   const SuspensionFabric::ImposedFlow flow(domain);
-  const double *W = flow.omega;
-  const double cutfac = 1.0 + 0.5 * gap_out;
-  const double pi_eta = M_PI * eta_f;
 
   const int inum = list->inum;
   const int *ilist = list->ilist;
   const int *numneigh = list->numneigh;
   int **firstneigh = list->firstneigh;
+  double fi[3], ti[3], tj[3];
 
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
-    const double ai = radius[i];
-    const double wi[3] = {omega[i][0] - W[0], omega[i][1] - W[1], omega[i][2] - W[2]};
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
 
     for (int jj = 0; jj < jnum; jj++) {
       const int j = jlist[jj] & NEIGHMASK;
-      const double delx = x[i][0] - x[j][0];
-      const double dely = x[i][1] - x[j][1];
-      const double delz = x[i][2] - x[j][2];
-      const double rsq = delx * delx + dely * dely + delz * delz;
-      const double aj = radius[j];
-      const double radsum = ai + aj;
-      const double rcut = radsum * cutfac;
-      if (rsq >= rcut * rcut) continue;
-
-      const double r = sqrt(rsq);
-      const double rinv = 1.0 / r;
-      const double n[3] = {-delx * rinv, -dely * rinv, -delz * rinv};    // from i to j
-
-      const double xi = MAX(2.0 * (r - radsum) / radsum, 0.0) + delta;
-      const double invxi = 1.0 / xi;
-      const double logxi = log(invxi);
-
-      const double l = aj / ai;
-      const double lp1 = 1.0 + l;
-      const double ilp1 = 1.0 / lp1;
-      const double ilp1_2 = ilp1 * ilp1;
-      const double ilp1_3 = ilp1_2 * ilp1;
-
-      const double X = 6.0 * pi_eta * ai * (2.0 * l * l * ilp1_3) * invxi;
-      const double YA = 6.0 * pi_eta * ai * ((4.0 / 15.0) * l * (2.0 + l + 2.0 * l * l) * ilp1_3) * logxi;
-      const double YBi = 4.0 * pi_eta * ai * ai * (-0.2 * l * (4.0 + l) * ilp1_2) * logxi;
-      const double YBj = 4.0 * pi_eta * aj * aj * (-0.2 * (4.0 * l + 1.0) * ilp1_2) * logxi;
-      const double YCi = 8.0 * pi_eta * ai * ai * ai * (0.4 * l * ilp1) * logxi;
-      const double YCj = 8.0 * pi_eta * aj * aj * aj * (0.4 * ilp1) * logxi;
-      const double YCx = pi_eta * radsum * radsum * radsum * (0.8 * l * l * ilp1_2 * ilp1_2) * logxi;
-
-      // relative velocity without the rigid rotation of the imposed flow
-      const double du[3] = {v[i][0] - v[j][0] - (W[1] * delz - W[2] * dely),
-                            v[i][1] - v[j][1] - (W[2] * delx - W[0] * delz),
-                            v[i][2] - v[j][2] - (W[0] * dely - W[1] * delx)};
-      const double wj[3] = {omega[j][0] - W[0], omega[j][1] - W[1], omega[j][2] - W[2]};
-
-      const double un = du[0] * n[0] + du[1] * n[1] + du[2] * n[2];
-      const double dut[3] = {du[0] - un * n[0], du[1] - un * n[1], du[2] - un * n[2]};
-      const double win = wi[0] * n[0] + wi[1] * n[1] + wi[2] * n[2];
-      const double wjn = wj[0] * n[0] + wj[1] * n[1] + wj[2] * n[2];
-      const double wit[3] = {wi[0] - win * n[0], wi[1] - win * n[1], wi[2] - win * n[2]};
-      const double wjt[3] = {wj[0] - wjn * n[0], wj[1] - wjn * n[1], wj[2] - wjn * n[2]};
-      // n x w_i, n x w_j, du x n
-      const double nxwi[3] = {n[1] * wi[2] - n[2] * wi[1], n[2] * wi[0] - n[0] * wi[2],
-                              n[0] * wi[1] - n[1] * wi[0]};
-      const double nxwj[3] = {n[1] * wj[2] - n[2] * wj[1], n[2] * wj[0] - n[0] * wj[2],
-                              n[0] * wj[1] - n[1] * wj[0]};
-      const double duxn[3] = {du[1] * n[2] - du[2] * n[1], du[2] * n[0] - du[0] * n[2],
-                              du[0] * n[1] - du[1] * n[0]};
-
-      double fi[3], ti[3], tj[3];
-      for (int k = 0; k < 3; k++) {
-        fi[k] = -X * un * n[k] - YA * dut[k] - YBi * nxwi[k] - YBj * nxwj[k];
-        ti[k] = -YBi * duxn[k] - YCi * wit[k] - YCx * wjt[k];
-        tj[k] = -YBj * duxn[k] - YCx * wit[k] - YCj * wjt[k];
-      }
+      if (!pair_interaction(i, j, flow.omega, fi, ti, tj)) continue;
 
       f[i][0] += fi[0];
       f[i][1] += fi[1];
@@ -251,9 +261,28 @@ void PairLubricateSF::compute(int eflag, int vflag)
       }
 
       if (evflag)
-        ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, fi[0], fi[1], fi[2], delx, dely, delz);
+        ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, fi[0], fi[1], fi[2],
+                     x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]);
     }
   }
 
   if (vflag_fdotr) virial_fdotr_compute();
+}
+
+/* For compute pair/local: fforce * (x_i - x_j) is the normal (line-of-centres) part of the
+   lubrication force on i; svector holds its full force on i (x, y, z). Energy is 0. */
+double PairLubricateSF::single(int i, int j, int /*itype*/, int /*jtype*/, double rsq,
+                               double /*factor_coul*/, double /*factor_lj*/, double &fforce)
+{
+  fforce = 0.0;
+  svector[0] = svector[1] = svector[2] = 0.0;
+  const SuspensionFabric::ImposedFlow flow(domain);
+  double fi[3], ti[3], tj[3];
+  if (!pair_interaction(i, j, flow.omega, fi, ti, tj)) return 0.0;
+  double **x = atom->x;
+  const double fdel = fi[0] * (x[i][0] - x[j][0]) + fi[1] * (x[i][1] - x[j][1]) +
+      fi[2] * (x[i][2] - x[j][2]);
+  fforce = fdel / rsq;
+  for (int k = 0; k < 3; k++) svector[k] = fi[k];
+  return 0.0;
 }

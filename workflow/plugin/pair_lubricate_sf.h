@@ -20,6 +20,7 @@ class PairLubricateSF : public Pair {
   void init_style() override;
   double init_one(int, int) override;
   void setup() override;
+  double single(int, int, int, int, double, double, double, double &) override;
 
  protected:
   double eta_f;          // fluid viscosity
@@ -29,6 +30,7 @@ class PairLubricateSF : public Pair {
 
   void allocate();
   void update_type_radii();
+  bool pair_interaction(int, int, const double *, double *, double *, double *) const;
 };
 
 }    // namespace LAMMPS_NS
