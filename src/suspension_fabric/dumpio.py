@@ -31,7 +31,7 @@ Reading with MDAnalysis (checked in tests/test_fabric*.py)
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from itertools import islice
 from pathlib import Path
 from typing import Iterable, Sequence
@@ -196,7 +196,7 @@ class DumpSummary:
     steps: np.ndarray
     n_atoms: int
     columns: tuple[str, ...]
-    triclinic: bool = field(default=True)
+    triclinic: bool = True
 
     @property
     def n_frames(self) -> int:
