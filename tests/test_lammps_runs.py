@@ -261,3 +261,21 @@ def test_two_mpi_ranks(tmp_path, packing, force_model):
         "mpiexec" in (parallel.output_dir / COMPLETION_MARKER).read_text()
     np.testing.assert_allclose(read_stress_table(parallel.table_file)["pxz"],
                                read_stress_table(serial.table_file)["pxz"], rtol=1e-6)
+
+
+def test_overlap_check_agrees_with_brute_force_and_handles_tiny_boxes(tmp_path, startup, force_model):
+    """max_overlap_in_dump equals an all-pairs, all-images computation on the startup
+    dump, and an 8-particle box (too small for the neighbour search) is still checked."""
+    from suspension_fabric.lammps import max_overlap_in_dump
+
+    largest, frames = max_overlap_in_dump(startup.dump_file)
+    expected = max(
+        brute_force_max_overlap(f.radii, f.positions, f.box.edge_vectors)
+        for f in iter_dump_frames(startup.dump_file)
+    )
+    assert frames == 3 and largest == pytest.approx(max(expected, 0.0), abs=1e-12)
+    assert largest > 0.0  # the sheared suspension has contacts
+
+    tiny = pack(tmp_path / "tiny", 8, phi=0.45, seed=5)
+    run = run_startup(tmp_path / "tiny_run", tiny.data_file, 0.001, force_model=force_model, **SMALL_RUN)
+    assert is_complete(run.output_dir) and run.max_overlap < 0.05

@@ -389,8 +389,8 @@ def _run_in_temporary_dir(
         raise fail(f"the completion line '{completion_token} ...' is missing")
     try:
         results = check(run_dir, watcher)
-    except LammpsRunError as err:
-        raise fail(str(err)) from None
+    except (LammpsRunError, ValueError, OSError) as err:
+        raise fail(f"output check: {err}") from None
 
     marker = {
         "label": label, "script": script, "variables": dict(all_variables), "ranks": ranks,
@@ -456,15 +456,19 @@ def iter_dump_frames(path: str | os.PathLike) -> Iterator[DumpFrameData]:
 def max_overlap_in_dump(path: str | os.PathLike) -> tuple[float, int]:
     """Largest overlap (a_i + a_j - r, in d, 0 if none) over all frames, and the number of frames."""
     from ..fabric import near_contact_pairs
+    from ..fabric_reference import brute_force_near_contacts
 
     largest, frames = 0.0, 0
     for frame in iter_dump_frames(path):
-        contacts = near_contact_pairs(
-            frame.positions - np.asarray(frame.box.origin), frame.radii,
-            frame.box.mdanalysis_dimensions(), eps=0.0,
-        )
-        if len(contacts):
-            largest = max(largest, float(-contacts.gaps.min()))
+        positions = frame.positions - np.asarray(frame.box.origin)
+        try:
+            contacts = near_contact_pairs(positions, frame.radii, frame.box.mdanalysis_dimensions(), eps=0.0)
+            overlaps = -contacts.gaps
+        except ValueError:  # box too small for the neighbour search: test all pairs and images
+            pairs, vectors = brute_force_near_contacts(positions, frame.radii, frame.box.edge_vectors, eps=0.0)
+            overlaps = frame.radii[pairs[:, 0]] + frame.radii[pairs[:, 1]] - np.linalg.norm(vectors, axis=1)
+        if len(overlaps):
+            largest = max(largest, float(overlaps.max()))
         frames += 1
     return largest, frames
 
