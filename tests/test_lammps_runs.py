@@ -279,3 +279,18 @@ def test_overlap_check_agrees_with_brute_force_and_handles_tiny_boxes(tmp_path, 
     tiny = pack(tmp_path / "tiny", 8, phi=0.45, seed=5)
     run = run_startup(tmp_path / "tiny_run", tiny.data_file, 0.001, force_model=force_model, **SMALL_RUN)
     assert is_complete(run.output_dir) and run.max_overlap < 0.05
+
+
+def test_thermo_watcher_reads_strain_and_flags_nan_and_errors():
+    """The screen parser takes the strain from the v_strain column, flags a NaN thermo
+    row and collects ERROR lines (the runner stops the run on either)."""
+    watcher = runner._ThermoWatcher()
+    for line in ["   Step        v_strain         CPU            Pxz\n",
+                 "         0   0              0             -975.6\n",
+                 "      1000   0.001          0.14          -2291.7\n"]:
+        watcher.feed(line)
+    assert watcher.strain == 0.001 and watcher.rows_seen == 2 and watcher.bad_thermo is None
+    watcher.feed("      2000   0.002          0.31          nan\n")
+    assert watcher.bad_thermo is not None and "nan" in watcher.bad_thermo
+    watcher.feed("ERROR: Lost atoms: original 100 current 50 (src/thermo.cpp:526)\n")
+    assert watcher.errors == ["ERROR: Lost atoms: original 100 current 50 (src/thermo.cpp:526)"]
