@@ -34,6 +34,7 @@ __all__ = [
     "initial_fabric",
     "predict",
     "model_errors",
+    "summarise_errors",
     "MODEL_NAMES",
 ]
 
@@ -207,3 +208,18 @@ def model_errors(simulation: pd.DataFrame, predictions: pd.DataFrame, n12_ss: fl
                     "n_strains": len(diff),
                 })
     return pd.DataFrame(rows)
+
+
+def summarise_errors(errors: pd.DataFrame) -> pd.DataFrame:
+    """Angle-averaged rms error per protocol and component for both models, and their ratio.
+
+    One row per (protocol, component): rms_gw, rms_modified (means over angles of
+    :func:`model_errors`' rms_error) and gw_over_modified (> 1: the modified model is
+    closer to the simulation).
+    """
+    mean = errors.groupby(["protocol", "component", "model"], sort=False)["rms_error"].mean().unstack("model")
+    summary = pd.DataFrame({
+        "rms_gw": mean["gw"], "rms_modified": mean["modified"],
+        "gw_over_modified": mean["gw"] / mean["modified"],
+    }).reset_index()
+    return summary

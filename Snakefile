@@ -1,0 +1,28 @@
+# Shear-rotation fabric study: LAMMPS simulations -> MDAnalysis fabric -> G-W models -> figures.
+# Default study: config/config.yaml; pick another with --configfile config/<name>.yaml.
+from suspension_fabric.config import validate_config
+
+
+if not config:  # no --configfile/--config: the default study (never merged into another study)
+
+    configfile: "config/config.yaml"
+
+
+
+validate_config(config)  # schema + cross-key checks, before any job; fills defaults
+
+
+include: "workflow/rules/common.smk"
+include: "workflow/rules/build.smk"
+include: "workflow/rules/simulate.smk"
+include: "workflow/rules/analyse.smk"
+include: "workflow/rules/model.smk"
+include: "workflow/rules/figures.smk"
+
+
+rule all:
+    default_target: True
+    input:
+        FIGURES,
+        f"{RESULTS}/fits.json",
+        f"{RESULTS}/tables/model_errors.csv",

@@ -1,0 +1,84 @@
+"""Study configuration: schema validation with defaults, cross-key checks, run names.
+
+The schema is ``config/schema.yaml`` (JSON schema with defaults and descriptions);
+:func:`load_config` validates a YAML file against it (filling defaults) and then
+checks what a schema cannot express. Errors name the offending key.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import yaml
+
+__all__ = ["SCHEMA_PATH", "ConfigError", "validate_config", "load_config", "angle_label"]
+
+SCHEMA_PATH = Path(__file__).resolve().parents[2] / "config" / "schema.yaml"
+
+
+class ConfigError(ValueError):
+    """The configuration is invalid; the message names the key."""
+
+
+def _fill_and_validate(config: dict, schema: dict) -> None:
+    import jsonschema
+
+    validator_class = jsonschema.validators.validator_for(schema)
+
+    def set_defaults(validator, properties, instance, schema_):
+        if isinstance(instance, dict):
+            for name, sub in properties.items():
+                if "default" in sub and name not in instance:
+                    instance[name] = sub["default"] if not isinstance(sub["default"], (dict, list)) \
+                        else type(sub["default"])(sub["default"])
+        yield from validator_class.VALIDATORS["properties"](validator, properties, instance, schema_)
+
+    filling = jsonschema.validators.extend(validator_class, {"properties": set_defaults})
+    errors = sorted(filling(schema).iter_errors(config), key=lambda e: list(e.absolute_path))
+    if errors:
+        first = errors[0]
+        key = ".".join(str(p) for p in first.absolute_path) or "<top level>"
+        raise ConfigError(f"config key '{key}': {first.message}")
+
+
+def validate_config(config: dict, schema_path: str | os.PathLike = SCHEMA_PATH) -> dict:
+    """Validate ``config`` in place against the schema (filling defaults), then cross-check keys."""
+    schema = yaml.safe_load(Path(schema_path).read_text())
+    _fill_and_validate(config, schema)
+    run, analysis, particles = config["run"], config["analysis"], config["particles"]
+    lo, hi = analysis["steady_window"]
+    if not 0 <= lo < hi <= run["startup_strain"]:
+        raise ConfigError(
+            f"config key 'analysis.steady_window': need 0 <= min < max <= run.startup_strain "
+            f"({run['startup_strain']}), got {analysis['steady_window']}"
+        )
+    for key in ("dump_strain", "thermo_strain", "table_strain"):
+        if run[key] > min(run["startup_strain"], run["rotation_strain"]):
+            raise ConfigError(f"config key 'run.{key}' ({run[key]}) exceeds the shortest run's strain")
+        if run[key] < run["dt"]:
+            raise ConfigError(f"config key 'run.{key}' ({run[key]}) is below one time step run.dt ({run['dt']})")
+    if particles["d_large"] < particles["d_small"]:
+        raise ConfigError("config key 'particles.d_large' must be >= particles.d_small")
+    labels = [angle_label(a) for a in config["angles_deg"]]
+    if len(set(labels)) != len(labels):
+        raise ConfigError(f"config key 'angles_deg': angles collide after formatting: {labels}")
+    return config
+
+
+def load_config(path: str | os.PathLike) -> dict:
+    """Read and validate a study YAML file; errors name the file and the key."""
+    path = Path(path)
+    if not path.is_file():
+        raise ConfigError(f"config file not found: {path}")
+    config = yaml.safe_load(path.read_text()) or {}
+    try:
+        return validate_config(config)
+    except ConfigError as err:
+        raise ConfigError(f"{path}: {err}") from None
+
+
+def angle_label(theta_deg: float) -> str:
+    """Text of an angle for file names: 45 -> '45', 22.5 -> '22.5', -30 -> 'm30'."""
+    text = f"{float(theta_deg):g}"
+    return text.replace("-", "m")

@@ -1,0 +1,50 @@
+rule fabric_table:
+    """Near-contact fabric per dumped frame of one run, in the paper frame of its shear."""
+    input:
+        dump=f"{RESULTS}/seed{{seed}}/{{run}}/trajectory.dump",
+        marker=f"{RESULTS}/seed{{seed}}/{{run}}/run_complete.json",
+    output:
+        f"{RESULTS}/seed{{seed}}/{{run}}/fabric.csv",
+    wildcard_constraints:
+        run=r"startup|rotation_theta[^/]+",
+    params:
+        eps=config["analysis"]["eps"],
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/fabric_seed{{seed}}_{{run}}.log",
+    script:
+        "../scripts/fabric_table.py"
+
+
+rule aggregate_startup:
+    """Seed means and standard errors of startup shear; its steady state (the fit targets)."""
+    input:
+        expand(f"{RESULTS}/seed{{seed}}/startup/fabric.csv", seed=SEEDS),
+    output:
+        runs=f"{RESULTS}/tables/startup_runs.csv",
+        aggregate=f"{RESULTS}/tables/startup_aggregate.csv",
+        steady=f"{RESULTS}/tables/steady_state.csv",
+    params:
+        steady_window=config["analysis"]["steady_window"],
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/aggregate_startup.log",
+    script:
+        "../scripts/aggregate.py"
+
+
+rule aggregate_rotation:
+    """Seed means and standard errors per angle and post-rotation strain."""
+    input:
+        expand(f"{RESULTS}/seed{{seed}}/rotation_theta{{angle}}/fabric.csv", seed=SEEDS, angle=ANGLES),
+    output:
+        runs=f"{RESULTS}/tables/rotation_runs.csv",
+        aggregate=f"{RESULTS}/tables/rotation_aggregate.csv",
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/aggregate_rotation.log",
+    script:
+        "../scripts/aggregate.py"

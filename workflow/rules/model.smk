@@ -1,0 +1,51 @@
+rule fit_models:
+    """G-W beta from steady <nn>_12; modified (beta, A) from steady <nn>_11 and <nn>_12."""
+    input:
+        steady=rules.aggregate_startup.output.steady,
+    output:
+        f"{RESULTS}/fits.json",
+    params:
+        phi=config["particles"]["phi"],
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/fit_models.log",
+    script:
+        "../scripts/fit_models.py"
+
+
+rule predict:
+    """Both models: startup from the simulated initial fabric, then every rotation angle."""
+    input:
+        fits=rules.fit_models.output[0],
+        startup=rules.aggregate_startup.output.aggregate,
+        rotation=rules.aggregate_rotation.output.aggregate,
+    output:
+        f"{RESULTS}/tables/predictions.csv",
+    params:
+        startup_strain=config["run"]["startup_strain"],
+        polar_step=config["models"]["polar_angle_step_deg"],
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/predict.log",
+    script:
+        "../scripts/predict.py"
+
+
+rule model_errors:
+    """rms and max |model - simulation| / |<nn>_12^ss| per model, angle and component."""
+    input:
+        fits=rules.fit_models.output[0],
+        predictions=rules.predict.output[0],
+        startup=rules.aggregate_startup.output.aggregate,
+        rotation=rules.aggregate_rotation.output.aggregate,
+    output:
+        table=f"{RESULTS}/tables/model_errors.csv",
+        summary=f"{RESULTS}/tables/model_errors_summary.csv",
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/model_errors.log",
+    script:
+        "../scripts/model_errors.py"

@@ -1,0 +1,59 @@
+rule pack:
+    """Random non-overlapping bidisperse packing at phi for one seed (pack.lmp)."""
+    output:
+        data=f"{RESULTS}/seed{{seed}}/packing/packing.data",
+        report=f"{RESULTS}/seed{{seed}}/packing/packing.json",
+    params:
+        particles=config["particles"],
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/pack_seed{{seed}}.log",
+    script:
+        "../scripts/pack.py"
+
+
+rule startup:
+    """Startup simple shear to run.startup_strain with trajectory, stress table and checkpoint."""
+    input:
+        data=rules.pack.output.data,
+        plugin=PLUGIN_LIBRARY,
+    output:
+        **run_outputs(f"{RESULTS}/seed{{seed}}/startup"),
+    params:
+        forces=config["forces"],
+        run=config["run"],
+        strain=config["run"]["startup_strain"],
+    threads: config["run"]["mpi_ranks"]
+    resources:
+        mpi_ranks=config["run"]["mpi_ranks"],
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/startup_seed{{seed}}.log",
+    script:
+        "../scripts/shear.py"
+
+
+rule rotate:
+    """Shear rotation by theta from the seed's startup checkpoint, to run.rotation_strain."""
+    input:
+        checkpoint=rules.startup.output.checkpoint,
+        marker=rules.startup.output.run_complete,
+        plugin=PLUGIN_LIBRARY,
+    output:
+        **run_outputs(f"{RESULTS}/seed{{seed}}/rotation_theta{{angle}}"),
+    params:
+        forces=config["forces"],
+        run=config["run"],
+        strain=config["run"]["rotation_strain"],
+        theta_deg=lambda wildcards: ANGLE_VALUE[wildcards.angle],
+    threads: config["run"]["mpi_ranks"]
+    resources:
+        mpi_ranks=config["run"]["mpi_ranks"],
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/rotate_seed{{seed}}_theta{{angle}}.log",
+    script:
+        "../scripts/shear.py"
