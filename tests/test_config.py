@@ -1,0 +1,45 @@
+"""Config validation: schema defaults, cross-key checks, shipped study files."""
+
+import pytest
+
+from suspension_fabric.config import ConfigError, angle_label, load_config, validate_config
+
+MINIMAL = {"study": "s", "seeds": [1], "angles_deg": [0, 90]}
+
+
+def test_defaults_are_filled_at_every_level():
+    config = validate_config(dict(MINIMAL))
+    assert config["particles"]["phi"] == 0.45 and config["forces"]["kn"] == 1.25e5
+    assert config["analysis"]["eps"] == 0.01 and config["run"]["startup_strain"] == 5.0
+
+
+@pytest.mark.parametrize("name", ["config", "paper", "test"])
+def test_shipped_configs_are_valid(name):
+    config = load_config(f"config/{name}.yaml")
+    assert config["study"] == {"config": "default"}.get(name, name)
+
+
+@pytest.mark.parametrize(
+    "change, key",
+    [
+        ({"seeds": []}, "seeds"),
+        ({"particles": {"phi": -0.1}}, "particles.phi"),
+        ({"forces": {"eta_f": "x"}}, "forces.eta_f"),
+        ({"run": {"dump_strain": 10.0}}, "run.dump_strain"),
+        ({"particles": {"d_large": 0.5}}, "particles.d_large"),
+        ({"angles_deg": [-0.0, 0.0]}, "angles_deg"),
+        ({"study": "a/b"}, "study"),
+    ],
+)
+def test_bad_values_name_their_key(change, key):
+    with pytest.raises(ConfigError, match=f"'{key}"):
+        validate_config({**MINIMAL, **change})
+
+
+def test_missing_file_is_named(tmp_path):
+    with pytest.raises(ConfigError, match="not found"):
+        load_config(tmp_path / "nope.yaml")
+
+
+def test_angle_labels():
+    assert [angle_label(a) for a in (0, 45.0, 22.5, -30)] == ["0", "45", "22.5", "m30"]

@@ -1,0 +1,161 @@
+"""The Snakemake workflow end to end: a real run of config/test.yaml (real LAMMPS, real
+MDAnalysis, real fits), the README's rerun commands as dry runs, the DAG, the report,
+the linter and the schema errors.
+
+The workflow files are copied into a temporary folder so the test never touches the
+repository's results/.
+"""
+
+import json
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pandas as pd
+import pytest
+import yaml
+
+REPO = Path(__file__).resolve().parents[1]
+SNAKEMAKE = Path(sys.executable).with_name("snakemake")
+TEST_CONFIG = ["--configfile", "config/test.yaml"]
+RESULTS = "results/test"
+
+pytestmark = pytest.mark.workflow
+
+
+def snakemake(workdir, *args, timeout=900):
+    return subprocess.run([str(SNAKEMAKE), "--cores", "2", *args], cwd=workdir, capture_output=True,
+                          text=True, timeout=timeout)
+
+
+def job_counts(output: str) -> dict[str, int]:
+    """The 'job  count' table that Snakemake prints before running (or in a dry run)."""
+    table = output[output.index("job "):]
+    counts = {}
+    for line in table.splitlines()[2:]:
+        match = re.fullmatch(r"(\w+)\s+(\d+)", line.strip())
+        if not match:
+            break
+        counts[match.group(1)] = int(match.group(2))
+    return counts
+
+
+def copy_workflow(target: Path) -> Path:
+    for name in ("config", "workflow", "envs"):
+        shutil.copytree(REPO / name, target / name, ignore=shutil.ignore_patterns("__pycache__"))
+    shutil.copy(REPO / "Snakefile", target / "Snakefile")
+    return target
+
+
+@pytest.fixture(scope="module")
+def study(tmp_path_factory):
+    """The whole test study, run for real once per test session."""
+    workdir = copy_workflow(tmp_path_factory.mktemp("workflow"))
+    result = snakemake(workdir, *TEST_CONFIG)
+    assert result.returncode == 0, result.stderr[-4000:]
+    return workdir
+
+
+def test_study_produces_figures_fits_and_error_table(study):
+    results = study / RESULTS
+    for stem in ("fig1_startup", "fig2_rotation"):
+        for ext in ("pdf", "png"):
+            assert (results / "figures" / f"{stem}.{ext}").stat().st_size > 10_000
+    fits = json.loads((results / "fits.json").read_text())
+    assert fits["gw"]["beta"] > 0 and fits["modified"]["beta"] > 0 and fits["modified"]["A"] >= 0
+    assert fits["targets"]["n12"]["mean"] < 0  # contacts along the compression axis
+    assert fits["provenance"]["seeds"] == [1, 2]
+    errors = pd.read_csv(results / "tables" / "model_errors.csv")
+    rotation = errors[errors["protocol"] == "rotation"]
+    assert sorted(rotation["theta"].unique()) == [0.0, 90.0]
+    assert set(rotation["model"]) == {"gw", "modified"}
+    runs = pd.read_csv(results / "tables" / "rotation_runs.csv")
+    assert sorted(runs["seed"].unique()) == [1, 2]
+
+
+def test_nothing_left_to_do_after_a_run(study):
+    result = snakemake(study, *TEST_CONFIG, "-n")
+    assert result.returncode == 0
+    assert "Nothing to be done" in result.stdout + result.stderr
+
+
+def test_rerun_one_angle_one_seed(study):
+    """README: rerun theta = 90 for seed 1 and everything downstream; no startup, no other angle."""
+    result = snakemake(study, *TEST_CONFIG, "-n", "-R", f"{RESULTS}/seed1/rotation_theta90/trajectory.dump")
+    counts = job_counts(result.stdout)
+    assert counts["rotate"] == 1 and counts["fabric_table"] == 1
+    assert counts["aggregate_rotation"] == 1 and counts["figure_rotation"] == 1 and counts["figure_startup"] == 1
+    for rule in ("pack", "startup", "aggregate_startup", "fit_models", "build_plugin"):
+        assert rule not in counts
+    wildcards = set(re.findall(r"wildcards: (seed=\d+, (?:angle|run)=\S+)", result.stdout))
+    assert wildcards == {"seed=1, angle=90", "seed=1, run=rotation_theta90"}, wildcards
+
+
+def test_rerun_one_angle_all_seeds(study):
+    targets = [f"{RESULTS}/seed{s}/rotation_theta90/trajectory.dump" for s in (1, 2)]
+    counts = job_counts(snakemake(study, *TEST_CONFIG, "-n", "-R", *targets).stdout)
+    assert counts["rotate"] == 2 and counts["fabric_table"] == 2
+    assert "startup" not in counts and "pack" not in counts
+
+
+def test_regenerate_figures_only(study):
+    """README: regenerate the figures from existing results, nothing else."""
+    counts = job_counts(snakemake(study, *TEST_CONFIG, "-n", "-R", "figure_startup", "figure_rotation").stdout)
+    assert set(counts) == {"figure_startup", "figure_rotation", "all", "total"}
+
+
+def test_every_figure_depends_on_every_stage(study):
+    """In the rule graph, each figure rule has all simulation and analysis rules as ancestors."""
+    dot = snakemake(study, *TEST_CONFIG, "--rulegraph").stdout
+    names = dict(re.findall(r'(\d+)\[label = "(\w+)"', dot))
+    parents = {}
+    for src, dst in re.findall(r"(\d+) -> (\d+)", dot):
+        parents.setdefault(names[dst], set()).add(names[src])
+
+    def ancestors(rule):
+        seen, todo = set(), [rule]
+        while todo:
+            for parent in parents.get(todo.pop(), ()):
+                if parent not in seen:
+                    seen.add(parent)
+                    todo.append(parent)
+        return seen
+
+    upstream = {"build_plugin", "pack", "startup", "rotate", "fabric_table", "aggregate_startup",
+                "aggregate_rotation", "fit_models", "predict"}
+    for figure in ("figure_startup", "figure_rotation"):
+        assert upstream <= ancestors(figure), upstream - ancestors(figure)
+
+
+def test_report_has_both_figures(study):
+    result = snakemake(study, *TEST_CONFIG, "--report", "report.html", timeout=300)
+    assert result.returncode == 0, result.stderr[-3000:]
+    html = (study / "report.html").read_text(errors="replace")
+    assert "fig1_startup.png" in html and "fig2_rotation.png" in html
+
+
+def test_lint_is_clean():
+    result = snakemake(REPO, *TEST_CONFIG, "--lint")
+    assert result.returncode == 0, result.stdout[-3000:]
+
+
+@pytest.mark.parametrize(
+    "section, value, message",
+    [
+        ("particles", {"n": "many"}, "config key 'particles.n'"),
+        ("run", {"dtt": 1.0}, "'dtt' was unexpected"),
+        ("angles_deg", [0, 270], "config key 'angles_deg.1'"),
+        ("analysis", {"steady_window": [3.0, 9.0]}, "config key 'analysis.steady_window'"),
+    ],
+)
+def test_bad_config_stops_before_any_job(tmp_path, section, value, message):
+    workdir = copy_workflow(tmp_path)
+    config = yaml.safe_load((workdir / "config" / "test.yaml").read_text())
+    config[section] = value
+    (workdir / "config" / "bad.yaml").write_text(yaml.safe_dump(config))
+    result = snakemake(workdir, "--configfile", "config/bad.yaml")
+    assert result.returncode != 0
+    assert message in result.stdout + result.stderr
+    assert not (workdir / "results").exists()
