@@ -34,9 +34,19 @@ Fabric
     number of particles; hence Tr<nn> = Z/2, Z the near-contact coordination.
 
 Modules
-    frames   -- paper/simulation/rotated frame bases and tensor rotations
-    model    -- G-W and modified G-W models: closure, rhs, integration,
-                steady states, fits, shear-rotation predictions
+    frames       -- paper/simulation/rotated frame bases and tensor rotations
+    model        -- G-W and modified G-W models: closure, rhs, exact integration,
+                    steady states, fits, shear-rotation predictions
+    lammps       -- the project's LAMMPS plugin (build, load) and the runners of the
+                    workflow/lammps scripts (pack, startup shear, shear rotation)
+    dumpio       -- LAMMPS triclinic boxes and dump files (writer, header checks)
+    fabric       -- near-contact detection and per-frame fabric (MDAnalysis)
+    fabric_reference -- brute-force O(N^2) reference of the near-contact search
+    tables       -- per-run fabric tables, seed aggregates, steady states
+    study        -- fits to the simulated steady state, predictions, error tables
+    figures      -- the paper's Fig. 1 and Fig. 2
+    config       -- study configuration: schema validation, cross-key checks
+    workflow_io  -- logging helper of the Snakemake scripts
 """
 
 __version__ = "0.1.0"
