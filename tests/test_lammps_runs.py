@@ -294,3 +294,16 @@ def test_thermo_watcher_reads_strain_and_flags_nan_and_errors():
     assert watcher.bad_thermo is not None and "nan" in watcher.bad_thermo
     watcher.feed("ERROR: Lost atoms: original 100 current 50 (src/thermo.cpp:526)\n")
     assert watcher.errors == ["ERROR: Lost atoms: original 100 current 50 (src/thermo.cpp:526)"]
+
+
+def test_stress_jitter_separates_smooth_from_oscillating_tables(startup):
+    """stress_jitter is ~0 for a smooth stress history and ~1 when the lubrication stress
+    flips between rows (the signature of a too large dt); short tables are not judged."""
+    strain = np.arange(200) * 0.001
+    smooth = {k: -1000.0 + 50.0 * np.sin(strain) for k in ("pxx", "pyy", "pzz", "pxy", "pxz", "pyz")}
+    smooth["strain"] = strain
+    assert runner.stress_jitter(smooth)[0] < 0.01
+    flipping = dict(smooth, pxz=smooth["pxz"] + 800.0 * (-1.0) ** np.arange(200))
+    jitter, lo, hi = runner.stress_jitter(flipping)
+    assert jitter > 0.5 and 0.0 <= lo < hi
+    assert runner.stress_jitter(read_stress_table(startup.table_file))[0] == 0.0
