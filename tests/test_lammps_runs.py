@@ -73,6 +73,18 @@ def read_data_atoms(path):
     return atoms[:, 2] / 2.0, atoms[:, 4:7], box
 
 
+def brute_force_min_relative_gap(radii, positions, box):
+    """Smallest (r - a_i - a_j) / (a_i + a_j) over all pairs and the 27 nearest images."""
+    shifts = np.array([(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)]) @ box
+    smallest = np.inf
+    for i in range(len(positions) - 1):
+        d = positions[i + 1:, None, :] - positions[i] + shifts[None, :, :]
+        r = np.linalg.norm(d, axis=2).min(axis=1)
+        contact = radii[i] + radii[i + 1:]
+        smallest = min(smallest, np.min((r - contact) / contact))
+    return smallest
+
+
 def brute_force_max_overlap(radii, positions, box):
     """Largest a_i + a_j - r over all pairs and the 27 nearest images (no shortcuts)."""
     shifts = np.array([(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)]) @ box
@@ -86,13 +98,14 @@ def brute_force_max_overlap(radii, positions, box):
 
 def test_packing_reaches_target_phi_without_overlap_and_is_reproducible(packing, tmp_path):
     """pack(): phi equals the target, an independent all-pairs check finds no overlap
-    above 1e-6 d, the 50:50 number split holds, the same seed gives a byte-identical
+    above 1e-6 d and no gap below gap_margin = 2% of the contact distance, the 50:50 number split holds, the same seed gives a byte-identical
     data file and another seed a different one."""
     radii, positions, box = read_data_atoms(packing.data_file)
     volume_fraction = np.sum(4.0 / 3.0 * np.pi * radii**3) / abs(np.linalg.det(box))
     assert volume_fraction == pytest.approx(0.45, rel=1e-9)
     assert packing.phi == pytest.approx(0.45, rel=1e-9)
     assert brute_force_max_overlap(radii, positions, box) < 1e-6
+    assert brute_force_min_relative_gap(radii, positions, box) > 0.02 - 1e-6  # gap_margin
     assert packing.max_overlap < 1e-6
     assert (packing.n_small, packing.n_large) == (30, 30)
     assert sorted(set(np.round(2 * radii, 12))) == [1.0, 1.4]

@@ -532,6 +532,7 @@ def pack(
     fraction_large: float = 0.5,
     d_small: float = 1.0,
     d_large: float = 1.4,
+    gap_margin: float = 0.02,
     max_overlap: float = 1.0e-6,
     phi_tolerance: float = 1.0e-9,
     ranks: int = 1,
@@ -543,7 +544,9 @@ def pack(
     ``n_particles`` spheres of diameters ``d_small`` (= 1, the length unit) and
     ``d_large``; ``fraction_large`` is the share of large spheres by number or by
     volume (``split`` = "number" | "volume"); ``phi`` the target volume fraction; the
-    same ``seed`` (and ranks) gives the same packing. Writes ``packing.data`` and
+    same ``seed`` (and ranks) gives the same packing. Surface gaps are at least
+    ``gap_margin`` times the contact distance (a_i + a_j), up to the minimiser's tolerance,
+    so the start has no near contacts. Writes ``packing.data`` and
     ``packing.json`` into ``output_dir``. Fails if the reached phi differs from the
     target by more than ``phi_tolerance`` (relative) or an overlap exceeds
     ``max_overlap`` (in d).
@@ -553,7 +556,7 @@ def pack(
     variables = {
         "n_particles": str(int(n_particles)), "phi": _number(phi), "seed": str(int(seed)),
         "split": split, "fraction_large": _number(fraction_large),
-        "d_small": _number(d_small), "d_large": _number(d_large),
+        "d_small": _number(d_small), "d_large": _number(d_large), "gap_margin": _number(gap_margin),
         "data_file": PACK_DATA, "report_file": PACK_REPORT,
     }
     variables.update({k: str(v) for k, v in (extra_variables or {}).items()})
