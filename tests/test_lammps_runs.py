@@ -147,11 +147,14 @@ def test_startup_writes_outputs_and_strain_is_step_dt_rate(startup):
     assert frames[-1].box.xz == pytest.approx(0.002 * frames[-1].box.lz, rel=1e-9)
 
 
-def test_restart_does_not_change_the_physics(tmp_path, packing, startup, force_model):
+def test_restart_does_not_change_the_physics(tmp_path, force_model):
     """A run of 0.002 + 0.002 strain with a restart in between (rotate.lmp at theta = 0
     from the checkpoint) matches an uninterrupted run of 0.004: positions agree to
     round-off just after the restart (1e-10 d) and stay close at the end (1e-6 d), and
-    the stress table agrees closely (mean pxz over the second half within 1e-4)."""
+    the stress table agrees closely (mean pxz over the second half within 1e-4). The
+    packing has no gap margin, so frictional contacts (with tangential history) exist
+    across the restart."""
+    packing = pack(tmp_path / "touching", N_PARTICLES, phi=0.45, seed=7, gap_margin=0.0)
     fine = dict(SMALL_RUN, dump_strain=0.0001)
     whole = run_startup(tmp_path / "whole", packing.data_file, 0.004, force_model=force_model, **fine)
     first = run_startup(tmp_path / "first", packing.data_file, 0.002, force_model=force_model, **fine)
@@ -174,6 +177,7 @@ def test_restart_does_not_change_the_physics(tmp_path, packing, startup, force_m
 
     whole_table = read_stress_table(whole.table_file)
     second_table = read_stress_table(second.table_file)
+    assert np.all(np.abs(second_table["contact_pxz"]) > 0.0)  # contacts carried over
     after = whole_table["step"] >= restart_step
     np.testing.assert_array_equal(second_table["step"], whole_table["step"][after])
     np.testing.assert_allclose(second_table["strain"], whole_table["strain"][after] - 0.002, atol=1e-15)
@@ -276,18 +280,26 @@ def test_two_mpi_ranks(tmp_path, packing, force_model):
                                read_stress_table(serial.table_file)["pxz"], rtol=1e-6)
 
 
-def test_overlap_check_agrees_with_brute_force_and_handles_tiny_boxes(tmp_path, startup, force_model):
-    """max_overlap_in_dump equals an all-pairs, all-images computation on the startup
-    dump, and an 8-particle box (too small for the neighbour search) is still checked."""
+def test_overlap_check_agrees_with_brute_force_and_handles_tiny_boxes(tmp_path, force_model):
+    """max_overlap_in_dump equals an all-pairs, all-images computation on a dump of
+    random overlapping spheres in a tilted box (one box large enough for the neighbour
+    search, one too small for it); an 8-particle LAMMPS run is checked end to end."""
+    from suspension_fabric.dumpio import DumpFrame, TriclinicBox, write_lammps_dump
     from suspension_fabric.lammps import max_overlap_in_dump
 
-    largest, frames = max_overlap_in_dump(startup.dump_file)
-    expected = max(
-        brute_force_max_overlap(f.radii, f.positions, f.box.edge_vectors)
-        for f in iter_dump_frames(startup.dump_file)
-    )
-    assert frames == 3 and largest == pytest.approx(max(expected, 0.0), abs=1e-12)
-    assert largest > 0.0  # the sheared suspension has contacts
+    generator = np.random.default_rng(11)
+    for n_atoms, length in ((80, 6.0), (6, 2.4)):
+        box = TriclinicBox(length, length, length, 0.0, 0.4 * length, -0.3 * length, (1.0, -2.0, 0.5))
+        fractional = generator.random((n_atoms, 3))
+        positions = np.asarray(box.origin) + fractional @ box.edge_vectors
+        radii = generator.choice([0.5, 0.7], n_atoms)
+        path = write_lammps_dump(tmp_path / f"random{n_atoms}.dump",
+                                 [DumpFrame(step=0, box=box, positions=positions, radii=radii)],
+                                 float_format="%.17g")
+        largest, frames = max_overlap_in_dump(path)
+        expected = brute_force_max_overlap(radii, positions, box.edge_vectors)
+        assert frames == 1 and expected > 0.0
+        assert largest == pytest.approx(expected, abs=1e-12)
 
     tiny = pack(tmp_path / "tiny", 8, phi=0.45, seed=5)
     run = run_startup(tmp_path / "tiny_run", tiny.data_file, 0.001, force_model=force_model, **SMALL_RUN)
