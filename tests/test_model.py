@@ -257,8 +257,8 @@ def test_fit_gw_recovers_beta(beta):
 def test_fit_modified_recovers_parameters(beta, A):
     """fit_modified(<nn>_11^ss, <nn>_12^ss, phi) = (beta, A), despite the spurious pole at beta = 8."""
     steady = model.steady_state_ode(beta, A, 0.45)
-    fit = model.fit_modified(steady[0, 0], steady[0, 1], 0.45)
-    assert fit.beta == pytest.approx(beta, rel=1e-8) and fit.A == pytest.approx(A, rel=1e-8)
+    fit_beta, fit_A = model.fit_modified(steady[0, 0], steady[0, 1], 0.45)
+    assert fit_beta == pytest.approx(beta, rel=1e-8) and fit_A == pytest.approx(A, rel=1e-8)
 
 
 def test_fits_reproduce_paper_parameters():

@@ -31,7 +31,7 @@ Symmetric tensors are stored as 6-vectors in the order (11, 22, 33, 12, 13, 23)
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 import scipy.linalg
@@ -447,9 +447,8 @@ def fit_gw(n12, phi) -> float:
     return float(_pick_unique(roots, "fit_gw", f"<nn>_12 = {n12} at phi = {phi}"))
 
 
-@dataclass(frozen=True)
-class ModifiedFit:
-    """Parameters of the modified G-W model fitted to a steady state."""
+class ModifiedFit(NamedTuple):
+    """Parameters of the modified G-W model fitted to a steady state; unpacks as (beta, A)."""
 
     beta: float
     A: float
@@ -462,7 +461,8 @@ def fit_modified(n11, n12, phi) -> ModifiedFit:
     follows from <nn>_12 and a scalar equation in beta remains for <nn>_11. All its
     roots in [1e-3, 1e4] are found on a grid and refined; solutions with A < 0, an
     unstable fixed point or a fabric that is not positive semi-definite are dropped.
-    Raises ValueError when none (or several) remain. Returns ``ModifiedFit(beta, A)``.
+    Raises ValueError when none (or several) remain. Returns ``ModifiedFit(beta, A)``,
+    a named tuple: ``beta, A = fit_modified(...)``.
     """
     n11 = float(_check_finite("n11", n11))
     n12 = _check_shear_component(n12)

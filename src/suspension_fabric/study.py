@@ -17,7 +17,6 @@ Protocol of the model predictions (paper Sec. 4)
 from __future__ import annotations
 
 import json
-from dataclasses import astuple
 import os
 from pathlib import Path
 
@@ -82,7 +81,7 @@ def fit_steady_state(steady: pd.DataFrame, phi: float) -> dict:
 
     gw_err = propagated(lambda a: model.fit_gw(a, phi), [n12], [n12_err])[0]
     mod_err = propagated(
-        lambda a, b: np.array(astuple(model.fit_modified(a, b, phi))), [n11, n12], [n11_err, n12_err]
+        lambda a, b: np.array(model.fit_modified(a, b, phi)), [n11, n12], [n11_err, n12_err]
     )
     targets = {}
     for quantity in (*COMPONENTS, "Z"):
