@@ -17,6 +17,12 @@ wildcard_constraints:
     angle=r"m?[0-9.]+(e[-+]?\d+)?",
 
 
+# Run settings that change results; the failure bounds and the MPI rank count do not,
+# so changing them never reruns a finished simulation (the scripts read them from config).
+RUN_CHECKS = ("max_overlap", "max_stress_jitter", "mpi_ranks")
+RUN_SETTINGS = {key: value for key, value in config["run"].items() if key not in RUN_CHECKS}
+
+
 def run_outputs(run_dir):
     return {name.split(".")[0]: f"{run_dir}/{name}" for name in RUN_FILES}
 

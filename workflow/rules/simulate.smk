@@ -22,7 +22,7 @@ rule startup:
         **run_outputs(f"{RESULTS}/seed{{seed}}/startup"),
     params:
         forces=config["forces"],
-        run=config["run"],
+        run=RUN_SETTINGS,
         strain=config["run"]["startup_strain"],
     threads: config["run"]["mpi_ranks"]
     resources:
@@ -45,7 +45,7 @@ rule rotate:
         **run_outputs(f"{RESULTS}/seed{{seed}}/rotation_theta{{angle}}"),
     params:
         forces=config["forces"],
-        run=config["run"],
+        run=RUN_SETTINGS,
         strain=config["run"]["rotation_strain"],
         theta_deg=lambda wildcards: ANGLE_VALUE[wildcards.angle],
     threads: config["run"]["mpi_ranks"]

@@ -7,11 +7,12 @@ from suspension_fabric.workflow_io import logged
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
     forces = ForceModel(plugin=sm.input.plugin, **sm.params.forces)
-    run = sm.params.run
+    run, checks = sm.params.run, sm.config["run"]
     common = dict(
         strain_total=sm.params.strain, force_model=forces, dt=run["dt"], dump_strain=run["dump_strain"],
         table_strain=run["table_strain"], thermo_strain=run["thermo_strain"],
-        restart_strain=run["restart_strain"], max_overlap=run["max_overlap"], ranks=run["mpi_ranks"],
+        restart_strain=run["restart_strain"], max_overlap=checks["max_overlap"],
+        max_stress_jitter=checks["max_stress_jitter"], ranks=checks["mpi_ranks"],
         overwrite=True,  # Snakemake decided this job must run; the old folder goes only on success
     )
     output_dir = Path(sm.output.trajectory).parent
