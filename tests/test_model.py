@@ -292,3 +292,8 @@ def test_fits_reproduce_paper_parameters():
 def test_bad_inputs_raise_clear_errors(call, message):
     with pytest.raises(ValueError, match=message):
         call()
+
+
+def test_gw_shear_limit_matches_ode():
+    """The bound quoted by fit_gw, <nn>_12^ss / phi -> -28/45 as beta -> infinity, holds for the ODE fixed point."""
+    assert model.steady_state_ode(1e7, None, 0.45)[0, 1] / 0.45 == pytest.approx(-model._GW_N12_LIMIT, rel=1e-5)
