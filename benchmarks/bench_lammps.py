@@ -3,7 +3,7 @@
     .venv/bin/python benchmarks/bench_lammps.py [--steps 4000] [--repeats 3]
 
 N = 500 bidisperse spheres (d = 1 and 1.4, 50:50 by number), phi = 0.45, mu = 0.5,
-kn = 1.25e5, kt = 2/7 kn, eta_f = 223, simple shear xz erate 1 (strain rate 1), one core:
+kn = 1.25e9 (project default, stiff limit), kt = 2/7 kn, eta_f = 223, simple shear xz erate 1 (strain rate 1), one core:
   (i)  granular + lubricate/sf + fix stokes/sf (this project's plugin), newton on and off;
   (ii) granular + stock lubricate/poly (flagfld 1 supplies the one-body drag), newton off
        (lubricate/poly requires it).
@@ -33,7 +33,7 @@ from suspension_fabric.lammps.plugin import new_lammps  # noqa: E402
 N_ATOMS = 500
 PHI = 0.45
 D_SMALL, D_LARGE = 1.0, 1.4
-MU, KN = 0.5, 1.25e5
+MU, KN = 0.5, 1.25e9
 KT = 2.0 / 7.0 * KN
 ETA_F = 223.0
 DELTA, H_OUT = 1e-3, 0.05

@@ -9,7 +9,7 @@ MINIMAL = {"study": "s", "seeds": [1], "angles_deg": [0, 90]}
 
 def test_defaults_are_filled_at_every_level():
     config = validate_config(dict(MINIMAL))
-    assert config["particles"]["phi"] == 0.45 and config["forces"]["kn"] == 1.25e5
+    assert config["particles"]["phi"] == 0.45 and config["forces"]["kn"] == 1.25e9
     assert config["analysis"]["eps"] == 0.01 and config["run"]["startup_strain"] == 5.0
 
 
@@ -29,6 +29,8 @@ def test_shipped_configs_are_valid(name):
         ({"particles": {"d_large": 0.5}}, "particles.d_large"),
         ({"angles_deg": [-0.0, 0.0]}, "angles_deg"),
         ({"study": "a/b"}, "study"),
+        ({"forces": {"kn": 1.25e5}}, "forces.kn"),
+        ({"run": {"dt": 1.0e-5}}, "run.dt"),
     ],
 )
 def test_bad_values_name_their_key(change, key):
@@ -43,3 +45,12 @@ def test_missing_file_is_named(tmp_path):
 
 def test_angle_labels():
     assert [angle_label(a) for a in (0, 45.0, 22.5, -30)] == ["0", "45", "22.5", "m30"]
+
+
+def test_paper_kn_is_rejected_as_too_soft_with_the_relaxation_strain():
+    """The paper's printed kn = 1.25e5 at eta_f = 223, delta = 1e-3: a large-large contact
+    unloads in tau = (X + c/2)/kn = 5.9 strain (suspension_fabric.scales), far from stiff."""
+    with pytest.raises(ConfigError, match=r"forces.kn' \(125000\).*5\.9\d* strain"):
+        validate_config({**MINIMAL, "forces": {"kn": 1.25e5}})
+    loosened = {**MINIMAL, "forces": {"kn": 1.25e5}, "run": {"max_contact_relaxation_strain": 10.0}}
+    assert validate_config(loosened)["forces"]["kn"] == 1.25e5

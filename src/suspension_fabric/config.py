@@ -12,9 +12,12 @@ from pathlib import Path
 
 import yaml
 
+from .scales import contact_period, contact_relaxation_time
+
 __all__ = ["SCHEMA_PATH", "ConfigError", "validate_config", "load_config", "angle_label"]
 
 SCHEMA_PATH = Path(__file__).resolve().parents[2] / "config" / "schema.yaml"
+MIN_STEPS_PER_CONTACT_PERIOD = 30
 
 
 class ConfigError(ValueError):
@@ -60,6 +63,25 @@ def validate_config(config: dict, schema_path: str | os.PathLike = SCHEMA_PATH) 
             raise ConfigError(f"config key 'run.{key}' ({run[key]}) is below one time step run.dt ({run['dt']})")
     if particles["d_large"] < particles["d_small"]:
         raise ConfigError("config key 'particles.d_large' must be >= particles.d_small")
+    forces = config["forces"]
+    relaxation = contact_relaxation_time(particles["d_large"], particles["d_large"], forces["eta_f"],
+                                         forces["delta"], forces["kn"])
+    if relaxation > run["max_contact_relaxation_strain"]:
+        raise ConfigError(
+            f"config key 'forces.kn' ({forces['kn']:g}) is too soft for the stiff, rate-independent "
+            f"limit: with forces.eta_f = {forces['eta_f']:g} and forces.delta = {forces['delta']:g} a "
+            f"contact needs {relaxation:.3g} strain to unload, above "
+            f"run.max_contact_relaxation_strain = {run['max_contact_relaxation_strain']:g} "
+            f"(suspension_fabric.scales); raise kn to at least "
+            f"{forces['kn'] * relaxation / run['max_contact_relaxation_strain']:.3g}"
+        )
+    period = contact_period(particles["d_small"], particles["d_small"], forces["kn"])
+    if run["dt"] > period / MIN_STEPS_PER_CONTACT_PERIOD:
+        raise ConfigError(
+            f"config key 'run.dt' ({run['dt']:g}) is too large for the contact spring forces.kn = "
+            f"{forces['kn']:g}: a small-small contact oscillates with period {period:.3g}, which "
+            f"needs at least {MIN_STEPS_PER_CONTACT_PERIOD} steps (dt <= {period / MIN_STEPS_PER_CONTACT_PERIOD:.3g})"
+        )
     labels = [angle_label(a) for a in config["angles_deg"]]
     if len(set(labels)) != len(labels):
         raise ConfigError(f"config key 'angles_deg': angles collide after formatting: {labels}")

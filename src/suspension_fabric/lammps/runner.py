@@ -89,7 +89,7 @@ class ForceModel:
     """
 
     eta_f: float = 223.0
-    kn: float = 1.25e5
+    kn: float = 1.25e9
     mu: float = 0.5
     kt: float | None = None
     delta: float = 1.0e-3
@@ -668,7 +668,7 @@ def run_startup(
     thermo_strain: float = 0.01,
     restart_strain: float = 0.5,
     skin: float = 0.1,
-    max_overlap: float = 0.1,
+    max_overlap: float = 0.01,
     max_stress_jitter: float | None = DEFAULT_MAX_STRESS_JITTER,
     ranks: int = 1,
     overwrite: bool = False,
@@ -683,8 +683,8 @@ def run_startup(
     table ``stress.txt`` (every ``table_strain``; see :func:`read_stress_table`),
     alternating restart files every ``restart_strain`` and ``checkpoint.rst``.
     Fails (LammpsRunError) on a LAMMPS error, NaN, an overlap above ``max_overlap``
-    (in d) in any dumped frame (a blow-up detector: with the paper's kn = 1.25e5 at
-    phi = 0.45, N = 500 the largest overlap reaches ~0.05 d in steady shear), or, when the table is sampled at least every 0.002
+    (in d) in any dumped frame (a blow-up detector: with the default kn = 1.25e9 at
+    phi = 0.45 overlaps stay below ~2e-4 d), or, when the table is sampled at least every 0.002
     strain, a stress jitter above ``max_stress_jitter`` (:func:`stress_jitter`; the sign
     of a time step too large for the lubrication; None disables the check). ``progress(label, strain, total,
     elapsed_s)`` is called at most every ``progress_interval`` seconds.
@@ -716,7 +716,7 @@ def run_rotation(
     thermo_strain: float = 0.01,
     restart_strain: float = 0.5,
     skin: float = 0.1,
-    max_overlap: float = 0.1,
+    max_overlap: float = 0.01,
     max_stress_jitter: float | None = DEFAULT_MAX_STRESS_JITTER,
     require_complete_source: bool = True,
     ranks: int = 1,
