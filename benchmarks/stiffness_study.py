@@ -3,7 +3,7 @@
     .venv/bin/python benchmarks/stiffness_study.py [--out results/kn_study] [--n 100] [--strain 3]
 
 One packing (N particles, phi 0.45, seed 7), startup shear to --strain at the paper's
-eta_f = 223, mu = 0.5, delta = 1e-3, h_out = 0.05, for each (kn, dt) in RUNS. Runs already
+eta_f = 223, mu = 0.5, delta = 1e-3, for each (kn, dt, h_out) in RUNS. Runs already
 complete in --out are reused. Prints, per run, the near-contact fabric (gap < 0.01 d_min)
 averaged over the last unit of strain, the pressure P, the shear stress and the contact share
 of it, overlaps, the stress jitter (runner.stress_jitter) and the contact relaxation time
@@ -24,12 +24,14 @@ from suspension_fabric.lammps import is_complete, iter_dump_frames, pack, read_s
 from suspension_fabric.lammps.runner import ForceModel, stress_jitter
 from suspension_fabric.scales import contact_relaxation_time
 
-RUNS = [(1.25e5, 2e-7), (1.25e7, 2e-7), (1.25e9, 2e-7), (1.25e11, 2e-7), (1.25e9, 5e-7), (1.25e9, 1e-6)]
+# (kn, dt, h_out): the stiffness ladder, the time step, and the lubrication range
+RUNS = [(1.25e5, 2e-7, 0.05), (1.25e7, 2e-7, 0.05), (1.25e9, 2e-7, 0.05), (1.25e11, 2e-7, 0.05),
+        (1.25e9, 5e-7, 0.05), (1.25e9, 1e-6, 0.05), (1.25e9, 2e-7, 0.1)]
 BINS = [(0.2, 0.5), (0.5, 1.0), (1.0, 1.5), (1.5, 2.0), (2.0, 2.5), (2.5, 3.0), (3.0, 4.0), (4.0, 5.0)]
 
 
-def run_name(n: int, kn: float, dt: float) -> str:
-    return f"n{n}_kn{kn:.0e}_dt{dt:.0e}"
+def run_name(n: int, kn: float, dt: float, h_out: float) -> str:
+    return f"n{n}_kn{kn:.0e}_dt{dt:.0e}" + ("" if h_out == 0.05 else f"_hout{h_out:g}")
 
 
 def overlaps(dump: Path) -> tuple[float, float]:
@@ -53,12 +55,13 @@ def main() -> None:
     if not is_complete(packing_dir):
         pack(packing_dir, args.n, phi=0.45, seed=7)
     rows, series = [], {}
-    for kn, dt in RUNS:
-        name = run_name(args.n, kn, dt)
+    for kn, dt, h_out in RUNS:
+        name = run_name(args.n, kn, dt, h_out)
         run_dir = args.out / name
         if not is_complete(run_dir):
-            run_startup(run_dir, packing_dir / "packing.data", args.strain, force_model=ForceModel(kn=kn),
-                        dt=dt, dump_strain=0.02, max_overlap=1.0, max_stress_jitter=None, progress_interval=60)
+            run_startup(run_dir, packing_dir / "packing.data", args.strain,
+                        force_model=ForceModel(kn=kn, h_out=h_out), dt=dt, dump_strain=0.02,
+                        max_overlap=1.0, max_stress_jitter=None, progress_interval=60)
         marker = json.loads((run_dir / "run_complete.json").read_text())
         fabric = FabricAnalysis.from_dump(run_dir / "trajectory.dump", dt=dt).run().results
         table = read_stress_table(run_dir / "stress.txt")
@@ -66,7 +69,7 @@ def main() -> None:
         stress_rows = table["strain"] > args.strain - 1.0
         shear = -table["pxz"][stress_rows].mean()
         mean_overlap, max_overlap = overlaps(run_dir / "trajectory.dump")
-        rows.append((kn, dt, contact_relaxation_time(1.4, 1.4, 223.0, 1e-3, kn),
+        rows.append((kn, dt, h_out, contact_relaxation_time(1.4, 1.4, 223.0, 1e-3, kn),
                      *(fabric[c][last].mean() for c in ("n11", "n22", "n33", "n12")),
                      fabric.coordination[last].mean(), table["press"][stress_rows].mean(), shear,
                      -table["contact_pxz"][stress_rows].mean() / shear, mean_overlap, max_overlap,
@@ -74,14 +77,14 @@ def main() -> None:
         series[name] = [fabric.n12[(fabric.strain > lo) & (fabric.strain <= hi)].mean()
                         if ((fabric.strain > lo) & (fabric.strain <= hi)).any() else float("nan")
                         for lo, hi in BINS]
-    print(f"N = {args.n}, phi = 0.45, eta_f = 223, mu = 0.5, delta = 1e-3, h_out = 0.05, packing seed 7, "
+    print(f"N = {args.n}, phi = 0.45, eta_f = 223, mu = 0.5, delta = 1e-3, packing seed 7, "
           f"startup to strain {args.strain}; fabric and stress averaged over strain "
           f"{args.strain - 1:g}-{args.strain:g}\n")
-    print("| kn | dt | tau_LL (strain) | n11 | n22 | n33 | n12 | Z | P | -sigma_xz | contact share | "
+    print("| kn | dt | h_out | tau_LL (strain) | n11 | n22 | n33 | n12 | Z | P | -sigma_xz | contact share | "
           "mean overlap / d | max overlap / d | jitter | wall s |")
-    print("|" + "---|" * 15)
+    print("|" + "---|" * 16)
     for row in rows:
-        print("| {:.3g} | {:.0e} | {:.2g} | {:.3f} | {:.3f} | {:.3f} | {:.3f} | {:.2f} | {:.0f} | {:.0f} | "
+        print("| {:.3g} | {:.0e} | {:g} | {:.2g} | {:.3f} | {:.3f} | {:.3f} | {:.3f} | {:.2f} | {:.0f} | {:.0f} | "
               "{:.2f} | {:.1e} | {:.1e} | {:.3g} | {:.0f} |".format(*row))
     print("\n<nn>_12 averaged over strain bins:\n")
     shown = [b for b in BINS if b[1] <= args.strain + 1e-9]
