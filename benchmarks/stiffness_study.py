@@ -1,14 +1,16 @@
 """Contact-stiffness and time-step study of the startup fabric (BENCHMARKS.md, "Contact stiffness").
 
     .venv/bin/python benchmarks/stiffness_study.py [--out results/kn_study] [--n 100] [--strain 3]
+                                                   [--seed 7] [--only-h-out]
 
-One packing (N particles, phi 0.45, seed 7), startup shear to --strain at the paper's
+One packing (N particles, phi 0.45, --seed), startup shear to --strain at the paper's
 eta_f = 223, mu = 0.5, delta = 1e-3, for each (kn, dt, h_out) in RUNS. Runs already
 complete in --out are reused. Prints, per run, the near-contact fabric (gap < 0.01 d_min)
 averaged over the last unit of strain, the pressure P, the shear stress and the contact share
 of it, overlaps, the stress jitter (runner.stress_jitter) and the contact relaxation time
 (suspension_fabric.scales), then <nn>_12 versus strain. Failure checks are off on purpose
 (the soft and the too-large-dt runs are the point); ~8 min per run at N = 100 and dt = 2e-7.
+--only-h-out runs just the two lubrication ranges at the default kn and dt (for more seeds).
 """
 
 from __future__ import annotations
@@ -50,13 +52,16 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=Path("results/kn_study"))
     parser.add_argument("--n", type=int, default=100)
     parser.add_argument("--strain", type=float, default=3.0)
+    parser.add_argument("--seed", type=int, default=7)
+    parser.add_argument("--only-h-out", action="store_true")
     args = parser.parse_args()
-    packing_dir = args.out / f"packing_n{args.n}"
+    packing_dir = args.out / (f"packing_n{args.n}" + ("" if args.seed == 7 else f"_seed{args.seed}"))
     if not is_complete(packing_dir):
-        pack(packing_dir, args.n, phi=0.45, seed=7)
+        pack(packing_dir, args.n, phi=0.45, seed=args.seed)
+    runs = [run for run in RUNS if run[:2] == (1.25e9, 2e-7)] if args.only_h_out else RUNS
     rows, series = [], {}
-    for kn, dt, h_out in RUNS:
-        name = run_name(args.n, kn, dt, h_out)
+    for kn, dt, h_out in runs:
+        name = run_name(args.n, kn, dt, h_out) + ("" if args.seed == 7 else f"_seed{args.seed}")
         run_dir = args.out / name
         if not is_complete(run_dir):
             run_startup(run_dir, packing_dir / "packing.data", args.strain,
@@ -77,7 +82,7 @@ def main() -> None:
         series[name] = [fabric.n12[(fabric.strain > lo) & (fabric.strain <= hi)].mean()
                         if ((fabric.strain > lo) & (fabric.strain <= hi)).any() else float("nan")
                         for lo, hi in BINS]
-    print(f"N = {args.n}, phi = 0.45, eta_f = 223, mu = 0.5, delta = 1e-3, packing seed 7, "
+    print(f"N = {args.n}, phi = 0.45, eta_f = 223, mu = 0.5, delta = 1e-3, packing seed {args.seed}, "
           f"startup to strain {args.strain}; fabric and stress averaged over strain "
           f"{args.strain - 1:g}-{args.strain:g}\n")
     print("| kn | dt | h_out | tau_LL (strain) | n11 | n22 | n33 | n12 | Z | P | -sigma_xz | contact share | "
