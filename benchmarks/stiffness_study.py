@@ -74,7 +74,7 @@ def main() -> None:
         stress_rows = table["strain"] > args.strain - 1.0
         shear = -table["pxz"][stress_rows].mean()
         mean_overlap, max_overlap = overlaps(run_dir / "trajectory.dump")
-        rows.append((kn, dt, h_out, contact_relaxation_time(1.4, 1.4, 223.0, 1e-3, kn),
+        rows.append((kn, dt, h_out, contact_relaxation_time(1.4, 1.4, ForceModel.eta_f, ForceModel.delta, kn),
                      *(fabric[c][last].mean() for c in ("n11", "n22", "n33", "n12")),
                      fabric.coordination[last].mean(), table["press"][stress_rows].mean(), shear,
                      -table["contact_pxz"][stress_rows].mean() / shear, mean_overlap, max_overlap,

@@ -2,7 +2,10 @@
 
 import pytest
 
+import inspect
+
 from suspension_fabric.config import ConfigError, angle_label, load_config, validate_config
+from suspension_fabric.lammps import ForceModel, run_rotation, run_startup
 
 MINIMAL = {"study": "s", "seeds": [1], "angles_deg": [0, 90]}
 
@@ -54,3 +57,17 @@ def test_paper_kn_is_rejected_as_too_soft_with_the_relaxation_strain():
         validate_config({**MINIMAL, "forces": {"kn": 1.25e5}})
     loosened = {**MINIMAL, "forces": {"kn": 1.25e5}, "run": {"max_contact_relaxation_strain": 10.0}}
     assert validate_config(loosened)["forces"]["kn"] == 1.25e5
+
+
+def test_schema_defaults_equal_python_defaults():
+    """The schema, ForceModel and run_startup/run_rotation carry the same defaults (the
+    .lmp scripts are tied to the Python side in test_lammps_runs), so a default changed in
+    one place cannot silently differ between a workflow run and a run from Python."""
+    config = validate_config(dict(MINIMAL))
+    model = ForceModel()
+    for name in ("eta_f", "kn", "mu", "kt", "delta", "h_out"):
+        assert config["forces"][name] == getattr(model, name), name
+    for function in (run_startup, run_rotation):
+        parameters = inspect.signature(function).parameters
+        for name in ("dt", "max_overlap", "max_stress_jitter"):
+            assert config["run"][name] == parameters[name].default, (function.__name__, name)

@@ -496,6 +496,9 @@ def read_stress_table(path: str | os.PathLike) -> dict[str, np.ndarray]:
 # Unstable explicit lubrication gives jitter ~1 (33 measured at dt = 1e-6); stable runs
 # give ~0.03 at N = 500 but up to ~0.2 at N = 40 (relative fluctuations grow as N shrinks).
 DEFAULT_MAX_STRESS_JITTER = 0.5
+# A blow-up detector: with the default kn = 1.25e9 at phi = 0.45 overlaps stay below ~2e-4 d;
+# 0.01 d is the fabric's near-contact gap.
+DEFAULT_MAX_OVERLAP = 0.01
 
 
 def stress_jitter(table: Mapping[str, np.ndarray], window_rows: int = 50,
@@ -668,7 +671,7 @@ def run_startup(
     thermo_strain: float = 0.01,
     restart_strain: float = 0.5,
     skin: float = 0.1,
-    max_overlap: float = 0.01,
+    max_overlap: float = DEFAULT_MAX_OVERLAP,
     max_stress_jitter: float | None = DEFAULT_MAX_STRESS_JITTER,
     ranks: int = 1,
     overwrite: bool = False,
@@ -716,7 +719,7 @@ def run_rotation(
     thermo_strain: float = 0.01,
     restart_strain: float = 0.5,
     skin: float = 0.1,
-    max_overlap: float = 0.01,
+    max_overlap: float = DEFAULT_MAX_OVERLAP,
     max_stress_jitter: float | None = DEFAULT_MAX_STRESS_JITTER,
     require_complete_source: bool = True,
     ranks: int = 1,
