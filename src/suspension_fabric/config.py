@@ -12,11 +12,12 @@ from pathlib import Path
 
 import yaml
 
-from .scales import contact_period, contact_relaxation_time
+from .scales import contact_period, contact_relaxation_time, max_dt_explicit, max_dt_implicit
 
 __all__ = ["SCHEMA_PATH", "ConfigError", "validate_config", "load_config", "angle_label"]
 
 SCHEMA_PATH = Path(__file__).resolve().parents[2] / "config" / "schema.yaml"
+# velocity Verlet (run.integrator = explicit) must resolve the contact oscillation
 MIN_STEPS_PER_CONTACT_PERIOD = 30
 
 
@@ -75,17 +76,35 @@ def validate_config(config: dict, schema_path: str | os.PathLike = SCHEMA_PATH) 
             f"(suspension_fabric.scales); raise kn to at least "
             f"{forces['kn'] * relaxation / run['max_contact_relaxation_strain']:.3g}"
         )
-    period = contact_period(particles["d_small"], particles["d_small"], forces["kn"])
-    if run["dt"] > period / MIN_STEPS_PER_CONTACT_PERIOD:
-        raise ConfigError(
-            f"config key 'run.dt' ({run['dt']:g}) is too large for the contact spring forces.kn = "
-            f"{forces['kn']:g}: a small-small contact oscillates with period {period:.3g}, which "
-            f"needs at least {MIN_STEPS_PER_CONTACT_PERIOD} steps (dt <= {period / MIN_STEPS_PER_CONTACT_PERIOD:.3g})"
-        )
+    _check_time_step(run, forces, particles["d_small"])
     labels = [angle_label(a) for a in config["angles_deg"]]
     if len(set(labels)) != len(labels):
         raise ConfigError(f"config key 'angles_deg': angles collide after formatting: {labels}")
     return config
+
+
+def _check_time_step(run: dict, forces: dict, d_small: float) -> None:
+    """dt within the stability limit of the chosen integrator (suspension_fabric.scales)."""
+    dt, integrator = run["dt"], run["integrator"]
+    kt = forces["kt"] if forces["kt"] is not None else 2.0 / 7.0 * forces["kn"]
+    if integrator == "implicit":
+        limit = max_dt_implicit(d_small, forces["eta_f"], forces["delta"], kt)
+        reason = (f"the explicit tangential contact spring (kt = {kt:g}, damped by the shear "
+                  f"lubrication at the regularised gap) is stable only for dt < {limit:.3g} "
+                  "with run.integrator = implicit (suspension_fabric.scales.max_dt_implicit)")
+    else:
+        limit = max_dt_explicit(d_small, forces["eta_f"], forces["delta"])
+        period = contact_period(d_small, d_small, forces["kn"])
+        if period / MIN_STEPS_PER_CONTACT_PERIOD < limit:
+            limit = period / MIN_STEPS_PER_CONTACT_PERIOD
+            reason = (f"velocity Verlet needs {MIN_STEPS_PER_CONTACT_PERIOD} steps per contact "
+                      f"period ({period:.3g} at forces.kn = {forces['kn']:g})")
+        else:
+            reason = (f"run.integrator = explicit integrates the lubrication squeeze explicitly, "
+                      f"stable only for dt <= {limit:.3g} at forces.eta_f = {forces['eta_f']:g}, "
+                      f"forces.delta = {forces['delta']:g} (suspension_fabric.scales.max_dt_explicit)")
+    if dt > limit:
+        raise ConfigError(f"config key 'run.dt' ({dt:g}) is too large: {reason}; use dt <= {limit:.3g}")
 
 
 def load_config(path: str | os.PathLike) -> dict:

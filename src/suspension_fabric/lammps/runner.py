@@ -97,10 +97,16 @@ class ForceModel:
     newton_pair: str = "on"
     lubrication: str = "sf"
     plugin: str | os.PathLike | None = None
+    integrator: str = "implicit"
+    solver_tol: float = 1.0e-6
 
     def variables(self) -> dict[str, str]:
         if self.lubrication not in ("sf", "stock"):
             raise ValueError(f"lubrication must be 'sf' or 'stock', got {self.lubrication!r}")
+        if self.integrator not in ("implicit", "explicit"):
+            raise ValueError(f"integrator must be 'implicit' or 'explicit', got {self.integrator!r}")
+        if self.lubrication == "stock" and self.integrator != "explicit":
+            raise ValueError("the stock force model runs with integrator='explicit' only")
         kt = 2.0 / 7.0 * self.kn if self.kt is None else self.kt
         values = {
             "lubrication": self.lubrication,
@@ -111,6 +117,8 @@ class ForceModel:
             "delta": _number(self.delta),
             "h_out": _number(self.h_out),
             "newton_pair": self.newton_pair,
+            "integrator": self.integrator,
+            "solver_tol": _number(self.solver_tol),
         }
         if self.lubrication == "sf":
             values["plugin"] = str(_plugin_library(self.plugin))
@@ -493,6 +501,9 @@ def read_stress_table(path: str | os.PathLike) -> dict[str, np.ndarray]:
     return {name: data[:, k] for k, name in enumerate(names)}
 
 
+# Production time step of the default (implicit) integrator: BENCHMARKS.md, "Engine accuracy".
+DEFAULT_DT = 2.0e-5
+
 # Unstable explicit lubrication gives jitter ~1 (33 measured at dt = 1e-6); stable runs
 # give ~0.03 at N = 500 but up to ~0.2 at N = 40 (relative fluctuations grow as N shrinks).
 DEFAULT_MAX_STRESS_JITTER = 0.5
@@ -664,7 +675,7 @@ def run_startup(
     strain_total: float = 5.0,
     *,
     force_model: ForceModel = ForceModel(),
-    dt: float = 2.0e-7,
+    dt: float = DEFAULT_DT,
     rate: float = 1.0,
     dump_strain: float = 0.01,
     table_strain: float = 0.001,
@@ -712,7 +723,7 @@ def run_rotation(
     strain_total: float = 2.0,
     *,
     force_model: ForceModel = ForceModel(),
-    dt: float = 2.0e-7,
+    dt: float = DEFAULT_DT,
     rate: float = 1.0,
     dump_strain: float = 0.01,
     table_strain: float = 0.001,

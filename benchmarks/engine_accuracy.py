@@ -1,0 +1,182 @@
+"""Accuracy of the implicit hydrodynamics against the explicit reference (BENCHMARKS.md, "Engine accuracy").
+
+    .venv/bin/python benchmarks/engine_accuracy.py run --seed 2024 --integrator explicit --dt 2e-7
+    .venv/bin/python benchmarks/engine_accuracy.py run --seed 2024 --integrator implicit --dt 1e-5
+    .venv/bin/python benchmarks/engine_accuracy.py report [--seeds 2024 2025]
+
+`run`: one packing (N = 500, phi = 0.45, the given seed), a startup to strain 5 with its
+checkpoint, then shear rotations by 90 and 180 degrees from that checkpoint for 1 strain each,
+all at the project's default forces with the given integrator and time step, into
+`results/engine_accuracy/seed<seed>/<integrator>_dt<dt>/`. Finished runs are reused. The LAMMPS
+scripts and the plugin library are copied into the output folder before the first run and
+used from there, so later edits of the sources cannot change a run that is under way.
+Writes each run's fabric table (`fabric.csv`) next to its dump.
+
+`report`: for every (integrator, dt) found, the steady fabric over strain 2-5 per packing
+(correlation-aware standard errors, tables.steady_state) and its difference from the
+explicit dt = 2e-7 run in units of the combined standard error; after each rotation,
+<nn>'_12 and <nn>'_23 in strain bins against the explicit runs, with the seed-to-seed
+spread of the explicit runs; and the cost of every run in core-s per particle per unit strain.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from suspension_fabric.fabric import FabricAnalysis
+from suspension_fabric.lammps import is_complete, pack, run_rotation, run_startup
+from suspension_fabric.lammps import runner
+from suspension_fabric.lammps.plugin import plugin_path
+from suspension_fabric.tables import fabric_table, steady_state
+
+N_PARTICLES = 500
+PHI = 0.45
+STARTUP_STRAIN = 5.0
+ROTATION_STRAIN = 1.0
+ANGLES = (90.0, 180.0)
+STEADY_WINDOW = (2.0, 5.0)
+ROOT = Path("results/engine_accuracy")
+COLUMNS = ("n11", "n22", "n33", "n12", "n13", "n23", "Z")
+REFERENCE = ("explicit", 2e-7)
+ROTATION_BINS = [(0.0, 0.05), (0.05, 0.1), (0.1, 0.2), (0.2, 0.3), (0.3, 0.5), (0.5, 0.75), (0.75, 1.0)]
+
+
+def run_label(integrator: str, dt: float) -> str:
+    return f"{integrator}_dt{dt:g}"
+
+
+def frozen_inputs(out: Path) -> tuple[Path, Path]:
+    """Copies of the LAMMPS scripts and the plugin library in ``out`` (made once)."""
+    scripts, library = out / "inputs" / "lammps", out / "inputs" / "libsuspension_fabric_lammps.so"
+    if not library.is_file():
+        scripts.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copytree(runner.SCRIPTS_DIR, scripts, dirs_exist_ok=True)
+        shutil.copy2(plugin_path(), library)
+    return scripts, library
+
+
+def force_model(integrator: str, library: Path) -> runner.ForceModel:
+    if integrator == "explicit":
+        return runner.ForceModel(plugin=library, **({"integrator": "explicit"} if "integrator" in runner.ForceModel.__dataclass_fields__ else {}))
+    return runner.ForceModel(plugin=library, integrator=integrator)
+
+
+def write_fabric(run_dir: Path, dt: float, theta: float | None, seed: int) -> None:
+    target = run_dir / "fabric.csv"
+    if target.is_file():
+        return
+    marker = json.loads((run_dir / runner.COMPLETION_MARKER).read_text())
+    kwargs = {}
+    if theta is not None:
+        kwargs = {"shear_start_step": marker["results"]["first_step"], "flow_angle_deg": theta}
+    analysis = FabricAnalysis.from_dump(run_dir / runner.DUMP_FILE, dt=dt, **kwargs).run()
+    fabric_table(analysis, seed=seed).to_csv(target, index=False)
+
+
+def run(seed: int, integrator: str, dt: float) -> None:
+    out = ROOT / f"seed{seed}" / run_label(integrator, dt)
+    scripts, library = frozen_inputs(out)
+    runner.SCRIPTS_DIR = scripts.resolve()
+    model = force_model(integrator, library.resolve())
+    packing = ROOT / f"seed{seed}" / "packing"
+    if not is_complete(packing):
+        pack(packing, N_PARTICLES, phi=PHI, seed=seed)
+    startup = out / "startup"
+    if not is_complete(startup):
+        run_startup(startup, packing / "packing.data", STARTUP_STRAIN, force_model=model, dt=dt,
+                    progress_interval=120)
+    write_fabric(startup, dt, None, seed)
+    for theta in ANGLES:
+        rotation = out / f"rotate_{theta:g}"
+        if not is_complete(rotation):
+            run_rotation(rotation, startup / "checkpoint.rst", theta, ROTATION_STRAIN, force_model=model,
+                         dt=dt, progress_interval=120)
+        write_fabric(rotation, dt, theta, seed)
+
+
+def cost(run_dir: Path) -> float:
+    marker = json.loads((run_dir / runner.COMPLETION_MARKER).read_text())
+    return marker["wall_time_s"] / (N_PARTICLES * marker["results"]["strain"])
+
+
+def report(seeds: list[int]) -> None:
+    runs = sorted({p.name for seed in seeds for p in (ROOT / f"seed{seed}").glob("*_dt*")
+                   if (p / "startup" / "fabric.csv").is_file()})
+    reference = run_label(*REFERENCE)
+    print(f"N = {N_PARTICLES}, phi = {PHI}, default forces; steady window strain "
+          f"{STEADY_WINDOW[0]:g}-{STEADY_WINDOW[1]:g}; packings {', '.join(map(str, seeds))}\n")
+    print("Steady fabric (mean +- correlation-aware standard error); z = (run - explicit) / combined sem\n")
+    print("| packing | run | " + " | ".join(COLUMNS) + " | max abs z | core-s/particle/strain |")
+    print("|" + "---|" * (len(COLUMNS) + 4))
+    steady = {}
+    for seed in seeds:
+        for label in runs:
+            path = ROOT / f"seed{seed}" / label / "startup" / "fabric.csv"
+            if path.is_file():
+                steady[seed, label] = steady_state(pd.read_csv(path), *STEADY_WINDOW).set_index("quantity")
+        for label in runs:
+            if (seed, label) not in steady:
+                continue
+            table = steady[seed, label]
+            cells, worst = [], 0.0
+            for name in COLUMNS:
+                mean, sem = table.loc[name, "mean"], table.loc[name, "sem"]
+                text = f"{mean:.4f} +- {sem:.4f}"
+                if label != reference and (seed, reference) in steady:
+                    ref = steady[seed, reference].loc[name]
+                    z = (mean - ref["mean"]) / np.hypot(sem, ref["sem"])
+                    worst = max(worst, abs(z))
+                    text += f" (z {z:+.1f})"
+                cells.append(text)
+            z_text = "-" if label == reference else f"{worst:.1f}"
+            print(f"| {seed} | {label} | " + " | ".join(cells)
+                  + f" | {z_text} | {cost(ROOT / f'seed{seed}' / label / 'startup'):.3f} |")
+
+    for theta in ANGLES:
+        for component in ("n12", "n23"):
+            print(f"\nAfter the {theta:g} degree rotation: <nn>'_{component[1:]} (rotated frame) per strain bin; "
+                  "spread = standard deviation of the explicit runs over packings\n")
+            header = " | ".join(f"{lo:g}-{hi:g}" for lo, hi in ROTATION_BINS)
+            print(f"| packing | run | {header} |")
+            print("|" + "---|" * (len(ROTATION_BINS) + 2))
+            reference_bins = []
+            for seed in seeds:
+                for label in runs:
+                    path = ROOT / f"seed{seed}" / label / f"rotate_{theta:g}" / "fabric.csv"
+                    if not path.is_file():
+                        continue
+                    table = pd.read_csv(path)
+                    means = [table.loc[(table.strain >= lo) & (table.strain < hi + 1e-9), component].mean()
+                             for lo, hi in ROTATION_BINS]
+                    if label == reference:
+                        reference_bins.append(means)
+                    print(f"| {seed} | {label} | " + " | ".join(f"{m:.4f}" for m in means) + " |")
+            if len(reference_bins) > 1:
+                spread = np.std(np.array(reference_bins), axis=0, ddof=1)
+                print("| spread | explicit | " + " | ".join(f"{s:.4f}" for s in spread) + " |")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    sub = parser.add_subparsers(dest="command", required=True)
+    run_parser = sub.add_parser("run")
+    run_parser.add_argument("--seed", type=int, required=True)
+    run_parser.add_argument("--integrator", choices=("explicit", "implicit"), required=True)
+    run_parser.add_argument("--dt", type=float, required=True)
+    report_parser = sub.add_parser("report")
+    report_parser.add_argument("--seeds", type=int, nargs="+", default=[2024, 2025])
+    args = parser.parse_args()
+    if args.command == "run":
+        run(args.seed, args.integrator, args.dt)
+    else:
+        report(args.seeds)
+
+
+if __name__ == "__main__":
+    main()
