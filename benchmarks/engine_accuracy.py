@@ -62,8 +62,6 @@ def frozen_inputs(out: Path) -> tuple[Path, Path]:
 
 
 def force_model(integrator: str, library: Path) -> runner.ForceModel:
-    if integrator == "explicit":
-        return runner.ForceModel(plugin=library, **({"integrator": "explicit"} if "integrator" in runner.ForceModel.__dataclass_fields__ else {}))
     return runner.ForceModel(plugin=library, integrator=integrator)
 
 

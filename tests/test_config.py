@@ -33,7 +33,9 @@ def test_shipped_configs_are_valid(name):
         ({"angles_deg": [-0.0, 0.0]}, "angles_deg"),
         ({"study": "a/b"}, "study"),
         ({"forces": {"kn": 1.25e5}}, "forces.kn"),
-        ({"run": {"dt": 1.0e-5}}, "run.dt"),
+        ({"run": {"dt": 1.0e-4}}, "run.dt"),
+        ({"run": {"integrator": "explicit", "dt": 1.0e-6}}, "run.dt"),
+        ({"run": {"integrator": "verlet"}}, "run.integrator"),
     ],
 )
 def test_bad_values_name_their_key(change, key):
@@ -67,7 +69,21 @@ def test_schema_defaults_equal_python_defaults():
     model = ForceModel()
     for name in ("eta_f", "kn", "mu", "kt", "delta", "h_out"):
         assert config["forces"][name] == getattr(model, name), name
+    for name in ("integrator", "solver_tol"):
+        assert config["run"][name] == getattr(model, name), name
     for function in (run_startup, run_rotation):
         parameters = inspect.signature(function).parameters
         for name in ("dt", "max_overlap", "max_stress_jitter"):
             assert config["run"][name] == parameters[name].default, (function.__name__, name)
+
+
+def test_time_step_limit_follows_the_integrator():
+    """implicit: dt up to the tangential-spring limit 3.65e-5 passes (2e-5, 3.5e-5), above it
+    fails; explicit: the squeeze limit 2.5e-7 (scales.max_dt_explicit) applies instead."""
+    for dt in (2.0e-5, 3.5e-5):
+        assert validate_config({**MINIMAL, "run": {"dt": dt}})["run"]["dt"] == dt
+    with pytest.raises(ConfigError, match=r"run.dt' \(4e-05\).*tangential contact spring.*3\.65e-05"):
+        validate_config({**MINIMAL, "run": {"dt": 4.0e-5}})
+    assert validate_config({**MINIMAL, "run": {"integrator": "explicit", "dt": 2.0e-7}})
+    with pytest.raises(ConfigError, match=r"run.dt' \(5e-07\).*lubrication squeeze.*2\.49e-07"):
+        validate_config({**MINIMAL, "run": {"integrator": "explicit", "dt": 5.0e-7}})

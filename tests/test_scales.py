@@ -5,7 +5,7 @@ import math
 
 import pytest
 
-from suspension_fabric.scales import contact_period, contact_relaxation_time
+from suspension_fabric.scales import contact_period, contact_relaxation_time, max_dt_explicit, max_dt_implicit
 
 
 def test_paper_values_give_four_strain_units_for_small_spheres():
@@ -37,3 +37,25 @@ def test_contact_period_of_two_small_spheres():
     assert contact_period(1.0, 1.0, 1.25e9) == pytest.approx(expected, rel=1e-12)
     assert expected == pytest.approx(9.093e-5, rel=1e-3)
     assert contact_period(1.0, 1.0, 1.25e11) == pytest.approx(expected / 10)
+
+
+def test_explicit_squeeze_limit():
+    """dt X(delta) (2/m) = 0.5 for two small spheres: X = 0.75 pi eta / delta (d = 1), m = pi/6,
+    so dt = 0.5 / (0.75 pi 223 / 1e-3 x 12/pi) = 2.491e-7; it scales as delta/eta_f."""
+    expected = 0.5 / (0.75 * math.pi * 223 / 1e-3 * 12 / math.pi)
+    assert max_dt_explicit(1.0, 223.0, 1e-3) == pytest.approx(expected, rel=1e-12)
+    assert expected == pytest.approx(2.491e-7, rel=1e-3)
+    assert max_dt_explicit(1.0, 22.3, 1e-2) == pytest.approx(100 * expected)
+
+
+def test_implicit_tangential_spring_limit():
+    """dt < (c + sqrt(c^2 + 4 k m)) / k with c = pi eta d log(1/delta) / 2 (Y_A of equal
+    spheres at the regularised gap), k = kt, m = (2/7)(m/2): 3.650e-5 at the defaults. A
+    scheme check: for c = 0 it is the symplectic-Euler bound dt < 2/omega; for large c, 2c/k."""
+    kt = 2.0 / 7.0 * 1.25e9
+    c = math.pi * 223 * math.log(1e3) / 2
+    m = (2.0 / 7.0) * (math.pi / 12)
+    assert max_dt_implicit(1.0, 223.0, 1e-3, kt) == pytest.approx((c + math.sqrt(c * c + 4 * kt * m)) / kt, rel=1e-12)
+    assert max_dt_implicit(1.0, 223.0, 1e-3, kt) == pytest.approx(3.650e-5, rel=1e-3)
+    assert max_dt_implicit(1.0, 1e-9, 1e-3, kt) == pytest.approx(2.0 / math.sqrt(kt / m), rel=1e-6)
+    assert max_dt_implicit(1.0, 1e6, 1e-3, kt) == pytest.approx(2.0 * math.pi * 1e6 * math.log(1e3) / 2 / kt, rel=1e-3)

@@ -19,7 +19,7 @@
    no longer limits dt (any dt is stable for it); the contact springs do (explicit).
    The linear system is solved matrix-free by conjugate gradients over the pair list with a
    6x6 block-Jacobi preconditioner, warm-started from the old velocities, until the largest
-   component of D^-1 r (a velocity, in units of gammadot d) is below `tol` (default 1e-6).
+   component of D^-1 r (a velocity, in units of gammadot d) is below `tol` (default 1e-5).
    A solve that does not converge within `maxiter` (default 1000) stops the run with an error.
 
    The lubrication virial sum (x_i - x_j) F_ij of the solved velocities is the fix's virial
@@ -114,7 +114,7 @@ constexpr double INERTIA = 0.4;    // moment of inertia of a solid sphere / (m a
 }    // namespace
 
 FixHydroImplicitSF::FixHydroImplicitSF(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), tolerance(1.0e-6), max_iterations(1000), dtv(0.0),
+    Fix(lmp, narg, arg), tolerance(1.0e-5), max_iterations(1000), dtv(0.0),
     lubrication(nullptr), steps(0), total_iterations(0), last_iterations(0), last_error(0.0)
 {
   int iarg = 3;

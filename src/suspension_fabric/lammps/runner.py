@@ -82,10 +82,13 @@ class ForceModel:
     ``eta_f`` fluid viscosity (Stokes number 1/eta_f), ``kn`` normal stiffness, ``mu``
     friction (paper); ``kt`` tangential stiffness (None: 2/7 kn), ``delta`` lubrication
     gap regularisation, ``h_out`` outer lubrication gap cutoff (in d), ``newton_pair``
-    the newton setting the plugin styles need. ``lubrication`` "sf" = project plugin
-    (``plugin`` = path to the library, None: build/locate it with
-    ``suspension_fabric.lammps.plugin.plugin_path()``), "stock" = stand-in model of
-    stock LAMMPS styles (development only).
+    the newton setting the plugin styles need. ``lubrication`` "sf" = project plugin,
+    "stock" = stand-in model of stock LAMMPS styles (development only, explicit only).
+    ``plugin`` = path to the plugin library, loaded by every run (None: build/locate it with
+    ``suspension_fabric.lammps.plugin.plugin_path()``). ``integrator`` "implicit" = fix
+    hydro/implicit/sf (drag and lubrication solved implicitly, CG to ``solver_tol`` in
+    gammadot d), "explicit" = velocity Verlet (needs dt ~ 2e-7; see
+    ``suspension_fabric.scales``).
     """
 
     eta_f: float = 223.0
@@ -98,7 +101,7 @@ class ForceModel:
     lubrication: str = "sf"
     plugin: str | os.PathLike | None = None
     integrator: str = "implicit"
-    solver_tol: float = 1.0e-6
+    solver_tol: float = 1.0e-5
 
     def variables(self) -> dict[str, str]:
         if self.lubrication not in ("sf", "stock"):
@@ -119,9 +122,8 @@ class ForceModel:
             "newton_pair": self.newton_pair,
             "integrator": self.integrator,
             "solver_tol": _number(self.solver_tol),
+            "plugin": str(_plugin_library(self.plugin)),
         }
-        if self.lubrication == "sf":
-            values["plugin"] = str(_plugin_library(self.plugin))
         return values
 
 

@@ -1,0 +1,107 @@
+"""Engine speed in steady shear: implicit hydrodynamics against the explicit plugin and stock
+LAMMPS (BENCHMARKS.md, "Engine speed").
+
+    .venv/bin/python benchmarks/bench_engine.py prepare      # steady-state checkpoints (any load)
+    .venv/bin/python benchmarks/bench_engine.py measure      # the timings: run on an idle machine
+
+`prepare`: for N = 250, 500, 1000, 2000 (phi = 0.45, packing seed 1, default forces) an implicit
+startup at the production dt to strain 2, where the contact network is built up (Z ~ 3.4),
+into results/bench_engine/n<N>/. Reused when present.
+
+`measure`: from each checkpoint, a short continuation of the same shear (rotate.lmp at
+theta = 0) with (a) the explicit plugin (velocity Verlet, lubricate/sf + stokes/sf) at
+dt = 2e-7, (b) the implicit integration (fix hydro/implicit/sf) at its production dt and
+(c) stock lubricate/poly + granular (explicit) at 2e-7, the largest step at which the
+explicit plugin is stable in steady shear (stock is not more stable: BENCHMARKS.md, "LAMMPS
+engine"); (a) and (c) at N = 500 only. The time is LAMMPS's own loop time of the run (no
+start-up or output checks), on one core, reported as core-s per particle per unit strain,
+with the mean CG iterations per step of (b). Prints a Markdown table and the ratios.
+"""
+
+from __future__ import annotations
+
+import argparse
+import platform
+import re
+from pathlib import Path
+
+from suspension_fabric.lammps import ForceModel, is_complete, pack, run_rotation, run_startup
+from suspension_fabric.lammps.runner import DEFAULT_DT
+
+ROOT = Path("results/bench_engine")
+SIZES = (250, 500, 1000, 2000)
+PREPARE_STRAIN = 2.0
+EXPLICIT_DT = 2.0e-7
+# continuation strain per method: long enough for >= 10 s of loop time at N = 500
+STRAIN = {"explicit": 0.02, "implicit": 0.2, "stock": 0.01}
+LOOP_TIME = re.compile(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms")
+
+
+def checkpoint(n: int) -> Path:
+    return ROOT / f"n{n}" / "startup" / "checkpoint.rst"
+
+
+def prepare() -> None:
+    for n in SIZES:
+        packing = ROOT / f"n{n}" / "packing"
+        if not is_complete(packing):
+            pack(packing, n, phi=0.45, seed=1)
+        startup = ROOT / f"n{n}" / "startup"
+        if not is_complete(startup):
+            run_startup(startup, packing / "packing.data", PREPARE_STRAIN, dump_strain=0.1, progress_interval=120)
+
+
+def loop_time(screen: Path) -> tuple[float, int]:
+    matches = LOOP_TIME.findall(screen.read_text())
+    if not matches:
+        raise RuntimeError(f"no 'Loop time' line in {screen}")
+    seconds, _, steps, _ = matches[-1]
+    return float(seconds), int(steps)
+
+
+def mean_iterations(screen: Path) -> float | None:
+    rows = [line.split() for line in screen.read_text().splitlines()]
+    values = [float(r[-1]) for r in rows if len(r) == 10 and r[0].isdigit()]
+    return sum(values[1:]) / len(values[1:]) if len(values) > 1 else None
+
+
+def measure() -> None:
+    methods = [("implicit", n) for n in SIZES] + [("explicit", 500), ("stock", 500)]
+    models = {
+        "implicit": (ForceModel(), DEFAULT_DT),
+        "explicit": (ForceModel(integrator="explicit"), EXPLICIT_DT),
+        "stock": (ForceModel(lubrication="stock", integrator="explicit"), EXPLICIT_DT),
+    }
+    label = {"implicit": "implicit (fix hydro/implicit/sf)", "explicit": "explicit plugin (Verlet)",
+             "stock": "stock lubricate/poly + granular"}
+    cost = {}
+    print(f"# {platform.machine()}, {platform.python_version()}, one core per run; continuation of the "
+          f"startup shear from strain {PREPARE_STRAIN:g} (phi = 0.45, default forces)\n")
+    print("| method | N | dt | strain | steps | loop s | core-s per particle per unit strain | mean CG iterations |")
+    print("|---|---|---|---|---|---|---|---|")
+    for method, n in methods:
+        model, dt = models[method]
+        out = ROOT / f"n{n}" / f"measure_{method}"
+        run = run_rotation(out, checkpoint(n), 0.0, STRAIN[method], force_model=model, dt=dt,
+                           dump_strain=STRAIN[method], table_strain=STRAIN[method] / 10,
+                           thermo_strain=STRAIN[method] / 20, restart_strain=STRAIN[method],
+                           max_stress_jitter=None, overwrite=True, progress=None)
+        seconds, steps = loop_time(out / "screen.txt")
+        cost[method, n] = seconds / (n * run.strain)
+        iterations = mean_iterations(out / "screen.txt") if method == "implicit" else None
+        print(f"| {label[method]} | {n} | {dt:g} | {run.strain:g} | {steps} | {seconds:.1f} | "
+              f"{cost[method, n]:.4f} | {'' if iterations is None else f'{iterations:.1f}'} |", flush=True)
+    print(f"\nat N = 500: explicit / implicit = {cost['explicit', 500] / cost['implicit', 500]:.1f}x, "
+          f"stock / implicit = {cost['stock', 500] / cost['implicit', 500]:.1f}x; "
+          "target for implicit: <= 0.13 core-s per particle per unit strain")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("phase", choices=("prepare", "measure"))
+    args = parser.parse_args()
+    prepare() if args.phase == "prepare" else measure()
+
+
+if __name__ == "__main__":
+    main()
