@@ -77,6 +77,12 @@ def validate_config(config: dict, schema_path: str | os.PathLike = SCHEMA_PATH) 
             f"{forces['kn'] * relaxation / run['max_contact_relaxation_strain']:.3g}"
         )
     _check_time_step(run, forces, particles["d_small"])
+    if run["integrator"] == "implicit" and run["mpi_ranks"] > 1:
+        raise ConfigError(
+            f"config key 'run.mpi_ranks' ({run['mpi_ranks']}): the implicit integrator runs on one MPI "
+            "rank; parallelism comes from running seeds and angles as separate jobs (use "
+            "run.integrator = explicit for MPI runs)"
+        )
     labels = [angle_label(a) for a in config["angles_deg"]]
     if len(set(labels)) != len(labels):
         raise ConfigError(f"config key 'angles_deg': angles collide after formatting: {labels}")

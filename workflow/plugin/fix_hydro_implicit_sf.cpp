@@ -18,7 +18,8 @@
    where (u, w)_old are the old velocities relative to the flow at x_{n+1}.  The resistance
    no longer limits dt (any dt is stable for it); the contact springs do (explicit).
    The linear system is solved matrix-free by conjugate gradients over the pair list with a
-   6x6 block-Jacobi preconditioner, warm-started from the old velocities, until the largest
+   6x6 block-Jacobi preconditioner (rebuilt every 10 steps and after the atoms are re-sorted),
+   warm-started from the old velocities, until the largest
    component of D^-1 r (a velocity, in units of gammadot d) is below `tol` (default 1e-5).
    A solve that does not converge within `maxiter` (default 1000) stops the run with an error.
 
@@ -66,20 +67,23 @@ bool cholesky6(double *a)
   return true;
 }
 
-// Inverse of a symmetric positive definite 6x6 from its Cholesky factor L (lower triangle).
+// Inverse of a symmetric positive definite 6x6 from its Cholesky factor L (lower triangle,
+// row-major): solves L L^T x = e_c for each column, dividing by precomputed reciprocals.
 void inverse_from_cholesky6(const double *l, double *inv)
 {
+  double reciprocal[6];
+  for (int i = 0; i < 6; i++) reciprocal[i] = 1.0 / l[6 * i + i];
   for (int c = 0; c < 6; c++) {
     double y[6];
-    for (int i = 0; i < 6; i++) {    // L y = e_c
+    for (int i = 0; i < 6; i++) {
       double s = (i == c) ? 1.0 : 0.0;
       for (int k = 0; k < i; k++) s -= l[6 * i + k] * y[k];
-      y[i] = s / l[6 * i + i];
+      y[i] = s * reciprocal[i];
     }
-    for (int i = 5; i >= 0; i--) {    // L^T x = y
+    for (int i = 5; i >= 0; i--) {
       double s = y[i];
       for (int k = i + 1; k < 6; k++) s -= l[6 * k + i] * y[k];
-      y[i] = s / l[6 * i + i];
+      y[i] = s * reciprocal[i];
     }
     for (int i = 0; i < 6; i++) inv[6 * i + c] = y[i];
   }
@@ -111,6 +115,7 @@ double dot(const std::vector<double> &a, const std::vector<double> &b)
 }
 
 constexpr double INERTIA = 0.4;    // moment of inertia of a solid sphere / (m a^2)
+constexpr bigint PRECONDITIONER_AGE = 10;    // steps between preconditioner rebuilds at most
 }    // namespace
 
 FixHydroImplicitSF::FixHydroImplicitSF(LAMMPS *lmp, int narg, char **arg) :
@@ -271,44 +276,52 @@ void FixHydroImplicitSF::build_preconditioner()
   const double *radius = atom->radius;
   const double *rmass = atom->rmass;
   const double pi_eta = M_PI * lubrication->eta_f;
-  std::vector<double> blocks(36 * nlocal, 0.0);
+  block_factor.assign(36 * static_cast<size_t>(nlocal), 0.0);
   for (int i = 0; i < nlocal; i++) {
     const double a = radius[i];
-    double *b = &blocks[36 * i];
+    double *b = &block_factor[36 * i];
     for (int k = 0; k < 3; k++) {
       b[7 * k] = rmass[i] / dtv + 6.0 * pi_eta * a;
       b[7 * (k + 3)] = INERTIA * rmass[i] * a * a / dtv + 8.0 * pi_eta * a * a * a;
     }
   }
   for (const LubricatedPair &p : pairs) {
-    add_pair_block(p.R, p.R.YBi, p.R.YCi, 1.0, &blocks[36 * p.i]);
-    if (p.add_to_j) add_pair_block(p.R, p.R.YBj, p.R.YCj, -1.0, &blocks[36 * p.j]);
+    add_pair_block(p.R, p.R.YBi, p.R.YCi, 1.0, &block_factor[36 * p.i]);
+    if (p.add_to_j) add_pair_block(p.R, p.R.YBj, p.R.YCj, -1.0, &block_factor[36 * p.j]);
   }
-  block_inverse.resize(36 * nlocal);
+  block_inverse.resize(block_factor.size());
   for (int i = 0; i < nlocal; i++) {
-    double *b = &blocks[36 * i];
-    if (!cholesky6(b))
+    if (!cholesky6(&block_factor[36 * i]))
       error->one(FLERR, "fix hydro/implicit/sf: the resistance block of atom {} is not positive "
                         "definite at step {}",
                  atom->tag[i], update->ntimestep);
-    inverse_from_cholesky6(b, &block_inverse[36 * i]);
+    inverse_from_cholesky6(&block_factor[36 * i], &block_inverse[36 * i]);
   }
 }
 
-void FixHydroImplicitSF::apply_preconditioner(const std::vector<double> &in,
-                                              std::vector<double> &out) const
+/* z = D^-1 r with the inverted diagonal blocks; returns r.z and sets largest = max |z_k|. */
+double FixHydroImplicitSF::apply_preconditioner(const std::vector<double> &r, std::vector<double> &z,
+                                               double &largest) const
 {
   const int nlocal = atom->nlocal;
+  double rz = 0.0;
+  largest = 0.0;
   for (int i = 0; i < nlocal; i++) {
     const double *m = &block_inverse[36 * i];
-    const double *x = &in[6 * i];
-    double *y = &out[6 * i];
+    const double *ri = &r[6 * i];
+    double *zi = &z[6 * i];
     for (int a = 0; a < 6; a++) {
       double s = 0.0;
-      for (int b = 0; b < 6; b++) s += m[6 * a + b] * x[b];
-      y[a] = s;
+      for (int b = 0; b < 6; b++) s += m[6 * a + b] * ri[b];
+      zi[a] = s;
     }
   }
+  const size_t size = 6 * static_cast<size_t>(nlocal);
+  for (size_t k = 0; k < size; k++) {
+    rz += r[k] * z[k];
+    largest = std::max(largest, std::fabs(z[k]));
+  }
+  return rz;
 }
 
 void FixHydroImplicitSF::final_integrate()
@@ -370,19 +383,20 @@ void FixHydroImplicitSF::final_integrate()
       }
   }
 
-  // preconditioned conjugate gradients
-  build_preconditioner();
+  // preconditioned conjugate gradients; the block-Jacobi preconditioner is rebuilt every
+  // PRECONDITIONER_AGE steps and whenever the local atoms were reordered (sorting): it only
+  // steers the convergence, the solution is that of the current resistance to within tol
+  bool reordered = preconditioner_tags.size() != static_cast<size_t>(nlocal);
+  for (int i = 0; i < nlocal && !reordered; i++) reordered = preconditioner_tags[i] != atom->tag[i];
+  if (reordered || update->ntimestep % PRECONDITIONER_AGE == 0) {
+    build_preconditioner();
+    preconditioner_tags.assign(atom->tag, atom->tag + nlocal);
+  }
   apply_operator(solution, product);
   for (size_t k = 0; k < size; k++) residual[k] = rhs[k] - product[k];
-  apply_preconditioner(residual, precond);
-  auto velocity_error = [&]() {
-    double worst = 0.0;
-    for (size_t k = 0; k < size; k++) worst = std::max(worst, std::fabs(precond[k]));
-    return worst;
-  };
-  double error_now = velocity_error();
+  double error_now;
+  double rz = apply_preconditioner(residual, precond, error_now);
   direction = precond;
-  double rz = dot(residual, precond);
   int iteration = 0;
   while (error_now > tolerance) {
     if (iteration == max_iterations || !std::isfinite(error_now))
@@ -396,12 +410,10 @@ void FixHydroImplicitSF::final_integrate()
       solution[k] += alpha * direction[k];
       residual[k] -= alpha * product[k];
     }
-    apply_preconditioner(residual, precond);
-    const double rz_new = dot(residual, precond);
+    const double rz_new = apply_preconditioner(residual, precond, error_now);
     const double beta = rz_new / rz;
     rz = rz_new;
     for (size_t k = 0; k < size; k++) direction[k] = precond[k] + beta * direction[k];
-    error_now = velocity_error();
     iteration++;
   }
 

@@ -6,6 +6,7 @@
 #define SUSPENSION_FABRIC_FIX_HYDRO_IMPLICIT_SF_H
 
 #include "fix.h"
+#include "lmptype.h"
 
 #include "lubrication.h"
 
@@ -41,9 +42,11 @@ class FixHydroImplicitSF : public Fix {
   PairLubricateSF *lubrication;
 
   std::vector<LubricatedPair> pairs;
+  std::vector<double> block_factor;     // 36 per atom: the 6x6 diagonal block, then its Cholesky factor
   std::vector<double> block_inverse;    // 36 per atom: inverse of the 6x6 diagonal block
   std::vector<double> rhs, solution, residual, precond, direction, product;
 
+  std::vector<tagint> preconditioner_tags;    // atom order the preconditioner was built for
   long long steps, total_iterations;
   int last_iterations;
   double last_error;
@@ -51,7 +54,7 @@ class FixHydroImplicitSF : public Fix {
   void collect_pairs();
   void apply_operator(const std::vector<double> &in, std::vector<double> &out) const;
   void build_preconditioner();
-  void apply_preconditioner(const std::vector<double> &in, std::vector<double> &out) const;
+  double apply_preconditioner(const std::vector<double> &r, std::vector<double> &z, double &largest) const;
   void tally_virial(const double E[3][3]);
 };
 

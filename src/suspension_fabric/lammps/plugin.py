@@ -28,7 +28,7 @@ PLUGIN_LIBRARY = PLUGIN_BUILD_DIR / "libsuspension_fabric_lammps.so"
 # Records the compile command of the current library, so a flag change forces a rebuild.
 _COMMAND_STAMP = PLUGIN_BUILD_DIR / "libsuspension_fabric_lammps.cmd"
 
-CXX_FLAGS = ("-O2", "-fPIC", "-shared", "-std=c++17", "-DLAMMPS_SMALLBIG")
+CXX_FLAGS = ("-O3", "-fPIC", "-shared", "-std=c++17", "-DLAMMPS_SMALLBIG")
 
 
 class PluginBuildError(RuntimeError):
