@@ -5,7 +5,7 @@ LAMMPS (BENCHMARKS.md, "Engine speed").
     .venv/bin/python benchmarks/bench_engine.py measure      # the timings: run on an idle machine
 
 `prepare`: for N = 250, 500, 1000, 2000 (phi = 0.45, packing seed 1, default forces) an implicit
-startup at the production dt to strain 2, where the contact network is built up (Z ~ 3.4),
+startup at the production dt to strain 1.5, where the contact network is built up (Z ~ 3.4),
 into results/bench_engine/n<N>/. Reused when present.
 
 `measure`: from each checkpoint, a short continuation of the same shear (rotate.lmp at
@@ -30,7 +30,7 @@ from suspension_fabric.lammps.runner import DEFAULT_DT
 
 ROOT = Path("results/bench_engine")
 SIZES = (250, 500, 1000, 2000)
-PREPARE_STRAIN = 2.0
+PREPARE_STRAIN = 1.5
 EXPLICIT_DT = 2.0e-7
 # continuation strain per method: long enough for >= 10 s of loop time at N = 500
 STRAIN = {"explicit": 0.02, "implicit": 0.2, "stock": 0.01}

@@ -2,7 +2,9 @@
 
     .venv/bin/python benchmarks/engine_accuracy.py run --seed 2024 --integrator explicit --dt 2e-7
     .venv/bin/python benchmarks/engine_accuracy.py run --seed 2024 --integrator implicit --dt 1e-5
-    .venv/bin/python benchmarks/engine_accuracy.py report [--seeds 2024 2025]
+    .venv/bin/python benchmarks/engine_accuracy.py run --seed 2024 --integrator implicit --dt 2e-5 --from-explicit-checkpoint
+    .venv/bin/python benchmarks/engine_accuracy.py save      # analysed tables -> benchmarks/data/engine_accuracy
+    .venv/bin/python benchmarks/engine_accuracy.py report [--seeds 2024 2025] [--root benchmarks/data/engine_accuracy]
 
 `run`: one packing (N = 500, phi = 0.45, the given seed), a startup to strain 5 with its
 checkpoint, then shear rotations by 90 and 180 degrees from that checkpoint for 1 strain each,
@@ -10,7 +12,13 @@ all at the project's default forces with the given integrator and time step, int
 `results/engine_accuracy/seed<seed>/<integrator>_dt<dt>/`. Finished runs are reused. The LAMMPS
 scripts and the plugin library are copied into the output folder before the first run and
 used from there, so later edits of the sources cannot change a run that is under way.
-Writes each run's fabric table (`fabric.csv`) next to its dump.
+Writes each run's fabric table (`fabric.csv`) next to its dump. With
+`--from-explicit-checkpoint` only the two rotations run, from the explicit dt = 2e-7 startup's
+checkpoint, into `<integrator>_dt<dt>_from_explicit/`: both integrators then start each
+transient from the same state, a sharper comparison than across independent startups.
+
+`save`: copies every finished run's fabric table and completion record (no trajectories) to
+`benchmarks/data/engine_accuracy/`, so the report can be regenerated without simulating.
 
 `report`: for every (integrator, dt) found, the steady fabric over strain 2-5 per packing
 (correlation-aware standard errors, tables.steady_state) and its difference from the
@@ -47,8 +55,8 @@ REFERENCE = ("explicit", 2e-7)
 ROTATION_BINS = [(0.0, 0.05), (0.05, 0.1), (0.1, 0.2), (0.2, 0.3), (0.3, 0.5), (0.5, 0.75), (0.75, 1.0)]
 
 
-def run_label(integrator: str, dt: float) -> str:
-    return f"{integrator}_dt{dt:g}"
+def run_label(integrator: str, dt: float, from_explicit: bool = False) -> str:
+    return f"{integrator}_dt{dt:g}" + ("_from_explicit" if from_explicit else "")
 
 
 def frozen_inputs(out: Path) -> tuple[Path, Path]:
@@ -77,19 +85,22 @@ def write_fabric(run_dir: Path, dt: float, theta: float | None, seed: int) -> No
     fabric_table(analysis, seed=seed).to_csv(target, index=False)
 
 
-def run(seed: int, integrator: str, dt: float) -> None:
-    out = ROOT / f"seed{seed}" / run_label(integrator, dt)
+def run(seed: int, integrator: str, dt: float, from_explicit: bool) -> None:
+    out = ROOT / f"seed{seed}" / run_label(integrator, dt, from_explicit)
     scripts, library = frozen_inputs(out)
     runner.SCRIPTS_DIR = scripts.resolve()
     model = force_model(integrator, library.resolve())
-    packing = ROOT / f"seed{seed}" / "packing"
-    if not is_complete(packing):
-        pack(packing, N_PARTICLES, phi=PHI, seed=seed)
-    startup = out / "startup"
-    if not is_complete(startup):
-        run_startup(startup, packing / "packing.data", STARTUP_STRAIN, force_model=model, dt=dt,
-                    progress_interval=120)
-    write_fabric(startup, dt, None, seed)
+    if from_explicit:
+        startup = ROOT / f"seed{seed}" / run_label(*REFERENCE) / "startup"
+    else:
+        packing = ROOT / f"seed{seed}" / "packing"
+        if not is_complete(packing):
+            pack(packing, N_PARTICLES, phi=PHI, seed=seed)
+        startup = out / "startup"
+        if not is_complete(startup):
+            run_startup(startup, packing / "packing.data", STARTUP_STRAIN, force_model=model, dt=dt,
+                        progress_interval=120)
+        write_fabric(startup, dt, None, seed)
     for theta in ANGLES:
         rotation = out / f"rotate_{theta:g}"
         if not is_complete(rotation):
@@ -98,14 +109,27 @@ def run(seed: int, integrator: str, dt: float) -> None:
         write_fabric(rotation, dt, theta, seed)
 
 
+def save(destination: Path = Path("benchmarks/data/engine_accuracy")) -> None:
+    for table in sorted(ROOT.glob("seed*/*/*/fabric.csv")):
+        target = destination / table.parent.relative_to(ROOT)
+        target.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(table, target / "fabric.csv")
+        shutil.copy2(table.parent / runner.COMPLETION_MARKER, target / runner.COMPLETION_MARKER)
+        print(target)
+
+
 def cost(run_dir: Path) -> float:
     marker = json.loads((run_dir / runner.COMPLETION_MARKER).read_text())
     return marker["wall_time_s"] / (N_PARTICLES * marker["results"]["strain"])
 
 
-def report(seeds: list[int]) -> None:
+def report(seeds: list[int], root: Path) -> None:
+    global ROOT
+    ROOT = root
     runs = sorted({p.name for seed in seeds for p in (ROOT / f"seed{seed}").glob("*_dt*")
                    if (p / "startup" / "fabric.csv").is_file()})
+    rotation_runs = sorted({p.name for seed in seeds for p in (ROOT / f"seed{seed}").glob("*_dt*")
+                            if (p / f"rotate_{ANGLES[0]:g}" / "fabric.csv").is_file()})
     reference = run_label(*REFERENCE)
     print(f"N = {N_PARTICLES}, phi = {PHI}, default forces; steady window strain "
           f"{STEADY_WINDOW[0]:g}-{STEADY_WINDOW[1]:g}; packings {', '.join(map(str, seeds))}\n")
@@ -143,21 +167,30 @@ def report(seeds: list[int]) -> None:
             header = " | ".join(f"{lo:g}-{hi:g}" for lo, hi in ROTATION_BINS)
             print(f"| packing | run | {header} |")
             print("|" + "---|" * (len(ROTATION_BINS) + 2))
-            reference_bins = []
+            bins = {}
             for seed in seeds:
-                for label in runs:
+                for label in rotation_runs:
                     path = ROOT / f"seed{seed}" / label / f"rotate_{theta:g}" / "fabric.csv"
                     if not path.is_file():
                         continue
                     table = pd.read_csv(path)
                     means = [table.loc[(table.strain >= lo) & (table.strain < hi + 1e-9), component].mean()
                              for lo, hi in ROTATION_BINS]
-                    if label == reference:
-                        reference_bins.append(means)
+                    bins.setdefault(label, []).append(means)
                     print(f"| {seed} | {label} | " + " | ".join(f"{m:.4f}" for m in means) + " |")
-            if len(reference_bins) > 1:
-                spread = np.std(np.array(reference_bins), axis=0, ddof=1)
-                print("| spread | explicit | " + " | ".join(f"{s:.4f}" for s in spread) + " |")
+            reference_bins = np.array(bins.get(reference, []))
+            if len(reference_bins) < 2:
+                continue
+            spread = np.std(reference_bins, axis=0, ddof=1)
+            print("| spread | explicit | " + " | ".join(f"{v:.4f}" for v in spread) + " |")
+            ratios = []
+            for label, values in bins.items():
+                if label == reference or len(values) != len(reference_bins):
+                    continue
+                difference = np.mean(values, axis=0) - reference_bins.mean(axis=0)
+                print(f"| mean - explicit | {label} | " + " | ".join(f"{v:+.4f}" for v in difference) + " |")
+                ratios.append(f"{label} {np.max(np.abs(difference) / spread):.2f}")
+            print("\nlargest |seed mean - explicit seed mean| / spread over the bins: " + ", ".join(ratios))
 
 
 def main() -> None:
@@ -167,13 +200,18 @@ def main() -> None:
     run_parser.add_argument("--seed", type=int, required=True)
     run_parser.add_argument("--integrator", choices=("explicit", "implicit"), required=True)
     run_parser.add_argument("--dt", type=float, required=True)
+    run_parser.add_argument("--from-explicit-checkpoint", action="store_true")
+    sub.add_parser("save")
     report_parser = sub.add_parser("report")
     report_parser.add_argument("--seeds", type=int, nargs="+", default=[2024, 2025])
+    report_parser.add_argument("--root", type=Path, default=ROOT)
     args = parser.parse_args()
     if args.command == "run":
-        run(args.seed, args.integrator, args.dt)
+        run(args.seed, args.integrator, args.dt, args.from_explicit_checkpoint)
+    elif args.command == "save":
+        save()
     else:
-        report(args.seeds)
+        report(args.seeds, args.root)
 
 
 if __name__ == "__main__":
