@@ -1,4 +1,5 @@
-"""Tests of the frame conventions (suspension_fabric.frames), as stated in the package docstring (suspension_fabric/__init__.py)."""
+"""Tests of the frame conventions (suspension_fabric.frames), as stated in the package
+docstring (src/suspension_fabric/__init__.py)."""
 
 import numpy as np
 import pytest
