@@ -126,11 +126,9 @@ def cost(run_dir: Path) -> float:
 
 
 def report(seeds: list[int], root: Path) -> None:
-    global ROOT
-    ROOT = root
-    runs = sorted({p.name for seed in seeds for p in (ROOT / f"seed{seed}").glob("*_dt*")
+    runs = sorted({p.name for seed in seeds for p in (root / f"seed{seed}").glob("*_dt*")
                    if (p / "startup" / "fabric.csv").is_file()})
-    rotation_runs = sorted({p.name for seed in seeds for p in (ROOT / f"seed{seed}").glob("*_dt*")
+    rotation_runs = sorted({p.name for seed in seeds for p in (root / f"seed{seed}").glob("*_dt*")
                             if (p / f"rotate_{ANGLES[0]:g}" / "fabric.csv").is_file()})
     reference = run_label(*REFERENCE)
     print(f"N = {N_PARTICLES}, phi = {PHI}, default forces; steady window strain "
@@ -141,7 +139,7 @@ def report(seeds: list[int], root: Path) -> None:
     steady = {}
     for seed in seeds:
         for label in runs:
-            path = ROOT / f"seed{seed}" / label / "startup" / "fabric.csv"
+            path = root / f"seed{seed}" / label / "startup" / "fabric.csv"
             if path.is_file():
                 steady[seed, label] = steady_state(pd.read_csv(path), *STEADY_WINDOW).set_index("quantity")
         for label in runs:
@@ -160,7 +158,7 @@ def report(seeds: list[int], root: Path) -> None:
                 cells.append(text)
             z_text = "-" if label == reference else f"{worst:.1f}"
             print(f"| {seed} | {label} | " + " | ".join(cells)
-                  + f" | {z_text} | {cost(ROOT / f'seed{seed}' / label / 'startup'):.3f} |")
+                  + f" | {z_text} | {cost(root / f'seed{seed}' / label / 'startup'):.3f} |")
 
     for theta in ANGLES:
         for component in ("n12", "n23"):
@@ -172,7 +170,7 @@ def report(seeds: list[int], root: Path) -> None:
             bins = {}
             for seed in seeds:
                 for label in rotation_runs:
-                    path = ROOT / f"seed{seed}" / label / f"rotate_{theta:g}" / "fabric.csv"
+                    path = root / f"seed{seed}" / label / f"rotate_{theta:g}" / "fabric.csv"
                     if not path.is_file():
                         continue
                     table = pd.read_csv(path)
