@@ -184,11 +184,24 @@ void FixHydroImplicitSF::setup(int /*vflag*/)
   // the virial of the current velocities, for output at the first step
   const SuspensionFabric::ImposedFlow flow(domain);
   double E[3][3];
+  strain_rate(flow, E);
+  collect_pairs();
+  relative_velocities(flow);
+  tally_virial(E);
+}
+
+// E = (L + L^T)/2 of the imposed flow
+void FixHydroImplicitSF::strain_rate(const SuspensionFabric::ImposedFlow &flow, double E[3][3])
+{
   for (int a = 0; a < 3; a++)
     for (int b = 0; b < 3; b++) E[a][b] = 0.5 * (flow.grad[a][b] + flow.grad[b][a]);
-  collect_pairs();
+}
+
+// solution = (v - u_inf(x), omega - Omega_inf) of every local atom
+void FixHydroImplicitSF::relative_velocities(const SuspensionFabric::ImposedFlow &flow)
+{
   const int nlocal = atom->nlocal;
-  solution.assign(6 * nlocal, 0.0);
+  solution.assign(6 * static_cast<size_t>(nlocal), 0.0);
   double u[3];
   for (int i = 0; i < nlocal; i++) {
     flow.velocity(atom->x[i], u);
@@ -197,7 +210,6 @@ void FixHydroImplicitSF::setup(int /*vflag*/)
       solution[6 * i + 3 + k] = atom->omega[i][k] - flow.omega[k];
     }
   }
-  tally_virial(E);
 }
 
 void FixHydroImplicitSF::initial_integrate(int /*vflag*/)
@@ -338,13 +350,11 @@ void FixHydroImplicitSF::final_integrate()
   const SuspensionFabric::ImposedFlow flow(domain);
   const double *W = flow.omega;
   double E[3][3];
-  for (int a = 0; a < 3; a++)
-    for (int b = 0; b < 3; b++) E[a][b] = 0.5 * (flow.grad[a][b] + flow.grad[b][a]);
+  strain_rate(flow, E);
 
   collect_pairs();
   const size_t size = 6 * static_cast<size_t>(nlocal);
   rhs.assign(size, 0.0);
-  solution.assign(size, 0.0);
   residual.assign(size, 0.0);
   precond.assign(size, 0.0);
   direction.assign(size, 0.0);
@@ -353,15 +363,12 @@ void FixHydroImplicitSF::final_integrate()
   // right-hand side: inertia of the old velocities (relative to the flow here), contact
   // forces and torques, and the lubrication forcing of the imposed strain; the old
   // relative velocities are the first guess
-  double u[3];
+  relative_velocities(flow);
   for (int i = 0; i < nlocal; i++) {
     const double a = radius[i];
     const double m_dt = rmass[i] / dtv;
     const double i_dt = INERTIA * rmass[i] * a * a / dtv;
-    flow.velocity(x[i], u);
     for (int k = 0; k < 3; k++) {
-      solution[6 * i + k] = v[i][k] - u[k];
-      solution[6 * i + 3 + k] = omega[i][k] - W[k];
       rhs[6 * i + k] = m_dt * solution[6 * i + k] + f[i][k];
       rhs[6 * i + 3 + k] = i_dt * solution[6 * i + 3 + k] + torque[i][k];
     }
@@ -417,6 +424,7 @@ void FixHydroImplicitSF::final_integrate()
     iteration++;
   }
 
+  double u[3];
   for (int i = 0; i < nlocal; i++) {
     flow.velocity(x[i], u);
     for (int k = 0; k < 3; k++) {

@@ -8,6 +8,7 @@
 #include "fix.h"
 #include "lmptype.h"
 
+#include "imposed_flow.h"
 #include "lubrication.h"
 
 #include <vector>
@@ -56,6 +57,8 @@ class FixHydroImplicitSF : public Fix {
   void build_preconditioner();
   double apply_preconditioner(const std::vector<double> &r, std::vector<double> &z, double &largest) const;
   void tally_virial(const double E[3][3]);
+  static void strain_rate(const SuspensionFabric::ImposedFlow &flow, double E[3][3]);
+  void relative_velocities(const SuspensionFabric::ImposedFlow &flow);
 };
 
 }    // namespace LAMMPS_NS
