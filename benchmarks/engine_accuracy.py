@@ -71,10 +71,6 @@ def frozen_inputs(out: Path) -> tuple[Path, Path]:
     return scripts, library
 
 
-def force_model(integrator: str, library: Path) -> runner.ForceModel:
-    return runner.ForceModel(plugin=library, integrator=integrator)
-
-
 def write_fabric(run_dir: Path, dt: float, theta: float | None, seed: int) -> None:
     target = run_dir / "fabric.csv"
     if target.is_file():
@@ -91,7 +87,7 @@ def run(seed: int, integrator: str, dt: float, from_explicit: bool) -> None:
     out = ROOT / f"seed{seed}" / run_label(integrator, dt, from_explicit)
     scripts, library = frozen_inputs(out)
     runner.SCRIPTS_DIR = scripts.resolve()
-    model = force_model(integrator, library.resolve())
+    model = runner.ForceModel(plugin=library.resolve(), integrator=integrator)
     if from_explicit:
         startup = ROOT / f"seed{seed}" / run_label(*REFERENCE) / "startup"
     else:

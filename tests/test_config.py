@@ -6,6 +6,7 @@ import inspect
 
 from suspension_fabric.config import ConfigError, angle_label, load_config, validate_config
 from suspension_fabric.lammps import ForceModel, run_rotation, run_startup
+from suspension_fabric.scales import max_dt_explicit, max_dt_implicit
 
 MINIMAL = {"study": "s", "seeds": [1], "angles_deg": [0, 90]}
 
@@ -79,12 +80,16 @@ def test_schema_defaults_equal_python_defaults():
 
 
 def test_time_step_limit_follows_the_integrator():
-    """implicit: dt up to the tangential-spring limit 3.65e-5 passes (2e-5, 3.5e-5), above it
-    fails; explicit: the squeeze limit 2.5e-7 (scales.max_dt_explicit) applies instead."""
-    for dt in (2.0e-5, 3.5e-5):
+    """implicit: dt up to the tangential-spring limit (scales.max_dt_implicit, 3.65e-5 at the
+    defaults) passes, above it fails naming the limit; explicit: the squeeze limit
+    (scales.max_dt_explicit, 2.5e-7) applies instead."""
+    implicit_limit = max_dt_implicit(1.0, 223.0, 1e-3, 2.0 / 7.0 * 1.25e9)
+    explicit_limit = max_dt_explicit(1.0, 223.0, 1e-3)
+    assert 3e-5 < implicit_limit < 4e-5 and 2e-7 < explicit_limit < 3e-7
+    for dt in (2.0e-5, 0.99 * implicit_limit):
         assert validate_config({**MINIMAL, "run": {"dt": dt}})["run"]["dt"] == dt
-    with pytest.raises(ConfigError, match=r"run.dt' \(4e-05\).*tangential contact spring.*3\.65e-05"):
+    with pytest.raises(ConfigError, match=rf"run.dt' \(4e-05\).*tangential contact spring.*{implicit_limit:.3g}"):
         validate_config({**MINIMAL, "run": {"dt": 4.0e-5}})
     assert validate_config({**MINIMAL, "run": {"integrator": "explicit", "dt": 2.0e-7}})
-    with pytest.raises(ConfigError, match=r"run.dt' \(5e-07\).*lubrication squeeze.*2\.49e-07"):
+    with pytest.raises(ConfigError, match=rf"run.dt' \(5e-07\).*lubrication squeeze.*{explicit_limit:.3g}"):
         validate_config({**MINIMAL, "run": {"integrator": "explicit", "dt": 5.0e-7}})

@@ -16,29 +16,6 @@ from __future__ import annotations
 import math
 
 
-def contact_relaxation_time(d_i: float, d_j: float, eta_f: float, delta: float, kn: float) -> float:
-    """Relaxation time tau of the overlap of a pair of diameters d_i, d_j (see module doc)."""
-    if min(d_i, d_j, eta_f, delta, kn) <= 0:
-        raise ValueError("diameters, eta_f, delta and kn must be positive")
-    a_i, a_j = 0.5 * d_i, 0.5 * d_j
-    reduced_radius = a_i * a_j / (a_i + a_j)
-    squeeze = 6.0 * math.pi * eta_f * reduced_radius**2 / (0.5 * (a_i + a_j) * delta)
-    drag_i, drag_j = 3.0 * math.pi * eta_f * d_i, 3.0 * math.pi * eta_f * d_j
-    return (squeeze + drag_i * drag_j / (drag_i + drag_j)) / kn
-
-
-def contact_period(d_i: float, d_j: float, kn: float, density: float = 1.0) -> float:
-    """Period 2 pi sqrt(m* / kn) of the contact spring, m* = m_i m_j / (m_i + m_j).
-
-    An explicit integrator resolves the contact only with many steps per period; the
-    explicit velocity-Verlet step must resolve it (``max_dt_explicit`` is far stricter).
-    """
-    if min(d_i, d_j, kn, density) <= 0:
-        raise ValueError("diameters, kn and density must be positive")
-    m_i, m_j = (density * math.pi / 6.0 * d**3 for d in (d_i, d_j))
-    return 2.0 * math.pi * math.sqrt(m_i * m_j / (m_i + m_j) / kn)
-
-
 def _mass(d: float, density: float) -> float:
     return density * math.pi / 6.0 * d**3
 
@@ -47,6 +24,27 @@ def _squeeze_at_contact(d_i: float, d_j: float, eta_f: float, delta: float) -> f
     """X(delta) of the pair, the squeeze resistance at the regularised gap (see module doc)."""
     a_i, a_j = 0.5 * d_i, 0.5 * d_j
     return 6.0 * math.pi * eta_f * (a_i * a_j / (a_i + a_j)) ** 2 / (0.5 * (a_i + a_j) * delta)
+
+
+def contact_relaxation_time(d_i: float, d_j: float, eta_f: float, delta: float, kn: float) -> float:
+    """Relaxation time tau of the overlap of a pair of diameters d_i, d_j (see module doc)."""
+    if min(d_i, d_j, eta_f, delta, kn) <= 0:
+        raise ValueError("diameters, eta_f, delta and kn must be positive")
+    squeeze = _squeeze_at_contact(d_i, d_j, eta_f, delta)
+    drag_i, drag_j = 3.0 * math.pi * eta_f * d_i, 3.0 * math.pi * eta_f * d_j
+    return (squeeze + drag_i * drag_j / (drag_i + drag_j)) / kn
+
+
+def contact_period(d_i: float, d_j: float, kn: float, density: float = 1.0) -> float:
+    """Period 2 pi sqrt(m* / kn) of the contact spring, m* = m_i m_j / (m_i + m_j).
+
+    Velocity Verlet (the explicit integrator) resolves the contact only with many steps per
+    period (the config asks for 30); with stiff contacts ``max_dt_explicit`` is far stricter.
+    """
+    if min(d_i, d_j, kn, density) <= 0:
+        raise ValueError("diameters, kn and density must be positive")
+    m_i, m_j = _mass(d_i, density), _mass(d_j, density)
+    return 2.0 * math.pi * math.sqrt(m_i * m_j / (m_i + m_j) / kn)
 
 
 # Measured with the explicit plugin at N = 500, phi = 0.45, eta_f = 223, delta = 1e-3:

@@ -201,7 +201,7 @@ void FixHydroImplicitSF::strain_rate(const SuspensionFabric::ImposedFlow &flow, 
 void FixHydroImplicitSF::relative_velocities(const SuspensionFabric::ImposedFlow &flow)
 {
   const int nlocal = atom->nlocal;
-  solution.assign(6 * static_cast<size_t>(nlocal), 0.0);
+  solution.resize(6 * static_cast<size_t>(nlocal));
   double u[3];
   for (int i = 0; i < nlocal; i++) {
     flow.velocity(atom->x[i], u);
@@ -354,11 +354,12 @@ void FixHydroImplicitSF::final_integrate()
 
   collect_pairs();
   const size_t size = 6 * static_cast<size_t>(nlocal);
-  rhs.assign(size, 0.0);
-  residual.assign(size, 0.0);
-  precond.assign(size, 0.0);
-  direction.assign(size, 0.0);
-  product.assign(size, 0.0);
+  // every entry of these buffers is written before it is read
+  rhs.resize(size);
+  residual.resize(size);
+  precond.resize(size);
+  direction.resize(size);
+  product.resize(size);
 
   // right-hand side: inertia of the old velocities (relative to the flow here), contact
   // forces and torques, and the lubrication forcing of the imposed strain; the old
