@@ -18,6 +18,7 @@ include: "workflow/rules/simulate.smk"
 include: "workflow/rules/analyse.smk"
 include: "workflow/rules/model.smk"
 include: "workflow/rules/figures.smk"
+include: "workflow/rules/report.smk"
 
 
 rule all:
@@ -26,3 +27,4 @@ rule all:
         FIGURES,
         f"{RESULTS}/fits.json",
         f"{RESULTS}/tables/model_errors.csv",
+        rules.report_tables.output,

@@ -8,7 +8,7 @@ Units: strain rate 1, d_small = 1, time = strain.
 
 from __future__ import annotations
 
-import re
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -18,24 +18,27 @@ from suspension_fabric.lammps import (
     COMPLETION_MARKER,
     ForceModel,
     LammpsRunError,
+    ShearSettings,
     is_complete,
     iter_dump_frames,
     pack,
     read_stress_table,
     run_rotation,
     run_startup,
+    stress_jitter,
 )
-from suspension_fabric.lammps import runner
 from suspension_fabric.lammps.plugin import plugin_path
+from suspension_fabric.lammps.process import ThermoWatcher
 
 pytestmark = pytest.mark.lammps
 
 N_PARTICLES = 60
 DT = 2.0e-5  # implicit hydrodynamics (the default integrator)
 EXPLICIT_DT = 5.0e-7
-SMALL_RUN = dict(dt=DT, dump_strain=0.001, table_strain=0.0005, thermo_strain=0.0005,
-                 restart_strain=0.001, progress=None)
-EXPLICIT_RUN = dict(SMALL_RUN, dt=EXPLICIT_DT)
+SMALL_SETTINGS = ShearSettings(dt=DT, dump_strain=0.001, table_strain=0.0005, thermo_strain=0.0005,
+                               restart_strain=0.001)
+SMALL_RUN = dict(settings=SMALL_SETTINGS, progress=None)
+EXPLICIT_RUN = dict(SMALL_RUN, settings=replace(SMALL_SETTINGS, dt=EXPLICIT_DT))
 
 
 @pytest.fixture(scope="module")
@@ -129,13 +132,13 @@ def test_packing_split_by_volume(tmp_path):
 
 
 def test_startup_writes_outputs_and_strain_is_step_dt_rate(startup):
-    """run_startup(): dump, table, restart files, checkpoint, log and completion marker
-    exist; the table's strain equals step*dt*rate; the xz tilt grows as strain*lz and yz
+    """run_startup(): dump, table, checkpoint, log and completion marker exist (the periodic
+    restart files stay in the partial run and go with it); the table's strain equals step*dt*rate; the xz tilt grows as strain*lz and yz
     stays 0; dump frames come every dump_strain with id type radius x y z."""
     out = startup.output_dir
-    for name in ("trajectory.dump", "stress.txt", "checkpoint.rst", "restart.a.rst",
-                 "restart.b.rst", "log.lammps", COMPLETION_MARKER):
-        assert (out / name).is_file(), name
+    assert sorted(p.name for p in out.iterdir()) == sorted(
+        ["trajectory.dump", "stress.txt", "checkpoint.rst", "log.lammps", COMPLETION_MARKER])
+    assert not any(p.name.startswith(".") for p in out.parent.iterdir())
     table = read_stress_table(startup.table_file)
     np.testing.assert_allclose(table["strain"], table["step"] * DT * 1.0, rtol=0, atol=1e-15)
     np.testing.assert_allclose(table["strain"], np.arange(0, 0.002 + 1e-12, 0.0005), atol=1e-15)
@@ -158,7 +161,7 @@ def test_restart_does_not_change_the_physics(tmp_path, force_model):
     packing has no gap margin, so frictional contacts (with tangential history) exist
     across the restart."""
     packing = pack(tmp_path / "touching", N_PARTICLES, phi=0.45, seed=7, gap_margin=0.0)
-    fine = dict(SMALL_RUN, dump_strain=0.0001)
+    fine = dict(SMALL_RUN, settings=replace(SMALL_SETTINGS, dump_strain=0.0001))
     whole = run_startup(tmp_path / "whole", packing.data_file, 0.004, force_model=force_model, **fine)
     first = run_startup(tmp_path / "first", packing.data_file, 0.002, force_model=force_model, **fine)
     second = run_rotation(tmp_path / "second", first.checkpoint_file, 0.0, 0.002,
@@ -212,19 +215,20 @@ def test_rotation_turns_the_flow(tmp_path, startup, force_model, theta_deg):
 
 
 def test_failed_run_raises_and_leaves_no_complete_output(tmp_path, packing, force_model):
-    """An absurd time step (dt = 0.05) blows the run up: LammpsRunError names the cause,
-    output_dir does not exist, and the partial files sit in output_dir.failed without a
-    completion marker."""
+    """An absurd time step (dt = 0.05) blows the run up: LammpsRunError names the cause and
+    the kept partial run, output_dir does not exist, and the partial files sit in
+    .blowup.partial (a killed run's restarts would be resumed from there) without a marker."""
     target = tmp_path / "blowup"
-    with pytest.raises(LammpsRunError, match=r"(Lost atoms|non-finite|Non-numeric|overlap)"):
-        run_startup(target, packing.data_file, 1.0, force_model=force_model, dt=0.05,
-                    dump_strain=0.05, table_strain=0.05, thermo_strain=0.05, restart_strain=0.5,
+    blowup = ShearSettings(dt=0.05, dump_strain=0.05, table_strain=0.05, thermo_strain=0.05,
+                           restart_strain=0.5)
+    with pytest.raises(LammpsRunError, match=r"(Lost atoms|non-finite|Non-numeric|overlap)(.|\n)*partial run kept"):
+        run_startup(target, packing.data_file, 1.0, force_model=force_model, settings=blowup,
                     progress=None)
     assert not target.exists()
-    failed = tmp_path / "blowup.failed"
-    assert failed.is_dir() and not (failed / COMPLETION_MARKER).exists()
-    assert not is_complete(failed)
-    assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []
+    partial = tmp_path / ".blowup.partial"
+    assert (partial / "segment-01" / "log.lammps").is_file()
+    assert not (partial / COMPLETION_MARKER).exists() and not is_complete(partial)
+    assert sorted(p.name for p in tmp_path.iterdir()) == [".blowup.partial"]
 
 
 def test_rotation_refuses_an_unfinished_checkpoint(tmp_path, startup, force_model):
@@ -245,33 +249,6 @@ def test_stock_stand_in_model_runs(tmp_path, packing):
     assert is_complete(result.output_dir)
 
 
-def _script_defaults(name):
-    text = (runner.SCRIPTS_DIR / name).read_text()
-    return dict(re.findall(r"^variable\s+(\w+)\s+index\s+(\S+)", text, flags=re.M))
-
-
-@pytest.mark.parametrize("script", ["startup.lmp", "rotate.lmp"])
-def test_python_defaults_equal_script_defaults(script):
-    """ForceModel and run_startup/run_rotation defaults equal the .lmp index defaults,
-    so a run by hand and a run from Python do the same thing."""
-    defaults = _script_defaults(script)
-    model = ForceModel()
-    for name in ("eta_f", "kn", "mu", "delta", "h_out"):
-        assert float(defaults[name]) == getattr(model, name), name
-    assert defaults["newton_pair"] == model.newton_pair
-    assert defaults["integrator"] == model.integrator
-    assert float(defaults["solver_tol"]) == model.solver_tol
-    assert defaults["lubrication"] == model.lubrication
-    assert defaults["kt"] == "$(2.0/7.0*v_kn)" and model.kt is None
-    function = run_startup if script == "startup.lmp" else run_rotation
-    import inspect
-
-    parameters = inspect.signature(function).parameters
-    for name in ("dt", "rate", "dump_strain", "table_strain", "thermo_strain", "restart_strain",
-                 "skin", "strain_total"):
-        assert float(defaults[name]) == parameters[name].default, name
-
-
 def test_two_mpi_ranks(tmp_path, packing):
     """ranks=2 runs the explicit integrator under the environment's mpirun and reaches the
     same strain; its stress agrees with the serial run to 1e-6 over this short strain."""
@@ -279,7 +256,7 @@ def test_two_mpi_ranks(tmp_path, packing):
     serial = run_startup(tmp_path / "serial", packing.data_file, 0.001, force_model=explicit,
                          **EXPLICIT_RUN)
     parallel = run_startup(tmp_path / "mpi", packing.data_file, 0.001, force_model=explicit,
-                           ranks=2, **EXPLICIT_RUN)
+                           **dict(EXPLICIT_RUN, settings=replace(EXPLICIT_RUN["settings"], ranks=2)))
     assert parallel.strain == pytest.approx(0.001, abs=1e-12)
     assert "mpirun" in (parallel.output_dir / COMPLETION_MARKER).read_text() or \
         "mpiexec" in (parallel.output_dir / COMPLETION_MARKER).read_text()
@@ -291,8 +268,8 @@ def test_implicit_integrator_refuses_several_mpi_ranks(tmp_path, packing, force_
     """fix hydro/implicit/sf solves on one rank only: 2 ranks stop with an error that says
     so and points to running seeds and angles side by side."""
     with pytest.raises(LammpsRunError, match=r"one MPI rank only.*side by side"):
-        run_startup(tmp_path / "mpi", packing.data_file, 0.001, force_model=force_model, ranks=2,
-                    **SMALL_RUN)
+        run_startup(tmp_path / "mpi", packing.data_file, 0.001, force_model=force_model,
+                    settings=replace(SMALL_SETTINGS, ranks=2), progress=None)
 
 
 def test_implicit_and_explicit_integrators_agree_on_a_short_startup(tmp_path, force_model):
@@ -304,13 +281,13 @@ def test_implicit_and_explicit_integrators_agree_on_a_short_startup(tmp_path, fo
     stresses over the second half (total, contact, lubrication; the implicit lubrication
     virial comes from the fix) agree within 1%."""
     touching = pack(tmp_path / "touching", N_PARTICLES, phi=0.45, seed=11, gap_margin=0.0)
-    settings = dict(dump_strain=0.005, table_strain=0.0005, thermo_strain=0.005, restart_strain=0.01,
-                    progress=None)
+    settings = ShearSettings(dt=DT, dump_strain=0.005, table_strain=0.0005, thermo_strain=0.005,
+                             restart_strain=0.01)
     implicit = run_startup(tmp_path / "implicit", touching.data_file, 0.01, force_model=force_model,
-                           dt=DT, **settings)
+                           settings=settings, progress=None)
     explicit = run_startup(tmp_path / "explicit", touching.data_file, 0.01,
                            force_model=ForceModel(plugin=plugin_path(), integrator="explicit"),
-                           dt=EXPLICIT_DT, **settings)
+                           settings=replace(settings, dt=EXPLICIT_DT), progress=None)
     last_implicit = list(iter_dump_frames(implicit.dump_file))[-1]
     last_explicit = list(iter_dump_frames(explicit.dump_file))[-1]
     lag_bound = 2.0 * DT * last_implicit.box.lz
@@ -351,7 +328,7 @@ def test_overlap_check_agrees_with_brute_force_and_handles_tiny_boxes(tmp_path, 
 def test_thermo_watcher_reads_strain_and_flags_nan_and_errors():
     """The screen parser takes the strain from the v_strain column, flags a NaN thermo
     row and collects ERROR lines (the runner stops the run on either)."""
-    watcher = runner._ThermoWatcher()
+    watcher = ThermoWatcher()
     for line in ["   Step        v_strain         CPU            Pxz\n",
                  "         0   0              0             -975.6\n",
                  "      1000   0.001          0.14          -2291.7\n"]:
@@ -363,17 +340,21 @@ def test_thermo_watcher_reads_strain_and_flags_nan_and_errors():
     assert watcher.errors == ["ERROR: Lost atoms: original 100 current 50 (src/thermo.cpp:526)"]
 
 
-def test_stress_jitter_separates_smooth_from_oscillating_tables(startup):
+def test_stress_jitter_separates_smooth_from_oscillating_tables():
     """stress_jitter is ~0 for a smooth stress history and ~1 when the lubrication stress
-    flips between rows (the signature of a too large dt); short tables are not judged."""
+    flips between rows (the signature of a too large dt); a table without a window of 20
+    rows is not judged (0), however much it flips."""
     strain = np.arange(200) * 0.001
     smooth = {k: -1000.0 + 50.0 * np.sin(strain) for k in ("pxx", "pyy", "pzz", "pxy", "pxz", "pyz")}
     smooth["strain"] = strain
-    assert runner.stress_jitter(smooth)[0] < 0.01
+    assert stress_jitter(smooth)[0] < 0.01
     flipping = dict(smooth, pxz=smooth["pxz"] + 800.0 * (-1.0) ** np.arange(200))
-    jitter, lo, hi = runner.stress_jitter(flipping)
+    jitter, lo, hi = stress_jitter(flipping)
     assert jitter > 0.5 and 0.0 <= lo < hi
-    assert runner.stress_jitter(read_stress_table(startup.table_file))[0] == 0.0
+    short = {name: values[:19] for name, values in flipping.items()}
+    just_enough = {name: values[:20] for name, values in flipping.items()}
+    assert stress_jitter(short, skip_strain=0.0)[0] == 0.0
+    assert stress_jitter(just_enough, skip_strain=0.0)[0] > 0.5
 
 
 def test_stress_jitter_ignores_the_impulsive_start():
@@ -384,5 +365,5 @@ def test_stress_jitter_ignores_the_impulsive_start():
     table["strain"] = strain - strain[0]
     table["pxz"] = table["pxz"].copy()
     table["pxz"][:5] = 1.0e5 * (-1.0) ** np.arange(5)  # ringing within the first 0.005 strain
-    assert runner.stress_jitter(table)[0] < 0.01
-    assert runner.stress_jitter(table, skip_strain=0.0)[0] > 1.0
+    assert stress_jitter(table)[0] < 0.01
+    assert stress_jitter(table, skip_strain=0.0)[0] > 1.0

@@ -159,3 +159,31 @@ def test_bad_config_stops_before_any_job(tmp_path, section, value, message):
     assert result.returncode != 0
     assert message in result.stdout + result.stderr
     assert not (workdir / "results").exists()
+
+
+def test_report_shows_the_tables(study):
+    """The report holds fits.json, the steady state and the error summary as captioned HTML tables."""
+    import base64
+
+    from suspension_fabric.report_tables import format_value_error
+
+    result = snakemake(study, *TEST_CONFIG, "--report", "report_tables.html", timeout=300)
+    assert result.returncode == 0, result.stderr[-3000:]
+    html = (study / "report_tables.html").read_text(errors="replace")
+    pages = {name: base64.b64decode(data).decode("utf-8") for name, data in re.findall(
+        r"data:text/html;charset=utf-?8;filename=([\w.]+);base64,([A-Za-z0-9+/=]+)", html)}
+    assert set(pages) == {"fits.html", "steady_state.html", "model_errors_summary.html"}, set(pages)
+    for caption in ("Fitted model parameters (fits.json)", "Steady state of startup shear",
+                    "Model versus simulation (tables/model_errors_summary.csv)"):
+        assert caption in html  # the report captions (workflow/report/table_*.rst)
+    fits = json.loads((study / RESULTS / "fits.json").read_text())
+    for model, parameter in (("gw", "beta"), ("modified", "beta"), ("modified", "A")):
+        shown = format_value_error(fits[model][parameter], fits[model][f"{parameter}_err"])
+        assert f"<td>{shown}</td>" in pages["fits.html"], (shown, pages["fits.html"])
+        value, error = shown.split(" ± ")  # the fitted value itself, rounded to its error's last digit
+        tolerance = 1e-3 * abs(fits[model][parameter]) if error == "—" else 0.1 * float(error)  # "—": null error
+        assert abs(float(value) - fits[model][parameter]) <= tolerance, shown
+    assert "<caption>Fitted model parameters</caption>" in pages["fits.html"]
+    assert "<caption>Simulated steady state" in pages["steady_state.html"]
+    assert "<td>⟨nn⟩₁₂</td>" in pages["steady_state.html"]
+    assert "<caption>Angle-averaged rms error" in pages["model_errors_summary.html"]

@@ -45,6 +45,7 @@ Modules
     tables       -- per-run fabric tables, seed aggregates, steady states
     study        -- fits to the simulated steady state, predictions, error tables
     figures      -- the paper's Fig. 1 and Fig. 2
+    report_tables -- fits, steady state and error summary as HTML tables for the report
     config       -- study configuration: schema validation, cross-key checks
     workflow_io  -- logging helper of the Snakemake scripts
 """

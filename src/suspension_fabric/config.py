@@ -12,13 +12,25 @@ from pathlib import Path
 
 import yaml
 
+from .resources import SCHEMA_PATH
 from .scales import contact_period, contact_relaxation_time, max_dt_explicit, max_dt_implicit
 
-__all__ = ["SCHEMA_PATH", "ConfigError", "validate_config", "load_config", "angle_label"]
+__all__ = ["SCHEMA_PATH", "ConfigError", "validate_config", "load_config", "angle_label",
+           "simulation_settings", "SIMULATION_RUN_KEYS"]
 
-SCHEMA_PATH = Path(__file__).resolve().parents[2] / "config" / "schema.yaml"
 # velocity Verlet (run.integrator = explicit) must resolve the contact oscillation
 MIN_STEPS_PER_CONTACT_PERIOD = 30
+
+
+#: The ``run`` keys that change a simulation's outputs besides its strain (and all of
+#: ``forces``); the others (thermo and restart intervals, failure bounds, MPI ranks) do not.
+SIMULATION_RUN_KEYS = ("integrator", "solver_tol", "dt", "dump_strain", "table_strain")
+
+
+def simulation_settings(config: dict) -> dict:
+    """The settings of a validated config on which every startup and rotation result depends."""
+    return {"forces": dict(config["forces"]),
+            "run": {key: config["run"][key] for key in SIMULATION_RUN_KEYS}}
 
 
 class ConfigError(ValueError):

@@ -34,7 +34,7 @@ import os
 from dataclasses import dataclass
 from itertools import islice
 from pathlib import Path
-from typing import Iterable, Sequence
+from typing import Iterable, Iterator, Sequence
 
 import numpy as np
 
@@ -45,6 +45,9 @@ __all__ = [
     "DumpSummary",
     "write_lammps_dump",
     "scan_dump",
+    "DumpFrameData",
+    "iter_dump_frames",
+    "iter_frame_blocks",
 ]
 
 #: Column layout of the project's trajectory dumps (``dump custom ... id type radius x y z``).
@@ -278,3 +281,75 @@ def scan_dump(path: str | os.PathLike, expected_n_atoms: int | None = None) -> D
         raise ValueError(f"{path}: expected {expected_n_atoms} atoms, the dump has {n_atoms}")
     return DumpSummary(path=path, steps=np.asarray(steps, dtype=np.int64), n_atoms=int(n_atoms),
                        columns=columns, triclinic=triclinic)
+
+
+@dataclass
+class DumpFrameData:
+    """One dump frame read back in float64: step, box, ids, types, radii, positions (sorted by id)."""
+
+    step: int
+    box: TriclinicBox
+    ids: np.ndarray
+    types: np.ndarray
+    radii: np.ndarray
+    positions: np.ndarray
+
+
+def iter_dump_frames(path: str | os.PathLike) -> Iterator[DumpFrameData]:
+    """Frames of a ``dump custom ... id type radius x y z`` text dump, in float64, atoms sorted by id.
+
+    Raises ``ValueError`` naming the file and step for a malformed or truncated frame.
+    """
+    for step, lines in iter_frame_blocks(path):
+        if len(lines) < 9:
+            raise ValueError(f"{path}: step {step}: truncated frame header")
+        n_atoms = int(lines[3])
+        box_header = lines[4]
+        if "xy" not in box_header.split():
+            raise ValueError(f"{path}: step {step}: expected a triclinic box")
+        bounds = [[float(v) for v in line.split()] for line in lines[5:8]]
+        (xlo_b, xhi_b, xy), (ylo_b, yhi_b, xz), (zlo, zhi, yz) = bounds
+        xlo = xlo_b - min(0.0, xy, xz, xy + xz)
+        xhi = xhi_b - max(0.0, xy, xz, xy + xz)
+        ylo = ylo_b - min(0.0, yz)
+        yhi = yhi_b - max(0.0, yz)
+        box = TriclinicBox(xhi - xlo, yhi - ylo, zhi - zlo, xy, xz, yz, (xlo, ylo, zlo))
+        columns = lines[8].split()[2:]
+        rows = lines[9:]
+        if len(rows) != n_atoms or (rows and not rows[-1].endswith("\n")):
+            raise ValueError(f"{path}: step {step}: truncated frame ({len(rows)} of {n_atoms} atom lines)")
+        table = np.loadtxt(rows, ndmin=2)
+        index = {name: k for k, name in enumerate(columns)}
+        table = table[np.argsort(table[:, index["id"]])]
+        yield DumpFrameData(
+            step=step, box=box,
+            ids=table[:, index["id"]].astype(int), types=table[:, index["type"]].astype(int),
+            radii=table[:, index["radius"]],
+            positions=table[:, [index["x"], index["y"], index["z"]]],
+        )
+
+
+def iter_frame_blocks(path: str | os.PathLike) -> Iterator[tuple[int, list[str]]]:
+    """(step, lines) of each frame of a text dump, lines as read (with newlines), unparsed.
+
+    A frame runs from one ``ITEM: TIMESTEP`` line to the next; a frame cut off at the end
+    of the file (a killed run) is yielded as it is, so callers can drop or reject it.
+    """
+    block: list[str] = []
+    with open(path) as handle:
+        for line in handle:
+            if line.startswith("ITEM: TIMESTEP") and block:
+                yield _block_step(path, block), block
+                block = []
+            elif not block and not line.startswith("ITEM: TIMESTEP"):
+                raise ValueError(f"{path}: expected 'ITEM: TIMESTEP', found {line!r}")
+            block.append(line)
+    if block:
+        yield _block_step(path, block), block
+
+
+def _block_step(path, block: list[str]) -> int:
+    try:
+        return int(block[1])
+    except (IndexError, ValueError):
+        raise ValueError(f"{path}: a frame without a readable step after 'ITEM: TIMESTEP'") from None

@@ -54,7 +54,7 @@ def _legend_label(key: str, fits: dict) -> str:
 def figure_startup(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: dict, max_markers: int = 40):
     """Paper Fig. 1 from the startup seed aggregate and the model predictions."""
     sim = simulation[np.isclose(simulation["theta"], 0.0)].sort_values("strain")
-    stride = max(1, len(sim) // max_markers)
+    stride = max(1, -(-len(sim) // max_markers))  # ceil: at most max_markers markers
     shown = sim.iloc[::stride]
     fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True, constrained_layout=True)
     for ax, (key, title) in zip(axes, MODEL_NAMES.items()):

@@ -1,8 +1,7 @@
 rule pack:
     """Random non-overlapping bidisperse packing at phi for one seed (pack.lmp)."""
     output:
-        data=f"{RESULTS}/seed{{seed}}/packing/packing.data",
-        report=f"{RESULTS}/seed{{seed}}/packing/packing.json",
+        **run_outputs(f"{RESULTS}/seed{{seed}}/packing", PACK_FILES),
     params:
         particles=config["particles"],
     conda:
@@ -21,8 +20,8 @@ rule startup:
     output:
         **run_outputs(f"{RESULTS}/seed{{seed}}/startup"),
     params:
-        forces=config["forces"],
-        run=RUN_SETTINGS,
+        kind="startup",
+        settings=SIMULATION_SETTINGS,
         strain=config["run"]["startup_strain"],
     threads: config["run"]["mpi_ranks"]
     resources:
@@ -44,8 +43,8 @@ rule rotate:
     output:
         **run_outputs(f"{RESULTS}/seed{{seed}}/rotation_theta{{angle}}"),
     params:
-        forces=config["forces"],
-        run=RUN_SETTINGS,
+        kind="rotation",
+        settings=SIMULATION_SETTINGS,
         strain=config["run"]["rotation_strain"],
         theta_deg=lambda wildcards: ANGLE_VALUE[wildcards.angle],
     threads: config["run"]["mpi_ranks"]

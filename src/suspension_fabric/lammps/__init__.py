@@ -1,4 +1,10 @@
-"""LAMMPS engine: the project's plugin styles and helpers to run LAMMPS from Python."""
+"""LAMMPS engine: the project's plugin styles and helpers to run LAMMPS from Python.
+
+Modules, lowest first: ``plugin`` (build and load the plugin), ``process`` (launch and
+watch lmp), ``checks`` (overlap and stress-jitter checks of finished runs), ``rundir``
+(partial run directories, resume, publishing), ``runner`` (the public runs: pack,
+startup, rotation).
+"""
 
 __all__ = ["build_plugin", "new_lammps", "plugin_path"]
 
@@ -11,15 +17,17 @@ def __getattr__(name: str):
         return getattr(plugin, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
-# Running the workflow/lammps scripts (pack, startup shear, shear rotation).
+
+from ..dumpio import iter_dump_frames  # noqa: E402
+from ..stressio import read_stress_table  # noqa: E402
+from .checks import max_overlap_in_dump, stress_jitter  # noqa: E402
 from .runner import (  # noqa: E402
-    COMPLETION_MARKER, ForceModel, LammpsRunError, PackResult, ShearRunResult,
-    is_complete, iter_dump_frames, max_overlap_in_dump, pack, read_stress_table,
-    run_rotation, run_startup,
+    COMPLETION_MARKER, PACK_FILES, RUN_FILES, ForceModel, LammpsRunError, PackResult, ShearRunResult,
+    ShearSettings, is_complete, pack, run_rotation, run_startup,
 )
 
 __all__ += [
-    "COMPLETION_MARKER", "ForceModel", "LammpsRunError", "PackResult", "ShearRunResult",
-    "is_complete", "iter_dump_frames", "max_overlap_in_dump", "pack", "read_stress_table",
-    "run_rotation", "run_startup",
+    "COMPLETION_MARKER", "PACK_FILES", "RUN_FILES", "ForceModel", "LammpsRunError", "PackResult",
+    "ShearRunResult", "ShearSettings", "is_complete", "iter_dump_frames", "max_overlap_in_dump",
+    "pack", "read_stress_table", "run_rotation", "run_startup", "stress_jitter",
 ]

@@ -21,10 +21,9 @@ import sys
 import tempfile
 from pathlib import Path
 
-REPO_ROOT = Path(__file__).resolve().parents[3]
-PLUGIN_SOURCE_DIR = REPO_ROOT / "workflow" / "plugin"
-PLUGIN_BUILD_DIR = REPO_ROOT / "build" / "plugin"
-PLUGIN_LIBRARY = PLUGIN_BUILD_DIR / "libsuspension_fabric_lammps.so"
+from ..resources import PLUGIN_BUILD_DIR, PLUGIN_LIBRARY_NAME, PLUGIN_SOURCE_DIR
+
+PLUGIN_LIBRARY = PLUGIN_BUILD_DIR / PLUGIN_LIBRARY_NAME
 # Records the compile command of the current library, so a flag change forces a rebuild.
 _COMMAND_STAMP = PLUGIN_BUILD_DIR / "libsuspension_fabric_lammps.cmd"
 
@@ -82,14 +81,52 @@ def _command_fingerprint() -> str:
     return hashlib.sha256("\0".join(command).encode()).hexdigest()
 
 
+def plugin_sources() -> list[Path]:
+    """Every source file of the plugin (.cpp and .h), sorted."""
+    return sorted(p for p in PLUGIN_SOURCE_DIR.iterdir() if p.suffix in {".cpp", ".h"})
+
+
+def _newest_source_ns() -> int:
+    return max(p.stat().st_mtime_ns for p in plugin_sources())
+
+
+def _stamp() -> tuple[str, int | None]:
+    """(compile-command fingerprint, newest source time when that compile started) of the library."""
+    fields = _COMMAND_STAMP.read_text().split()
+    return (fields[0] if fields else ""), (int(fields[1]) if len(fields) > 1 else None)
+
+
+def _newer_sources(library: Path) -> list[Path]:
+    """Sources changed after ``library`` was compiled from them.
+
+    For the project's own library the time recorded when its compile started counts (an
+    edit saved during the compile is not in it); for a copy elsewhere, its file time.
+    """
+    compiled_from = None
+    if library.resolve() == PLUGIN_LIBRARY.resolve() and _COMMAND_STAMP.is_file():
+        compiled_from = _stamp()[1]
+    if compiled_from is None:
+        compiled_from = library.stat().st_mtime_ns
+    return [p for p in plugin_sources() if p.stat().st_mtime_ns > compiled_from]
+
+
 def _is_stale() -> bool:
     if not PLUGIN_LIBRARY.is_file() or not _COMMAND_STAMP.is_file():
         return True
-    if _COMMAND_STAMP.read_text().strip() != _command_fingerprint():
+    if _stamp()[0] != _command_fingerprint():
         return True
-    built = PLUGIN_LIBRARY.stat().st_mtime
-    inputs = [p for p in PLUGIN_SOURCE_DIR.iterdir() if p.suffix in {".cpp", ".h"}]
-    return any(p.stat().st_mtime > built for p in inputs)
+    return bool(_newer_sources(PLUGIN_LIBRARY))
+
+
+def check_not_stale(library: Path) -> None:
+    """Raise PluginBuildError if a plugin source was changed after ``library`` was built."""
+    newer = _newer_sources(library)
+    if newer:
+        raise PluginBuildError(
+            f"stale LAMMPS plugin library {library}: {', '.join(p.name for p in newer)} changed "
+            "after it was built; rebuild it (`python -m suspension_fabric.lammps.plugin --force`, "
+            "or let the workflow's build_plugin rule do it)"
+        )
 
 
 def build_plugin(force: bool = False) -> Path:
@@ -105,6 +142,7 @@ def build_plugin(force: bool = False) -> Path:
             "or set CXX"
         )
     PLUGIN_BUILD_DIR.mkdir(parents=True, exist_ok=True)
+    sources_ns = _newest_source_ns()  # before compiling: a later edit makes the result stale
     fd, tmp_name = tempfile.mkstemp(prefix=".lib-", suffix=".so", dir=PLUGIN_BUILD_DIR)
     os.close(fd)
     tmp = Path(tmp_name)
@@ -123,7 +161,7 @@ def build_plugin(force: bool = False) -> Path:
         tmp.unlink(missing_ok=True)
     stamp_fd, stamp_tmp = tempfile.mkstemp(prefix=".cmd-", dir=PLUGIN_BUILD_DIR)
     with os.fdopen(stamp_fd, "w") as handle:
-        handle.write(_command_fingerprint() + "\n")
+        handle.write(f"{_command_fingerprint()} {sources_ns}\n")
     os.replace(stamp_tmp, _COMMAND_STAMP)
     return PLUGIN_LIBRARY
 

@@ -1,0 +1,289 @@
+"""Readable tables of the study's numbers for the Snakemake report.
+
+The report of Snakemake 9 shows an HTML result inline (in a frame) but offers a CSV
+or TSV only as a download, so the numbers a reader wants next to the figures are
+turned into small self-contained HTML pages here:
+
+* :func:`fit_parameters_table` and :func:`fit_targets_table` -- fits.json
+  (:func:`suspension_fabric.study.fit_steady_state`): fitted parameters with their
+  1-sigma errors, and the steady-state targets next to the models' own steady states;
+* :func:`steady_state_table` -- the steady-state table of
+  :func:`suspension_fabric.tables.steady_state`;
+* :func:`error_summary_table` -- :func:`suspension_fabric.study.summarise_errors`.
+
+Every table is a DataFrame of strings with human-readable column names;
+uncertain values are written "value ± error" by :func:`format_value_error`.
+:func:`write_html_tables` writes one page with one or more captioned tables, and
+:func:`write_fits_page`, :func:`write_steady_state_page` and
+:func:`write_error_summary_page` the three pages of the report (rule report_tables).
+"""
+
+from __future__ import annotations
+
+import html
+import math
+import os
+from pathlib import Path
+
+import pandas as pd
+
+from .fabric import COMPONENTS
+from .study import MODEL_NAMES
+
+__all__ = [
+    "format_value_error",
+    "format_number",
+    "component_label",
+    "fit_parameters_table",
+    "fit_targets_table",
+    "fit_settings",
+    "steady_state_table",
+    "error_summary_table",
+    "write_html_tables",
+    "write_fits_page",
+    "write_steady_state_page",
+    "write_error_summary_page",
+    "MISSING",
+]
+
+#: Shown for a value that does not exist (e.g. an error the fit could not propagate).
+MISSING = "—"
+
+_SUBSCRIPT = str.maketrans("0123456789", "₀₁₂₃₄₅₆₇₈₉")
+_PARAMETER_LABELS = {"beta": "β", "A": "A"}
+_PROTOCOL_LABELS = {"startup": "startup shear", "rotation": "shear rotation"}
+
+
+def _is_missing(x) -> bool:
+    return x is None or (isinstance(x, float) and math.isnan(x))
+
+
+def format_number(value, significant: int = 4) -> str:
+    """``value`` to ``significant`` significant figures (no exponent between 1e-4 and 1e6)."""
+    if _is_missing(value):
+        return MISSING
+    value = float(value) + 0.0  # no "-0"
+    if value == 0.0 or not math.isfinite(value):
+        return f"{value:g}"
+    if 1e-4 <= abs(value) < 1e6:
+        decimals = max(significant - 1 - math.floor(math.log10(abs(value))), 0)
+        return f"{value:.{decimals}f}"
+    return f"{value:.{significant - 1}e}"
+
+
+def format_value_error(value, error, error_digits: int = 2) -> str:
+    """Format as "value ± error": the error to ``error_digits`` significant figures and the
+    value rounded to the same decimal place, e.g. (10.7474, 0.18753) -> "10.75 ± 0.19".
+
+    A missing error (None or NaN, as fits.json's null) gives "value ± —", a zero or
+    infinite one "value ± 0" / "value ± inf", with the value to 4 significant figures.
+    Very large or small numbers share one power of ten: "(1.234 ± 0.056)e-9".
+    """
+    if _is_missing(value):
+        return MISSING
+    value = float(value)
+    if _is_missing(error):
+        return f"{format_number(value)} ± {MISSING}"
+    error = abs(float(error))
+    if error == 0.0 or not math.isfinite(error) or not math.isfinite(value):
+        return f"{format_number(value)} ± {error:g}"
+    exponent = math.floor(math.log10(error))
+    decimals = error_digits - 1 - exponent
+    # rounding may carry into a new digit (0.0996 -> 0.10): recompute on the rounded error
+    rounded = round(error, decimals)
+    if rounded > 0 and math.floor(math.log10(rounded)) > exponent:
+        decimals -= 1
+        rounded = round(error, decimals)
+    if decimals < -4 or decimals > 8:  # very large or very small: one shared power of ten
+        shared = math.floor(math.log10(max(abs(value), rounded)))
+        shown = max(decimals + shared, 0)
+        scale = 10.0**shared
+        return f"({value / scale:.{shown}f} ± {rounded / scale:.{shown}f})e{shared:+d}"
+    shown = max(decimals, 0)
+    return f"{round(value, decimals) + 0.0:.{shown}f} ± {rounded:.{shown}f}"
+
+
+def component_label(name: str) -> str:
+    """Display name of a fabric component or quantity: "n12" -> "⟨nn⟩₁₂", "Z" -> "Z"."""
+    if name in COMPONENTS:
+        return f"⟨nn⟩{name[1:].translate(_SUBSCRIPT)}"
+    return name
+
+
+def _components_label(names) -> str:
+    return ", ".join(component_label(n) for n in names)
+
+
+def fit_parameters_table(fits: dict) -> pd.DataFrame:
+    """One row per fitted parameter: Model, Parameter, "Value ± 1σ" and the fit targets."""
+    rows = []
+    for key in MODEL_NAMES:
+        entry = fits[key]
+        for parameter, label in _PARAMETER_LABELS.items():
+            if parameter not in entry:
+                continue
+            rows.append({
+                "Model": MODEL_NAMES[key],
+                "Parameter": label,
+                "Value ± 1σ": format_value_error(entry[parameter], entry.get(f"{parameter}_err")),
+                "Fitted to (steady state)": _components_label(entry.get("fitted_to", ())),
+            })
+    return pd.DataFrame(rows, columns=["Model", "Parameter", "Value ± 1σ", "Fitted to (steady state)"])
+
+
+def fit_targets_table(fits: dict) -> pd.DataFrame:
+    """The simulated steady state (the fit targets, mean ± standard error) per quantity next
+    to each model's own steady state with the fitted parameters; "fit target of" names the
+    models fitted to that quantity."""
+    targets = fits.get("targets", {})
+    model_ss = fits.get("model_steady_state", {})
+    rows = []
+    for name, target in targets.items():
+        row = {
+            "Quantity": component_label(name),
+            "Simulation (mean ± s.e.)": format_value_error(target.get("mean"), target.get("sem")),
+        }
+        for key, display in MODEL_NAMES.items():
+            row[f"{display} steady state"] = format_number(model_ss.get(key, {}).get(name))
+        fitted_by = [MODEL_NAMES[key] for key in MODEL_NAMES if name in fits.get(key, {}).get("fitted_to", ())]
+        row["Fit target of"] = ", ".join(fitted_by) or MISSING
+        rows.append(row)
+    columns = ["Quantity", "Simulation (mean ± s.e.)",
+               *(f"{display} steady state" for display in MODEL_NAMES.values()), "Fit target of"]
+    return pd.DataFrame(rows, columns=columns)
+
+
+def fit_settings(fits: dict) -> pd.DataFrame:
+    """The settings of the fit as a two-column table (Setting, Value): phi, the strain
+    window of the steady state, the number of seeds and, if recorded, the study and N."""
+    provenance = fits.get("provenance", {})
+    rows = [("Volume fraction φ", f"{fits['phi']:g}")]
+    if "steady_window" in fits:
+        low, high = fits["steady_window"]
+        rows.append(("Steady-state strain window", f"{low:g} ≤ γ ≤ {high:g}"))
+    if "n_seeds" in fits:
+        rows.append(("Seeds (independent packings)", str(fits["n_seeds"])))
+    if "N" in provenance:
+        rows.append(("Particles N", str(provenance["N"])))
+    if "study" in provenance:
+        rows.append(("Study", str(provenance["study"])))
+    return pd.DataFrame(rows, columns=["Setting", "Value"])
+
+
+def steady_state_table(steady: pd.DataFrame) -> pd.DataFrame:
+    """The steady-state table (one row per theta and quantity) for reading: mean ± standard
+    error, the between-seed standard error, the autocorrelation strain, frames and seeds.
+
+    The angle column is kept only when the table holds more than one angle; the strain
+    window, the same for every row, is left to the caption.
+    """
+    frame = pd.DataFrame({
+        "Angle θ (deg)": [f"{t:g}" for t in steady["theta"]],
+        "Quantity": [component_label(q) for q in steady["quantity"]],
+        "Mean ± s.e.": [format_value_error(m, s) for m, s in zip(steady["mean"], steady["sem"])],
+        "s.e. between seeds": [format_number(s, 2) for s in steady["sem_between_seeds"]],
+        "Autocorrelation strain": [format_number(t, 2) for t in steady["tau_strain"]],
+        "Frames per seed": [str(int(n)) for n in steady["n_frames"]],
+        "Seeds": [str(int(n)) for n in steady["n_seeds"]],
+    })
+    if steady["theta"].nunique() <= 1:
+        frame = frame.drop(columns="Angle θ (deg)")
+    return frame.reset_index(drop=True)
+
+
+def error_summary_table(summary: pd.DataFrame, significant: int = 3) -> pd.DataFrame:
+    """The angle-averaged rms errors of :func:`suspension_fabric.study.summarise_errors`
+    (in units of |⟨nn⟩₁₂ˢˢ|) per protocol and quantity, and the ratio G-W / modified."""
+    gw, modified = MODEL_NAMES["gw"], MODEL_NAMES["modified"]
+    return pd.DataFrame({
+        "Protocol": [_PROTOCOL_LABELS.get(p, p) for p in summary["protocol"]],
+        "Quantity": [component_label(c) for c in summary["component"]],
+        f"rms error, {gw}": [format_number(x, significant) for x in summary["rms_gw"]],
+        f"rms error, {modified}": [format_number(x, significant) for x in summary["rms_modified"]],
+        "Ratio G-W / modified": [format_number(x, significant) for x in summary["gw_over_modified"]],
+    })
+
+
+_STYLE = """
+body { font-family: system-ui, -apple-system, "Segoe UI", Roboto, Helvetica, Arial, sans-serif;
+       font-size: 14px; color: #1f2328; margin: 1.5em; }
+h1 { font-size: 1.25em; margin: 0 0 0.8em 0; }
+table { border-collapse: collapse; margin: 0 0 1.8em 0; }
+caption { caption-side: top; text-align: left; font-weight: 600; padding-bottom: 0.5em; max-width: 60em; }
+th, td { padding: 0.3em 0.9em; text-align: left; border-bottom: 1px solid #d0d7de; white-space: nowrap; }
+thead th { border-bottom: 2px solid #57606a; }
+td { font-variant-numeric: tabular-nums; }
+tbody tr:nth-child(even) { background: #f6f8fa; }
+p.note { color: #57606a; max-width: 60em; margin: -1.2em 0 1.8em 0; }
+"""
+
+
+def _table_html(frame: pd.DataFrame, caption: str, note: str | None) -> str:
+    head = "".join(f"<th scope=\"col\">{html.escape(str(c))}</th>" for c in frame.columns)
+    body = "\n".join(
+        "<tr>" + "".join(f"<td>{html.escape(str(v))}</td>" for v in row) + "</tr>"
+        for row in frame.itertuples(index=False, name=None)
+    )
+    text = (f"<table>\n<caption>{html.escape(caption)}</caption>\n<thead><tr>{head}</tr></thead>\n"
+            f"<tbody>\n{body}\n</tbody>\n</table>\n")
+    if note:
+        text += f"<p class=\"note\">{html.escape(note)}</p>\n"
+    return text
+
+
+def write_html_tables(path: str | os.PathLike, title: str, tables) -> Path:
+    """Write one self-contained HTML page (inline style, UTF-8) with captioned tables.
+
+    ``tables`` is a sequence of ``(caption, DataFrame)`` or ``(caption, DataFrame, note)``;
+    every cell is written as text (HTML-escaped). The file is replaced atomically.
+    """
+    sections = []
+    for entry in tables:
+        caption, frame, note = (*entry, None)[:3]
+        sections.append(_table_html(frame, caption, note))
+    page = ("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+            f"<title>{html.escape(title)}</title>\n<style>{_STYLE}</style>\n</head>\n<body>\n"
+            f"<h1>{html.escape(title)}</h1>\n" + "".join(sections) + "</body>\n</html>\n")
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.tmp")
+    tmp.write_text(page, encoding="utf-8")
+    os.replace(tmp, path)
+    return path
+
+
+def write_fits_page(fits: dict, path: str | os.PathLike) -> Path:
+    """The report page of fits.json: fitted parameters, fit targets vs model steady states, settings."""
+    return write_html_tables(path, "Model fits (fits.json)", [
+        ("Fitted model parameters", fit_parameters_table(fits),
+         "1σ errors: linear propagation of the standard errors of the fit targets; "
+         f"{MISSING} where the target ± σ/10 leaves the fittable range."),
+        ("Steady state of startup shear: simulation (fit targets) and the fitted models",
+         fit_targets_table(fits),
+         "Simulation: seed mean over the steady-state strain window with its correlation-aware "
+         f"standard error. Models: their own steady state with the fitted parameters ({MISSING}: "
+         "not a model output)."),
+        ("Fit settings", fit_settings(fits)),
+    ])
+
+
+def write_steady_state_page(steady: pd.DataFrame, path: str | os.PathLike) -> Path:
+    """The report page of the steady-state table of :func:`suspension_fabric.tables.steady_state`."""
+    low, high = float(steady["strain_min"].iloc[0]), float(steady["strain_max"].iloc[0])
+    return write_html_tables(path, "Steady state of startup shear (steady_state.csv)", [
+        (f"Simulated steady state over the strain window {low:g} ≤ γ ≤ {high:g}",
+         steady_state_table(steady),
+         "s.e.: correlation-aware standard error of the seed average (each seed's variance of the mean "
+         "from its integrated autocorrelation time); s.e. between seeds: from the scatter of the seed "
+         "means, an assumption-free check; autocorrelation strain: the integrated autocorrelation time "
+         "in units of strain (mean over seeds); frames per seed: the fewest of any seed."),
+    ])
+
+
+def write_error_summary_page(summary: pd.DataFrame, path: str | os.PathLike) -> Path:
+    """The report page of the model-error summary of :func:`suspension_fabric.study.summarise_errors`."""
+    return write_html_tables(path, "Model versus simulation (model_errors_summary.csv)", [
+        ("Angle-averaged rms error of the models, in units of |⟨nn⟩₁₂ˢˢ|", error_summary_table(summary),
+         "rms over the simulated strains of (model − simulation seed mean) / |⟨nn⟩₁₂ˢˢ|, averaged over "
+         "the simulated angles; ratio > 1: the modified model is closer to the simulation."),
+    ])

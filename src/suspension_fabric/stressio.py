@@ -1,0 +1,45 @@
+"""The per-run stress table written by the shear scripts (``stress.txt``): reading and writing.
+
+A text table with one ``# step strain ...`` header line and one row per ``table_strain``:
+step, strain (from the first step of the run), the LAMMPS pressure-tensor components
+pxx pyy pzz pxy pxz pyz and press (the stress is minus these; kinetic part relative to the
+imposed flow), the contact (granular) and lubrication parts of pxz, pyz and press, and the
+box tilts xz, yz and height lz.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["read_stress_table", "iter_table_rows"]
+
+
+def read_stress_table(path: str | os.PathLike) -> dict[str, np.ndarray]:
+    """The stress/tilt table of a shear run as {column: array}."""
+    path = Path(path)
+    with open(path) as handle:
+        header = handle.readline()
+    if not header.startswith("#"):
+        raise ValueError(f"{path}: expected a '# step strain ...' header line")
+    names = header[1:].split()
+    data = np.loadtxt(path, comments="#", ndmin=2)
+    if data.shape[1] != len(names):
+        raise ValueError(f"{path}: {data.shape[1]} columns but header names {len(names)}")
+    return {name: data[:, k] for k, name in enumerate(names)}
+
+
+def iter_table_rows(path: str | os.PathLike):
+    """(step, line) of each complete data row of a stress table, as written; the header is skipped.
+
+    A last line without its newline (a killed run) is left out.
+    """
+    with open(path) as handle:
+        for line in handle:
+            if line.startswith("#") or not line.strip():
+                continue
+            if not line.endswith("\n"):
+                return
+            yield int(line.split(maxsplit=1)[0]), line

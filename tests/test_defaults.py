@@ -1,0 +1,68 @@
+"""One source for every default: config/schema.yaml. The package's dataclasses read it; the
+LAMMPS scripts' own -var defaults (for runs by hand) must equal it, checked here."""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+
+from suspension_fabric.lammps import ForceModel, ShearSettings, run_rotation, run_startup
+from suspension_fabric.resources import LAMMPS_SCRIPTS_DIR
+from suspension_fabric.schema import schema_default
+
+
+def script_defaults(name: str) -> dict[str, str]:
+    """The ``variable NAME index VALUE`` lines of a LAMMPS script."""
+    text = (LAMMPS_SCRIPTS_DIR / name).read_text()
+    return dict(re.findall(r"^variable\s+(\w+)\s+index\s+(\S+)", text, flags=re.M))
+
+
+SHARED = script_defaults("shear_defaults.lmp")
+
+
+@pytest.mark.parametrize("section, key", [
+    ("forces", "eta_f"), ("forces", "kn"), ("forces", "mu"), ("forces", "delta"), ("forces", "h_out"),
+    ("run", "solver_tol"), ("run", "dt"), ("run", "dump_strain"), ("run", "table_strain"),
+    ("run", "thermo_strain"), ("run", "restart_strain"),
+])
+def test_shear_script_defaults_equal_the_schema(section, key):
+    assert float(SHARED[key]) == schema_default(section, key)
+
+
+def test_shear_script_text_defaults_and_python_defaults():
+    """Non-numeric script defaults, kt = 2/7 kn (schema null), and the dataclass defaults."""
+    assert SHARED["integrator"] == schema_default("run", "integrator") == ForceModel().integrator
+    assert schema_default("forces", "kt") is None and SHARED["kt"] == "$(2.0/7.0*v_kn)"
+    model, settings = ForceModel(), ShearSettings()
+    assert (SHARED["newton_pair"], SHARED["lubrication"]) == (model.newton_pair, model.lubrication)
+    for key in ("eta_f", "kn", "mu", "delta", "h_out"):
+        assert getattr(model, key) == schema_default("forces", key), key
+    for key in ("dt", "dump_strain", "table_strain", "thermo_strain", "restart_strain",
+                "max_overlap", "max_stress_jitter"):
+        assert getattr(settings, key) == schema_default("run", key), key
+    assert float(SHARED["rate"]) == settings.rate and float(SHARED["skin"]) == settings.skin
+
+
+def test_strain_and_packing_defaults():
+    """The scripts' strain_total equal the schema's run strains, as do the Python runners';
+    pack.lmp's particle defaults equal the schema's particles section."""
+    import inspect
+
+    for script, function, key in (("startup.lmp", run_startup, "startup_strain"),
+                                  ("rotate.lmp", run_rotation, "rotation_strain")):
+        assert float(script_defaults(script)["strain_total"]) == schema_default("run", key)
+        assert inspect.signature(function).parameters["strain_total"].default == schema_default("run", key)
+    pack_defaults = script_defaults("pack.lmp")
+    assert int(pack_defaults["n_particles"]) == schema_default("particles", "n")
+    for key in ("phi", "d_small", "d_large", "fraction_large"):
+        assert float(pack_defaults[key]) == schema_default("particles", key), key
+    assert pack_defaults["split"] == schema_default("particles", "split")
+
+
+def test_the_two_shear_scripts_share_their_defaults():
+    """startup.lmp and rotate.lmp define no shared variable themselves: they include shear_defaults.lmp."""
+    for script in ("startup.lmp", "rotate.lmp"):
+        own = script_defaults(script)
+        assert not set(own) & set(SHARED), script
+        assert "include         ${lammps_dir}/shear_defaults.lmp" in (LAMMPS_SCRIPTS_DIR / script).read_text()

@@ -1,0 +1,190 @@
+"""When suspension_fabric.lammps.plugin.build_plugin recompiles the plugin.
+
+build_plugin decides from file times and a stamp: the library is stale when it or its stamp
+is missing, when the stamp's compile-command fingerprint differs from the current command
+(flags, compiler, include dirs, the list of .cpp files), or when a .cpp/.h in the source
+folder was modified after the sources the library was compiled from. The tests point the
+module at a copy of workflow/plugin in tmp_path (module globals, restored by monkeypatch) and
+replace the compiler by a fake that writes the concatenated .cpp sources to the ``-o`` path,
+so no real compile runs and the project's own build/plugin is never touched.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import time
+from pathlib import Path
+from types import SimpleNamespace
+
+import pytest
+
+import suspension_fabric.lammps.plugin as plugin_module
+
+OLD = time.time() - 1000.0  # mtimes set explicitly: no dependence on the clock resolution
+
+
+class FakeCompiler:
+    """Stands in for subprocess.run in the plugin module; records each compile command."""
+
+    def __init__(self):
+        self.commands = []
+        self.during_compile = None  # optional callable run after reading the sources
+        self.returncode = 0
+
+    def __call__(self, command, **kwargs):
+        self.commands.append(list(command))
+        output = Path(command[command.index("-o") + 1])
+        sources = [Path(arg) for arg in command if arg.endswith(".cpp")]
+        text = "".join(source.read_text() for source in sources)
+        if self.during_compile is not None:
+            self.during_compile()
+        if self.returncode == 0:
+            output.write_text(text)
+        return subprocess.CompletedProcess(command, self.returncode, stdout="", stderr="error: fake")
+
+
+@pytest.fixture
+def tree(tmp_path, monkeypatch):
+    """Copy of workflow/plugin (all mtimes OLD) and an empty build dir, wired into the module."""
+    source = tmp_path / "plugin"
+    shutil.copytree(plugin_module.PLUGIN_SOURCE_DIR, source)
+    for path in source.iterdir():
+        os.utime(path, (OLD, OLD))
+    build = tmp_path / "build"
+    monkeypatch.setattr(plugin_module, "PLUGIN_SOURCE_DIR", source)
+    monkeypatch.setattr(plugin_module, "PLUGIN_BUILD_DIR", build)
+    monkeypatch.setattr(plugin_module, "PLUGIN_LIBRARY", build / "libsuspension_fabric_lammps.so")
+    monkeypatch.setattr(plugin_module, "_COMMAND_STAMP", build / "libsuspension_fabric_lammps.cmd")
+    compiler = FakeCompiler()
+    monkeypatch.setattr(plugin_module, "subprocess", SimpleNamespace(run=compiler))
+    monkeypatch.setattr(plugin_module.shutil, "which", lambda name: f"/usr/bin/{name}")
+    return SimpleNamespace(source=source, build=build, library=plugin_module.PLUGIN_LIBRARY,
+                           stamp=plugin_module._COMMAND_STAMP, compiler=compiler)
+
+
+def build(tree):
+    assert Path(plugin_module.PLUGIN_LIBRARY).is_relative_to(tree.build)  # never the real build
+    return plugin_module.build_plugin()
+
+
+def built_once(tree):
+    """Build, then age the library so that later edits are unambiguously newer."""
+    assert build(tree) == tree.library
+    assert len(tree.compiler.commands) == 1
+    os.utime(tree.library, (OLD + 10, OLD + 10))
+    return tree
+
+
+def test_first_call_compiles_every_cpp_and_later_calls_reuse_the_library(tree):
+    """Missing library -> one compile of all .cpp files into the library path (atomic: no
+    temporary file left); unchanged sources -> no further compile; force=True -> compile."""
+    built_once(tree)
+    command = tree.compiler.commands[0]
+    assert sorted(arg for arg in command if arg.endswith(".cpp")) == sorted(
+        str(p) for p in tree.source.glob("*.cpp"))
+    assert tree.library.read_text().count("lammpsplugin_init") >= 1
+    assert sorted(p.name for p in tree.build.iterdir()) == sorted([tree.library.name, tree.stamp.name])
+    assert not plugin_module._is_stale()
+    for _ in range(3):
+        assert build(tree) == tree.library
+    assert len(tree.compiler.commands) == 1
+    plugin_module.build_plugin(force=True)
+    assert len(tree.compiler.commands) == 2
+
+
+def touch(path):
+    os.utime(path, None)  # now: newer than the aged library
+
+
+def edit_header(tree):
+    header = tree.source / "lubrication.h"
+    header.write_text(header.read_text().replace("6.0 * pi_eta", "6.5 * pi_eta"))
+
+
+def add_source(tree):
+    extra = tree.source / "fix_extra_sf.cpp"
+    extra.write_text("// new style\n")
+    os.utime(extra, (OLD, OLD))  # an old file (e.g. copied with its time): the command changes
+
+
+def remove_source(tree):
+    (tree.source / "fix_stokes_sf.cpp").unlink()
+
+
+CHANGES = {
+    "touched .cpp": lambda tree: touch(tree.source / "pair_lubricate_sf.cpp"),
+    "touched .h": lambda tree: touch(tree.source / "imposed_flow.h"),
+    "edited .h": edit_header,
+    "added .cpp": add_source,
+    "removed .cpp": remove_source,
+    "new flags": lambda tree: setattr(plugin_module, "CXX_FLAGS", (*plugin_module.CXX_FLAGS, "-g")),
+    "library deleted": lambda tree: tree.library.unlink(),
+    "stamp deleted": lambda tree: tree.stamp.unlink(),
+}
+
+
+@pytest.mark.parametrize("change", CHANGES)
+def test_change_of_an_input_triggers_one_rebuild(tree, monkeypatch, change):
+    """A .cpp or .h newer than the library, a different set of .cpp files, other compile flags,
+    or a missing library or stamp make the library stale: the next call compiles once, and
+    the call after that does not."""
+    monkeypatch.setattr(plugin_module, "CXX_FLAGS", plugin_module.CXX_FLAGS)  # restored after "new flags"
+    built_once(tree)
+    CHANGES[change](tree)
+    assert plugin_module._is_stale()
+    build(tree)
+    assert len(tree.compiler.commands) == 2
+    assert not plugin_module._is_stale()
+    build(tree)
+    assert len(tree.compiler.commands) == 2
+
+
+def test_files_that_are_not_sources_do_not_trigger_a_rebuild(tree):
+    """README.md and other non-.cpp/.h files in the source folder are not build inputs."""
+    built_once(tree)
+    touch(tree.source / "README.md")
+    (tree.source / "notes.txt").write_text("scratch\n")
+    assert not plugin_module._is_stale()
+    build(tree)
+    assert len(tree.compiler.commands) == 1
+
+
+def test_source_saved_during_the_compile_makes_the_new_library_stale(tree):
+    """A source edited while the compiler runs (after it read the sources, before the library
+    is written) is not in the library, so the library must count as stale afterwards, although
+    the library file is newer than the edit."""
+    built_once(tree)
+    touch(tree.source / "pair_lubricate_sf.cpp")
+    cpp = tree.source / "fix_stokes_sf.cpp"
+
+    def save_during_compile():
+        cpp.write_text(cpp.read_text() + "\n// edited during the compile\n")
+
+    tree.compiler.during_compile = save_during_compile
+    build(tree)
+    tree.compiler.during_compile = None
+    assert "edited during the compile" not in tree.library.read_text()
+    assert tree.library.stat().st_mtime_ns >= cpp.stat().st_mtime_ns
+    assert plugin_module._is_stale()
+    build(tree)
+    assert "edited during the compile" in tree.library.read_text()
+    assert not plugin_module._is_stale()
+
+
+def test_failed_compile_keeps_the_old_library_and_retries(tree):
+    """A compile error raises PluginBuildError with the compiler's message, leaves the previous
+    library and no temporary file, and the library stays stale, so the next call tries again."""
+    built_once(tree)
+    old_library = tree.library.read_text()
+    touch(tree.source / "pair_lubricate_sf.cpp")
+    tree.compiler.returncode = 1
+    with pytest.raises(plugin_module.PluginBuildError, match="error: fake"):
+        build(tree)
+    assert tree.library.read_text() == old_library
+    assert sorted(p.name for p in tree.build.iterdir()) == sorted([tree.library.name, tree.stamp.name])
+    assert plugin_module._is_stale()
+    tree.compiler.returncode = 0
+    build(tree)
+    assert len(tree.compiler.commands) == 3 and not plugin_module._is_stale()

@@ -1,0 +1,22 @@
+rule report_tables:
+    """fits.json, the steady state and the model-error summary as captioned HTML tables for the report."""
+    input:
+        fits=rules.fit_models.output[0],
+        steady=rules.aggregate_startup.output.steady,
+        errors=rules.model_errors.output.summary,
+    output:
+        fits=report(f"{RESULTS}/tables/fits.html", caption="../report/table_fits.rst", category="Tables"),
+        steady=report(
+            f"{RESULTS}/tables/steady_state.html", caption="../report/table_steady_state.rst", category="Tables"
+        ),
+        errors=report(
+            f"{RESULTS}/tables/model_errors_summary.html",
+            caption="../report/table_model_errors.rst",
+            category="Tables",
+        ),
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/report_tables.log",
+    script:
+        "../scripts/report_tables.py"
