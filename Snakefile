@@ -3,7 +3,10 @@
 from suspension_fabric.config import validate_config
 
 
-if not config:  # no --configfile/--config: the default study (never merged into another study)
+# Without --configfile the default study, with any --config overrides on top of it; a study
+# given by --configfile is never merged with the default one (absent keys take the schema's
+# defaults), and --config overrides it in turn.
+if not workflow.overwrite_configfiles:
 
     configfile: "config/config.yaml"
 

@@ -8,54 +8,14 @@ repository's results/.
 
 import json
 import re
-import shutil
-import subprocess
-import sys
-from pathlib import Path
 
 import pandas as pd
 import pytest
 import yaml
 
-REPO = Path(__file__).resolve().parents[1]
-SNAKEMAKE = Path(sys.executable).with_name("snakemake")
-TEST_CONFIG = ["--configfile", "config/test.yaml"]
-RESULTS = "results/test"
+from workflow_helpers import REPO, RESULTS, TEST_CONFIG, copy_workflow, job_counts, snakemake
 
 pytestmark = pytest.mark.workflow
-
-
-def snakemake(workdir, *args, timeout=900):
-    return subprocess.run([str(SNAKEMAKE), "--cores", "2", *args], cwd=workdir, capture_output=True,
-                          text=True, timeout=timeout)
-
-
-def job_counts(output: str) -> dict[str, int]:
-    """The 'job  count' table that Snakemake prints before running (or in a dry run)."""
-    table = output[output.index("job "):]
-    counts = {}
-    for line in table.splitlines()[2:]:
-        match = re.fullmatch(r"(\w+)\s+(\d+)", line.strip())
-        if not match:
-            break
-        counts[match.group(1)] = int(match.group(2))
-    return counts
-
-
-def copy_workflow(target: Path) -> Path:
-    for name in ("config", "workflow", "envs"):
-        shutil.copytree(REPO / name, target / name, ignore=shutil.ignore_patterns("__pycache__"))
-    shutil.copy(REPO / "Snakefile", target / "Snakefile")
-    return target
-
-
-@pytest.fixture(scope="module")
-def study(tmp_path_factory):
-    """The whole test study, run for real once per test session."""
-    workdir = copy_workflow(tmp_path_factory.mktemp("workflow"))
-    result = snakemake(workdir, *TEST_CONFIG)
-    assert result.returncode == 0, result.stderr[-4000:]
-    return workdir
 
 
 def test_study_produces_figures_fits_and_error_table(study):

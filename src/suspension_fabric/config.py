@@ -58,9 +58,28 @@ def _fill_and_validate(config: dict, schema: dict) -> None:
         raise ConfigError(f"config key '{key}': {first.message}")
 
 
+def _coerce_command_line_text(value, schema: dict):
+    """Snakemake's ``--config key='{a: 1}'`` gives nested values as text: read them as YAML
+    where the schema expects something other than text, so overrides validate like files."""
+    types = schema.get("type", [])
+    types = [types] if isinstance(types, str) else types
+    if isinstance(value, str) and "string" not in types and "enum" not in schema:
+        try:
+            return yaml.safe_load(value)
+        except yaml.YAMLError:
+            return value
+    if isinstance(value, dict):
+        properties = schema.get("properties", {})
+        return {key: _coerce_command_line_text(item, properties.get(key, {})) for key, item in value.items()}
+    if isinstance(value, list) and isinstance(schema.get("items"), dict):
+        return [_coerce_command_line_text(item, schema["items"]) for item in value]
+    return value
+
+
 def validate_config(config: dict, schema_path: str | os.PathLike = SCHEMA_PATH) -> dict:
     """Validate ``config`` in place against the schema (filling defaults), then cross-check keys."""
     schema = yaml.safe_load(Path(schema_path).read_text())
+    config.update(_coerce_command_line_text(dict(config), schema))
     _fill_and_validate(config, schema)
     run, analysis, particles = config["run"], config["analysis"], config["particles"]
     lo, hi = analysis["steady_window"]

@@ -1,0 +1,92 @@
+"""Which jobs a config change reruns: every rule receives exactly the settings that change its
+result. On the finished test study (seeds 1, 2; angles 0, 90), each case changes config keys
+with --config on top of --configfile config/test.yaml (the override idiom the README gives),
+dry-runs, and checks (a) the jobs rerun for a reason of their own (their params, a missing
+output, a changed set of inputs), not merely because an upstream job reruns, and (b) every
+simulation job (pack, startup, rotate) in the plan. Everything else in the plan is downstream
+of (a). Snakemake names only the first reason of a job whose inputs an upstream job updates,
+so a key read by two rules in a chain (the force model and time step: startup and rotate;
+run.startup_strain: startup and predict; particles.phi: pack and fit_models) shows the
+upstream one; test_params_of_downstream_rules checks the downstream rule on its own. The table is the rerun matrix of the README."""
+
+import pytest
+
+from workflow_helpers import RESULTS, TEST_CONFIG, dry_run_jobs, snakemake
+
+pytestmark = pytest.mark.workflow
+
+SEEDS, ANGLES = (1, 2), (0, 90)
+PACK = {("pack", f"seed={s}") for s in SEEDS}
+STARTUP = {("startup", f"seed={s}") for s in SEEDS}
+ROTATE = {("rotate", f"seed={s}, angle={a}") for s in SEEDS for a in ANGLES}
+FABRIC = {("fabric_table", f"seed={s}, run={run}") for s in SEEDS
+          for run in ["startup"] + [f"rotation_theta{a}" for a in ANGLES]}
+SIMULATIONS = {"pack", "startup", "rotate"}
+
+CASES = {
+    # key(s) changed: (--config arguments, jobs with a reason of their own, simulation jobs)
+    "run.rotation_strain": (["run={rotation_strain: 0.2}"], ROTATE, ROTATE),
+    "run.startup_strain": (["run={startup_strain: 0.4}"], STARTUP, STARTUP | ROTATE),
+    "run.dt": (["run={dt: 1.0e-4}"], STARTUP, STARTUP | ROTATE),
+    "run.dump_strain": (["run={dump_strain: 0.02}"], STARTUP, STARTUP | ROTATE),
+    "run.table_strain": (["run={table_strain: 0.005}"], STARTUP, STARTUP | ROTATE),
+    "run.integrator, run.solver_tol": (["run={solver_tol: 1.0e-6}"], STARTUP, STARTUP | ROTATE),
+    "forces.kn": (["forces={kn: 6.0e+6}"], STARTUP, STARTUP | ROTATE),
+    "forces.eta_f": (["forces={eta_f: 1.1}"], STARTUP, STARTUP | ROTATE),
+    "forces.mu": (["forces={mu: 0.4}"], STARTUP, STARTUP | ROTATE),
+    "particles.n": (["particles={n: 50}"], PACK, PACK | STARTUP | ROTATE),
+    "particles.phi": (["particles={phi: 0.44}"], PACK, PACK | STARTUP | ROTATE),
+    "analysis.eps": (["analysis={eps: 0.02}"], FABRIC, set()),
+    "analysis.steady_window": (["analysis={steady_window: [0.15, 0.3]}"], {("aggregate_startup", "")}, set()),
+    "models.polar_angle_step_deg": (["models={polar_angle_step_deg: 10}"], {("predict", "")}, set()),
+    "angles_deg (one added)": (
+        ["angles_deg=[0, 90, 45]"],
+        {("rotate", f"seed={s}, angle=45") for s in SEEDS}
+        | {("fabric_table", f"seed={s}, run=rotation_theta45") for s in SEEDS} | {("aggregate_rotation", "")},
+        {("rotate", f"seed={s}, angle=45") for s in SEEDS},
+    ),
+    "seeds (one added)": (
+        ["seeds=[1, 2, 3]"],
+        {("pack", "seed=3"), ("startup", "seed=3"), ("rotate", "seed=3, angle=0"), ("rotate", "seed=3, angle=90"),
+         ("fabric_table", "seed=3, run=startup"), ("fabric_table", "seed=3, run=rotation_theta0"),
+         ("fabric_table", "seed=3, run=rotation_theta90"), ("aggregate_startup", ""), ("aggregate_rotation", "")},
+        {("pack", "seed=3"), ("startup", "seed=3"), ("rotate", "seed=3, angle=0"), ("rotate", "seed=3, angle=90")},
+    ),
+    "checks, thermo and restart intervals": (
+        ["run={thermo_strain: 0.02, restart_strain: 0.05, max_overlap: 0.02, max_stress_jitter: 0.6}"], set(), set()),
+}
+
+
+def own_reason(reason: str) -> bool:
+    """True unless the job reruns only because an upstream job does."""
+    parts = [part.strip() for part in reason.split(";") if part.strip()]
+    return any(not part.startswith("Input files updated by another job") for part in parts)
+
+
+@pytest.mark.parametrize("case", list(CASES))
+def test_a_config_change_reruns_exactly_the_jobs_that_depend_on_it(study, case):
+    overrides, expected_roots, expected_simulations = CASES[case]
+    result = snakemake(study, *TEST_CONFIG, "--config", *overrides, "-n")
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    jobs = [job for job in dry_run_jobs(result.stdout + result.stderr) if job["rule"] != "all"]
+    roots = {(job["rule"], job["wildcards"]) for job in jobs if own_reason(job["reason"])}
+    simulations = {(job["rule"], job["wildcards"]) for job in jobs if job["rule"] in SIMULATIONS}
+    assert roots == expected_roots, (sorted(roots - expected_roots), sorted(expected_roots - roots))
+    assert simulations == expected_simulations, (sorted(simulations ^ expected_simulations))
+    if not expected_roots:
+        assert "Nothing to be done" in result.stdout + result.stderr
+
+
+@pytest.mark.parametrize("rule, override", [
+    ("predict", "run={startup_strain: 0.4}"), ("fit_models", "particles={phi: 0.44}"),
+    ("rotate", "forces={kn: 6.0e+6}"), ("rotate", "run={dt: 1.0e-4}"), ("rotate", "run={table_strain: 0.005}"),
+])
+def test_params_of_downstream_rules(study, rule, override):
+    """A key read by a rule downstream of another that reads it too: planning one output of
+    that rule alone with the changed key shows 'Params have changed' for it."""
+    target = {"predict": "tables/predictions.csv", "fit_models": "fits.json",
+              "rotate": "seed1/rotation_theta90/trajectory.dump"}[rule]
+    result = snakemake(study, *TEST_CONFIG, "--config", override, "-n", "--allowed-rules", rule,
+                       "--", f"{RESULTS}/{target}")
+    reasons = {job["rule"]: job["reason"] for job in dry_run_jobs(result.stdout + result.stderr)}
+    assert "Params have changed" in reasons.get(rule, ""), (result.stdout + result.stderr)[-2000:]

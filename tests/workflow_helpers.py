@@ -1,0 +1,49 @@
+"""Helpers of the workflow tests: a copy of the workflow in a temporary folder, Snakemake runs,
+the parsed dry-run output, and the session's one real run of the test study (conftest.py)."""
+
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+SNAKEMAKE = Path(sys.executable).with_name("snakemake")
+TEST_CONFIG = ["--configfile", "config/test.yaml"]
+RESULTS = "results/test"
+
+def snakemake(workdir, *args, timeout=900):
+    return subprocess.run([str(SNAKEMAKE), "--cores", "2", *args], cwd=workdir, capture_output=True,
+                          text=True, timeout=timeout)
+
+
+def job_counts(output: str) -> dict[str, int]:
+    """The 'job  count' table that Snakemake prints before running (or in a dry run)."""
+    table = output[output.index("job "):]
+    counts = {}
+    for line in table.splitlines()[2:]:
+        match = re.fullmatch(r"(\w+)\s+(\d+)", line.strip())
+        if not match:
+            break
+        counts[match.group(1)] = int(match.group(2))
+    return counts
+
+
+def copy_workflow(target: Path) -> Path:
+    for name in ("config", "workflow", "envs", "profiles"):
+        shutil.copytree(REPO / name, target / name, ignore=shutil.ignore_patterns("__pycache__"))
+    shutil.copy(REPO / "Snakefile", target / "Snakefile")
+    return target
+
+
+def dry_run_jobs(output: str) -> list[dict]:
+    """Jobs of a dry run's output: rule, wildcards (text) and reason of each."""
+    jobs = []
+    for block in re.split(r"\n(?=(?:local)?rule \w+:\n)", output):
+        match = re.match(r"(?:local)?rule (\w+):\n", block)
+        if not match:
+            continue
+        fields = dict(re.findall(r"^    (\w+): (.*)$", block, flags=re.M))
+        jobs.append({"rule": match.group(1), "wildcards": fields.get("wildcards", ""),
+                     "reason": fields.get("reason", "")})
+    return jobs
