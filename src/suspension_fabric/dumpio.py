@@ -216,7 +216,8 @@ def scan_dump(path: str | os.PathLike, expected_n_atoms: int | None = None) -> D
     """Read and check the frame headers of a LAMMPS text dump, skipping the atom lines.
 
     Raises ``FileNotFoundError`` for a missing file and ``ValueError`` naming the file
-    (and the frame) for: no frames, a truncated frame, a malformed header, an atom
+    (and the frame) for: no frames, a truncated frame (the file ends inside a header
+    or atom line, or before all atom lines), a malformed header, an atom
     count that changes between frames or differs from ``expected_n_atoms``, atom
     columns that change between frames, or steps that do not increase.
     """
@@ -229,15 +230,34 @@ def scan_dump(path: str | os.PathLike, expected_n_atoms: int | None = None) -> D
     triclinic = True
     with open(path) as handle:
         frame = 0
+        step: int | None = None
+
+        def header_line() -> str:
+            # LAMMPS ends every line, so a header line without its newline (or none at
+            # all) means the file was cut off inside this frame's header.
+            text = handle.readline()
+            if not text.endswith("\n"):
+                where = f"frame {frame}" if step is None else f"frame {frame} (step {step})"
+                raise ValueError(f"{path}: {where} is truncated: the file ends inside its header")
+            return text
+
         while True:
             line = handle.readline()
             if not line:
                 break
+            step = None
+            if not line.endswith("\n"):
+                raise ValueError(f"{path}: frame {frame} is truncated: the file ends inside its header")
             _expect_item(line, "TIMESTEP", path, frame)
+            step_text = header_line()
             try:
-                step = int(handle.readline())
-                _expect_item(handle.readline(), "NUMBER OF ATOMS", path, frame)
-                frame_atoms = int(handle.readline())
+                step = int(step_text)
+            except ValueError as err:
+                raise ValueError(f"{path}: frame {frame}: malformed header ({err})") from err
+            _expect_item(header_line(), "NUMBER OF ATOMS", path, frame)
+            count_text = header_line()
+            try:
+                frame_atoms = int(count_text)
             except ValueError as err:
                 raise ValueError(f"{path}: frame {frame}: malformed header ({err})") from err
             if n_atoms is None:
@@ -247,14 +267,14 @@ def scan_dump(path: str | os.PathLike, expected_n_atoms: int | None = None) -> D
                     f"{path}: the number of atoms changes from {n_atoms} to {frame_atoms} "
                     f"at frame {frame} (step {step})"
                 )
-            box_line = handle.readline()
+            box_line = header_line()
             _expect_item(box_line, "BOX BOUNDS", path, frame)
             triclinic = "xy" in box_line.split()
-            box_rows = list(islice(handle, 3))
+            box_rows = [header_line() for _ in range(3)]
             expected_fields = 3 if triclinic else 2
-            if len(box_rows) < 3 or any(len(r.split()) != expected_fields for r in box_rows):
+            if any(len(r.split()) != expected_fields for r in box_rows):
                 raise ValueError(f"{path}: frame {frame}: malformed BOX BOUNDS rows")
-            atoms_line = handle.readline()
+            atoms_line = header_line()
             _expect_item(atoms_line, "ATOMS", path, frame)
             frame_columns = tuple(atoms_line.split()[2:])
             if columns is None:
@@ -264,11 +284,9 @@ def scan_dump(path: str | os.PathLike, expected_n_atoms: int | None = None) -> D
                     f"{path}: atom columns change from {columns} to {frame_columns} at frame {frame}"
                 )
             atom_rows = list(islice(handle, frame_atoms))
-            if len(atom_rows) != frame_atoms or (atom_rows and not atom_rows[-1].endswith("\n")):
-                raise ValueError(
-                    f"{path}: frame {frame} (step {step}) is truncated: "
-                    f"{len(atom_rows)} of {frame_atoms} atom lines"
-                )
+            cut = _truncation(atom_rows, frame_atoms)
+            if cut:
+                raise ValueError(f"{path}: frame {frame} (step {step}) is truncated: {cut}")
             if steps and step <= steps[-1]:
                 raise ValueError(
                     f"{path}: steps must increase, frame {frame} has step {step} after {steps[-1]}"
@@ -281,6 +299,22 @@ def scan_dump(path: str | os.PathLike, expected_n_atoms: int | None = None) -> D
         raise ValueError(f"{path}: expected {expected_n_atoms} atoms, the dump has {n_atoms}")
     return DumpSummary(path=path, steps=np.asarray(steps, dtype=np.int64), n_atoms=int(n_atoms),
                        columns=columns, triclinic=triclinic)
+
+
+def _truncation(rows: list[str], n_atoms: int) -> str | None:
+    """None if ``rows`` are ``n_atoms`` complete lines, else what is missing.
+
+    A line without its newline can only be the end of a file cut off inside it (LAMMPS
+    ends every line), so it counts as incomplete even when all ``n_atoms`` lines are there.
+    """
+    partial = bool(rows) and not rows[-1].endswith("\n")
+    if len(rows) == n_atoms and not partial:
+        return None
+    complete = len(rows) - partial
+    detail = f"{complete} of {n_atoms} atom lines complete"
+    if partial:
+        detail += f", the file ends inside atom line {complete + 1}"
+    return detail
 
 
 @dataclass
@@ -298,15 +332,21 @@ class DumpFrameData:
 def iter_dump_frames(path: str | os.PathLike) -> Iterator[DumpFrameData]:
     """Frames of a ``dump custom ... id type radius x y z`` text dump, in float64, atoms sorted by id.
 
-    Raises ``ValueError`` naming the file and step for a malformed or truncated frame.
+    Raises ``ValueError`` naming the file, frame and step for a malformed or truncated
+    frame; the frames before it are yielded first.
     """
-    for step, lines in iter_frame_blocks(path):
+    for frame_index, (step, lines) in enumerate(iter_frame_blocks(path)):
+        # a step line without its newline is the end of a file cut inside the step number
+        step_known = len(lines) > 1 and lines[1].endswith("\n")
+        where = f"{path}: frame {frame_index}" + (f" (step {step})" if step_known else "")
         if len(lines) < 9:
-            raise ValueError(f"{path}: step {step}: truncated frame header")
+            if not lines[-1].endswith("\n"):  # only the file's last line lacks one
+                raise ValueError(f"{where} is truncated: the file ends inside its header")
+            raise ValueError(f"{where} is truncated: incomplete header ({len(lines)} of 9 lines)")
         n_atoms = int(lines[3])
         box_header = lines[4]
         if "xy" not in box_header.split():
-            raise ValueError(f"{path}: step {step}: expected a triclinic box")
+            raise ValueError(f"{where}: expected a triclinic box")
         bounds = [[float(v) for v in line.split()] for line in lines[5:8]]
         (xlo_b, xhi_b, xy), (ylo_b, yhi_b, xz), (zlo, zhi, yz) = bounds
         xlo = xlo_b - min(0.0, xy, xz, xy + xz)
@@ -316,8 +356,17 @@ def iter_dump_frames(path: str | os.PathLike) -> Iterator[DumpFrameData]:
         box = TriclinicBox(xhi - xlo, yhi - ylo, zhi - zlo, xy, xz, yz, (xlo, ylo, zlo))
         columns = lines[8].split()[2:]
         rows = lines[9:]
-        if len(rows) != n_atoms or (rows and not rows[-1].endswith("\n")):
-            raise ValueError(f"{path}: step {step}: truncated frame ({len(rows)} of {n_atoms} atom lines)")
+        if len(rows) == n_atoms + 1 and not rows[-1].endswith("\n"):
+            # iter_frame_blocks appends a cut-off first line of the next frame to this one
+            raise ValueError(
+                f"{path}: frame {frame_index + 1} (after step {step}) is truncated: "
+                f"the file ends inside its first line {rows[-1]!r}"
+            )
+        if len(rows) > n_atoms:
+            raise ValueError(f"{where}: {len(rows)} atom lines for {n_atoms} atoms")
+        cut = _truncation(rows, n_atoms)
+        if cut:
+            raise ValueError(f"{where} is truncated: {cut}")
         table = np.loadtxt(rows, ndmin=2)
         index = {name: k for k, name in enumerate(columns)}
         table = table[np.argsort(table[:, index["id"]])]
@@ -336,20 +385,26 @@ def iter_frame_blocks(path: str | os.PathLike) -> Iterator[tuple[int, list[str]]
     of the file (a killed run) is yielded as it is, so callers can drop or reject it.
     """
     block: list[str] = []
+    index = 0
     with open(path) as handle:
         for line in handle:
             if line.startswith("ITEM: TIMESTEP") and block:
-                yield _block_step(path, block), block
+                yield _block_step(path, block, index, at_end=False), block
                 block = []
+                index += 1
             elif not block and not line.startswith("ITEM: TIMESTEP"):
                 raise ValueError(f"{path}: expected 'ITEM: TIMESTEP', found {line!r}")
             block.append(line)
     if block:
-        yield _block_step(path, block), block
+        yield _block_step(path, block, index, at_end=True), block
 
 
-def _block_step(path, block: list[str]) -> int:
+def _block_step(path, block: list[str], index: int, at_end: bool) -> int:
     try:
         return int(block[1])
     except (IndexError, ValueError):
-        raise ValueError(f"{path}: a frame without a readable step after 'ITEM: TIMESTEP'") from None
+        if at_end and len(block) <= 2:
+            raise ValueError(
+                f"{path}: frame {index} is truncated: the file ends before its step is complete"
+            ) from None
+        raise ValueError(f"{path}: frame {index}: no readable step after 'ITEM: TIMESTEP'") from None

@@ -191,13 +191,24 @@ class PartialRun:
         links = self.chain(last)
         for k, (segment, start) in enumerate(links):
             end = links[k + 1][1] if k + 1 < len(links) else None
-            for step, item in reader(segment / name):
+            entries = reader(segment / name)
+            while True:
+                try:
+                    step, item = next(entries)
+                except StopIteration:
+                    break
+                except ValueError:
+                    if end is None:
+                        raise
+                    break  # a killed segment's last, cut-off entry lies past its restart
                 if end is not None and step > end:
                     break
                 # the row at a restart step comes from the segment that wrote the restart: the
                 # continuing one prints its set-up values there, before any step was taken
                 if (start is None or step > start) and (step - first_step) % stride == 0:
                     yield step, item
+                if end is not None and step == end:
+                    break
 
     def concatenate_logs(self, last: Path, name: str, target: Path) -> None:
         with open(target, "w") as out:
