@@ -1,0 +1,115 @@
+"""Bad input and faults: each gives a clear, early error naming the file or key, and nothing
+already finished is lost. Real components throughout (LAMMPS, Snakemake, the test study)."""
+
+from __future__ import annotations
+
+import os
+import shutil
+from pathlib import Path
+
+import pytest
+import yaml
+
+from suspension_fabric.lammps import ForceModel, pack
+from suspension_fabric.lammps.plugin import PluginBuildError, plugin_path, plugin_sources
+from workflow_helpers import RESULTS, TEST_CONFIG, copy_workflow, snakemake
+
+pytestmark = pytest.mark.workflow
+
+
+def test_a_missing_plugin_library_is_named():
+    missing = Path("/nonexistent/libsuspension_fabric_lammps.so")
+    with pytest.raises(FileNotFoundError, match="LAMMPS plugin library not found: /nonexistent/.*build_plugin"):
+        ForceModel(plugin=missing).variables()
+
+
+def test_a_stale_plugin_library_is_refused(tmp_path):
+    """A library older than a plugin source (the source was edited after the build) is refused
+    with the name of the changed source and how to rebuild; a fresh copy is accepted."""
+    library = tmp_path / "libcopy.so"
+    shutil.copy2(plugin_path(), library)
+    ForceModel(plugin=library).variables()  # as new as the build: fine
+    source = plugin_sources()[0]
+    old = source.stat().st_mtime - 3600
+    os.utime(library, (old, old))
+    with pytest.raises(PluginBuildError, match=rf"stale LAMMPS plugin library .*{source.name}(, [\w.]+)* changed.*rebuild"):
+        ForceModel(plugin=library).variables()
+
+
+def test_a_dump_cut_mid_frame_fails_its_fabric_job_naming_the_file(study, tmp_path):
+    """A trajectory cut inside a frame (a full disk, a copy broken off): rerunning its fabric
+    job fails with the dump's path, frame and step; every other finished output is kept."""
+    workdir = copy_workflow(tmp_path / "copy")
+    shutil.copytree(study / "results", workdir / "results")
+    shutil.copytree(study / ".snakemake", workdir / ".snakemake", ignore=shutil.ignore_patterns("locks", "incomplete"))
+    shutil.copytree(study / "build", workdir / "build")
+    dump = workdir / RESULTS / "seed1/startup/trajectory.dump"
+    text = dump.read_text()
+    dump.write_text(text[: len(text) - 200])
+    finished = {p: p.stat().st_mtime_ns for p in (workdir / RESULTS).rglob("*.csv")
+                if p != workdir / RESULTS / "seed1/startup/fabric.csv"}
+    target = f"{RESULTS}/seed1/startup/fabric.csv"
+    result = snakemake(workdir, *TEST_CONFIG, "--allowed-rules", "fabric_table", "--forcerun", target, "--", target)
+    assert result.returncode != 0
+    log = (workdir / RESULTS / "logs/fabric_seed1_startup.log").read_text()
+    assert f"{RESULTS}/seed1/startup/trajectory.dump" in log and "truncated" in log and "step" in log
+    assert {p: p.stat().st_mtime_ns for p in finished} == finished
+
+
+def test_a_blow_up_in_one_job_lets_the_others_finish_with_keep_going(tmp_path):
+    """Seed 2's packing given two nearly coincident spheres: its startup blows up (LAMMPS
+    error, NaN or an overlap beyond run.max_overlap) and fails with the reason in its log,
+    the partial or failed run kept for inspection; with --keep-going seed 1's startup, rotations and
+    fabric tables all finish; rerunning does not touch them."""
+    workdir = copy_workflow(tmp_path)
+    config = yaml.safe_load((workdir / "config/test.yaml").read_text())
+    assert config["seeds"] == [1, 2]
+    packings = [f"{RESULTS}/seed{s}/packing/packing.data" for s in (1, 2)]
+    assert snakemake(workdir, *TEST_CONFIG, "--", *packings).returncode == 0
+    data = workdir / packings[1]
+    lines = data.read_text().splitlines(keepends=True)
+    start = next(k for k, line in enumerate(lines) if line.startswith("Atoms")) + 2
+    first, second = lines[start].split(), lines[start + 1].split()
+    second[4:7] = [str(float(first[4]) + 0.05), first[5], first[6]]  # 0.05 d apart: overlap ~0.95 d
+    lines[start + 1] = " ".join(second) + "\n"
+    data.write_text("".join(lines))
+
+    result = snakemake(workdir, *TEST_CONFIG, "--keep-going")
+    assert result.returncode != 0
+    log = (workdir / RESULTS / "logs/startup_seed2.log").read_text()
+    assert "LammpsRunError" in log and "LAMMPS startup run failed" in log
+    assert any(reason in log for reason in ("Lost atoms", "non-finite", "overlap", "ERROR"))
+    # kept for inspection: a run that stopped as .startup.partial, one that ended but failed its
+    # checks (here the overlap bound) as startup.failed
+    assert ((workdir / RESULTS / "seed2/.startup.partial").is_dir()
+            or (workdir / RESULTS / "seed2/startup.failed").is_dir())
+    assert not (workdir / RESULTS / "seed2/startup/run_complete.json").exists()
+    for run in ("startup", "rotation_theta0", "rotation_theta90"):
+        assert (workdir / RESULTS / f"seed1/{run}/fabric.csv").is_file(), run
+    finished = {p: p.stat().st_mtime_ns for p in (workdir / RESULTS / "seed1").rglob("*") if p.is_file()}
+    again = snakemake(workdir, *TEST_CONFIG, "--keep-going")
+    assert again.returncode != 0
+    assert {p: p.stat().st_mtime_ns for p in finished} == finished
+
+
+@pytest.mark.parametrize("key, value, message", [
+    ("seeds", [1, 2, 1], "config key 'seeds': [1, 2, 1] has non-unique elements"),
+    ("angles_deg", [0, 90, 90.0], "config key 'angles_deg': [0, 90, 90.0] has non-unique elements"),
+    ("angles_deg", [30, 30.0000001], "config key 'angles_deg': angles collide after formatting"),
+])
+def test_duplicate_seeds_or_angles_stop_before_any_job(tmp_path, key, value, message):
+    workdir = copy_workflow(tmp_path)
+    config = yaml.safe_load((workdir / "config/test.yaml").read_text())
+    config[key] = value
+    (workdir / "config/bad.yaml").write_text(yaml.safe_dump(config))
+    result = snakemake(workdir, "--configfile", "config/bad.yaml")
+    assert result.returncode != 0 and message in result.stdout + result.stderr
+    assert not (workdir / "results").exists()
+
+
+def test_pack_into_an_existing_folder_needs_overwrite(tmp_path):
+    """Nothing finished is silently overwritten: a second pack into the same folder refuses."""
+    first = pack(tmp_path / "packing", 20, seed=1)
+    with pytest.raises(FileExistsError, match="pass overwrite=True"):
+        pack(tmp_path / "packing", 20, seed=2)
+    assert first.data_file.is_file()
