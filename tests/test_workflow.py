@@ -147,3 +147,33 @@ def test_report_shows_the_tables(study):
     assert "<caption>Simulated steady state" in pages["steady_state.html"]
     assert "<td>⟨nn⟩₁₂</td>" in pages["steady_state.html"]
     assert "<caption>Angle-averaged rms error" in pages["model_errors_summary.html"]
+
+
+def fabric_tensor(row) -> "np.ndarray":
+    import numpy as np
+
+    return np.array([[row["n11"], row["n12"], row["n13"]],
+                     [row["n12"], row["n22"], row["n23"]],
+                     [row["n13"], row["n23"], row["n33"]]])
+
+
+@pytest.mark.parametrize("theta_deg", [0, 90])
+def test_a_rotation_is_analysed_in_its_own_frame(study, theta_deg):
+    """The first frame after a rotation by theta is the checkpoint itself, seen in the rotated
+    paper frame e1' = cos(theta) e1 - sin(theta) e3, e2' = e2, e3' = sin(theta) e1 + cos(theta) e3:
+    <nn>' = R <nn> R^T with those rows as R, for every component (so n12' = cos(theta) n12 -
+    sin(theta) n23 and n23' = sin(theta) n12 + cos(theta) n23), from the last startup frame of
+    the same seed. A rotation analysed in the wrong frame, or with the wrong sign of theta,
+    fails for theta = 90 (there n12' = -n23 and n23' = n12)."""
+    import numpy as np
+
+    c, s = np.cos(np.radians(theta_deg)), np.sin(np.radians(theta_deg))
+    rotation = np.array([[c, 0.0, -s], [0.0, 1.0, 0.0], [s, 0.0, c]])
+    for seed in (1, 2):
+        startup = pd.read_csv(study / RESULTS / f"seed{seed}/startup/fabric.csv")
+        rotated = pd.read_csv(study / RESULTS / f"seed{seed}/rotation_theta{theta_deg}/fabric.csv")
+        last, first = startup.iloc[-1], rotated.iloc[0]
+        assert first["strain"] == 0.0 and first["step"] == last["step"]
+        expected = rotation @ fabric_tensor(last) @ rotation.T
+        np.testing.assert_allclose(fabric_tensor(first), expected, rtol=0, atol=1e-9)
+        assert abs(last["n12"]) > 0.01 and first["Z"] == last["Z"]
