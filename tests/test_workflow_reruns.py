@@ -53,7 +53,8 @@ CASES = {
         {("pack", "seed=3"), ("startup", "seed=3"), ("rotate", "seed=3, angle=0"), ("rotate", "seed=3, angle=90")},
     ),
     "checks, thermo and restart intervals": (
-        ["run={thermo_strain: 0.02, restart_strain: 0.05, max_overlap: 0.02, max_stress_jitter: 0.6}"], set(), set()),
+        ["run={thermo_strain: 0.02, restart_strain: 0.05, max_overlap: 0.02, max_stress_jitter: 0.6, "
+         "max_contact_relaxation_strain: 0.02}"], set(), set()),
 }
 
 
