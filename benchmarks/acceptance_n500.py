@@ -19,19 +19,24 @@ from pathlib import Path
 
 import numpy as np
 
-from suspension_fabric.fabric import FabricAnalysis
-from suspension_fabric.lammps import ForceModel, is_complete, pack, run_rotation, run_startup
+from suspension_fabric.lammps import PACK_FILES, RUN_FILES, ForceModel, ShearSettings, is_complete, pack, run_rotation, run_startup
 from suspension_fabric.model import fit_gw, fit_modified
-from suspension_fabric.tables import fabric_table, steady_state
+from suspension_fabric.tables import run_fabric_table, steady_state
 
 COLUMNS = ("n11", "n22", "n33", "n12", "n13", "n23", "Z")
 # the run documented in BENCHMARKS.md used explicit integration (benchmarks/engine_accuracy.py
 # compares it with the implicit default)
 EXPLICIT = ForceModel(integrator="explicit")
+# its time step and output spacing (a frame every 0.01 strain, as when it was made)
+SETTINGS = ShearSettings(dt=2e-7, dump_strain=0.01)
 
 
 def marker(run_dir: Path) -> dict:
-    return json.loads((run_dir / "run_complete.json").read_text())
+    return json.loads((run_dir / RUN_FILES["run_complete"]).read_text())
+
+
+def fabric(run_dir: Path):
+    return run_fabric_table(run_dir / RUN_FILES["trajectory"], run_dir / RUN_FILES["run_complete"], seed=2024)
 
 
 def main() -> None:
@@ -42,11 +47,11 @@ def main() -> None:
     if not is_complete(packing_dir):
         pack(packing_dir, 500, phi=0.45, seed=2024)
     if not is_complete(startup_dir):
-        run_startup(startup_dir, packing_dir / "packing.data", 5.0, force_model=EXPLICIT, dt=2e-7,
-                    dump_strain=0.01, progress_interval=60)
+        run_startup(startup_dir, packing_dir / PACK_FILES["data"], 5.0, force_model=EXPLICIT, settings=SETTINGS,
+                    progress_interval=60)
     if not is_complete(rotation_dir):
-        run_rotation(rotation_dir, startup_dir / "checkpoint.rst", 90.0, 0.5, force_model=EXPLICIT, dt=2e-7,
-                     progress_interval=60)
+        run_rotation(rotation_dir, startup_dir / RUN_FILES["checkpoint"], 90.0, 0.5, force_model=EXPLICIT,
+                     settings=SETTINGS, progress_interval=60)
 
     startup, rotation = marker(startup_dir), marker(rotation_dir)
     dt = float(startup["variables"]["dt"])
@@ -57,8 +62,7 @@ def main() -> None:
               f"wall {info['wall_time_s']:.0f} s = {info['wall_time_s'] / (500 * results['strain']):.2f} "
               f"core-s per particle per unit strain, largest overlap {results['max_overlap']:.2e} d")
 
-    analysis = FabricAnalysis.from_dump(startup_dir / "trajectory.dump", dt=dt).run()
-    table = fabric_table(analysis, seed=2024)
+    table = fabric(startup_dir)
     steady = steady_state(table, 2.0, 5.0).set_index("quantity")
     print("\nsteady state over strain 2-5 (mean +- correlation-aware standard error, tau in strain):")
     print("| quantity | mean | sem | tau |\n|---|---|---|---|")
@@ -76,10 +80,7 @@ def main() -> None:
         k = int(np.argmin(np.abs(table["strain"].to_numpy() - gamma)))
         print(f"| {table['strain'].iloc[k]:.2f} | " + " | ".join(f"{table[c].iloc[k]:.3f}" for c in COLUMNS) + " |")
 
-    first_step = rotation["results"]["first_step"]
-    rotated = fabric_table(FabricAnalysis.from_dump(rotation_dir / "trajectory.dump", dt=dt,
-                                                    shear_start_step=first_step, flow_angle_deg=90.0).run(),
-                           seed=2024)
+    rotated = fabric(rotation_dir)
     print("\nafter the 90 deg rotation (rotated frame e1' = -e3, e3' = e1; frame nearest to each strain):")
     print("| strain | " + " | ".join(COLUMNS) + " |\n|" + "---|" * (len(COLUMNS) + 1))
     for gamma in (0.0, 0.05, 0.1, 0.2, 0.3, 0.5):

@@ -25,12 +25,14 @@ import platform
 import re
 from pathlib import Path
 
-from suspension_fabric.lammps import ForceModel, LammpsRunError, is_complete, pack, run_rotation, run_startup
-from suspension_fabric.lammps.runner import DEFAULT_DT
+from suspension_fabric.lammps import (
+    PACK_FILES, RUN_FILES, ForceModel, LammpsRunError, ShearSettings, is_complete, pack, run_rotation, run_startup,
+)
 
 ROOT = Path("results/bench_engine")
 SIZES = (250, 500, 1000, 2000)
 PREPARE_STRAIN = 1.5
+PRODUCTION_DT = ShearSettings().dt  # the implicit integrator's default (config/schema.yaml)
 EXPLICIT_DT = 2.0e-7
 # continuation strain per method: long enough for >= 10 s of loop time at N = 500
 STRAIN = {"explicit": 0.02, "implicit": 0.2, "stock": 0.01}
@@ -38,7 +40,7 @@ LOOP_TIME = re.compile(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) ste
 
 
 def checkpoint(n: int) -> Path:
-    return ROOT / f"n{n}" / "startup" / "checkpoint.rst"
+    return ROOT / f"n{n}" / "startup" / RUN_FILES["checkpoint"]
 
 
 def prepare() -> None:
@@ -48,19 +50,20 @@ def prepare() -> None:
             pack(packing, n, phi=0.45, seed=1)
         startup = ROOT / f"n{n}" / "startup"
         if not is_complete(startup):
-            run_startup(startup, packing / "packing.data", PREPARE_STRAIN, dump_strain=0.1, progress_interval=120)
+            run_startup(startup, packing / PACK_FILES["data"], PREPARE_STRAIN, settings=ShearSettings(dump_strain=0.1),
+                        progress_interval=120)
 
 
-def loop_time(screen: Path) -> tuple[float, int]:
-    matches = LOOP_TIME.findall(screen.read_text())
+def loop_time(log: Path) -> tuple[float, int]:
+    matches = LOOP_TIME.findall(log.read_text())
     if not matches:
-        raise RuntimeError(f"no 'Loop time' line in {screen}")
+        raise RuntimeError(f"no 'Loop time' line in {log}")
     seconds, _, steps, _ = matches[-1]
     return float(seconds), int(steps)
 
 
-def mean_iterations(screen: Path) -> float | None:
-    rows = [line.split() for line in screen.read_text().splitlines()]
+def mean_iterations(log: Path) -> float | None:
+    rows = [line.split() for line in log.read_text().splitlines()]
     values = [float(r[-1]) for r in rows if len(r) == 10 and r[0].isdigit()]
     return sum(values[1:]) / len(values[1:]) if len(values) > 1 else None
 
@@ -68,7 +71,7 @@ def mean_iterations(screen: Path) -> float | None:
 def measure() -> None:
     methods = [("implicit", n) for n in SIZES] + [("explicit", 500), ("stock", 500)]
     models = {
-        "implicit": (ForceModel(), DEFAULT_DT),
+        "implicit": (ForceModel(), PRODUCTION_DT),
         "explicit": (ForceModel(integrator="explicit"), EXPLICIT_DT),
         "stock": (ForceModel(lubrication="stock", integrator="explicit"), EXPLICIT_DT),
     }
@@ -83,16 +86,17 @@ def measure() -> None:
         model, dt = models[method]
         out = ROOT / f"n{n}" / f"measure_{method}"
         try:
-            run = run_rotation(out, checkpoint(n), 0.0, STRAIN[method], force_model=model, dt=dt,
-                               dump_strain=STRAIN[method], table_strain=STRAIN[method] / 10,
-                               thermo_strain=STRAIN[method] / 20, restart_strain=STRAIN[method],
-                               max_stress_jitter=None, overwrite=True, progress=None)
+            settings = ShearSettings(dt=dt, dump_strain=STRAIN[method], table_strain=STRAIN[method] / 10,
+                                     thermo_strain=STRAIN[method] / 20, restart_strain=STRAIN[method],
+                                     max_stress_jitter=None)
+            run = run_rotation(out, checkpoint(n), 0.0, STRAIN[method], force_model=model, settings=settings,
+                               overwrite=True, resume=False, progress=None)
         except LammpsRunError as err:
             print(f"| {label[method]} | {n} | {dt:g} | failed: {str(err).splitlines()[0][:120]} |||||", flush=True)
             continue
-        seconds, steps = loop_time(out / "screen.txt")
+        seconds, steps = loop_time(run.log_file)  # the LAMMPS log of the run (one segment: resume=False)
         cost[method, n] = seconds / (n * run.strain)
-        iterations = mean_iterations(out / "screen.txt") if method == "implicit" else None
+        iterations = mean_iterations(run.log_file) if method == "implicit" else None
         print(f"| {label[method]} | {n} | {dt:g} | {run.strain:g} | {steps} | {seconds:.1f} | "
               f"{cost[method, n]:.4f} | {'' if iterations is None else f'{iterations:.1f}'} |", flush=True)
     ratios = [f"{method} / implicit = {cost[method, 500] / cost['implicit', 500]:.1f}x"

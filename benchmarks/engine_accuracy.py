@@ -39,11 +39,10 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from suspension_fabric.fabric import FabricAnalysis
-from suspension_fabric.lammps import is_complete, pack, run_rotation, run_startup
-from suspension_fabric.lammps import runner
-from suspension_fabric.lammps.plugin import plugin_path
-from suspension_fabric.tables import fabric_table, steady_state
+from suspension_fabric.lammps import plugin, runner
+from suspension_fabric.lammps import ForceModel, ShearSettings, is_complete, pack, run_rotation, run_startup
+from suspension_fabric.resources import LAMMPS_SCRIPTS_DIR
+from suspension_fabric.tables import run_fabric_table, steady_state
 
 N_PARTICLES = 500
 PHI = 0.45
@@ -66,45 +65,60 @@ def frozen_inputs(out: Path) -> tuple[Path, Path]:
     scripts, library = out / "inputs" / "lammps", out / "inputs" / "libsuspension_fabric_lammps.so"
     if not library.is_file():
         scripts.parent.mkdir(parents=True, exist_ok=True)
-        shutil.copytree(runner.SCRIPTS_DIR, scripts, dirs_exist_ok=True)
-        shutil.copy2(plugin_path(), library)
+        shutil.copytree(LAMMPS_SCRIPTS_DIR, scripts, dirs_exist_ok=True)
+        shutil.copy2(plugin.plugin_path(), library)
+    missing = sorted(s.name for s in LAMMPS_SCRIPTS_DIR.glob("*.lmp") if not (scripts / s.name).is_file())
+    if missing:  # frozen for an older runner, which did not use these
+        raise SystemExit(f"{scripts} lacks {', '.join(missing)} that the current runner uses; "
+                         f"remove {scripts.parent} to freeze the current scripts and plugin")
     return scripts, library
 
 
-def write_fabric(run_dir: Path, dt: float, theta: float | None, seed: int) -> None:
+def use_frozen_inputs(scripts: Path) -> None:
+    """Make the runner use the frozen copies: its scripts folder (the runner reads
+    LAMMPS_SCRIPTS_DIR at each run), and the frozen library as it is: the staleness check
+    against the current plugin sources is off, since ignoring later edits is the point."""
+    runner.LAMMPS_SCRIPTS_DIR = scripts.resolve()
+    plugin.check_not_stale = lambda library: None
+
+
+def write_fabric(run_dir: Path, seed: int) -> None:
+    """The run's fabric table (time step, first step and angle from its completion marker)."""
     target = run_dir / "fabric.csv"
-    if target.is_file():
-        return
-    marker = json.loads((run_dir / runner.COMPLETION_MARKER).read_text())
-    kwargs = {}
-    if theta is not None:
-        kwargs = {"shear_start_step": marker["results"]["first_step"], "flow_angle_deg": theta}
-    analysis = FabricAnalysis.from_dump(run_dir / runner.DUMP_FILE, dt=dt, **kwargs).run()
-    fabric_table(analysis, seed=seed).to_csv(target, index=False)
+    if not target.is_file():
+        run_fabric_table(run_dir / runner.DUMP_FILE, run_dir / runner.COMPLETION_MARKER,
+                         seed=seed).to_csv(target, index=False)
 
 
 def run(seed: int, integrator: str, dt: float, from_explicit: bool) -> None:
     out = ROOT / f"seed{seed}" / run_label(integrator, dt, from_explicit)
-    scripts, library = frozen_inputs(out)
-    runner.SCRIPTS_DIR = scripts.resolve()
-    model = runner.ForceModel(plugin=library.resolve(), integrator=integrator)
+    settings = ShearSettings(dt=dt, dump_strain=0.01)  # a frame every 0.01 strain, as in benchmarks/data
+
+    def frozen_model() -> ForceModel:
+        """The force model on the frozen inputs, set up only when a simulation is due (so
+        re-analysing finished runs works whatever runner the frozen copy was made for)."""
+        scripts, library = frozen_inputs(out)
+        use_frozen_inputs(scripts)
+        return ForceModel(plugin=library.resolve(), integrator=integrator)
+
     if from_explicit:
         startup = ROOT / f"seed{seed}" / run_label(*REFERENCE) / "startup"
     else:
         packing = ROOT / f"seed{seed}" / "packing"
         if not is_complete(packing):
+            frozen_model()
             pack(packing, N_PARTICLES, phi=PHI, seed=seed)
         startup = out / "startup"
         if not is_complete(startup):
-            run_startup(startup, packing / "packing.data", STARTUP_STRAIN, force_model=model, dt=dt,
-                        progress_interval=120)
-        write_fabric(startup, dt, None, seed)
+            run_startup(startup, packing / runner.PACK_DATA, STARTUP_STRAIN, force_model=frozen_model(),
+                        settings=settings, progress_interval=120)
+        write_fabric(startup, seed)
     for theta in ANGLES:
         rotation = out / f"rotate_{theta:g}"
         if not is_complete(rotation):
-            run_rotation(rotation, startup / "checkpoint.rst", theta, ROTATION_STRAIN, force_model=model,
-                         dt=dt, progress_interval=120)
-        write_fabric(rotation, dt, theta, seed)
+            run_rotation(rotation, startup / runner.CHECKPOINT_FILE, theta, ROTATION_STRAIN, force_model=frozen_model(),
+                         settings=settings, progress_interval=120)
+        write_fabric(rotation, seed)
 
 
 def save(destination: Path = Path("benchmarks/data/engine_accuracy")) -> None:

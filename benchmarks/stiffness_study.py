@@ -7,7 +7,7 @@ One packing (N particles, phi 0.45, --seed), startup shear to --strain at the pa
 eta_f = 223, mu = 0.5, delta = 1e-3, for each (kn, dt, h_out) in RUNS. Runs already
 complete in --out are reused. Prints, per run, the near-contact fabric (gap < 0.01 d_min)
 averaged over the last unit of strain, the pressure P, the shear stress and the contact share
-of it, overlaps, the stress jitter (runner.stress_jitter) and the contact relaxation time
+of it, overlaps, the stress jitter (lammps.checks.stress_jitter) and the contact relaxation time
 (suspension_fabric.scales), then <nn>_12 versus strain. Failure checks are off on purpose
 (the soft and the too-large-dt runs are the point); ~8 min per run at N = 100 and dt = 2e-7.
 The explicit integrator throughout, as when the tables in BENCHMARKS.md were made.
@@ -23,8 +23,9 @@ from pathlib import Path
 import numpy as np
 
 from suspension_fabric.fabric import FabricAnalysis, near_contact_pairs
-from suspension_fabric.lammps import is_complete, iter_dump_frames, pack, read_stress_table, run_startup
-from suspension_fabric.lammps.runner import ForceModel, stress_jitter
+from suspension_fabric.lammps import (
+    ForceModel, ShearSettings, is_complete, iter_dump_frames, pack, read_stress_table, run_startup, stress_jitter,
+)
 from suspension_fabric.scales import contact_relaxation_time
 
 # (kn, dt, h_out): the stiffness ladder, the time step, and the lubrication range
@@ -66,8 +67,9 @@ def main() -> None:
         run_dir = args.out / name
         if not is_complete(run_dir):
             run_startup(run_dir, packing_dir / "packing.data", args.strain,
-                        force_model=ForceModel(kn=kn, h_out=h_out, integrator="explicit"), dt=dt, dump_strain=0.02,
-                        max_overlap=1.0, max_stress_jitter=None, progress_interval=60)
+                        force_model=ForceModel(kn=kn, h_out=h_out, integrator="explicit"),
+                        settings=ShearSettings(dt=dt, dump_strain=0.02, max_overlap=1.0, max_stress_jitter=None),
+                        progress_interval=60)
         marker = json.loads((run_dir / "run_complete.json").read_text())
         fabric = FabricAnalysis.from_dump(run_dir / "trajectory.dump", dt=dt).run().results
         table = read_stress_table(run_dir / "stress.txt")

@@ -6,7 +6,7 @@ One packing (N particles, phi 0.45, seed 2024, as the acceptance run), a startup
 project's default forces (kn = 1.25e9) for each dt; runs already complete in --out are reused,
 and a dt = 2e-7 startup in results/acceptance_stiff/startup is used if present. Prints, per dt
 and strain bin, the near-contact fabric, P, -sigma_xz and the contact share; then the largest
-stress jitter of each run (runner.stress_jitter; stable runs ~0.04) and its cost. The jitter
+stress jitter of each run (lammps.checks.stress_jitter; stable runs ~0.04) and its cost. The jitter
 check is off on purpose: the large-dt run is meant to show it. ~10 min per unit strain at
 N = 500 and dt = 5e-7, 25 min at 2e-7. The explicit integrator: this is its time-step check.
 """
@@ -18,8 +18,9 @@ import json
 from pathlib import Path
 
 from suspension_fabric.fabric import FabricAnalysis
-from suspension_fabric.lammps import ForceModel, is_complete, pack, read_stress_table, run_startup
-from suspension_fabric.lammps.runner import stress_jitter
+from suspension_fabric.lammps import (
+    ForceModel, ShearSettings, is_complete, pack, read_stress_table, run_startup, stress_jitter,
+)
 
 BINS = [(0.2, 0.5), (0.5, 1.0), (1.0, 1.5), (1.5, 2.0), (2.0, 3.0), (3.0, 4.0), (4.0, 5.0)]
 
@@ -44,9 +45,9 @@ def main() -> None:
         if dt == 2e-7 and args.n == 500 and is_complete(acceptance):
             run_dir = acceptance
         elif not is_complete(run_dir):
-            run_startup(run_dir, packing_dir / "packing.data", args.strain, dt=dt, dump_strain=0.01,
-                        force_model=ForceModel(integrator="explicit"),
-                        max_overlap=1.0, max_stress_jitter=None, progress_interval=60)
+            run_startup(run_dir, packing_dir / "packing.data", args.strain, force_model=ForceModel(integrator="explicit"),
+                        settings=ShearSettings(dt=dt, dump_strain=0.01, max_overlap=1.0, max_stress_jitter=None),
+                        progress_interval=60)
         marker = json.loads((run_dir / "run_complete.json").read_text())
         fabric = FabricAnalysis.from_dump(run_dir / "trajectory.dump", dt=dt).run().results
         table = read_stress_table(run_dir / "stress.txt")

@@ -66,3 +66,11 @@ def test_the_two_shear_scripts_share_their_defaults():
         own = script_defaults(script)
         assert not set(own) & set(SHARED), script
         assert "include         ${lammps_dir}/shear_defaults.lmp" in (LAMMPS_SCRIPTS_DIR / script).read_text()
+
+
+def test_the_scripts_default_plugin_path_is_the_workflows():
+    """Run by hand from the repository root, the scripts load the library the workflow builds."""
+    from suspension_fabric.resources import PLUGIN_LIBRARY_NAME
+
+    assert SHARED["plugin"] == f"build/plugin/{PLUGIN_LIBRARY_NAME}"
+    assert script_defaults("restart_probe.lmp")["plugin"] == SHARED["plugin"]

@@ -2,16 +2,22 @@
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pandas as pd
 import pytest
 
+from suspension_fabric.dumpio import DumpFrame, TriclinicBox, write_lammps_dump
+from suspension_fabric.fabric import FabricAnalysis
 from suspension_fabric.tables import (
     TABLE_COLUMNS,
     VALUE_COLUMNS,
     aggregate_seeds,
+    fabric_table,
     integrated_autocorrelation_time,
     read_fabric_table,
+    run_fabric_table,
     steady_state,
     write_fabric_table,
 )
@@ -32,6 +38,27 @@ def make_table(seed, theta, strain, values, n_particles=500, phi=0.45):
     for k, name in enumerate(VALUE_COLUMNS):
         table[name] = values[:, k]
     return table[list(TABLE_COLUMNS)]
+
+
+def test_run_fabric_table_uses_the_runs_time_step_first_step_and_angle(tmp_path):
+    """A rotation by -30 degrees that started at step 1000 with dt = 2e-4, rate 0.5 (from its
+    completion marker): strains (step - 1000) dt rate, theta -30, the fabric in the rotated
+    frame, i.e. the table FabricAnalysis gives with these parameters; eps is passed on."""
+    box = TriclinicBox(8.0, 8.0, 8.0, xz=1.0)
+    base = np.array([[1.0, 1.0, 1.0], [2.004, 1.3, 1.0], [5.0, 5.0, 5.0], [5.2, 5.0, 6.0]])
+    frames = [DumpFrame(1000 + 50 * k, box, base + 0.001 * k, np.full(4, 0.5)) for k in range(3)]
+    dump = write_lammps_dump(tmp_path / "trajectory.dump", frames)
+    marker = tmp_path / "run_complete.json"
+    marker.write_text(json.dumps({"variables": {"dt": "0.0002", "rate": "0.5", "theta_deg": "-30.0"},
+                                  "results": {"first_step": 1000}}))
+    table = run_fabric_table(dump, marker, seed=4, eps=0.05)
+    np.testing.assert_allclose(table["strain"], [0.0, 0.005, 0.01])
+    assert (table["theta"] == -30.0).all() and (table["seed"] == 4).all()
+    expected = fabric_table(FabricAnalysis.from_dump(dump, dt=2e-4, shear_rate=0.5, shear_start_step=1000,
+                                                     flow_angle_deg=-30.0, eps=0.05).run(), seed=4)
+    pd.testing.assert_frame_equal(table, expected)
+    assert (table["Z"] > 0).all() and (table["n13"].abs() > 1e-3).all()  # contacts, rotated frame
+    assert (run_fabric_table(dump, marker, seed=4, eps=0.001)["Z"] == 0).all()
 
 
 def ar1_series(rng, n, rho, sigma=1.0):

@@ -188,3 +188,36 @@ def test_failed_compile_keeps_the_old_library_and_retries(tree):
     tree.compiler.returncode = 0
     build(tree)
     assert len(tree.compiler.commands) == 3 and not plugin_module._is_stale()
+
+
+def test_install_plugin_builds_only_if_needed_and_copies_atomically(tmp_path, tree):
+    """install_plugin(target) builds if the library is missing or stale, never otherwise (unless
+    forced), and provides it at target: an identical copy, no temporary file left, stamped with
+    the time of copying (not older than the library), judged stale once a source changes. At
+    the library's own path it copies nothing; a deleted library (as Snakemake deletes a rule's
+    output before running it) is rebuilt."""
+    target = tmp_path / "elsewhere" / "lib.so"
+    assert plugin_module.install_plugin(target) == tree.library
+    assert len(tree.compiler.commands) == 1
+    assert target.read_bytes() == tree.library.read_bytes()
+    assert target.stat().st_mtime_ns >= tree.library.stat().st_mtime_ns
+    assert sorted(p.name for p in target.parent.iterdir()) == ["lib.so"]
+    plugin_module.check_not_stale(target)
+    os.utime(tree.library, (OLD + 10, OLD + 10))
+    os.utime(target, (OLD + 10, OLD + 10))
+    plugin_module.install_plugin(target)  # up to date: no compile, the library keeps its time
+    assert len(tree.compiler.commands) == 1
+    assert tree.library.stat().st_mtime == OLD + 10 and target.stat().st_mtime > OLD + 10
+    os.utime(target, (OLD + 20, OLD + 20))  # explicit times: no dependence on the clock resolution
+    os.utime(tree.source / "pair_lubricate_sf.cpp", (OLD + 30, OLD + 30))
+    with pytest.raises(plugin_module.PluginBuildError, match="stale"):
+        plugin_module.check_not_stale(target)
+
+    assert plugin_module.install_plugin(tree.library) == tree.library  # stale: rebuilt
+    assert len(tree.compiler.commands) == 2
+    tree.library.unlink()
+    assert plugin_module.install_plugin(tree.library) == tree.library and tree.library.is_file()
+    assert len(tree.compiler.commands) == 3
+    plugin_module.install_plugin(tree.library, force=True)
+    assert len(tree.compiler.commands) == 4
+    assert sorted(p.name for p in tree.build.iterdir()) == sorted([tree.library.name, tree.stamp.name])

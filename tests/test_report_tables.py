@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 
 from suspension_fabric import report_tables as rt
-from suspension_fabric import study
+from suspension_fabric import model_vs_simulation
 
 
 @pytest.mark.parametrize(
@@ -50,7 +50,7 @@ def test_component_labels():
 
 @pytest.fixture
 def fits():
-    """fits.json as :func:`study.fit_steady_state` writes it (values of the default study)."""
+    """fits.json as :func:`model_vs_simulation.fit_steady_state` writes it (values of the default study)."""
     return {
         "phi": 0.45, "steady_window": [2.0, 5.0], "n_seeds": 3,
         "targets": {"n11": {"mean": 0.5465, "sem": 0.00193}, "n12": {"mean": -0.10306, "sem": 0.00194},
@@ -92,10 +92,10 @@ def test_fit_settings(fits):
 
 
 def test_fits_round_trip_through_fits_json(tmp_path, fits):
-    """The null error written by study.write_fits is read back as a missing error."""
+    """The null error written by model_vs_simulation.write_fits is read back as a missing error."""
     fits["modified"]["beta_err"] = float("nan")
-    path = study.write_fits(fits, tmp_path / "fits.json")
-    table = rt.fit_parameters_table(study.read_fits(path))
+    path = model_vs_simulation.write_fits(fits, tmp_path / "fits.json")
+    table = rt.fit_parameters_table(model_vs_simulation.read_fits(path))
     assert table["Value ± 1σ"].tolist() == ["10.75 ± 0.19", "9.252 ± —", "44.76 ± 0.31"]
 
 
@@ -147,14 +147,14 @@ def test_error_summary_table():
     ]
 
 
-def test_error_summary_table_from_study_summary():
-    """Columns as study.summarise_errors produces them."""
+def test_error_summary_table_from_summarise_errors():
+    """Columns as model_vs_simulation.summarise_errors produces them."""
     errors = pd.DataFrame([
         {"protocol": "startup", "model": model, "theta": 0.0, "component": "n12", "rms_error": rms,
          "max_abs_error": rms, "n_strains": 5}
         for model, rms in (("gw", 0.4), ("modified", 0.2))
     ])
-    table = rt.error_summary_table(study.summarise_errors(errors))
+    table = rt.error_summary_table(model_vs_simulation.summarise_errors(errors))
     assert table.values.tolist() == [["startup shear", "⟨nn⟩₁₂", "0.400", "0.200", "2.00"]]
 
 

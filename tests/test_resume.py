@@ -27,6 +27,7 @@ import yaml
 from suspension_fabric.dumpio import iter_dump_frames
 from suspension_fabric.lammps import ForceModel, ShearSettings, pack, read_stress_table, run_startup
 from suspension_fabric.lammps.plugin import plugin_path
+from suspension_fabric.lammps.process import lammps_processes_in
 from workflow_helpers import copy_workflow, snakemake
 
 pytestmark = pytest.mark.lammps
@@ -55,22 +56,6 @@ from suspension_fabric.lammps import ForceModel, ShearSettings, run_startup
 run_startup(sys.argv[1], sys.argv[2], {strain}, force_model=ForceModel(plugin=sys.argv[3], **{forces}),
             settings=ShearSettings(**{settings}), overwrite=True, progress=None)
 """.format(strain=STRAIN, forces=FORCES, settings=SETTINGS)
-
-
-def lammps_processes_in(folder: Path) -> list[int]:
-    """Process ids of the lmp processes working inside ``folder`` (their cwd)."""
-    found = []
-    for entry in Path("/proc").iterdir():
-        if not entry.name.isdigit():
-            continue
-        try:
-            cwd = os.readlink(entry / "cwd")
-            command = (entry / "cmdline").read_bytes().split(b"\0")[0].decode()
-        except OSError:
-            continue
-        if cwd.startswith(str(folder)) and command.endswith("lmp"):
-            found.append(int(entry.name))
-    return found
 
 
 def kill_after_restarts(process: subprocess.Popen, partial: Path, restarts: int = 2,

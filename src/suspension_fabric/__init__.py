@@ -41,9 +41,13 @@ Modules
                     workflow/lammps scripts (pack, startup shear, shear rotation)
     dumpio       -- LAMMPS triclinic boxes and dump files (writer, header checks)
     fabric       -- near-contact detection and per-frame fabric (MDAnalysis)
-    fabric_reference -- brute-force O(N^2) reference of the near-contact search
+    fabric_reference -- brute-force O(N^2) near-contact search: fallback of the overlap
+                    check for small boxes, reference of the tests
+    runinfo      -- a finished run's time step, rate, first step and flow angle (from
+                    its completion marker)
     tables       -- per-run fabric tables, seed aggregates, steady states
-    study        -- fits to the simulated steady state, predictions, error tables
+    model_vs_simulation -- models versus simulation: fits to the simulated steady
+                    state, predictions at the simulated strains and angles, errors
     figures      -- the paper's Fig. 1 and Fig. 2
     report_tables -- fits, steady state and error summary as HTML tables for the report
     config       -- study configuration: schema validation, cross-key checks

@@ -61,7 +61,8 @@ __all__ = [
 #: Near-contact gap threshold as a fraction of the smaller diameter of the pair (paper).
 DEFAULT_EPS = 0.01
 
-#: Names of the six independent fabric components and their (row, column) indices.
+#: Names of the six independent fabric components (the column names of the fabric tables)
+#: and their (row, column) indices.
 COMPONENTS: dict[str, tuple[int, int]] = {
     "n11": (0, 0), "n22": (1, 1), "n33": (2, 2), "n12": (0, 1), "n13": (0, 2), "n23": (1, 2),
 }

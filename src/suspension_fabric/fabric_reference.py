@@ -1,6 +1,11 @@
-"""Brute-force O(N^2) near-contact reference, independent of MDAnalysis' neighbour search.
+"""Brute-force O(N^2) near-contact search, independent of MDAnalysis' neighbour search.
 
-Used by the tests and the benchmark to check :mod:`suspension_fabric.fabric`.
+Used in production and as a reference. Production: the overlap check of every finished
+shear run (:func:`suspension_fabric.lammps.checks.max_overlap_in_dump`) falls back to it
+for boxes too small for the neighbour search of :mod:`suspension_fabric.fabric`.
+Reference: the tests and benchmarks/bench_fabric.py check :mod:`suspension_fabric.fabric`
+against it.
+
 Every pair i < j is tested; the minimum image is found by explicit search over the
 27 neighbouring images of the separation after wrapping its fractional components
 into [-1/2, 1/2) (exact for a box whose tilts do not exceed half the box lengths,

@@ -23,7 +23,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from .study import MODEL_NAMES  # noqa: E402
+from .model_vs_simulation import MODEL_NAMES  # noqa: E402
 
 __all__ = ["figure_startup", "figure_rotation", "save_figure", "mirror_negative_angles"]
 

@@ -26,7 +26,7 @@ v_ss = -M^{-1} b. :func:`integrate_fabric_ode` integrates the same
 right-hand side numerically (scipy ``solve_ivp``) as an independent reference.
 
 Symmetric tensors are stored as 6-vectors in the order (11, 22, 33, 12, 13, 23)
-(see :data:`COMPONENTS`).
+(see :data:`VECTOR_ORDER`).
 """
 
 from __future__ import annotations
@@ -41,7 +41,7 @@ from scipy.optimize import brentq
 from .frames import rotation_about_gradient, simple_shear_gradient, to_basis
 
 __all__ = [
-    "COMPONENTS",
+    "VECTOR_ORDER",
     "hinch_leal_closure",
     "contract_closure",
     "split_strain_rate",
@@ -61,8 +61,10 @@ __all__ = [
     "vec_to_sym",
 ]
 
-#: Order of the independent components of a symmetric tensor in 6-vectors.
-COMPONENTS = ("11", "22", "33", "12", "13", "23")
+#: Order of the independent components of a symmetric tensor in the 6-vectors of
+#: :func:`sym_to_vec` and :func:`vec_to_sym` (the names of the fabric components in
+#: tables are :data:`suspension_fabric.fabric.COMPONENTS`).
+VECTOR_ORDER = ("11", "22", "33", "12", "13", "23")
 _ROWS = np.array([0, 1, 2, 0, 0, 1])
 _COLS = np.array([0, 1, 2, 1, 2, 2])
 
@@ -74,7 +76,7 @@ _BETA_GRID = np.geomspace(*_BETA_SEARCH, 4000)
 
 # --------------------------------------------------------------------------- utils
 def sym_to_vec(tensor) -> np.ndarray:
-    """Symmetric tensor(s) (..., 3, 3) -> 6-vectors (..., 6) in :data:`COMPONENTS` order."""
+    """Symmetric tensor(s) (..., 3, 3) -> 6-vectors (..., 6) in :data:`VECTOR_ORDER` order."""
     tensor = np.asarray(tensor, dtype=float)
     return tensor[..., _ROWS, _COLS]
 

@@ -5,11 +5,11 @@ or TSV only as a download, so the numbers a reader wants next to the figures are
 turned into small self-contained HTML pages here:
 
 * :func:`fit_parameters_table` and :func:`fit_targets_table` -- fits.json
-  (:func:`suspension_fabric.study.fit_steady_state`): fitted parameters with their
+  (:func:`suspension_fabric.model_vs_simulation.fit_steady_state`): fitted parameters with their
   1-sigma errors, and the steady-state targets next to the models' own steady states;
 * :func:`steady_state_table` -- the steady-state table of
   :func:`suspension_fabric.tables.steady_state`;
-* :func:`error_summary_table` -- :func:`suspension_fabric.study.summarise_errors`.
+* :func:`error_summary_table` -- :func:`suspension_fabric.model_vs_simulation.summarise_errors`.
 
 Every table is a DataFrame of strings with human-readable column names;
 uncertain values are written "value ± error" by :func:`format_value_error`.
@@ -28,7 +28,7 @@ from pathlib import Path
 import pandas as pd
 
 from .fabric import COMPONENTS
-from .study import MODEL_NAMES
+from .model_vs_simulation import MODEL_NAMES
 
 __all__ = [
     "format_value_error",
@@ -192,7 +192,7 @@ def steady_state_table(steady: pd.DataFrame) -> pd.DataFrame:
 
 
 def error_summary_table(summary: pd.DataFrame, significant: int = 3) -> pd.DataFrame:
-    """The angle-averaged rms errors of :func:`suspension_fabric.study.summarise_errors`
+    """The angle-averaged rms errors of :func:`suspension_fabric.model_vs_simulation.summarise_errors`
     (in units of |⟨nn⟩₁₂ˢˢ|) per protocol and quantity, and the ratio G-W / modified."""
     gw, modified = MODEL_NAMES["gw"], MODEL_NAMES["modified"]
     return pd.DataFrame({
@@ -281,7 +281,7 @@ def write_steady_state_page(steady: pd.DataFrame, path: str | os.PathLike) -> Pa
 
 
 def write_error_summary_page(summary: pd.DataFrame, path: str | os.PathLike) -> Path:
-    """The report page of the model-error summary of :func:`suspension_fabric.study.summarise_errors`."""
+    """The report page of the model-error summary of :func:`suspension_fabric.model_vs_simulation.summarise_errors`."""
     return write_html_tables(path, "Model versus simulation (model_errors_summary.csv)", [
         ("Angle-averaged rms error of the models, in units of |⟨nn⟩₁₂ˢˢ|", error_summary_table(summary),
          "rms over the simulated strains of (model − simulation seed mean) / |⟨nn⟩₁₂ˢˢ|, averaged over "

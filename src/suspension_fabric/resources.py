@@ -1,21 +1,69 @@
 """Where the project's non-Python files live: the config schema, the LAMMPS scripts, the plugin.
 
-Every path the package needs outside Python code is defined here and only here; the
-Snakefile imports the plugin paths from this module too. They are found relative to the
-repository checkout the package is installed from (``pip install -e .``, as
-``envs/bootstrap.sh`` does).
+Every path the package needs outside its Python code is defined here and only here (the
+Snakefile imports the plugin's from this module too). The files live in the repository
+(``config/schema.yaml``, ``workflow/lammps/``, ``workflow/plugin/``) and are found
+
+- in a regular install (``pip install .``, a wheel): as package data, which pyproject.toml
+  maps from those folders into ``suspension_fabric/_data/``;
+- in an editable install (``pip install -e .``, as ``envs/bootstrap.sh`` does): in the
+  checkout the package was installed from, recorded by pip in the distribution's
+  ``direct_url.json`` (PEP 610), so edits there take effect at once.
+
+The plugin library is built into ``<checkout>/build/plugin`` for an editable install and
+into ``./build/plugin`` (the workflow's working directory) otherwise;
+``SUSPENSION_FABRIC_BUILD_DIR`` overrides both.
 """
 
 from __future__ import annotations
 
+import functools
+import importlib.metadata
+import importlib.resources
+import json
+import os
 from pathlib import Path
+from urllib.parse import unquote, urlparse
 
-__all__ = ["REPOSITORY", "SCHEMA_PATH", "LAMMPS_SCRIPTS_DIR", "PLUGIN_SOURCE_DIR",
-           "PLUGIN_BUILD_DIR", "PLUGIN_LIBRARY_NAME"]
+__all__ = ["SCHEMA_PATH", "LAMMPS_SCRIPTS_DIR", "PLUGIN_SOURCE_DIR", "PLUGIN_BUILD_DIR",
+           "PLUGIN_LIBRARY_NAME", "editable_checkout"]
 
-REPOSITORY = Path(__file__).resolve().parents[2]
-SCHEMA_PATH = REPOSITORY / "config" / "schema.yaml"
-LAMMPS_SCRIPTS_DIR = REPOSITORY / "workflow" / "lammps"
-PLUGIN_SOURCE_DIR = REPOSITORY / "workflow" / "plugin"
-PLUGIN_BUILD_DIR = REPOSITORY / "build" / "plugin"
 PLUGIN_LIBRARY_NAME = "libsuspension_fabric_lammps.so"
+
+
+@functools.cache
+def editable_checkout() -> Path | None:
+    """The source checkout of an editable install (pip's direct_url.json), else None."""
+    # the first installed distribution on the path is the one imported; a stray build's
+    # egg-info (no direct_url.json) does not count
+    for distribution in importlib.metadata.distributions(name="suspension_fabric"):
+        text = distribution.read_text("direct_url.json")
+        if not text:
+            continue
+        record = json.loads(text)
+        if not record.get("dir_info", {}).get("editable"):
+            return None
+        url = urlparse(record["url"])
+        return Path(unquote(url.path)) if url.scheme == "file" else None
+    return None
+
+
+def _located(packaged: str, in_checkout: str) -> Path:
+    """A data folder or file: the checkout's (editable install) or the packaged copy."""
+    checkout = editable_checkout()
+    if checkout is not None and (checkout / in_checkout).exists():
+        return checkout / in_checkout
+    path = Path(str(importlib.resources.files("suspension_fabric") / "_data" / packaged))
+    if not path.exists():
+        raise FileNotFoundError(
+            f"suspension_fabric data '{in_checkout}' not found: neither an editable checkout nor "
+            f"packaged at {path}; reinstall the package (envs/bootstrap.sh)"
+        )
+    return path
+
+
+SCHEMA_PATH = _located("config/schema.yaml", "config/schema.yaml")
+LAMMPS_SCRIPTS_DIR = _located("lammps", "workflow/lammps")
+PLUGIN_SOURCE_DIR = _located("plugin", "workflow/plugin")
+PLUGIN_BUILD_DIR = Path(os.environ.get("SUSPENSION_FABRIC_BUILD_DIR")
+                        or ((editable_checkout() or Path.cwd()) / "build" / "plugin")).resolve()

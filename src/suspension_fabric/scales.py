@@ -1,14 +1,11 @@
 """Time scales of the force model, in units of the inverse shear rate (time = strain).
 
-The stiff, rate-independent limit the paper simulates needs every contact to unload much
-faster than the flow turns it: an overlap o pushes a pair apart with kn o, resisted by the
-lubrication squeeze at contact, X = 6 pi eta_f a*^2 / h_r (a* = a_i a_j / (a_i + a_j),
+Contact relaxation: an overlap o pushes a pair apart with kn o, resisted by the lubrication
+squeeze at contact, X = 6 pi eta_f a*^2 / h_r (a* = a_i a_j / (a_i + a_j),
 h_r = (a_i + a_j) delta / 2, the regularised gap of workflow/plugin), and by the two Stokes
 drags c = 3 pi eta_f d in series. Without inertia do/dt = -o / tau with
     tau = (X + c_i c_j / (c_i + c_j)) / kn.
-At the paper's printed values (eta_f = 223, kn = 1.25e5) and delta = 1e-3, tau = 4.2 strain
-for two small spheres: contacts formed on the compression axis survive into the extension
-quadrant and the near-contact fabric loses its anisotropy (BENCHMARKS.md, stiffness study).
+What tau means for the choice of kn: workflow/plugin/README.md, "Contact stiffness".
 """
 
 from __future__ import annotations

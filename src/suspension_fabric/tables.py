@@ -46,13 +46,15 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .fabric import COMPONENTS
+from .fabric import COMPONENTS, DEFAULT_EPS, FabricAnalysis
+from .runinfo import read_run_info
 
 __all__ = [
     "METADATA_COLUMNS",
     "VALUE_COLUMNS",
     "TABLE_COLUMNS",
     "fabric_table",
+    "run_fabric_table",
     "write_fabric_table",
     "read_fabric_table",
     "aggregate_seeds",
@@ -89,6 +91,20 @@ def fabric_table(analysis, *, seed: int, phi: float | None = None) -> pd.DataFra
         }
     )
     return table[list(TABLE_COLUMNS)]
+
+
+def run_fabric_table(dump: str | os.PathLike, marker: str | os.PathLike, *, seed: int,
+                     eps: float = DEFAULT_EPS) -> pd.DataFrame:
+    """Per-run tidy table of a finished shear run: its trajectory ``dump`` analysed with the
+    time step, shear rate, first step and flow angle recorded in its completion ``marker``
+    (:func:`suspension_fabric.runinfo.read_run_info`), near contacts at gap < ``eps`` d_min.
+    """
+    info = read_run_info(marker)
+    analysis = FabricAnalysis.from_dump(
+        dump, dt=info.dt, shear_rate=info.rate, shear_start_step=info.first_step,
+        flow_angle_deg=info.theta_deg, eps=eps,
+    ).run()
+    return fabric_table(analysis, seed=seed)
 
 
 def _check_table(table: pd.DataFrame, source: str) -> pd.DataFrame:

@@ -26,6 +26,7 @@ rule aggregate_startup:
         aggregate=f"{RESULTS}/tables/startup_aggregate.csv",
         steady=f"{RESULTS}/tables/steady_state.csv",
     params:
+        kind="startup",
         steady_window=config["analysis"]["steady_window"],
     conda:
         CONDA_ENV
@@ -42,6 +43,8 @@ rule aggregate_rotation:
     output:
         runs=f"{RESULTS}/tables/rotation_runs.csv",
         aggregate=f"{RESULTS}/tables/rotation_aggregate.csv",
+    params:
+        kind="rotation",
     conda:
         CONDA_ENV
     log:

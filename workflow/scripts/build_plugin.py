@@ -1,17 +1,13 @@
-"""Snakemake: compile the LAMMPS plugin (rule build_plugin) and publish it at the rule's output."""
-import os
-import shutil
-from pathlib import Path
+"""Snakemake: compile the LAMMPS plugin (rule build_plugin) and publish it at the rule's output.
 
-from suspension_fabric.lammps.plugin import build_plugin
+Snakemake deletes the output before the job, so the library is rebuilt when the output is
+the repository's own library; a workflow run elsewhere (e.g. the tests) gets a copy and
+leaves the repository's library as it is if it is up to date.
+"""
+from suspension_fabric.lammps.plugin import install_plugin
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
-    built = build_plugin(force=True)
-    target = Path(sm.output[0]).resolve()
-    if target != built.resolve():  # workflow run outside the repository (e.g. the tests)
-        tmp = target.with_name(f".{target.name}.tmp")
-        shutil.copy2(built, tmp)
-        os.replace(tmp, target)
-    print(f"built {built} -> {target}")
+    built = install_plugin(sm.output[0])
+    print(f"built {built} -> {sm.output[0]}")

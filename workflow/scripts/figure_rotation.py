@@ -3,11 +3,11 @@ from pathlib import Path
 
 import pandas as pd
 
-from suspension_fabric import figures, study
+from suspension_fabric import figures, model_vs_simulation
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
     fig = figures.figure_rotation(pd.read_csv(sm.input.rotation), pd.read_csv(sm.input.predictions),
-                                  study.read_fits(sm.input.fits))
+                                  model_vs_simulation.read_fits(sm.input.fits))
     print(figures.save_figure(fig, Path(sm.output.pdf).with_suffix("")))

@@ -171,6 +171,27 @@ def plugin_path() -> Path:
     return build_plugin()
 
 
+def install_plugin(target: str | os.PathLike, force: bool = False) -> Path:
+    """Build the plugin if missing or stale (:func:`build_plugin`) and provide it at ``target``;
+    returns the built library.
+
+    ``target`` is the library's own path (nothing more to do) or a copy elsewhere (a
+    workflow run outside the repository), written atomically (temporary sibling, then
+    ``os.replace``) with the time of copying: newer than every source it was built from, so
+    the staleness check (:func:`check_not_stale`) and Snakemake accept it, and older than
+    any later source edit. Not forcing a build keeps the repository's library, and with it
+    the finished simulations that use it, untouched when it is up to date.
+    """
+    built = build_plugin(force=force)
+    target = Path(target).resolve()
+    if target != built.resolve():
+        target.parent.mkdir(parents=True, exist_ok=True)
+        tmp = target.with_name(f".{target.name}.tmp")
+        shutil.copy(built, tmp)
+        os.replace(tmp, target)
+    return built
+
+
 def preload_mpi() -> None:
     """Load ``libmpi.so.12`` from the PyPI ``mpich`` package globally, as liblammps needs it."""
     for prefix in (sys.prefix, sys.base_prefix):

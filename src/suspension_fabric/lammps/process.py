@@ -210,3 +210,23 @@ def failure_reason(result: LaunchResult, completion_token: str) -> str | None:
     if watcher.line_starting(completion_token) is None:
         return f"the completion line '{completion_token} ...' is missing"
     return None
+
+
+def lammps_processes_in(folder: Path) -> list[int]:
+    """Process ids of the running ``lmp`` processes whose working directory lies in ``folder``.
+
+    Each is the leader of its own process group (see :func:`launch`), so ``os.killpg(pid, ...)``
+    stops it with any MPI ranks: the resume tests and benchmark kill runs this way.
+    """
+    found = []
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            cwd = os.readlink(entry / "cwd")
+            command = (entry / "cmdline").read_bytes().split(b"\0")[0].decode()
+        except OSError:
+            continue
+        if cwd.startswith(str(Path(folder).resolve())) and Path(command).name == "lmp":
+            found.append(int(entry.name))
+    return found

@@ -1,4 +1,4 @@
-"""Uncertainties and error summaries of the model side of the study (suspension_fabric.study).
+"""Uncertainties and error summaries of models versus simulation (suspension_fabric.model_vs_simulation).
 
 fit_steady_state reports 1-sigma parameter errors by linear propagation of the standard
 errors of the steady-state targets; here they are compared with the actual spread of the
@@ -12,7 +12,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from suspension_fabric import model, study
+from suspension_fabric import model, model_vs_simulation
 from suspension_fabric.fabric import COMPONENTS
 from suspension_fabric.tables import VALUE_COLUMNS
 
@@ -41,7 +41,7 @@ def test_propagated_fit_errors_match_monte_carlo_spread(sem_11, sem_12):
     (beta, A) = (9.4, 42.4), phi = 0.45, within 20% (the sampling error of a 200-draw std is
     5%); with one sigma_k = 0 only the other target's derivative is tested."""
     exact = model.steady_state_ode(BETA, A, PHI)
-    fits = study.fit_steady_state(steady_table(exact, {"n11": sem_11, "n12": sem_12}), PHI)
+    fits = model_vs_simulation.fit_steady_state(steady_table(exact, {"n11": sem_11, "n12": sem_12}), PHI)
     assert fits["modified"]["beta"] == pytest.approx(BETA, rel=1e-8)
     assert fits["modified"]["A"] == pytest.approx(A, rel=1e-8)
     assert fits["targets"]["n11"] == {"mean": pytest.approx(exact[0, 0]), "sem": sem_11}
@@ -84,7 +84,7 @@ def test_summarise_errors_averages_over_angles_per_protocol_and_component():
     add("startup", "n11", "modified", (0.5,), (0.0,))
     errors = pd.DataFrame(rows).sample(frac=1.0, random_state=3)
 
-    summary = study.summarise_errors(errors)
+    summary = model_vs_simulation.summarise_errors(errors)
     assert list(summary.columns) == ["protocol", "component", "rms_gw", "rms_modified", "gw_over_modified"]
     assert len(summary) == 4
     got = {(row.protocol, row.component): (row.rms_gw, row.rms_modified, row.gw_over_modified)

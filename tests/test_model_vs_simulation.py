@@ -1,4 +1,5 @@
-"""Model side of the study on synthetic 'simulations' drawn from a known model.
+"""Models versus simulation (suspension_fabric.model_vs_simulation) on synthetic 'simulations'
+drawn from a known model.
 
 Per-run tables are generated from the modified model with known (beta, A) plus
 independent noise per seed, then pushed through the real aggregation, steady-state,
@@ -12,7 +13,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from suspension_fabric import figures, model, study, tables
+from suspension_fabric import figures, model, model_vs_simulation, tables
 from suspension_fabric.fabric import COMPONENTS
 
 BETA, A, PHI = 9.4, 42.4, 0.45
@@ -45,10 +46,10 @@ def synthetic():
             rotation.append(run_table(seed, theta, ROTATION, 0.5 * (noisy + np.swapaxes(noisy, -1, -2))))
     startup, rotation = pd.concat(startup), pd.concat(rotation)
     steady = tables.steady_state(startup, 10.0, 20.0)
-    fits = study.fit_steady_state(steady, PHI)
+    fits = model_vs_simulation.fit_steady_state(steady, PHI)
     startup_agg, rotation_agg = tables.aggregate_seeds(startup), tables.aggregate_seeds(rotation)
-    predictions = study.predict(fits, study.initial_fabric(startup_agg), STARTUP, STARTUP[-1], THETAS, ROTATION,
-                                extra_thetas_deg=np.arange(0, 181, 15))
+    predictions = model_vs_simulation.predict(fits, model_vs_simulation.initial_fabric(startup_agg), STARTUP,
+                                              STARTUP[-1], THETAS, ROTATION, extra_thetas_deg=np.arange(0, 181, 15))
     return fits, startup_agg, rotation_agg, predictions
 
 
@@ -65,7 +66,7 @@ def test_fits_recover_generating_parameters(synthetic):
 def test_error_table_ranks_generating_model_first(synthetic):
     """rms (model - sim)/|n12_ss|: modified is at noise level and G-W worse, per theta, for 12 and 23."""
     fits, _, rotation_agg, predictions = synthetic
-    errors = study.model_errors(rotation_agg, predictions, fits["targets"]["n12"]["mean"], "rotation")
+    errors = model_vs_simulation.model_errors(rotation_agg, predictions, fits["targets"]["n12"]["mean"], "rotation")
     pivot = errors[errors["component"].isin(["n12", "n23"])].pivot_table(
         index="theta", columns="model", values="rms_error", aggfunc="mean")
     assert (pivot["modified"] < 0.1).all()
@@ -76,17 +77,68 @@ def test_error_table_rejects_mismatched_grids(synthetic):
     fits, _, rotation_agg, predictions = synthetic
     shifted = predictions.assign(strain=predictions["strain"] + 0.01)
     with pytest.raises(ValueError, match="strain grid"):
-        study.model_errors(rotation_agg, shifted, fits["targets"]["n12"]["mean"], "rotation")
+        model_vs_simulation.model_errors(rotation_agg, shifted, fits["targets"]["n12"]["mean"], "rotation")
+
+
+def aggregate(thetas, strains_of):
+    """A minimal seed aggregate: rows (theta, strain) with strains_of(theta), shuffled."""
+    frame = pd.concat([pd.DataFrame({"theta": float(theta), "strain": strains_of(theta)}) for theta in thetas])
+    return frame.sample(frac=1.0, random_state=1)
+
+
+def test_prediction_grids_are_the_simulated_strains_and_angles_plus_a_polar_grid():
+    startup = aggregate([0.0], lambda theta: [0.0, 0.5, 0.25, 1.0])
+    rotation = aggregate([90.0, 0.0, 30.0], lambda theta: [0.0, 0.1, 0.2])
+    grids = model_vs_simulation.prediction_grids(startup, rotation, 45.0)
+    np.testing.assert_array_equal(grids.startup_strains, [0.0, 0.25, 0.5, 1.0])
+    np.testing.assert_array_equal(grids.thetas_deg, [0.0, 30.0, 90.0])
+    np.testing.assert_array_equal(grids.rotation_strains, [0.0, 0.1, 0.2])
+    np.testing.assert_array_equal(grids.polar_thetas_deg, [0.0, 45.0, 90.0, 135.0, 180.0])
+    # a negative simulated angle: the polar grid covers [-180, 180]
+    negative = aggregate([-30.0, 60.0], lambda theta: [0.0, 0.1, 0.2])
+    np.testing.assert_array_equal(model_vs_simulation.prediction_grids(startup, negative, 60.0).polar_thetas_deg,
+                                  [-180.0, -120.0, -60.0, 0.0, 60.0, 120.0, 180.0])
+    with pytest.raises(ValueError, match="polar_step_deg must be positive"):
+        model_vs_simulation.prediction_grids(startup, rotation, 0.0)
+
+
+@pytest.mark.parametrize("strains_at_90", [[0.0, 0.1, 0.25], [0.0, 0.1]], ids=["shifted", "shorter"])
+def test_prediction_grids_reject_angles_on_different_strains(strains_at_90):
+    """Every angle is compared with the predictions at one shared strain grid (model_errors)."""
+    startup = aggregate([0.0], lambda theta: [0.0, 1.0])
+    rotation = aggregate([0.0, 90.0], lambda theta: strains_at_90 if theta == 90.0 else [0.0, 0.1, 0.2])
+    with pytest.raises(ValueError, match=r"theta=90.0 .* differ from those at theta=0.0"):
+        model_vs_simulation.prediction_grids(startup, rotation, 15.0)
+
+
+def test_predictions_on_simulation_grids_match_predict_at_the_simulated_points(synthetic):
+    """The workflow's predictions (rule predict) are predict() at the simulated strains and angles
+    plus the polar grid, from the simulated initial fabric."""
+    fits, startup_agg, rotation_agg, predictions = synthetic
+    on_grids = model_vs_simulation.predict_on_simulation_grids(fits, startup_agg, rotation_agg, STARTUP[-1], 15.0)
+    pd.testing.assert_frame_equal(on_grids, predictions)
+
+
+def test_error_tables_cover_both_protocols_and_summarise_them(synthetic):
+    fits, startup_agg, rotation_agg, predictions = synthetic
+    errors, summary = model_vs_simulation.error_tables(fits, predictions, startup_agg, rotation_agg)
+    n12_ss = fits["targets"]["n12"]["mean"]
+    expected = pd.concat([model_vs_simulation.model_errors(startup_agg, predictions, n12_ss, "startup"),
+                          model_vs_simulation.model_errors(rotation_agg, predictions, n12_ss, "rotation")],
+                         ignore_index=True)
+    pd.testing.assert_frame_equal(errors, expected)
+    pd.testing.assert_frame_equal(summary, model_vs_simulation.summarise_errors(expected))
+    assert set(summary["protocol"]) == {"startup", "rotation"}
 
 
 def test_fits_json_round_trip(synthetic, tmp_path):
     fits = synthetic[0]
-    path = study.write_fits(fits, tmp_path / "fits.json")
-    assert study.read_fits(path)["modified"]["A"] == pytest.approx(fits["modified"]["A"])
+    path = model_vs_simulation.write_fits(fits, tmp_path / "fits.json")
+    assert model_vs_simulation.read_fits(path)["modified"]["A"] == pytest.approx(fits["modified"]["A"])
     json.loads(path.read_text())  # strict JSON
     (tmp_path / "bad.json").write_text("{}")
     with pytest.raises(ValueError, match="missing key 'phi'"):
-        study.read_fits(tmp_path / "bad.json")
+        model_vs_simulation.read_fits(tmp_path / "bad.json")
 
 
 def test_mirror_uses_parity():

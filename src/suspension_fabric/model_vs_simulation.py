@@ -1,4 +1,4 @@
-"""Model side of the study: fits to the simulated steady state, predictions, errors.
+"""Models versus simulation: fits to the simulated steady state, predictions, model errors.
 
 Inputs are the seed-aggregated simulation tables of :mod:`suspension_fabric.tables`
 (columns ``theta, strain, n11_mean, n11_sem, ...``) and the steady-state table of
@@ -19,6 +19,7 @@ from __future__ import annotations
 import json
 import os
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 import pandas as pd
@@ -32,8 +33,12 @@ __all__ = [
     "read_fits",
     "initial_fabric",
     "predict",
+    "PredictionGrids",
+    "prediction_grids",
+    "predict_on_simulation_grids",
     "model_errors",
     "summarise_errors",
+    "error_tables",
     "MODEL_NAMES",
 ]
 
@@ -179,6 +184,56 @@ def predict(fits: dict, fabric0, startup_strains, startup_strain: float, thetas_
     return pd.concat(blocks, ignore_index=True)
 
 
+class PredictionGrids(NamedTuple):
+    """Where the models are evaluated (see :func:`prediction_grids`); angles in degrees."""
+
+    startup_strains: np.ndarray
+    thetas_deg: np.ndarray
+    rotation_strains: np.ndarray
+    polar_thetas_deg: np.ndarray
+
+
+def prediction_grids(startup_aggregate: pd.DataFrame, rotation_aggregate: pd.DataFrame,
+                     polar_step_deg: float) -> PredictionGrids:
+    """The strains and angles of the simulations, and a polar grid of angles for the figures.
+
+    ``startup_strains``: the strains of the startup seed aggregate; ``thetas_deg``: the
+    simulated rotation angles; ``rotation_strains``: the post-rotation strains, which all
+    angles must share (to 1e-9, as :func:`model_errors` compares them; else ``ValueError``);
+    ``polar_thetas_deg``: 0 to 180 degrees every ``polar_step_deg``, from -180 if a
+    simulated angle is negative. All sorted ascending.
+    """
+    if not np.isfinite(polar_step_deg) or polar_step_deg <= 0:
+        raise ValueError(f"polar_step_deg must be positive, got {polar_step_deg}")
+    if startup_aggregate.empty or rotation_aggregate.empty:
+        raise ValueError("prediction grids need non-empty startup and rotation aggregate tables")
+    thetas = np.unique(rotation_aggregate["theta"].to_numpy(dtype=float))
+    strains = {theta: np.unique(rows["strain"].to_numpy(dtype=float))
+               for theta, rows in rotation_aggregate.groupby("theta", sort=True)}
+    rotation_strains = strains[thetas[0]]
+    for theta, grid in strains.items():
+        if len(grid) != len(rotation_strains) or not np.allclose(grid, rotation_strains, rtol=1e-9, atol=1e-9):
+            raise ValueError(f"rotation aggregate: the strains at theta={theta} ({len(grid)} frames) differ from "
+                             f"those at theta={thetas[0]} ({len(rotation_strains)} frames)")
+    low = -180.0 if thetas.min() < 0 else 0.0
+    return PredictionGrids(
+        startup_strains=np.unique(startup_aggregate["strain"].to_numpy(dtype=float)),
+        thetas_deg=thetas,
+        rotation_strains=rotation_strains,
+        polar_thetas_deg=np.arange(low, 180.0 + 1e-9, polar_step_deg),
+    )
+
+
+def predict_on_simulation_grids(fits: dict, startup_aggregate: pd.DataFrame, rotation_aggregate: pd.DataFrame,
+                                startup_strain: float, polar_step_deg: float) -> pd.DataFrame:
+    """:func:`predict` from the simulated initial fabric (:func:`initial_fabric`) on the
+    :func:`prediction_grids` of the seed aggregates: at every simulated strain and angle,
+    and at the polar grid of angles (rotation after ``startup_strain`` of startup shear)."""
+    grids = prediction_grids(startup_aggregate, rotation_aggregate, polar_step_deg)
+    return predict(fits, initial_fabric(startup_aggregate), grids.startup_strains, startup_strain, grids.thetas_deg,
+                   grids.rotation_strains, extra_thetas_deg=grids.polar_thetas_deg)
+
+
 def model_errors(simulation: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float, protocol: str) -> pd.DataFrame:
     """Model-versus-simulation error per angle and component, normalised by |<nn>_12^ss|.
 
@@ -222,3 +277,15 @@ def summarise_errors(errors: pd.DataFrame) -> pd.DataFrame:
         "gw_over_modified": mean["gw"] / mean["modified"],
     }).reset_index()
     return summary
+
+
+def error_tables(fits: dict, predictions: pd.DataFrame, startup_aggregate: pd.DataFrame,
+                 rotation_aggregate: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """:func:`model_errors` of startup shear and of the rotations (normalised by the fitted
+    steady <nn>_12 of ``fits``), concatenated, and their :func:`summarise_errors`."""
+    n12_ss = fits["targets"]["n12"]["mean"]
+    errors = pd.concat([
+        model_errors(startup_aggregate, predictions, n12_ss, "startup"),
+        model_errors(rotation_aggregate, predictions, n12_ss, "rotation"),
+    ], ignore_index=True)
+    return errors, summarise_errors(errors)
