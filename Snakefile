@@ -16,8 +16,19 @@ validate_config(config)  # schema + cross-key checks, before any job; fills defa
 
 
 include: "workflow/rules/common.smk"
-include: "workflow/rules/build.smk"
-include: "workflow/rules/simulate.smk"
+
+
+if config["dataset"]:  # fabric tables from a reference dataset: no simulation
+
+    include: "workflow/rules/dataset.smk"
+
+else:
+
+    include: "workflow/rules/build.smk"
+    include: "workflow/rules/simulate.smk"
+    include: "workflow/rules/fabric.smk"
+
+
 include: "workflow/rules/analyse.smk"
 include: "workflow/rules/model.smk"
 include: "workflow/rules/figures.smk"

@@ -1,22 +1,3 @@
-rule fabric_table:
-    """Near-contact fabric per dumped frame of one run, in the paper frame of its shear."""
-    input:
-        dump=f"{RESULTS}/seed{{seed}}/{{run}}/trajectory.dump",
-        marker=f"{RESULTS}/seed{{seed}}/{{run}}/run_complete.json",
-    output:
-        f"{RESULTS}/seed{{seed}}/{{run}}/fabric.csv",
-    wildcard_constraints:
-        run=r"startup|rotation_theta[^/]+",
-    params:
-        eps=config["analysis"]["eps"],
-    conda:
-        CONDA_ENV
-    log:
-        f"{RESULTS}/logs/fabric_seed{{seed}}_{{run}}.log",
-    script:
-        "../scripts/fabric_table.py"
-
-
 rule aggregate_startup:
     """Seed means and standard errors of startup shear; its steady state (the fit targets)."""
     input:

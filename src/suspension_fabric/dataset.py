@@ -1,0 +1,182 @@
+"""Reference datasets: a finished study's analysed tables, committed so that its figures, fits
+and tables can be rebuilt without simulating.
+
+A dataset folder holds, per run (``seed<k>/startup``, ``seed<k>/rotation_theta<a>``):
+``fabric.csv`` (the per-frame fabric table, :mod:`suspension_fabric.tables`), ``stress.csv.gz``
+(the run's stress table, :mod:`suspension_fabric.stressio`, at 8 significant digits) and
+``run.json`` (the run's completion marker: LAMMPS variables, command, wall time, results), and
+at the top ``dataset.json``: the study's validated config, the software versions, the SHA-256
+of the LAMMPS plugin sources and of every file, the git commit it was made from, and the fits
+of the study it came from. Trajectories are never part of it.
+
+A study whose config names a dataset (``dataset: <folder>``) takes its fabric tables from it
+(rule ``import_fabric_table``, which checks each file's SHA-256) instead of simulating; its
+config must describe the same simulations (:func:`check_config_matches`).
+
+    python -m suspension_fabric.dataset export --config config/paper.yaml --to data/reference
+"""
+
+from __future__ import annotations
+
+import argparse
+import gzip
+import hashlib
+import importlib.metadata
+import json
+import shutil
+import subprocess
+import time
+from pathlib import Path
+
+import numpy as np
+
+from .config import angle_label, load_config
+from .lammps.plugin import plugin_sources
+from .stressio import read_stress_table
+
+__all__ = ["DATASET_FILE", "run_names", "export_dataset", "read_dataset", "check_config_matches",
+           "import_fabric_table", "read_dataset_stress"]
+
+DATASET_FILE = "dataset.json"
+#: Config sections that decide what the simulations and their fabric tables are: a study
+#: built on a dataset must have the same (analysis.steady_window and models may differ).
+SIMULATION_KEYS = ("seeds", "angles_deg", "particles", "forces", "run")
+ANALYSIS_KEYS = ("eps",)
+VERSIONED_PACKAGES = ("lammps", "MDAnalysis", "numpy", "scipy", "pandas", "snakemake")
+
+
+def run_names(config: dict) -> list[str]:
+    """``seed<k>/startup`` and ``seed<k>/rotation_theta<a>`` for every seed and angle of a study."""
+    names = []
+    for seed in config["seeds"]:
+        names.append(f"seed{seed}/startup")
+        names += [f"seed{seed}/rotation_theta{angle_label(a)}" for a in config["angles_deg"]]
+    return names
+
+
+def _sha256(path: Path) -> str:
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def _plugin_hash() -> str:
+    digest = hashlib.sha256()
+    for source in plugin_sources():
+        digest.update(source.name.encode() + b"\0" + source.read_bytes())
+    return digest.hexdigest()
+
+
+def _git_commit(where: Path) -> str | None:
+    result = subprocess.run(["git", "rev-parse", "HEAD"], cwd=where, capture_output=True, text=True)
+    return result.stdout.strip() if result.returncode == 0 else None
+
+
+def _write_stress(table_file: Path, target: Path) -> None:
+    table = read_stress_table(table_file)
+    names = list(table)
+    with gzip.open(target, "wt") as out:
+        out.write(",".join(names) + "\n")
+        rows = np.column_stack([table[name] for name in names])
+        for row in rows:
+            out.write(",".join(f"{value:.8g}" for value in row) + "\n")
+
+
+def read_dataset_stress(path: Path) -> dict[str, np.ndarray]:
+    """A dataset's ``stress.csv.gz`` as {column: array} (the columns of the run's stress table)."""
+    with gzip.open(path, "rt") as handle:
+        names = handle.readline().strip().split(",")
+        data = np.loadtxt(handle, delimiter=",", ndmin=2)
+    return {name: data[:, k] for k, name in enumerate(names)}
+
+
+def export_dataset(config: dict, results: Path, target: Path, *, repository: Path | None = None) -> dict:
+    """Copy the finished runs of a study (``results/<study>``) into the dataset folder ``target``.
+
+    Runs without a fabric table yet are skipped and listed as missing, so a dataset can be
+    exported while a study is still running and completed later. Returns the dataset record.
+    """
+    results, target = Path(results), Path(target)
+    target.mkdir(parents=True, exist_ok=True)
+    files, missing = {}, []
+    for name in run_names(config):
+        source = results / name
+        if not (source / "fabric.csv").is_file() or not (source / "run_complete.json").is_file():
+            missing.append(name)
+            continue
+        (target / name).mkdir(parents=True, exist_ok=True)
+        shutil.copy(source / "fabric.csv", target / name / "fabric.csv")
+        shutil.copy(source / "run_complete.json", target / name / "run.json")
+        _write_stress(source / "stress.txt", target / name / "stress.csv.gz")
+        for file in ("fabric.csv", "run.json", "stress.csv.gz"):
+            files[f"{name}/{file}"] = _sha256(target / name / file)
+    fits_file = results / "fits.json"
+    record = {
+        "study": config["study"],
+        "config": config,
+        "runs_missing": missing,
+        "files": files,
+        "fits": json.loads(fits_file.read_text()) if fits_file.is_file() and not missing else None,
+        "versions": {name: importlib.metadata.version(name) for name in VERSIONED_PACKAGES},
+        "plugin_sources_sha256": _plugin_hash(),
+        "git_commit": _git_commit(repository or Path.cwd()),
+        "exported_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
+    }
+    (target / DATASET_FILE).write_text(json.dumps(record, indent=1) + "\n")
+    return record
+
+
+def read_dataset(folder: Path) -> dict:
+    """The record of a dataset folder; errors name the folder."""
+    path = Path(folder) / DATASET_FILE
+    if not path.is_file():
+        raise FileNotFoundError(f"dataset record not found: {path} (export one with "
+                                "`python -m suspension_fabric.dataset export`)")
+    return json.loads(path.read_text())
+
+
+def check_config_matches(config: dict, record: dict, folder: Path) -> None:
+    """A study built on a dataset must describe its simulations: same seeds, angles, particles,
+    forces, run settings and near-contact eps; every run present. Errors name the key."""
+    recorded = record["config"]
+    for key in SIMULATION_KEYS:
+        if config[key] != recorded[key]:
+            raise ValueError(f"config key '{key}' differs from the dataset {folder} "
+                             f"({config[key]!r} here, {recorded[key]!r} there)")
+    for key in ANALYSIS_KEYS:
+        if config["analysis"][key] != recorded["analysis"][key]:
+            raise ValueError(f"config key 'analysis.{key}' differs from the dataset {folder} "
+                             f"({config['analysis'][key]!r} here, {recorded['analysis'][key]!r} there)")
+    if record["runs_missing"]:
+        raise ValueError(f"the dataset {folder} lacks {len(record['runs_missing'])} run(s), e.g. "
+                         f"{record['runs_missing'][0]}; export it again once the study has finished")
+
+
+def import_fabric_table(folder: Path, name: str, target: Path) -> Path:
+    """Copy a run's fabric table out of a dataset after checking its recorded SHA-256."""
+    record = read_dataset(folder)
+    key = f"{name}/fabric.csv"
+    source = Path(folder) / key
+    if key not in record["files"]:
+        raise ValueError(f"the dataset {folder} has no {key}")
+    if _sha256(source) != record["files"][key]:
+        raise ValueError(f"{source} does not match the SHA-256 recorded in {Path(folder) / DATASET_FILE}")
+    shutil.copy(source, target)
+    return Path(target)
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description="Export a finished study's tables as a dataset.")
+    sub = parser.add_subparsers(dest="command", required=True)
+    export = sub.add_parser("export", help="copy results/<study> tables into a dataset folder")
+    export.add_argument("--config", type=Path, required=True, help="the study's config file")
+    export.add_argument("--to", type=Path, required=True, help="the dataset folder")
+    export.add_argument("--results", type=Path, help="default: results/<study>")
+    args = parser.parse_args(argv)
+    config = load_config(args.config)
+    results = args.results or Path("results") / config["study"]
+    record = export_dataset(config, results, args.to)
+    done = len(record["files"]) // 3
+    print(f"{args.to}: {done} runs exported, {len(record['runs_missing'])} missing")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,88 @@
+"""Reference datasets: a finished study exported as tables rebuilds its fits, tables and
+figures with no simulation job, and a study that does not describe the dataset is refused."""
+
+from __future__ import annotations
+
+import json
+import shutil
+
+import numpy as np
+import pytest
+import yaml
+
+from suspension_fabric.config import load_config
+from suspension_fabric.dataset import export_dataset, import_fabric_table, read_dataset, read_dataset_stress, run_names
+from suspension_fabric.stressio import read_stress_table
+from workflow_helpers import RESULTS, copy_workflow, dry_run_jobs, snakemake
+
+pytestmark = pytest.mark.workflow
+
+SIMULATION_RULES = {"build_plugin", "pack", "startup", "rotate", "fabric_table"}
+
+
+@pytest.fixture(scope="module")
+def dataset(study, tmp_path_factory):
+    folder = tmp_path_factory.mktemp("dataset") / "reference"
+    export_dataset(load_config(study / "config/test.yaml"), study / RESULTS, folder)
+    return folder
+
+
+def test_export_holds_every_run_with_checksums_and_fits(study, dataset):
+    """Every run's fabric table (byte for byte), its stress table (8 significant digits) and
+    marker; the study's fits; versions, the plugin source hash; no trajectory."""
+    record = read_dataset(dataset)
+    config = load_config(study / "config/test.yaml")
+    assert record["runs_missing"] == [] and len(record["files"]) == 3 * len(run_names(config))
+    assert record["fits"] == json.loads((study / RESULTS / "fits.json").read_text())
+    assert set(record["versions"]) >= {"lammps", "MDAnalysis"} and len(record["plugin_sources_sha256"]) == 64
+    for name in run_names(config):
+        assert (dataset / name / "fabric.csv").read_bytes() == (study / RESULTS / name / "fabric.csv").read_bytes()
+        original = read_stress_table(study / RESULTS / name / "stress.txt")
+        stored = read_dataset_stress(dataset / name / "stress.csv.gz")
+        assert list(stored) == list(original)
+        for column in original:
+            np.testing.assert_allclose(stored[column], original[column], rtol=1e-7, atol=1e-300)
+    assert not list(dataset.rglob("*.dump")) and not list(dataset.rglob("*.rst"))
+
+
+def test_a_study_on_the_dataset_runs_no_simulation_and_reproduces_the_fits(study, dataset, tmp_path):
+    workdir = copy_workflow(tmp_path)
+    config = yaml.safe_load((workdir / "config/test.yaml").read_text())
+    config.update(study="test", dataset=str(dataset))
+    (workdir / "config/reference.yaml").write_text(yaml.safe_dump(config))
+    plan = snakemake(workdir, "--configfile", "config/reference.yaml", "-n")
+    assert plan.returncode == 0, (plan.stdout + plan.stderr)[-3000:]
+    rules = {job["rule"] for job in dry_run_jobs(plan.stdout + plan.stderr)}
+    assert "import_fabric_table" in rules and not rules & SIMULATION_RULES
+    result = snakemake(workdir, "--configfile", "config/reference.yaml")
+    assert result.returncode == 0, result.stderr[-3000:]
+    fits = json.loads((workdir / RESULTS / "fits.json").read_text())
+    recorded = read_dataset(dataset)["fits"]
+    for model, parameter in (("gw", "beta"), ("modified", "beta"), ("modified", "A")):
+        assert fits[model][parameter] == recorded[model][parameter]
+    for figure in ("fig1_startup.png", "fig2_rotation.png"):
+        assert (workdir / RESULTS / "figures" / figure).is_file()
+
+
+@pytest.mark.parametrize("key, value, message", [
+    ("seeds", [1], "config key 'seeds' differs from the dataset"),
+    ("forces", {"eta_f": 1.0, "kn": 6.0e+6}, "config key 'forces' differs from the dataset"),
+    ("analysis", {"eps": 0.02, "steady_window": [0.1, 0.3]}, "config key 'analysis.eps' differs from the dataset"),
+])
+def test_a_study_that_does_not_describe_the_dataset_is_refused(dataset, tmp_path, key, value, message):
+    workdir = copy_workflow(tmp_path)
+    config = yaml.safe_load((workdir / "config/test.yaml").read_text())
+    config.update(dataset=str(dataset))
+    config[key] = value
+    (workdir / "config/bad.yaml").write_text(yaml.safe_dump(config))
+    result = snakemake(workdir, "--configfile", "config/bad.yaml", "-n")
+    assert result.returncode != 0 and message in result.stdout + result.stderr
+
+
+def test_a_changed_dataset_file_is_refused(dataset, tmp_path):
+    copy = tmp_path / "copy"
+    shutil.copytree(dataset, copy)
+    table = copy / "seed1/startup/fabric.csv"
+    table.write_text(table.read_text().replace("\n1,", "\n2,", 1))
+    with pytest.raises(ValueError, match="does not match the SHA-256 recorded"):
+        import_fabric_table(copy, "seed1/startup", tmp_path / "out.csv")

@@ -1,0 +1,17 @@
+rule fabric_table:
+    """Near-contact fabric per dumped frame of one run, in the paper frame of its shear."""
+    input:
+        dump=f"{RESULTS}/seed{{seed}}/{{run}}/trajectory.dump",
+        marker=f"{RESULTS}/seed{{seed}}/{{run}}/run_complete.json",
+    output:
+        f"{RESULTS}/seed{{seed}}/{{run}}/fabric.csv",
+    wildcard_constraints:
+        run=r"startup|rotation_theta[^/]+",
+    params:
+        eps=config["analysis"]["eps"],
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/fabric_seed{{seed}}_{{run}}.log",
+    script:
+        "../scripts/fabric_table.py"
