@@ -42,3 +42,4 @@ rule all:
         f"{RESULTS}/fits.json",
         f"{RESULTS}/tables/model_errors.csv",
         rules.report_tables.output,
+        rules.verdicts.output,

@@ -124,6 +124,7 @@ def test_bad_config_stops_before_any_job(tmp_path, section, value, message):
 def test_report_shows_the_tables(study):
     """The report holds fits.json, the steady state and the error summary as captioned HTML tables."""
     import base64
+    import html as html_module
 
     from suspension_fabric.report_tables import format_value_error
 
@@ -132,7 +133,7 @@ def test_report_shows_the_tables(study):
     html = (study / "report_tables.html").read_text(errors="replace")
     pages = {name: base64.b64decode(data).decode("utf-8") for name, data in re.findall(
         r"data:text/html;charset=utf-?8;filename=([\w.]+);base64,([A-Za-z0-9+/=]+)", html)}
-    assert set(pages) == {"fits.html", "steady_state.html", "model_errors_summary.html"}, set(pages)
+    assert set(pages) == {"fits.html", "steady_state.html", "model_errors_summary.html", "verdicts.html"}, set(pages)
     for caption in ("Fitted model parameters (fits.json)", "Steady state of startup shear",
                     "Model versus simulation (tables/model_errors_summary.csv)"):
         assert caption in html  # the report captions (workflow/report/table_*.rst)
@@ -147,6 +148,11 @@ def test_report_shows_the_tables(study):
     assert "<caption>Simulated steady state" in pages["steady_state.html"]
     assert "<td>⟨nn⟩₁₂</td>" in pages["steady_state.html"]
     assert "<caption>Angle-averaged rms error" in pages["model_errors_summary.html"]
+    verdicts = pd.read_csv(study / RESULTS / "tables/verdicts.csv")
+    assert "<caption>Each claim of the paper" in pages["verdicts.html"]
+    for claim in verdicts["claim"]:
+        assert html_module.escape(claim) in pages["verdicts.html"], claim
+    assert set(verdicts["verdict"].fillna("")) <= {"", "confirmed", "refuted", "not resolved at this precision"}
 
 
 def fabric_tensor(row) -> "np.ndarray":

@@ -287,3 +287,40 @@ def write_error_summary_page(summary: pd.DataFrame, path: str | os.PathLike) -> 
          "rms over the simulated strains of (model − simulation seed mean) / |⟨nn⟩₁₂ˢˢ|, averaged over "
          "the simulated angles; ratio > 1: the modified model is closer to the simulation."),
     ])
+
+
+def verdicts_display_table(verdicts: pd.DataFrame) -> pd.DataFrame:
+    """The paper's claims, each with its deciding number ± error and the verdict."""
+    return pd.DataFrame({
+        "claim of the paper": verdicts["claim"],
+        "deciding number": verdicts["deciding number"],
+        "value": [format_value_error(v, e) for v, e in zip(verdicts["value"], verdicts["error"])],
+        "verdict": verdicts["verdict"].replace("", "(parameter)"),
+        "criterion": verdicts["criterion"],
+    })
+
+
+def write_verdicts_page(verdicts: pd.DataFrame, recovery: pd.DataFrame, path: str | os.PathLike) -> Path:
+    """The report page of the verdict table (rule verdicts) and the recovery strains behind it."""
+    shown = recovery[["theta", "sim_steady", "sim_steady_err", "sim_continuation", "sim_continuation_err",
+                      "gw_steady", "modified_steady", "sim_n23", "sim_n23_err", "gw_n23", "modified_n23"]]
+    recovery_text = pd.DataFrame({
+        "θ (deg)": [format_number(t) for t in shown["theta"]],
+        "simulation, ⟨nn⟩′₁₂ (steady)": [format_value_error(v, e) for v, e in zip(shown["sim_steady"], shown["sim_steady_err"])],
+        "simulation, ⟨nn⟩′₁₂ (θ = 0)": [format_value_error(v, e) for v, e in zip(shown["sim_continuation"], shown["sim_continuation_err"])],
+        "G-W, ⟨nn⟩′₁₂": [format_number(v, 3) for v in shown["gw_steady"]],
+        "modified, ⟨nn⟩′₁₂": [format_number(v, 3) for v in shown["modified_steady"]],
+        "simulation, ⟨nn⟩′₂₃": [format_value_error(v, e) for v, e in zip(shown["sim_n23"], shown["sim_n23_err"])],
+        "G-W, ⟨nn⟩′₂₃": [format_number(v, 3) for v in shown["gw_n23"]],
+        "modified, ⟨nn⟩′₂₃": [format_number(v, 3) for v in shown["modified_n23"]],
+    })
+    return write_html_tables(path, "The paper's claims (verdicts.csv)", [
+        ("Each claim of the paper, the number that decides it and the verdict", verdicts_display_table(verdicts),
+         "Errors: jackknife over seeds of the seed-mean quantity (steady state: correlation-aware standard "
+         "error). Confirmed / refuted: beyond 2 errors on the paper's side / the other side."),
+        ("Recovery strain after a rotation (first strain from which the component stays within 10%)",
+         recovery_text,
+         "⟨nn⟩′₁₂ within 10% of its steady value (steady: of startup's ⟨nn⟩₁₂ˢˢ; θ = 0: of the same seed's "
+         "continuation without rotation); ⟨nn⟩′₂₃ within 0.1 |⟨nn⟩₁₂ˢˢ| of 0. A curve that never settles is "
+         "given its last strain (recovery_table.csv says which)."),
+    ])
