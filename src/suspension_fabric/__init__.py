@@ -25,8 +25,9 @@ Shear rotation by theta
     e1' = cos(theta) e1 - sin(theta) e3,  e3' = sin(theta) e1 + cos(theta) e3.
     In the simulation frame that is the flow direction f = (cos theta, sin theta, 0).
     After a rotation every reported component is in the rotated frame
-    (e1', e2, e3'). Just after the rotation of a steady fabric,
-    <nn>'_12 = cos(theta) <nn>_12^ss and <nn>'_23 = sin(theta) <nn>_12^ss.
+    (e1', e2, e3'): <nn>' = R <nn> R^T with rows e1', e2, e3' of R, so just after it
+    <nn>'_12 = cos(theta) <nn>_12 - sin(theta) <nn>_23 and
+    <nn>'_23 = sin(theta) <nn>_12 + cos(theta) <nn>_23 (<nn>_23 = 0 in a steady state).
 
 Fabric
     A near contact is a pair with surface gap h < eps * min(d_i, d_j), eps = 0.01.
@@ -37,9 +38,14 @@ Modules
     frames       -- paper/simulation/rotated frame bases and tensor rotations
     model        -- G-W and modified G-W models: closure, rhs, exact integration,
                     steady states, fits, shear-rotation predictions
+    resources    -- where the schema, the LAMMPS scripts and the plugin sources live
+    schema       -- the study schema and its defaults (the one source of every default)
     lammps       -- the project's LAMMPS plugin (build, load) and the runners of the
-                    workflow/lammps scripts (pack, startup shear, shear rotation)
-    dumpio       -- LAMMPS triclinic boxes and dump files (writer, header checks)
+                    workflow/lammps scripts (pack, startup shear, shear rotation):
+                    plugin, process (launch, watch), checks, rundir (partial runs,
+                    resume, publishing), runner (the public runs)
+    dumpio       -- LAMMPS triclinic boxes and dump files (writer, reader, header checks)
+    stressio     -- the per-run stress table
     fabric       -- near-contact detection and per-frame fabric (MDAnalysis)
     fabric_reference -- brute-force O(N^2) near-contact search: fallback of the overlap
                     check for small boxes, reference of the tests
@@ -48,8 +54,10 @@ Modules
     tables       -- per-run fabric tables, seed aggregates, steady states
     model_vs_simulation -- models versus simulation: fits to the simulated steady
                     state, predictions at the simulated strains and angles, errors
+    verdicts     -- the paper's claims, each decided by a number with its error
     figures      -- the paper's Fig. 1 and Fig. 2
-    report_tables -- fits, steady state and error summary as HTML tables for the report
+    report_tables -- fits, steady state, error summary and verdicts as HTML tables for the report
+    dataset      -- reference datasets: a finished study's tables, committed, rebuilt without simulating
     config       -- study configuration: schema validation, cross-key checks
     workflow_io  -- logging helper of the Snakemake scripts
 """
