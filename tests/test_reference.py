@@ -1,0 +1,45 @@
+"""The committed reference dataset (data/reference, exported from config/paper.yaml) and the
+study that rebuilds the paper's figures from it (config/reference.yaml): no simulation job in
+its plan, every run's files present with their recorded checksums, and its fits equal to the
+ones recorded with the data."""
+
+from __future__ import annotations
+
+import json
+import shutil
+
+import pytest
+
+from suspension_fabric.config import load_config
+from suspension_fabric.dataset import check_config_matches, read_dataset, run_names
+from workflow_helpers import REPO, copy_workflow, dry_run_jobs, snakemake
+
+pytestmark = pytest.mark.workflow
+
+DATASET = REPO / "data" / "reference"
+
+
+def test_the_dataset_is_complete_and_small():
+    record = read_dataset(DATASET)
+    config = load_config(REPO / "config" / "reference.yaml")
+    check_config_matches(config, record, DATASET)
+    assert record["runs_missing"] == [] and record["fits"] is not None
+    assert len(record["files"]) == 3 * len(run_names(config))
+    size = sum(p.stat().st_size for p in DATASET.rglob("*") if p.is_file())
+    assert size < 10e6, f"{size / 1e6:.1f} MB"
+
+
+def test_the_reference_study_rebuilds_the_fits_without_simulating(tmp_path):
+    workdir = copy_workflow(tmp_path)
+    shutil.copytree(DATASET, workdir / "data" / "reference")
+    plan = snakemake(workdir, "--configfile", "config/reference.yaml", "-n")
+    assert plan.returncode == 0, (plan.stdout + plan.stderr)[-3000:]
+    rules = {job["rule"] for job in dry_run_jobs(plan.stdout + plan.stderr)}
+    assert not rules & {"build_plugin", "pack", "startup", "rotate", "fabric_table"}, rules
+    result = snakemake(workdir, "--configfile", "config/reference.yaml", timeout=600)
+    assert result.returncode == 0, result.stderr[-3000:]
+    fits = json.loads((workdir / "results/reference/fits.json").read_text())
+    recorded = read_dataset(DATASET)["fits"]
+    for model, parameter in (("gw", "beta"), ("modified", "beta"), ("modified", "A")):
+        assert fits[model][parameter] == pytest.approx(recorded[model][parameter], rel=1e-12)
+    assert (workdir / "results/reference/tables/verdicts.csv").is_file()
