@@ -155,7 +155,7 @@ def test_report_shows_the_tables(study):
     assert set(verdicts["verdict"].fillna("")) <= {"", "confirmed", "refuted", "not resolved at this precision"}
 
 
-def fabric_tensor(row) -> "np.ndarray":
+def fabric_tensor(row):
     import numpy as np
 
     return np.array([[row["n11"], row["n12"], row["n13"]],

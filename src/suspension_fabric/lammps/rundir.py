@@ -211,10 +211,11 @@ class PartialRun:
                     break
 
     def concatenate_logs(self, last: Path, name: str, target: Path) -> None:
+        links = self.chain(last)
         with open(target, "w") as out:
-            for segment, start in self.chain(last):
+            for segment, start in links:
                 source = segment / name
-                if len(self.chain(last)) > 1:
+                if len(links) > 1:
                     out.write(f"# ---- {segment.name} (from step {start if start is not None else 'start'})\n")
                 if source.is_file():
                     out.write(source.read_text())
