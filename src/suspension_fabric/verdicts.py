@@ -34,6 +34,7 @@ __all__ = ["TOLERANCE", "settle_strain", "recovery_table", "rms_error_table", "o
 
 TOLERANCE = 0.1
 CONFIRMED, REFUTED, UNRESOLVED = "confirmed", "refuted", "not resolved at this precision"
+# the paper's fitted parameters (its Sec. 3)
 PAPER = {"gw_beta": 10.9, "modified_beta": 9.4, "modified_A": 42.4}
 MODELS = ("gw", "modified")
 
@@ -199,12 +200,11 @@ def steady_state_verdicts(fits: dict) -> list[dict]:
     each model's own steady state)."""
     targets, model_ss = fits["targets"], fits["model_steady_state"]
     rows = [
-        _claim("G-W fitted on <nn>_12 (paper beta ~ 10.9)", "G-W beta", fits["gw"]["beta"], fits["gw"]["beta_err"],
-               "", "fitted value; paper 10.9"),
-        _claim("modified fitted on <nn>_11, <nn>_12 (paper beta ~ 9.4)", "modified beta", fits["modified"]["beta"],
-               fits["modified"]["beta_err"], "", "fitted value; paper 9.4"),
-        _claim("modified fitted on <nn>_11, <nn>_12 (paper A ~ 42.4)", "modified A", fits["modified"]["A"],
-               fits["modified"]["A_err"], "", "fitted value; paper 42.4"),
+        _claim(f"{label} (paper {name} ~ {PAPER[f'{model}_{name}']:g})", f"{model.replace('gw', 'G-W')} {name}",
+               fits[model][name], fits[model][f"{name}_err"], "", f"fitted value; paper {PAPER[f'{model}_{name}']:g}")
+        for model, name, label in (("gw", "beta", "G-W fitted on <nn>_12"),
+                                   ("modified", "beta", "modified fitted on <nn>_11, <nn>_12"),
+                                   ("modified", "A", "modified fitted on <nn>_11, <nn>_12"))
     ]
     differences = {c: (model_ss["gw"][c] - targets[c]["mean"], targets[c]["sem"]) for c in ("n11", "n22", "n33")}
     worst = max(differences.values(), key=lambda d: d[0] / d[1])  # the least negative in sigma
