@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .config import angle_label, load_config
+from .config import angle_label, load_config, simulation_settings
 from .lammps.plugin import plugin_sources
 from .stressio import read_stress_table
 
@@ -38,10 +38,6 @@ __all__ = ["DATASET_FILE", "run_names", "export_dataset", "read_dataset", "check
            "import_fabric_table", "read_dataset_stress"]
 
 DATASET_FILE = "dataset.json"
-#: Config sections that decide what the simulations and their fabric tables are: a study
-#: built on a dataset must have the same (analysis.steady_window and models may differ).
-SIMULATION_KEYS = ("seeds", "angles_deg", "particles", "forces", "run")
-ANALYSIS_KEYS = ("eps",)
 VERSIONED_PACKAGES = ("lammps", "MDAnalysis", "numpy", "scipy", "pandas", "snakemake")
 
 
@@ -133,18 +129,26 @@ def read_dataset(folder: Path) -> dict:
     return json.loads(path.read_text())
 
 
+def _what_was_simulated(config: dict) -> dict:
+    """The config keys that decide the runs and their fabric tables (config.simulation_settings,
+    the strains, the particles, seeds, angles and eps); steady window and models may differ."""
+    settings = simulation_settings(config)
+    return {
+        "seeds": config["seeds"], "angles_deg": config["angles_deg"], "particles": config["particles"],
+        "forces": settings["forces"], **{f"run.{key}": value for key, value in settings["run"].items()},
+        "run.startup_strain": config["run"]["startup_strain"],
+        "run.rotation_strain": config["run"]["rotation_strain"], "analysis.eps": config["analysis"]["eps"],
+    }
+
+
 def check_config_matches(config: dict, record: dict, folder: Path) -> None:
-    """A study built on a dataset must describe its simulations: same seeds, angles, particles,
-    forces, run settings and near-contact eps; every run present. Errors name the key."""
-    recorded = record["config"]
-    for key in SIMULATION_KEYS:
-        if config[key] != recorded[key]:
+    """A study built on a dataset must describe its simulations (:func:`_what_was_simulated`)
+    and every run must be present. Errors name the key."""
+    here, there = _what_was_simulated(config), _what_was_simulated(record["config"])
+    for key, value in here.items():
+        if value != there[key]:
             raise ValueError(f"config key '{key}' differs from the dataset {folder} "
-                             f"({config[key]!r} here, {recorded[key]!r} there)")
-    for key in ANALYSIS_KEYS:
-        if config["analysis"][key] != recorded["analysis"][key]:
-            raise ValueError(f"config key 'analysis.{key}' differs from the dataset {folder} "
-                             f"({config['analysis'][key]!r} here, {recorded['analysis'][key]!r} there)")
+                             f"({value!r} here, {there[key]!r} there)")
     if record["runs_missing"]:
         raise ValueError(f"the dataset {folder} lacks {len(record['runs_missing'])} run(s), e.g. "
                          f"{record['runs_missing'][0]}; export it again once the study has finished")

@@ -65,12 +65,6 @@ def _verdict(value: float, error: float, paper_sign: int) -> str:
     return UNRESOLVED
 
 
-def _mean_sem(values) -> tuple[float, float]:
-    values = np.asarray(values, float)
-    sem = values.std(ddof=1) / np.sqrt(len(values)) if len(values) > 1 else np.nan
-    return float(values.mean()), float(sem)
-
-
 def _jackknife(statistic, seeds) -> tuple[float, float]:
     """statistic(all seeds) and its jackknife standard error over seeds."""
     value = statistic(list(seeds))
