@@ -23,6 +23,7 @@ if config["dataset"]:  # fabric tables from a reference dataset: no simulation
     include: "workflow/rules/dataset.smk"
 
 else:
+    STRESS_TABLES = True  # every simulation records the stress parts
 
     include: "workflow/rules/build.smk"
     include: "workflow/rules/simulate.smk"
@@ -43,3 +44,6 @@ rule all:
         f"{RESULTS}/tables/model_errors.csv",
         rules.report_tables.output,
         rules.verdicts.output,
+        STRESS_FIGURES if STRESS_TABLES else [],
+        rules.stress_relation.output if STRESS_TABLES else [],
+        rules.report_stress.output if STRESS_TABLES else [],

@@ -11,7 +11,7 @@ import pytest
 import yaml
 
 from suspension_fabric.config import load_config
-from suspension_fabric.dataset import export_dataset, import_fabric_table, read_dataset, read_dataset_stress, run_names
+from suspension_fabric.dataset import export_dataset, import_run_table, read_dataset, read_dataset_stress, run_names
 from suspension_fabric.stressio import read_stress_table
 from workflow_helpers import RESULTS, copy_workflow, dry_run_jobs, snakemake
 
@@ -53,7 +53,7 @@ def test_a_study_on_the_dataset_runs_no_simulation_and_reproduces_the_fits(study
     plan = snakemake(workdir, "--configfile", "config/reference.yaml", "-n")
     assert plan.returncode == 0, (plan.stdout + plan.stderr)[-3000:]
     rules = {job["rule"] for job in dry_run_jobs(plan.stdout + plan.stderr)}
-    assert "import_fabric_table" in rules and not rules & SIMULATION_RULES
+    assert "import_run_table" in rules and not rules & SIMULATION_RULES
     result = snakemake(workdir, "--configfile", "config/reference.yaml")
     assert result.returncode == 0, result.stderr[-3000:]
     fits = json.loads((workdir / RESULTS / "fits.json").read_text())
@@ -85,4 +85,4 @@ def test_a_changed_dataset_file_is_refused(dataset, tmp_path):
     table = copy / "seed1/startup/fabric.csv"
     table.write_text(table.read_text().replace("\n1,", "\n2,", 1))
     with pytest.raises(ValueError, match="does not match the SHA-256 recorded"):
-        import_fabric_table(copy, "seed1/startup", tmp_path / "out.csv")
+        import_run_table(copy, "seed1/startup", "fabric.csv", tmp_path / "out.csv")

@@ -35,6 +35,42 @@ def test_study_produces_figures_fits_and_error_table(study):
     assert sorted(runs["seed"].unique()) == [1, 2]
 
 
+def test_study_produces_the_stress_tables_figures_and_relation(study):
+    """The stress (issue: tables/stress_*.csv, fig3_stress, fig4_stress_rotation): per-run tables
+    on the fabric's frames, seed aggregates, the steady state, the G-W stress relation fitted per
+    fabric source (reproducing the steady lubrication and contact sigma_12 it was fitted to, so
+    eta_r exactly) and its error table over both protocols and every angle."""
+    import numpy as np
+
+    results = study / RESULTS
+    for stem in ("fig3_stress", "fig4_stress_rotation"):
+        for ext in ("pdf", "png"):
+            assert (results / "figures" / f"{stem}.{ext}").stat().st_size > 10_000
+    for seed in (1, 2):
+        for run in ("startup", "rotation_theta0", "rotation_theta90"):
+            fabric = pd.read_csv(results / f"seed{seed}/{run}/fabric.csv")
+            stress = pd.read_csv(results / f"seed{seed}/{run}/stress.csv")
+            assert stress["step"].tolist() == fabric["step"].tolist()
+            assert (stress["n_rows"] >= 1).all()
+            np.testing.assert_allclose(stress["solvent_12"], 1.0)
+            np.testing.assert_allclose(stress["einstein_12"], 2.5 * fabric["phi"])
+            parts = sum(stress[f"{p}_12"] for p in ("contact", "lubrication", "kinetic", "solvent", "einstein"))
+            np.testing.assert_allclose(stress["total_12"], parts, rtol=1e-12)
+    steady = pd.read_csv(results / "tables/stress_steady_state.csv").set_index("quantity")
+    assert steady.loc["eta_r", "mean"] > 1 + 2.5 * 0.45 and steady.loc["Pi", "mean"] > 0
+    aggregate = pd.read_csv(results / "tables/stress_rotation_aggregate.csv")
+    assert sorted(aggregate["theta"].unique()) == [0.0, 90.0] and (aggregate["n_seeds"] == 2).all()
+    relation = pd.read_csv(results / "tables/stress_relation_fits.csv")
+    assert relation["source"].tolist() == ["simulation", "gw", "modified"]
+    assert (relation["a_H"] > 0).all() and (relation["a_C"] > 0).all()
+    np.testing.assert_allclose(relation["eta_r_predicted"], steady.loc["eta_r", "mean"], rtol=1e-9)
+    errors = pd.read_csv(results / "tables/stress_model_errors.csv")
+    assert set(errors["source"]) == {"simulation", "gw", "modified"}
+    assert sorted(errors[errors["protocol"] == "rotation"]["theta"].unique()) == [0.0, 90.0]
+    transients = pd.read_csv(results / "tables/stress_viscosity_transients.csv")
+    assert transients["theta"].tolist() == [0.0, 90.0]
+
+
 def test_nothing_left_to_do_after_a_run(study):
     result = snakemake(study, *TEST_CONFIG, "-n")
     assert result.returncode == 0
@@ -87,13 +123,18 @@ def test_every_figure_depends_on_every_stage(study):
                 "aggregate_rotation", "fit_models", "predict"}
     for figure in ("figure_startup", "figure_rotation"):
         assert upstream <= ancestors(figure), upstream - ancestors(figure)
+    stress_upstream = upstream | {"stress_table", "aggregate_stress_startup", "aggregate_stress_rotation",
+                                  "stress_relation"}
+    for figure in ("figure_stress_startup", "figure_stress_rotation"):
+        assert stress_upstream <= ancestors(figure), stress_upstream - ancestors(figure)
 
 
 def test_report_has_both_figures(study):
     result = snakemake(study, *TEST_CONFIG, "--report", "report.html", timeout=300)
     assert result.returncode == 0, result.stderr[-3000:]
     html = (study / "report.html").read_text(errors="replace")
-    assert "fig1_startup.png" in html and "fig2_rotation.png" in html
+    for stem in ("fig1_startup", "fig2_rotation", "fig3_stress", "fig4_stress_rotation"):
+        assert f"{stem}.png" in html, stem
 
 
 def test_lint_is_clean():
@@ -133,7 +174,8 @@ def test_report_shows_the_tables(study):
     html = (study / "report_tables.html").read_text(errors="replace")
     pages = {name: base64.b64decode(data).decode("utf-8") for name, data in re.findall(
         r"data:text/html;charset=utf-?8;filename=([\w.]+);base64,([A-Za-z0-9+/=]+)", html)}
-    assert set(pages) == {"fits.html", "steady_state.html", "model_errors_summary.html", "verdicts.html"}, set(pages)
+    assert set(pages) == {"fits.html", "steady_state.html", "model_errors_summary.html", "verdicts.html",
+                          "stress.html"}, set(pages)
     for caption in ("Fitted model parameters (fits.json)", "Steady state of startup shear",
                     "Model versus simulation (tables/model_errors_summary.csv)"):
         assert caption in html  # the report captions (workflow/report/table_*.rst)
@@ -153,6 +195,10 @@ def test_report_shows_the_tables(study):
     for claim in verdicts["claim"]:
         assert html_module.escape(claim) in pages["verdicts.html"], claim
     assert set(verdicts["verdict"].fillna("")) <= {"", "confirmed", "refuted", "not resolved at this precision"}
+    relation = pd.read_csv(study / RESULTS / "tables/stress_relation_fits.csv")
+    assert "<caption>G-W stress relation" in pages["stress.html"]
+    for value, error in zip(relation["a_H"], relation["a_H_err"]):
+        assert f"<td>{format_value_error(value, error)}</td>" in pages["stress.html"]
 
 
 def fabric_tensor(row):

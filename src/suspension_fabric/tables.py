@@ -107,11 +107,12 @@ def run_fabric_table(dump: str | os.PathLike, marker: str | os.PathLike, *, seed
     return fabric_table(analysis, seed=seed)
 
 
-def _check_table(table: pd.DataFrame, source: str) -> pd.DataFrame:
-    missing = [c for c in TABLE_COLUMNS if c not in table.columns]
+def _check_table(table: pd.DataFrame, source: str, value_columns=VALUE_COLUMNS) -> pd.DataFrame:
+    required = (*METADATA_COLUMNS, "step", "strain", *value_columns)
+    missing = [c for c in required if c not in table.columns]
     if missing:
-        raise ValueError(f"{source}: fabric table lacks column(s) {missing}")
-    numeric = ["theta", "phi", "strain", *VALUE_COLUMNS]
+        raise ValueError(f"{source}: table lacks column(s) {missing}")
+    numeric = ["theta", "phi", "strain", *value_columns]
     values = table[numeric].to_numpy(dtype=float)
     if not np.all(np.isfinite(values)):
         bad = [c for c in numeric if not np.all(np.isfinite(table[c].to_numpy(dtype=float)))]
@@ -146,13 +147,14 @@ def _seed_series(group: pd.DataFrame, theta: float) -> dict[int, pd.DataFrame]:
     return series
 
 
-def aggregate_seeds(table: pd.DataFrame) -> pd.DataFrame:
-    """Mean and standard error over seeds per (theta, strain) of every value column.
+def aggregate_seeds(table: pd.DataFrame, value_columns=VALUE_COLUMNS) -> pd.DataFrame:
+    """Mean and standard error over seeds per (theta, strain) of every value column
+    (the fabric's by default; any per-frame table with the metadata columns works).
 
     Raises ``ValueError`` if the seeds of one theta do not share the same strain grid
     (compared with a relative tolerance of 1e-9) or the same N.
     """
-    _check_table(table, "aggregate_seeds")
+    _check_table(table, "aggregate_seeds", value_columns)
     blocks = []
     for theta, group in table.groupby("theta", sort=True):
         series = _seed_series(group, theta)
@@ -169,7 +171,7 @@ def aggregate_seeds(table: pd.DataFrame) -> pd.DataFrame:
         n_values = group["N"].unique()
         if len(n_values) != 1:
             raise ValueError(f"theta={theta}: seeds have different N {sorted(n_values.tolist())}")
-        stacked = np.stack([series[s][list(VALUE_COLUMNS)].to_numpy(dtype=float) for s in seeds])
+        stacked = np.stack([series[s][list(value_columns)].to_numpy(dtype=float) for s in seeds])
         n_seeds = len(seeds)
         mean = stacked.mean(axis=0)
         if n_seeds > 1:
@@ -185,7 +187,7 @@ def aggregate_seeds(table: pd.DataFrame) -> pd.DataFrame:
                 "n_seeds": n_seeds,
             }
         )
-        for k, name in enumerate(VALUE_COLUMNS):
+        for k, name in enumerate(value_columns):
             block[f"{name}_mean"] = mean[:, k]
             block[f"{name}_sem"] = sem[:, k]
         blocks.append(block)
@@ -224,6 +226,7 @@ def steady_state(
     strain_min: float,
     strain_max: float,
     window_factor: float = 5.0,
+    value_columns=VALUE_COLUMNS,
 ) -> pd.DataFrame:
     """Steady-state means over strain_min <= strain <= strain_max, one row per (theta, quantity).
 
@@ -234,7 +237,7 @@ def steady_state(
     """
     if not strain_max > strain_min:
         raise ValueError(f"empty strain window [{strain_min}, {strain_max}]")
-    _check_table(table, "steady_state")
+    _check_table(table, "steady_state", value_columns)
     rows = []
     for theta, group in table.groupby("theta", sort=True):
         windows = {}
@@ -247,7 +250,7 @@ def steady_state(
                 )
             windows[seed] = inside
         n_seeds = len(windows)
-        for name in VALUE_COLUMNS:
+        for name in value_columns:
             means, variances, taus, spacings = [], [], [], []
             for inside in windows.values():
                 values = inside[name].to_numpy(dtype=float)

@@ -29,7 +29,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-__all__ = ["TOLERANCE", "settle_strain", "recovery_table", "rms_error_table", "overshoot_table",
+__all__ = ["TOLERANCE", "settle_strain", "jackknife", "recovery_table", "rms_error_table", "overshoot_table",
            "steady_state_verdicts", "rotation_verdicts", "verdict_table"]
 
 TOLERANCE = 0.1
@@ -65,7 +65,7 @@ def _verdict(value: float, error: float, paper_sign: int) -> str:
     return UNRESOLVED
 
 
-def _jackknife(statistic, seeds) -> tuple[float, float]:
+def jackknife(statistic, seeds) -> tuple[float, float]:
     """statistic(all seeds) and its jackknife standard error over seeds."""
     value = statistic(list(seeds))
     if len(seeds) < 2:
@@ -124,7 +124,7 @@ def recovery_table(runs: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float,
             def statistic(subset, per_seed=per_seed):
                 return settle_strain(strain, np.mean([per_seed[s] for s in subset], axis=0), tolerance)[0]
 
-            row[f"sim_{key}"], row[f"sim_{key}_err"] = _jackknife(statistic, seeds)
+            row[f"sim_{key}"], row[f"sim_{key}_err"] = jackknife(statistic, seeds)
             row[f"sim_{key}_settled"] = settle_strain(strain, np.mean(list(per_seed.values()), axis=0), tolerance)[1]
         for model in MODELS:
             series = _model_series(predictions, model, theta)
@@ -152,9 +152,9 @@ def rms_error_table(runs: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float
 
             row = {"theta": theta, "component": column}
             for model in MODELS:
-                row[f"{model}_rms"], row[f"{model}_rms_err"] = _jackknife(lambda subset, m=model: rms(m, subset), seeds)
+                row[f"{model}_rms"], row[f"{model}_rms_err"] = jackknife(lambda subset, m=model: rms(m, subset), seeds)
             with np.errstate(divide="ignore", invalid="ignore"):  # both models exact: no ratio (nan)
-                row["ratio"], row["ratio_err"] = _jackknife(
+                row["ratio"], row["ratio_err"] = jackknife(
                     lambda subset: np.float64(rms("gw", subset)) / rms("modified", subset), seeds)
             rows.append(row)
     return pd.DataFrame(rows)
@@ -178,7 +178,7 @@ def overshoot_table(runs: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float
         window = (strain >= peak - half_window) & (strain <= peak + half_window)
         for key in ("steady", "continuation"):
             per_seed = deviations[key]
-            row[f"sim_{key}"], row[f"sim_{key}_err"] = _jackknife(
+            row[f"sim_{key}"], row[f"sim_{key}_err"] = jackknife(
                 lambda subset, p=per_seed: float(np.mean([p[s][window] for s in subset])), sorted(per_seed))
         rows.append(row)
     return pd.DataFrame(rows)

@@ -23,7 +23,7 @@
    component of D^-1 r (a velocity, in units of gammadot d) is below `tol` (default 1e-5).
    A solve that does not converge within `maxiter` (default 1000) stops the run with an error.
 
-   The lubrication virial sum (x_i - x_j) F_ij of the solved velocities is the fix's virial
+   The symmetrised lubrication virial sum (x_i - x_j) F_ij of the solved velocities is the fix's virial
    (compute pressure ... fix, and the total pressure); the drag adds none (see README.md).
    One MPI rank only: parallelism comes from running seeds and angles side by side. */
 
@@ -441,7 +441,8 @@ void FixHydroImplicitSF::final_integrate()
 }
 
 /* Virial of the lubrication forces at the velocities in `solution`: sum over pairs of
-   (x_i - x_j) F_ij in LAMMPS order xx yy zz xy xz yz, half of it for a pair seen from both
+   (x_i - x_j) F_ij, symmetrised (the tangential forces make it asymmetric), in LAMMPS order
+   xx yy zz xy xz yz, half of it for a pair seen from both
    sides (newton off across a periodic boundary). */
 void FixHydroImplicitSF::tally_virial(const double E[3][3])
 {
@@ -457,9 +458,9 @@ void FixHydroImplicitSF::tally_virial(const double E[3][3])
     virial[0] += weight * p.del[0] * fi[0];
     virial[1] += weight * p.del[1] * fi[1];
     virial[2] += weight * p.del[2] * fi[2];
-    virial[3] += weight * p.del[0] * fi[1];
-    virial[4] += weight * p.del[0] * fi[2];
-    virial[5] += weight * p.del[1] * fi[2];
+    virial[3] += weight * 0.5 * (p.del[0] * fi[1] + p.del[1] * fi[0]);
+    virial[4] += weight * 0.5 * (p.del[0] * fi[2] + p.del[2] * fi[0]);
+    virial[5] += weight * 0.5 * (p.del[1] * fi[2] + p.del[2] * fi[1]);
   }
 }
 

@@ -51,8 +51,14 @@ PairLubricateSF::PairLubricateSF(LAMMPS *lmp) :
   single_enable = 1;
   single_extra = 3;
   svector = new double[single_extra];
+  // compute pair lubricate/sf: the summed torque of the contacts (see compute())
+  nextra = 3;
+  pvector = new double[nextra];
+  for (int k = 0; k < nextra; k++) pvector[k] = 0.0;
   restartinfo = 0;    // re-issue pair_style/pair_coeff after read_restart
   finitecutflag = 1;
+  // the virial must come from the symmetrised tally, never from sum x_i f_i (newton on)
+  no_virial_fdotr_compute = 1;
 }
 
 PairLubricateSF::~PairLubricateSF()
@@ -63,6 +69,7 @@ PairLubricateSF::~PairLubricateSF()
   }
   memory->destroy(maxrad_type);
   delete[] svector;
+  delete[] pvector;
 }
 
 void PairLubricateSF::allocate()
@@ -182,14 +189,25 @@ bool PairLubricateSF::resistance(int i, int j, const double *del,
 void PairLubricateSF::compute(int eflag, int vflag)
 {
   ev_init(eflag, vflag);
+  double **torque = atom->torque;
+  const int nlocal = atom->nlocal;
+  const int newton_pair = force->newton_pair;
+
+  // The torques present now are those of the sub-styles listed before this one in
+  // pair_style hybrid/overlay, i.e. the granular contacts (torques are cleared each step and
+  // no fix adds any before the pair forces).  Their sum T_c = -sum_pairs (x_i - x_j) x F_ij
+  // gives the antisymmetric part of the contact virial, which LAMMPS tallies unsymmetrised
+  // (dx F_z, not (dx F_z + dz F_x)/2).  With newton on, ghost atoms still hold their share.
+  const int counted = newton_pair ? nlocal + atom->nghost : nlocal;
+  for (int k = 0; k < 3; k++) pvector[k] = 0.0;
+  for (int i = 0; i < counted; i++)
+    for (int k = 0; k < 3; k++) pvector[k] += torque[i][k];
+
   // implicit: fix hydro/implicit/sf solves for the velocities and owns the forces and virial
   if (implicit) return;
 
   double **x = atom->x;
   double **f = atom->f;
-  double **torque = atom->torque;
-  const int nlocal = atom->nlocal;
-  const int newton_pair = force->newton_pair;
 
   const SuspensionFabric::ImposedFlow flow(domain);
 
@@ -223,9 +241,13 @@ void PairLubricateSF::compute(int eflag, int vflag)
         torque[j][2] += tj[2];
       }
 
-      if (evflag)
-        ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, fi[0], fi[1], fi[2],
-                     x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]);
+      if (vflag_either) {
+        // symmetrised virial (x_i - x_j) F_ij: the tangential forces make it asymmetric
+        const double d[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
+        v_tally_tensor(i, j, nlocal, newton_pair, d[0] * fi[0], d[1] * fi[1], d[2] * fi[2],
+                       0.5 * (d[0] * fi[1] + d[1] * fi[0]), 0.5 * (d[0] * fi[2] + d[2] * fi[0]),
+                       0.5 * (d[1] * fi[2] + d[2] * fi[1]));
+      }
     }
   }
 

@@ -8,6 +8,7 @@ rule aggregate_startup:
         steady=f"{RESULTS}/tables/steady_state.csv",
     params:
         kind="startup",
+        quantity="fabric",
         steady_window=config["analysis"]["steady_window"],
     conda:
         CONDA_ENV
@@ -26,9 +27,48 @@ rule aggregate_rotation:
         aggregate=f"{RESULTS}/tables/rotation_aggregate.csv",
     params:
         kind="rotation",
+        quantity="fabric",
     conda:
         CONDA_ENV
     log:
         f"{RESULTS}/logs/aggregate_rotation.log",
+    script:
+        "../scripts/aggregate.py"
+
+
+rule aggregate_stress_startup:
+    """Seed means and standard errors of the stress in startup shear; its steady state."""
+    input:
+        expand(f"{RESULTS}/seed{{seed}}/startup/stress.csv", seed=SEEDS),
+    output:
+        runs=f"{RESULTS}/tables/stress_startup_runs.csv",
+        aggregate=f"{RESULTS}/tables/stress_startup_aggregate.csv",
+        steady=f"{RESULTS}/tables/stress_steady_state.csv",
+    params:
+        kind="startup",
+        quantity="stress",
+        steady_window=config["analysis"]["steady_window"],
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/aggregate_stress_startup.log",
+    script:
+        "../scripts/aggregate.py"
+
+
+rule aggregate_stress_rotation:
+    """Seed means and standard errors of the stress per angle and post-rotation strain."""
+    input:
+        expand(f"{RESULTS}/seed{{seed}}/rotation_theta{{angle}}/stress.csv", seed=SEEDS, angle=ANGLES),
+    output:
+        runs=f"{RESULTS}/tables/stress_rotation_runs.csv",
+        aggregate=f"{RESULTS}/tables/stress_rotation_aggregate.csv",
+    params:
+        kind="rotation",
+        quantity="stress",
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/aggregate_stress_rotation.log",
     script:
         "../scripts/aggregate.py"

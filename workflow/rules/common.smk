@@ -11,6 +11,9 @@ ANGLE_VALUE = dict(zip(ANGLES, config["angles_deg"]))
 PLUGIN_LIBRARY = f"build/plugin/{PLUGIN_LIBRARY_NAME}"
 PLUGIN_SOURCES = [str(path) for path in plugin_sources()]
 FIGURES = expand(f"{RESULTS}/figures/{{name}}.{{ext}}", name=["fig1_startup", "fig2_rotation"], ext=["pdf", "png"])
+STRESS_FIGURES = expand(
+    f"{RESULTS}/figures/{{name}}.{{ext}}", name=["fig3_stress", "fig4_stress_rotation"], ext=["pdf", "png"]
+)
 # The config keys that change a simulation's outputs (others, like the failure bounds, the
 # restart interval or the MPI rank count, never rerun a finished simulation).
 SIMULATION_SETTINGS = simulation_settings(config)

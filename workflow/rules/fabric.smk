@@ -15,3 +15,21 @@ rule fabric_table:
         f"{RESULTS}/logs/fabric_seed{{seed}}_{{run}}.log",
     script:
         "../scripts/fabric_table.py"
+
+
+rule stress_table:
+    """Stress per dumped frame of one run: symmetric parts in the paper frame of its shear, units eta_f gammadot."""
+    input:
+        table=f"{RESULTS}/seed{{seed}}/{{run}}/stress.txt",
+        marker=f"{RESULTS}/seed{{seed}}/{{run}}/run_complete.json",
+        fabric=f"{RESULTS}/seed{{seed}}/{{run}}/fabric.csv",
+    output:
+        f"{RESULTS}/seed{{seed}}/{{run}}/stress.csv",
+    wildcard_constraints:
+        run=r"startup|rotation_theta[^/]+",
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/stress_seed{{seed}}_{{run}}.log",
+    script:
+        "../scripts/stress_table.py"

@@ -30,3 +30,40 @@ rule figure_rotation:
         f"{RESULTS}/logs/figure_rotation.log",
     script:
         "../scripts/figure_rotation.py"
+
+
+rule figure_stress_startup:
+    """Fig. 3: startup eta_r (with its parts), N1 and N2, simulation vs the G-W stress relation."""
+    input:
+        stress=rules.aggregate_stress_startup.output.aggregate,
+        relation=rules.stress_relation.output.fits,
+        predictions=rules.stress_relation.output.predictions,
+    output:
+        pdf=f"{RESULTS}/figures/fig3_stress.pdf",
+        png=report(f"{RESULTS}/figures/fig3_stress.png", caption="../report/fig3.rst", category="Figures"),
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/figure_stress_startup.log",
+    script:
+        "../scripts/figure_stress_startup.py"
+
+
+rule figure_stress_rotation:
+    """Fig. 4: polar maps of sigma'_12 and sigma'_23 after rotation; viscosity minimum and recovery per angle."""
+    input:
+        stress=rules.aggregate_stress_rotation.output.aggregate,
+        steady=rules.aggregate_stress_startup.output.steady,
+        predictions=rules.stress_relation.output.predictions,
+        transients=rules.stress_relation.output.transients,
+    output:
+        pdf=f"{RESULTS}/figures/fig4_stress_rotation.pdf",
+        png=report(
+            f"{RESULTS}/figures/fig4_stress_rotation.png", caption="../report/fig4.rst", category="Figures"
+        ),
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/figure_stress_rotation.log",
+    script:
+        "../scripts/figure_stress_rotation.py"

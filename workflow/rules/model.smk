@@ -69,3 +69,28 @@ rule verdicts:
         f"{RESULTS}/logs/verdicts.log",
     script:
         "../scripts/verdicts.py"
+
+
+rule stress_relation:
+    """G-W stress relation: fit on the steady stress per fabric source, predict startup and rotations, errors."""
+    input:
+        fits=rules.fit_models.output[0],
+        predictions=rules.predict.output[0],
+        startup=rules.aggregate_startup.output.aggregate,
+        rotation=rules.aggregate_rotation.output.aggregate,
+        stress_steady=rules.aggregate_stress_startup.output.steady,
+        stress_startup=rules.aggregate_stress_startup.output.aggregate,
+        stress_rotation=rules.aggregate_stress_rotation.output.aggregate,
+        stress_rotation_runs=rules.aggregate_stress_rotation.output.runs,
+    output:
+        fits=f"{RESULTS}/tables/stress_relation_fits.csv",
+        predictions=f"{RESULTS}/tables/stress_predictions.csv",
+        errors=f"{RESULTS}/tables/stress_model_errors.csv",
+        summary=f"{RESULTS}/tables/stress_model_errors_summary.csv",
+        transients=f"{RESULTS}/tables/stress_viscosity_transients.csv",
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/stress_relation.log",
+    script:
+        "../scripts/stress_relation.py"

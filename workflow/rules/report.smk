@@ -20,3 +20,20 @@ rule report_tables:
         f"{RESULTS}/logs/report_tables.log",
     script:
         "../scripts/report_tables.py"
+
+
+rule report_stress:
+    """The stress: steady state, G-W stress relation fits and errors, viscosity transients, as an HTML table page."""
+    input:
+        steady=rules.aggregate_stress_startup.output.steady,
+        relation=rules.stress_relation.output.fits,
+        summary=rules.stress_relation.output.summary,
+        transients=rules.stress_relation.output.transients,
+    output:
+        report(f"{RESULTS}/tables/stress.html", caption="../report/table_stress.rst", category="Tables"),
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/report_stress.log",
+    script:
+        "../scripts/report_stress.py"

@@ -1,18 +1,25 @@
-"""Snakemake: concatenated run table, seed aggregate and, for startup, the steady state
-(rules aggregate_startup and aggregate_rotation; params.kind)."""
+"""Snakemake: concatenated run table, seed aggregate and, for startup, the steady state of the
+fabric or the stress (rules aggregate_startup, aggregate_rotation, aggregate_stress_startup and
+aggregate_stress_rotation; params.kind and params.quantity)."""
 import pandas as pd
 
-from suspension_fabric import tables
+from suspension_fabric import stress, tables
 from suspension_fabric.workflow_io import logged
+
+READERS = {"fabric": (tables.read_fabric_table, tables.VALUE_COLUMNS),
+           "stress": (stress.read_stress_csv, stress.STRESS_VALUE_COLUMNS)}
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
     if sm.params.kind not in ("startup", "rotation"):
         raise ValueError(f"params.kind must be 'startup' or 'rotation', got {sm.params.kind!r}")
-    runs = pd.concat([tables.read_fabric_table(p) for p in sm.input], ignore_index=True)
-    tables.write_fabric_table(runs, sm.output.runs)
-    tables.aggregate_seeds(runs).to_csv(sm.output.aggregate, index=False)
+    if sm.params.quantity not in READERS:
+        raise ValueError(f"params.quantity must be one of {sorted(READERS)}, got {sm.params.quantity!r}")
+    read, columns = READERS[sm.params.quantity]
+    runs = pd.concat([read(p) for p in sm.input], ignore_index=True)
+    runs.to_csv(sm.output.runs, index=False)
+    tables.aggregate_seeds(runs, columns).to_csv(sm.output.aggregate, index=False)
     if sm.params.kind == "startup":
-        steady = tables.steady_state(runs, *sm.params.steady_window)
+        steady = tables.steady_state(runs, *sm.params.steady_window, value_columns=columns)
         steady.to_csv(sm.output.steady, index=False)
         print(steady.to_string())

@@ -1,0 +1,234 @@
+"""The Gillissen-Wilson stress relation: fitted on the steady state, tested through shear rotations.
+
+In the Gillissen-Wilson (G-W) model the stress is a static function of the fabric and the
+strain rate (J. J. J. Gillissen and H. J. Wilson, "Modeling sphere suspension microstructure
+and stress", Phys. Rev. E 98, 033119 (2018); the shear-thickening version: Gillissen, Ness,
+Peterson, Wilson and Cates, Phys. Rev. Lett. 123, 214504 (2019)). The particle stress has a
+hydrodynamic term on the full strain rate and a contact term on its compressive part, both
+through the fourth moment <nnnn> of the contact directions:
+
+    sigma^p / (eta_f gammadot) = a_H <nnnn>:E^ + a_C <nnnn>:E^_c
+
+with E^ = E/gammadot and E^_c its negative-eigenvalue part (:func:`suspension_fabric.model.split_strain_rate`),
+<nnnn> from <nn> by the fabric equation's closure (:func:`suspension_fabric.model.contract_closure`).
+The coefficient names are this project's. The fourth moment is normalised like the fabric
+(per particle, Tr<nn> = Z/2), so a_H and a_C absorb the number density and cannot be taken
+from papers that normalise otherwise: they are fitted here.
+
+Fit (:func:`fit_relation`): the simulation separates the lubrication stress (the hydrodynamic
+term) from the contact stress, so a_H = sigma^lub_12 / (<nnnn>:E^)_12 and
+a_C = sigma^con_12 / (<nnnn>:E^_c)_12 at the steady state of startup shear. Everything else
+(the normal stresses, the pressure, every transient) is then a prediction. Because the
+steady fabrics of the sources differ (the G-W model's trace is far from the simulation's),
+the coefficients are fitted per fabric source: the simulated <nn> and each fabric model's own
+steady state. The total adds the solvent (1 on 12) and the Einstein term (2.5 phi on 12) of
+:mod:`suspension_fabric.stress`; the kinetic part (O(1/eta_f)) is left out.
+
+Predictions after a rotation (:func:`stress_predictions`) come from (a) the seed-mean
+simulated fabric and (b) each fabric model's predicted fabric, all in the rotated paper
+frame (e1', e2, e3'), where the flow is simple shear e1' e2 again. Errors
+(:func:`relation_errors`) are |prediction - simulation| / sigma_12^ss of the total shear stress.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from . import model
+from .fabric import COMPONENTS
+from .frames import simple_shear_gradient
+from .stress import EINSTEIN_COEFFICIENT
+from .verdicts import TOLERANCE, jackknife, settle_strain
+
+__all__ = [
+    "SOURCES",
+    "PREDICTED_COLUMNS",
+    "relation_terms",
+    "steady_value",
+    "source_steady_fabrics",
+    "summarise_relation_errors",
+    "fit_relation",
+    "relation_fits",
+    "relation_stress",
+    "stress_predictions",
+    "relation_errors",
+    "viscosity_transients",
+]
+
+#: Fabric sources of the stress relation, with display names.
+SOURCES = {"simulation": "simulated <nn>", "gw": "G-W fabric (Eq. 1)", "modified": "modified G-W fabric (Eq. 2)"}
+#: Quantities a prediction gives, each in units of eta_f gammadot.
+PREDICTED_COLUMNS = ("eta_r", "N1", "N2", "Pi", "total_12", "total_23", "total_13",
+                     "contact_12", "contact_23", "lubrication_12", "lubrication_23")
+_E_HAT = model.split_strain_rate(simple_shear_gradient())
+
+
+def relation_terms(fabric) -> tuple[np.ndarray, np.ndarray]:
+    """(<nnnn>:E^, <nnnn>:E^_c) of simple shear e1 e2 for fabric(s) of shape (..., 3, 3)."""
+    _, e_hat, _, e_comp, _ = _E_HAT
+    fabric = np.asarray(fabric, dtype=float)
+    return model.contract_closure(e_hat, fabric), model.contract_closure(e_comp, fabric)
+
+
+def fit_relation(steady_fabric, lubrication_12: float, contact_12: float,
+                 lubrication_12_sem: float = np.nan, contact_12_sem: float = np.nan) -> dict:
+    """a_H and a_C (with the errors of the stress targets) from a steady fabric and the
+    steady lubrication and contact shear stresses (units eta_f gammadot)."""
+    hydro, contact = relation_terms(steady_fabric)
+    h12, c12 = float(hydro[0, 1]), float(contact[0, 1])
+    if not (h12 > 0 and c12 > 0):
+        raise ValueError(f"the steady fabric gives (<nnnn>:E^)_12 = {h12:.4g} and (<nnnn>:E^_c)_12 = {c12:.4g}; "
+                         "both must be positive to fit the relation")
+    return {"a_H": lubrication_12 / h12, "a_H_err": lubrication_12_sem / h12,
+            "a_C": contact_12 / c12, "a_C_err": contact_12_sem / c12}
+
+
+def steady_value(stress_steady: pd.DataFrame, quantity: str) -> tuple[float, float]:
+    """(mean, sem) of a quantity at theta = 0 in the stress steady-state table."""
+    rows = stress_steady[(stress_steady["quantity"] == quantity) & np.isclose(stress_steady["theta"], 0.0)]
+    if len(rows) != 1:
+        raise ValueError(f"stress steady-state table has {len(rows)} rows for {quantity} at theta = 0, expected 1")
+    return float(rows["mean"].iloc[0]), float(rows["sem"].iloc[0])
+
+
+def _tensor(components: dict) -> np.ndarray:
+    return model.vec_to_sym([components[f"n{c}"] for c in model.VECTOR_ORDER])
+
+
+def source_steady_fabrics(fits: dict) -> dict[str, np.ndarray]:
+    """The steady fabric of each source: the simulated targets and each model's own steady state."""
+    simulated = _tensor({name: value["mean"] for name, value in fits["targets"].items() if name in COMPONENTS})
+    return {"simulation": simulated, **{key: _tensor(fits["model_steady_state"][key]) for key in ("gw", "modified")}}
+
+
+def relation_stress(fabric, coefficients: dict, phi: float) -> pd.DataFrame:
+    """The relation's stress for fabric(s) (..., 3, 3) in the paper frame of simple shear e1 e2:
+    one row per fabric with :data:`PREDICTED_COLUMNS`."""
+    hydro, contact = relation_terms(np.atleast_3d(np.asarray(fabric, dtype=float)).reshape(-1, 3, 3))
+    lubrication = coefficients["a_H"] * hydro
+    contacts = coefficients["a_C"] * contact
+    particle = lubrication + contacts
+    total = particle.copy()
+    total[:, 0, 1] += 1.0 + EINSTEIN_COEFFICIENT * phi
+    total[:, 1, 0] = total[:, 0, 1]
+    return pd.DataFrame({
+        "eta_r": total[:, 0, 1],
+        "N1": total[:, 0, 0] - total[:, 1, 1],
+        "N2": total[:, 1, 1] - total[:, 2, 2],
+        "Pi": -np.trace(particle, axis1=1, axis2=2) / 3.0,
+        "total_12": total[:, 0, 1], "total_23": total[:, 1, 2], "total_13": total[:, 0, 2],
+        "contact_12": contacts[:, 0, 1], "contact_23": contacts[:, 1, 2],
+        "lubrication_12": lubrication[:, 0, 1], "lubrication_23": lubrication[:, 1, 2],
+    })
+
+
+def relation_fits(stress_steady: pd.DataFrame, fits: dict) -> pd.DataFrame:
+    """Per source: a_H, a_C (fitted on the steady lubrication and contact sigma_12) and the
+    steady eta_r, N1, N2 and Pi the relation then predicts, beside the simulated ones."""
+    lub, lub_sem = steady_value(stress_steady, "lubrication_12")
+    con, con_sem = steady_value(stress_steady, "contact_12")
+    measured = {name: steady_value(stress_steady, name) for name in ("eta_r", "N1", "N2", "Pi")}
+    rows = []
+    for source, fabric in source_steady_fabrics(fits).items():
+        coefficients = fit_relation(fabric, lub, con, lub_sem, con_sem)
+        predicted = relation_stress(fabric, coefficients, fits["phi"]).iloc[0]
+        row = {"source": source, **coefficients}
+        for name, (mean, sem) in measured.items():
+            row[f"{name}_predicted"] = float(predicted[name])
+            row[f"{name}_simulated"] = mean
+            row[f"{name}_simulated_sem"] = sem
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def _fabric_tensors(frame: pd.DataFrame, suffix: str = "") -> np.ndarray:
+    return model.vec_to_sym(np.stack([frame[f"n{c}{suffix}"].to_numpy(dtype=float) for c in model.VECTOR_ORDER], -1))
+
+
+def stress_predictions(relation: pd.DataFrame, startup_aggregate: pd.DataFrame, rotation_aggregate: pd.DataFrame,
+                       predictions: pd.DataFrame, phi: float) -> pd.DataFrame:
+    """The relation's stress along startup and every rotation, per source (module docstring).
+
+    ``startup_aggregate`` and ``rotation_aggregate`` are the seed aggregates of the fabric
+    (``n11_mean`` ...), ``predictions`` the fabric models' predictions (``predictions.csv``).
+    Columns: source, protocol, theta, strain and :data:`PREDICTED_COLUMNS`.
+    """
+    coefficients = relation.set_index("source")
+    blocks = []
+
+    def add(source, protocol, frame, fabric):
+        block = relation_stress(fabric, coefficients.loc[source], phi)
+        block.insert(0, "strain", frame["strain"].to_numpy(dtype=float))
+        block.insert(0, "theta", frame["theta"].to_numpy(dtype=float))
+        block.insert(0, "protocol", protocol)
+        block.insert(0, "source", source)
+        blocks.append(block)
+
+    for protocol, aggregate in (("startup", startup_aggregate), ("rotation", rotation_aggregate)):
+        add("simulation", protocol, aggregate, _fabric_tensors(aggregate, "_mean"))
+        for key in ("gw", "modified"):
+            rows = predictions[(predictions["model"] == key) & (predictions["protocol"] == protocol)]
+            add(key, protocol, rows, _fabric_tensors(rows))
+    return pd.concat(blocks, ignore_index=True)
+
+
+def relation_errors(stress_startup: pd.DataFrame, stress_rotation: pd.DataFrame, predicted: pd.DataFrame,
+                    sigma12_ss: float) -> pd.DataFrame:
+    """rms and max |prediction - simulation| / sigma12_ss per source, protocol, angle and quantity
+    (eta_r, N1, N2, total_23, contact_12, lubrication_12) over the simulated strains (seed means;
+    the relation is evaluated at the same strains, matched to 1e-9)."""
+    rows = []
+    for protocol, simulation in (("startup", stress_startup), ("rotation", stress_rotation)):
+        for source in SOURCES:
+            mine = predicted[(predicted["source"] == source) & (predicted["protocol"] == protocol)]
+            for theta, sim in simulation.groupby("theta", sort=True):
+                sim = sim.sort_values("strain")
+                pred = mine[np.isclose(mine["theta"], theta)].sort_values("strain")
+                strains, predicted_strains = sim["strain"].to_numpy(), pred["strain"].to_numpy()
+                nearest = np.searchsorted(predicted_strains, strains).clip(0, max(len(pred) - 1, 0))
+                if len(pred) == 0 or not np.allclose(predicted_strains[nearest], strains, rtol=1e-9, atol=1e-9):
+                    raise ValueError(f"{protocol}: source {source} at theta={theta} is not on the simulation's "
+                                     f"strain grid")
+                on_grid = pred.iloc[nearest]
+                for name in ("eta_r", "N1", "N2", "total_23", "contact_12", "lubrication_12"):
+                    diff = (on_grid[name].to_numpy() - sim[f"{name}_mean"].to_numpy()) / abs(sigma12_ss)
+                    rows.append({"protocol": protocol, "source": source, "theta": float(theta), "quantity": name,
+                                 "rms_error": float(np.sqrt(np.mean(diff ** 2))),
+                                 "max_abs_error": float(np.abs(diff).max()), "n_strains": len(diff)})
+    return pd.DataFrame(rows)
+
+
+def summarise_relation_errors(errors: pd.DataFrame) -> pd.DataFrame:
+    """Angle-averaged rms error per protocol, quantity and source (columns rms_<source>)."""
+    mean = errors.groupby(["protocol", "quantity", "source"], sort=False)["rms_error"].mean().unstack("source")
+    return mean[[source for source in SOURCES if source in mean.columns]].add_prefix("rms_").reset_index()
+
+
+def viscosity_transients(stress_runs: pd.DataFrame, eta_ss: float, tolerance: float = TOLERANCE) -> pd.DataFrame:
+    """Per angle, on the seed-mean eta_r(gamma) / eta_ss after the rotation: its minimum, the
+    strain of the minimum, and the recovery strain (first strain from which it stays within
+    ``tolerance`` of 1; censored at the run's end if it never does), each with its jackknife
+    error over seeds."""
+    rows = []
+    for theta, group in stress_runs.groupby("theta", sort=True):
+        curves = {int(seed): rows_.sort_values("strain") for seed, rows_ in group.groupby("seed")}
+        strain = next(iter(curves.values()))["strain"].to_numpy(dtype=float)
+        for seed, rows_ in curves.items():
+            other = rows_["strain"].to_numpy(dtype=float)
+            if len(other) != len(strain) or not np.allclose(other, strain, rtol=1e-9, atol=1e-12):
+                raise ValueError(f"theta={theta}: the strains of seed {seed} differ from those of seed {next(iter(curves))}")
+
+        def mean_curve(seeds):
+            return np.mean([curves[s]["eta_r"].to_numpy(dtype=float) for s in seeds], axis=0) / eta_ss
+
+        minimum, minimum_err = jackknife(lambda seeds: float(mean_curve(seeds).min()), list(curves))
+        at, at_err = jackknife(lambda seeds: float(strain[np.argmin(mean_curve(seeds))]), list(curves))
+        recovery, recovery_err = jackknife(lambda seeds: settle_strain(strain, mean_curve(seeds) - 1.0, tolerance)[0],
+                                           list(curves))
+        rows.append({"theta": float(theta), "eta_min_over_ss": minimum, "eta_min_over_ss_err": minimum_err,
+                     "strain_at_min": at, "strain_at_min_err": at_err, "recovery_strain": recovery,
+                     "recovery_strain_err": recovery_err,
+                     "recovered": settle_strain(strain, mean_curve(list(curves)) - 1.0, tolerance)[1],
+                     "n_seeds": len(curves)})
+    return pd.DataFrame(rows)
