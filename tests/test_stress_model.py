@@ -589,7 +589,7 @@ def test_viscosity_transients_identical_seeds():
     recovery at the grid strain after its root; 1 - 0.5 exp(-g/5) never recovers on [0, 2]:
     recovered False, recovery strain = 2 (the last strain). All jackknife errors exactly 0."""
     table = runs_table({0.0: [exponential()] * 3, 90.0: [dip()] * 3, 180.0: [exponential(0.5, 5.0)] * 3})
-    out = stress_model.viscosity_transients(table, ETA_SS).set_index("theta")
+    out = stress_model.viscosity_transients(table, ETA_SS, smoothing_strain=0.0).set_index("theta")
     assert list(out.index) == [0.0, 90.0, 180.0]
     assert (out["n_seeds"] == 3).all()
     assert 0.2 * np.log(5) == pytest.approx(0.32189, abs=1e-5)
@@ -611,7 +611,7 @@ def test_viscosity_transients_different_seeds():
     and the errors the jackknife sqrt((n-1)/n sum (loo - mean loo)^2) over leave-one-out mean
     curves, all three non-zero."""
     seeds = [dip(0.3, 0.2), dip(0.4, 0.25), dip(0.5, 0.3)]
-    out = stress_model.viscosity_transients(runs_table({90.0: seeds}), ETA_SS).iloc[0]
+    out = stress_model.viscosity_transients(runs_table({90.0: seeds}), ETA_SS, smoothing_strain=0.0).iloc[0]
 
     def stats(curves):
         mean = np.mean(curves, axis=0)
@@ -632,6 +632,26 @@ def test_viscosity_transients_different_seeds():
 def test_viscosity_transients_single_seed_and_tolerance():
     """One seed: jackknife error nan; a wider tolerance (0.2) moves the exponential's recovery to the
     first grid strain >= 0.2 ln(0.5/0.2) = 0.1833, i.e. 0.19."""
-    out = stress_model.viscosity_transients(runs_table({0.0: [exponential()]}), ETA_SS, tolerance=0.2).iloc[0]
+    out = stress_model.viscosity_transients(runs_table({0.0: [exponential()]}), ETA_SS, tolerance=0.2, smoothing_strain=0.0).iloc[0]
     assert out["recovery_strain"] == pytest.approx(0.19, abs=1e-12)
     assert np.isnan(out["recovery_strain_err"]) and out["n_seeds"] == 1
+
+
+def test_moving_average_and_smoothed_transients():
+    """moving_average: the mean over the points within width/2 of each point (fewer at the ends),
+    so a linear series is unchanged inside and an alternating +-a series (frame noise) is damped
+    to a/3 by a 3-point window; viscosity_transients smooths the seed mean by it, so a dip of
+    1 - 0.5 exp(-gamma/0.2) with +-0.15 frame noise recovers where the noiseless curve does
+    (0.2 ln 5 = 0.32), while unsmoothed it never re-enters the 10% band."""
+    strain = T_GRID
+    np.testing.assert_allclose(stress_model.moving_average(strain, 2 * strain, 0.02)[1:-1], 2 * strain[1:-1])
+    noise = 0.15 * (-1.0) ** np.arange(len(strain))
+    damped = stress_model.moving_average(strain, noise, 0.02)
+    np.testing.assert_allclose(np.abs(damped[1:-1]), 0.05, rtol=1e-9)
+    np.testing.assert_array_equal(stress_model.moving_average(strain, noise, 0.0), noise)
+    clean = 1 - 0.5 * np.exp(-strain / 0.2)
+    noisy = runs_table({90.0: [clean + noise, clean + noise]})
+    raw = stress_model.viscosity_transients(noisy, ETA_SS, smoothing_strain=0.0).iloc[0]
+    smoothed = stress_model.viscosity_transients(noisy, ETA_SS, smoothing_strain=0.1).iloc[0]
+    assert not raw["recovered"] and raw["recovery_strain"] == strain[-1]
+    assert smoothed["recovered"] and abs(smoothed["recovery_strain"] - 0.33) <= 0.03

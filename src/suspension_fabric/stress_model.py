@@ -54,6 +54,7 @@ __all__ = [
     "stress_predictions",
     "relation_errors",
     "viscosity_transients",
+    "moving_average",
 ]
 
 #: Fabric sources of the stress relation, with display names.
@@ -205,11 +206,23 @@ def summarise_relation_errors(errors: pd.DataFrame) -> pd.DataFrame:
     return mean[[source for source in SOURCES if source in mean.columns]].add_prefix("rms_").reset_index()
 
 
-def viscosity_transients(stress_runs: pd.DataFrame, eta_ss: float, tolerance: float = TOLERANCE) -> pd.DataFrame:
-    """Per angle, on the seed-mean eta_r(gamma) / eta_ss after the rotation: its minimum, the
-    strain of the minimum, and the recovery strain (first strain from which it stays within
-    ``tolerance`` of 1; censored at the run's end if it never does), each with its jackknife
-    error over seeds."""
+def moving_average(strain, values, width: float) -> np.ndarray:
+    """Centred running mean of ``values`` over the points within ``width``/2 in strain of each
+    point (fewer at the ends); ``width`` 0 returns the values unchanged."""
+    strain, values = np.asarray(strain, dtype=float), np.asarray(values, dtype=float)
+    if width <= 0:
+        return values.copy()
+    near = np.abs(strain[:, None] - strain[None, :]) <= 0.5 * width + 1e-12
+    return (near * values[None, :]).sum(axis=1) / near.sum(axis=1)
+
+
+def viscosity_transients(stress_runs: pd.DataFrame, eta_ss: float, tolerance: float = TOLERANCE,
+                         smoothing_strain: float = 0.1) -> pd.DataFrame:
+    """Per angle, on the seed-mean eta_r(gamma) / eta_ss after the rotation, smoothed by a centred
+    running mean over ``smoothing_strain`` (the frame-to-frame noise of a few seeds is ~10%, the
+    size of the band): its minimum, the strain of the minimum, and the recovery strain (first
+    strain from which it stays within ``tolerance`` of 1; censored at the run's end if it never
+    does), each with its jackknife error over seeds."""
     rows = []
     for theta, group in stress_runs.groupby("theta", sort=True):
         curves = {int(seed): rows_.sort_values("strain") for seed, rows_ in group.groupby("seed")}
@@ -220,7 +233,8 @@ def viscosity_transients(stress_runs: pd.DataFrame, eta_ss: float, tolerance: fl
                 raise ValueError(f"theta={theta}: the strains of seed {seed} differ from those of seed {next(iter(curves))}")
 
         def mean_curve(seeds):
-            return np.mean([curves[s]["eta_r"].to_numpy(dtype=float) for s in seeds], axis=0) / eta_ss
+            mean = np.mean([curves[s]["eta_r"].to_numpy(dtype=float) for s in seeds], axis=0) / eta_ss
+            return moving_average(strain, mean, smoothing_strain)
 
         minimum, minimum_err = jackknife(lambda seeds: float(mean_curve(seeds).min()), list(curves))
         at, at_err = jackknife(lambda seeds: float(strain[np.argmin(mean_curve(seeds))]), list(curves))
@@ -230,5 +244,5 @@ def viscosity_transients(stress_runs: pd.DataFrame, eta_ss: float, tolerance: fl
                      "strain_at_min": at, "strain_at_min_err": at_err, "recovery_strain": recovery,
                      "recovery_strain_err": recovery_err,
                      "recovered": settle_strain(strain, mean_curve(list(curves)) - 1.0, tolerance)[1],
-                     "n_seeds": len(curves)})
+                     "n_seeds": len(curves), "smoothing_strain": smoothing_strain})
     return pd.DataFrame(rows)

@@ -1,0 +1,140 @@
+"""The study on a real SLURM cluster through Snakemake's SLURM executor: the README's cluster
+command (profiles/slurm, account and partition from SBATCH_ACCOUNT and SBATCH_PARTITION) on the
+test study, checked against SLURM's accounting (sacct) and against a local run; and one
+simulation on two MPI ranks as a two-task SLURM job.
+
+Needs a cluster; on a machine without one these tests skip. As root on Debian,
+`eval "$(bash envs/slurm_cluster.sh up)"` starts a single-node cluster on this machine and exports
+the two variables (`.ci/run` does so); `bash envs/slurm_cluster.sh down` stops it.
+"""
+
+import importlib.util
+import os
+import re
+import shutil
+import subprocess
+from collections import Counter
+from datetime import datetime, timedelta
+
+import pytest
+
+from workflow_helpers import RESULTS, SNAKEMAKE, TEST_CONFIG, copy_workflow, job_counts
+
+pytestmark = [pytest.mark.slurm, pytest.mark.workflow]
+
+ENABLE = 'to run them: eval "$(bash envs/slurm_cluster.sh up)" (as root; starts a local cluster)'
+PROFILE = ["--workflow-profile", "profiles/slurm"]
+SACCT_FIELDS = ["JobIDRaw", "State", "Account", "Partition", "AllocCPUS", "Comment", "SubmitLine"]
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    """(account, partition) of a reachable cluster with accounting, else skip saying how."""
+    missing = [tool for tool in ("sinfo", "sbatch", "sacct") if shutil.which(tool) is None]
+    if missing:
+        pytest.skip(f"no SLURM here ({', '.join(missing)} not on PATH); {ENABLE}")
+    if importlib.util.find_spec("snakemake_executor_plugin_slurm") is None:
+        pytest.skip("the SLURM executor plugin is missing: bash envs/bootstrap.sh installs envs/cluster.txt")
+    account, partition = os.environ.get("SBATCH_ACCOUNT"), os.environ.get("SBATCH_PARTITION")
+    if not (account and partition):
+        pytest.skip(f"SBATCH_ACCOUNT and SBATCH_PARTITION are not set; {ENABLE}")
+    state = subprocess.run(["sinfo", "-h", "-p", partition, "-o", "%a"], capture_output=True, text=True)
+    accounting = subprocess.run(["sacct", "-n", "-X", "-S", "now"], capture_output=True, text=True)
+    if state.returncode != 0 or state.stdout.strip() != "up" or accounting.returncode != 0:
+        pytest.skip(f"partition {partition!r} not up or no accounting ({state.stderr.strip()}"
+                    f"{accounting.stderr.strip()}); {ENABLE}")
+    return account, partition
+
+
+def run_on_slurm(workdir, *args):
+    """The README's cluster command (no --cores: each job's threads are its own)."""
+    started = datetime.now() - timedelta(minutes=1)
+    result = subprocess.run([str(SNAKEMAKE), *TEST_CONFIG, *PROFILE, *args], cwd=workdir,
+                            capture_output=True, text=True, timeout=1800)
+    assert result.returncode == 0, result.stderr[-4000:]
+    return result, started
+
+
+def started_jobs(output: str) -> list[tuple[bool, str, str]]:
+    """(local, rule, Snakemake job id) of every job the log says was started."""
+    return [(bool(local), rule, jobid) for local, rule, jobid in
+            re.findall(r"^(local)?rule (\w+):\n(?:    .*\n)*?    jobid: (\d+)$", output, flags=re.M)]
+
+
+def sbatch_submissions(output: str) -> dict[str, str]:
+    """Snakemake job id -> SLURM job id, from the executor's log lines."""
+    return dict(re.findall(r"^Job (\d+) has been submitted with SLURM jobid (\d+)", output, flags=re.M))
+
+
+def sacct_jobs(output: str, started: datetime) -> dict[str, dict]:
+    """SLURM's accounting record of every job of this Snakemake run (the executor names every
+    job after the run's id and puts the rule and wildcards in its comment)."""
+    run_id = re.search(r"SLURM run ID: (\S+)", output).group(1)
+    table = subprocess.run(
+        ["sacct", "-X", "-P", "-n", "--name", run_id, "-S", started.strftime("%Y-%m-%dT%H:%M:%S"),
+         "-o", ",".join(SACCT_FIELDS)], capture_output=True, text=True, check=True).stdout
+    rows = [dict(zip(SACCT_FIELDS, line.split("|", len(SACCT_FIELDS) - 1))) for line in table.splitlines()]
+    return {row["JobIDRaw"]: row for row in rows}
+
+
+def rule_of(comment: str) -> str:
+    return re.fullmatch(r"rule_(\w+?)(?:_wildcards_.*)?", comment).group(1)
+
+
+@pytest.fixture(scope="module")
+def slurm_study(cluster, tmp_path_factory):
+    workdir = copy_workflow(tmp_path_factory.mktemp("slurm"))
+    result, started = run_on_slurm(workdir)
+    return workdir, result.stderr, sacct_jobs(result.stderr, started)
+
+
+def test_every_job_of_the_study_ran_as_a_completed_slurm_job(cluster, slurm_study):
+    """Every job but the action-less target `all` went through sbatch exactly once, under the
+    account and partition from the environment, and sacct reports each COMPLETED."""
+    account, partition = cluster
+    _, log, sacct = slurm_study
+    jobs = started_jobs(log)
+    counts = job_counts(log)
+    assert counts.pop("total") == len(jobs) and Counter(rule for _, rule, _ in jobs) == counts
+    assert [rule for local, rule, _ in jobs if local] == ["all"]
+    remote = {jobid: rule for local, rule, jobid in jobs if not local}
+    submitted = sbatch_submissions(log)
+    assert set(submitted) == set(remote), "jobs not submitted through sbatch"
+    assert len(set(submitted.values())) == len(remote)
+    assert set(sacct) == set(submitted.values()), "sbatch jobs missing from sacct"
+    assert {row["State"] for row in sacct.values()} == {"COMPLETED"}
+    assert {(row["Account"], row["Partition"]) for row in sacct.values()} == {(account, partition)}
+    assert Counter(rule_of(row["Comment"]) for row in sacct.values()) == Counter(remote.values())
+    assert {"startup", "rotate", "fabric_table", "fit_models", "build_plugin"} <= set(remote.values())
+
+
+def test_slurm_results_equal_a_local_run(slurm_study, study):
+    """fits.json and every table equal those of the local run of the same config and seeds (the
+    session's `study`) to the bit: each LAMMPS run is serial and deterministic."""
+    workdir, _, _ = slurm_study
+    on_slurm, local = workdir / RESULTS, study / RESULTS
+    tables = sorted(path.name for path in (local / "tables").glob("*.csv"))
+    assert tables and sorted(path.name for path in (on_slurm / "tables").glob("*.csv")) == tables
+    for name in ["fits.json"] + [f"tables/{table}" for table in tables]:
+        assert (on_slurm / name).read_bytes() == (local / name).read_bytes(), name
+
+
+def test_two_mpi_ranks_run_as_one_two_task_slurm_job(cluster, tmp_path):
+    """run.mpi_ranks = 2 (explicit integrator, dt below its 4.5e-5 limit at the test study's kn):
+    one SLURM job of 2 tasks x 1 core on one node, in which LAMMPS runs on a 2-rank grid."""
+    workdir = copy_workflow(tmp_path)
+    target = f"{RESULTS}/seed1/startup/run_complete.json"
+    result, started = run_on_slurm(workdir, "--config", "seeds=[1]",
+                                   "run={integrator: explicit, mpi_ranks: 2, dt: 4.0e-5}", "--", target)
+    sacct = sacct_jobs(result.stderr, started)
+    startup = [row for row in sacct.values() if rule_of(row["Comment"]) == "startup"]
+    assert len(startup) == 1
+    job = startup[0]
+    assert job["State"] == "COMPLETED"
+    assert job["AllocCPUS"] == "2"
+    for option in ("--ntasks=2", "--cpus-per-task=1", "--nodes=1"):
+        assert option in job["SubmitLine"].split(), option
+    log = (workdir / RESULTS / "seed1/startup/log.lammps").read_text()
+    grid = re.search(r"(\d+) by (\d+) by (\d+) MPI processor grid", log)
+    assert grid and int(grid[1]) * int(grid[2]) * int(grid[3]) == 2, grid
+    assert re.search(r"CPU use with 2 MPI tasks", log)
