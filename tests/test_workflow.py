@@ -39,7 +39,7 @@ def test_study_produces_the_stress_tables_figures_and_relation(study):
     """The stress (issue: tables/stress_*.csv, fig3_stress, fig4_stress_rotation): per-run tables
     on the fabric's frames, seed aggregates, the steady state, the G-W stress relation fitted per
     fabric source (reproducing the steady lubrication and contact sigma_12 it was fitted to, so
-    eta_r exactly) and its error table over both protocols and every angle."""
+    eta_r but for the kinetic part) and its error table over both protocols and every angle."""
     import numpy as np
 
     results = study / RESULTS
@@ -63,7 +63,10 @@ def test_study_produces_the_stress_tables_figures_and_relation(study):
     relation = pd.read_csv(results / "tables/stress_relation_fits.csv")
     assert relation["source"].tolist() == ["simulation", "gw", "modified"]
     assert (relation["a_H"] > 0).all() and (relation["a_C"] > 0).all()
-    np.testing.assert_allclose(relation["eta_r_predicted"], steady.loc["eta_r", "mean"], rtol=1e-9)
+    # the relation reproduces the steady contact and lubrication sigma_12 it was fitted to; it
+    # has no kinetic part (O(1/eta_f), larger in this study's eta_f = 1)
+    np.testing.assert_allclose(relation["eta_r_predicted"],
+                               steady.loc["eta_r", "mean"] - steady.loc["kinetic_12", "mean"], rtol=1e-6)
     errors = pd.read_csv(results / "tables/stress_model_errors.csv")
     assert set(errors["source"]) == {"simulation", "gw", "modified"}
     assert sorted(errors[errors["protocol"] == "rotation"]["theta"].unique()) == [0.0, 90.0]
