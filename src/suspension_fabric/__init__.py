@@ -49,14 +49,18 @@ Modules
     fabric       -- near-contact detection and per-frame fabric (MDAnalysis)
     fabric_reference -- brute-force O(N^2) near-contact search: fallback of the overlap
                     check for small boxes, reference of the tests
-    runinfo      -- a finished run's time step, rate, first step and flow angle (from
+    runinfo      -- a finished run's time step, rate, first step, flow angle and eta_f (from
                     its completion marker)
-    tables       -- per-run fabric tables, seed aggregates, steady states
+    tables       -- per-run fabric tables, seed aggregates, steady states (of any per-frame table)
+    stress       -- the stress per frame: symmetric contact, lubrication, kinetic, solvent and
+                    Einstein parts in the paper frame of the current shear, eta_r, N1, N2, Pi
+    stress_model -- the G-W stress relation: fits per fabric source, predictions, errors,
+                    viscosity minimum and recovery after a rotation
     model_vs_simulation -- models versus simulation: fits to the simulated steady
                     state, predictions at the simulated strains and angles, errors
     verdicts     -- the paper's claims, each decided by a number with its error
-    figures      -- the paper's Fig. 1 and Fig. 2
-    report_tables -- fits, steady state, error summary and verdicts as HTML tables for the report
+    figures      -- the paper's Fig. 1 and Fig. 2; the stress figures 3 and 4
+    report_tables -- fits, steady state, error summary, verdicts and stress as HTML tables for the report
     dataset      -- reference datasets: a finished study's tables, committed, rebuilt without simulating
     config       -- study configuration: schema validation, cross-key checks
     workflow_io  -- logging helper of the Snakemake scripts
