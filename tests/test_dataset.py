@@ -68,6 +68,28 @@ def test_a_study_on_the_dataset_runs_no_simulation_and_reproduces_the_fits(study
     assert relation == (study / RESULTS / "tables/stress_relation_fits.csv").read_text()
 
 
+def test_a_dataset_without_stress_tables_builds_everything_else(study, dataset, tmp_path):
+    """A dataset exported before the stress parts were recorded (no stress.csv per run): the
+    study plans the fabric figures, fits and verdicts, leaves the stress rules out and says so."""
+    old = tmp_path / "old"
+    shutil.copytree(dataset, old)
+    record = read_dataset(old)
+    record["files"] = {key: value for key, value in record["files"].items() if not key.endswith("/stress.csv")}
+    (old / "dataset.json").write_text(json.dumps(record))
+    for table in old.rglob("stress.csv"):
+        table.unlink()
+    workdir = copy_workflow(tmp_path / "work")
+    config = yaml.safe_load((workdir / "config/test.yaml").read_text())
+    config.update(dataset=str(old))
+    (workdir / "config/old.yaml").write_text(yaml.safe_dump(config))
+    plan = snakemake(workdir, "--configfile", "config/old.yaml", "-n")
+    assert plan.returncode == 0, (plan.stdout + plan.stderr)[-3000:]
+    rules = {job["rule"] for job in dry_run_jobs(plan.stdout + plan.stderr)}
+    assert {"import_run_table", "fit_models", "figure_rotation", "verdicts"} <= rules
+    assert not {rule for rule in rules if "stress" in rule}, rules
+    assert "has no per-run stress tables; the stress rules are left out" in plan.stdout + plan.stderr
+
+
 @pytest.mark.parametrize("key, value, message", [
     ("seeds", [1], "config key 'seeds' differs from the dataset"),
     ("forces", {"eta_f": 1.0, "kn": 6.0e+6}, "config key 'forces' differs from the dataset"),
