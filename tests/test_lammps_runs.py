@@ -252,9 +252,12 @@ def test_stock_stand_in_model_runs(tmp_path, packing):
     assert np.isnan(table["contact_torque_y"]).all() and np.isfinite(table["contact_pxz"]).all()
 
 
-def test_two_mpi_ranks(tmp_path, packing):
+def test_two_mpi_ranks(tmp_path, packing, monkeypatch):
     """ranks=2 runs the explicit integrator under the environment's mpirun and reaches the
-    same strain; its stress agrees with the serial run to 1e-6 over this short strain."""
+    same strain; its stress agrees with the serial run to 1e-6 over this short strain. Each
+    rank runs one OpenMP thread even where the environment asks for more (Snakemake sets
+    OMP_NUM_THREADS to a job's threads, i.e. the rank count)."""
+    monkeypatch.setenv("OMP_NUM_THREADS", "2")
     explicit = ForceModel(plugin=plugin_path(), integrator="explicit")
     serial = run_startup(tmp_path / "serial", packing.data_file, 0.001, force_model=explicit,
                          **EXPLICIT_RUN)
@@ -265,6 +268,8 @@ def test_two_mpi_ranks(tmp_path, packing):
         "mpiexec" in (parallel.output_dir / COMPLETION_MARKER).read_text()
     np.testing.assert_allclose(read_stress_table(parallel.table_file)["pxz"],
                                read_stress_table(serial.table_file)["pxz"], rtol=1e-6)
+    log = (parallel.output_dir / "log.lammps").read_text()
+    assert "with 2 MPI tasks" in log and "1 OpenMP thread" in log
 
 
 def test_implicit_integrator_refuses_several_mpi_ranks(tmp_path, packing, force_model):

@@ -50,9 +50,14 @@ def lammps_executable() -> Path:
 
 
 def _lammps_environment() -> dict[str, str]:
-    """Environment for lmp: one OpenMP thread unless set, libmpi (PyPI mpich) on LD_LIBRARY_PATH."""
+    """Environment for lmp: one OpenMP thread, libmpi (PyPI mpich) on LD_LIBRARY_PATH.
+
+    One thread always: no style in use is threaded, and a job's cores go to its MPI ranks
+    (Snakemake sets OMP_NUM_THREADS to a job's threads, i.e. run.mpi_ranks, which would
+    otherwise oversubscribe the cores with any threaded style).
+    """
     env = dict(os.environ)
-    env.setdefault("OMP_NUM_THREADS", "1")
+    env["OMP_NUM_THREADS"] = "1"
     for prefix in (sys.prefix, sys.base_prefix):
         lib = Path(prefix) / "lib"
         if (lib / "libmpi.so.12").is_file():
