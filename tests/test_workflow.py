@@ -55,7 +55,7 @@ def test_study_produces_the_stress_tables_figures_and_relation(study):
             np.testing.assert_allclose(stress["solvent_12"], 1.0)
             np.testing.assert_allclose(stress["einstein_12"], 2.5 * fabric["phi"])
             parts = sum(stress[f"{p}_12"] for p in ("contact", "lubrication", "kinetic", "solvent", "einstein"))
-            np.testing.assert_allclose(stress["total_12"], parts, rtol=1e-12)
+            np.testing.assert_allclose(stress["total_12"], parts, rtol=1e-8)  # 9 digits written
     steady = pd.read_csv(results / "tables/stress_steady_state.csv").set_index("quantity")
     assert steady.loc["eta_r", "mean"] > 1 + 2.5 * 0.45 and steady.loc["Pi", "mean"] > 0
     aggregate = pd.read_csv(results / "tables/stress_rotation_aggregate.csv")
