@@ -258,8 +258,11 @@ def figure_stress_rotation(simulation: pd.DataFrame, relation_predictions: pd.Da
     ax_min.set_title("(e) viscosity minimum after rotation", fontsize=9)
     ax_rec = fig.add_subplot(spec[2, 1])
     recovered = transients["recovered"].astype(bool)
-    ax_rec.errorbar(transients["theta"][recovered], transients["recovery_strain"][recovered],
-                    yerr=transients["recovery_strain_err"][recovered], fmt="o", color="C3", ms=4, label="recovered")
+    shown = transients[recovered]
+    # a recovery strain is >= 0: the lower bar stops there
+    lower = np.minimum(shown["recovery_strain_err"], shown["recovery_strain"])
+    ax_rec.errorbar(shown["theta"], shown["recovery_strain"], yerr=[lower, shown["recovery_strain_err"]], fmt="o",
+                    color="C3", ms=4, label="recovered")
     ax_rec.plot(transients["theta"][~recovered], transients["recovery_strain"][~recovered], "^", color="C3",
                 mfc="none", label="not within 10% by the end (lower bound)")
     ax_rec.set_xlabel(r"rotation angle $\theta$ (deg)")

@@ -113,7 +113,7 @@ def relation_stress(fabric, coefficients: dict, phi: float) -> pd.DataFrame:
     total = particle.copy()
     total[:, 0, 1] += 1.0 + EINSTEIN_COEFFICIENT * phi
     total[:, 1, 0] = total[:, 0, 1]
-    return pd.DataFrame({
+    columns = pd.DataFrame({
         "eta_r": total[:, 0, 1],
         "N1": total[:, 0, 0] - total[:, 1, 1],
         "N2": total[:, 1, 1] - total[:, 2, 2],
@@ -122,6 +122,7 @@ def relation_stress(fabric, coefficients: dict, phi: float) -> pd.DataFrame:
         "contact_12": contacts[:, 0, 1], "contact_23": contacts[:, 1, 2],
         "lubrication_12": lubrication[:, 0, 1], "lubrication_23": lubrication[:, 1, 2],
     })
+    return columns[list(PREDICTED_COLUMNS)]
 
 
 def relation_fits(stress_steady: pd.DataFrame, fits: dict) -> pd.DataFrame:
