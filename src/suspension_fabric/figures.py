@@ -32,6 +32,7 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from .model_vs_simulation import MODEL_NAMES  # noqa: E402
+from .stress_model import SOURCES  # noqa: E402
 
 __all__ = ["figure_startup", "figure_rotation", "figure_stress_startup", "figure_stress_rotation", "save_figure",
            "mirror_negative_angles"]
@@ -187,8 +188,6 @@ def _band(ax, frame: pd.DataFrame, column: str, color: str, label: str, max_mark
 
 def figure_stress_startup(simulation: pd.DataFrame, relation_predictions: pd.DataFrame, relation: pd.DataFrame):
     """Paper-style Fig. 3 from the startup stress seed aggregate and the relation's predictions."""
-    from .stress_model import SOURCES  # noqa: PLC0415 (figures stay importable without the model)
-
     fig, (ax_eta, ax_normal) = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
     sim = simulation.sort_values("strain")
     predicted = relation_predictions[relation_predictions["protocol"] == "startup"]

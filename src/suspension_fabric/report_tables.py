@@ -29,6 +29,7 @@ import pandas as pd
 
 from .fabric import COMPONENTS
 from .model_vs_simulation import MODEL_NAMES
+from .stress_model import SOURCES
 
 __all__ = [
     "format_value_error",
@@ -332,8 +333,6 @@ _STRESS_QUANTITY_LABELS = {"eta_r": "ηᵣ = σ₁₂/η_f γ̇", "N1": "N₁", 
 
 def stress_relation_table(relation: pd.DataFrame) -> pd.DataFrame:
     """The fitted stress-relation coefficients per fabric source and the steady stress they predict."""
-    from .stress_model import SOURCES  # noqa: PLC0415
-
     rows = {"Fabric source": [SOURCES.get(s, s) for s in relation["source"]],
             "a_H": [format_value_error(v, e) for v, e in zip(relation["a_H"], relation["a_H_err"])],
             "a_C": [format_value_error(v, e) for v, e in zip(relation["a_C"], relation["a_C_err"])]}
@@ -346,8 +345,6 @@ def stress_relation_table(relation: pd.DataFrame) -> pd.DataFrame:
 
 def stress_error_table(summary: pd.DataFrame, significant: int = 3) -> pd.DataFrame:
     """Angle-averaged rms errors of the stress relation per protocol, quantity and fabric source."""
-    from .stress_model import SOURCES  # noqa: PLC0415
-
     frame = pd.DataFrame({
         "Protocol": [_PROTOCOL_LABELS.get(p, p) for p in summary["protocol"]],
         "Quantity": [_STRESS_QUANTITY_LABELS.get(q, q) for q in summary["quantity"]],

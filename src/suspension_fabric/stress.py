@@ -42,8 +42,10 @@ import numpy as np
 import pandas as pd
 
 from .frames import simulation_to_paper
+from .model import VECTOR_ORDER, sym_to_vec
 from .runinfo import read_run_info
 from .stressio import read_stress_table
+from .tables import read_fabric_table
 
 __all__ = [
     "PARTS",
@@ -64,7 +66,7 @@ __all__ = [
 
 PARTS: tuple[str, ...] = ("total", "contact", "lubrication", "kinetic", "solvent", "einstein")
 PARTICLE_PARTS: tuple[str, ...] = ("contact", "lubrication", "kinetic")
-PAPER_COMPONENTS: tuple[str, ...] = ("11", "22", "33", "12", "13", "23")
+PAPER_COMPONENTS: tuple[str, ...] = VECTOR_ORDER
 DERIVED_COLUMNS: tuple[str, ...] = ("eta_r", "N1", "N2", "Pi")
 STRESS_VALUE_COLUMNS: tuple[str, ...] = (
     *DERIVED_COLUMNS, *(f"{part}_{c}" for part in PARTS for c in PAPER_COMPONENTS))
@@ -75,7 +77,6 @@ EINSTEIN_COEFFICIENT = 2.5
 #: (~1e-2 relative), and half the size of full round-trip precision.
 STRESS_FLOAT_FORMAT = "%.9g"
 _LAMMPS_ORDER = ("pxx", "pyy", "pzz", "pxy", "pxz", "pyz")
-_INDEX = {"11": (0, 0), "22": (1, 1), "33": (2, 2), "12": (0, 1), "13": (0, 2), "23": (1, 2)}
 
 
 def pressure_tensors(table: dict[str, np.ndarray], prefix: str = "") -> np.ndarray:
@@ -174,9 +175,8 @@ def stress_on_frames(table: dict[str, np.ndarray], frame_steps, *, first_step: i
             raise ValueError(f"no stress-table row within {half:g} steps of frame step {step}")
         columns["n_rows"][k] = int(inside.sum())
         for part in PARTS:
-            mean = parts[part][inside].mean(axis=0)
-            for c, (a, b) in _INDEX.items():
-                values[f"{part}_{c}"][k] = mean[a, b]
+            for c, value in zip(PAPER_COMPONENTS, sym_to_vec(parts[part][inside].mean(axis=0))):
+                values[f"{part}_{c}"][k] = value
     return derived_quantities(pd.DataFrame({**columns, **values}))
 
 
@@ -192,10 +192,7 @@ def run_stress_table(stress_table: str | os.PathLike, marker: str | os.PathLike,
     eta_f = info.eta_f if eta_f is None else eta_f
     if eta_f is None:
         raise ValueError(f"{marker}: the run record has no variables.eta_f")
-    fabric = pd.read_csv(fabric_table)
-    for name in ("seed", "theta", "N", "phi", "step", "strain"):
-        if name not in fabric.columns:
-            raise ValueError(f"{fabric_table}: fabric table lacks column {name!r}")
+    fabric = read_fabric_table(fabric_table)
     if not np.allclose(fabric["theta"], info.theta_deg):
         raise ValueError(f"{fabric_table}: theta {fabric['theta'].iloc[0]} differs from the run "
                          f"record's {info.theta_deg} ({marker})")

@@ -93,14 +93,17 @@ def steady_value(stress_steady: pd.DataFrame, quantity: str) -> tuple[float, flo
     return float(rows["mean"].iloc[0]), float(rows["sem"].iloc[0])
 
 
-def _tensor(components: dict) -> np.ndarray:
-    return model.vec_to_sym([components[f"n{c}"] for c in model.VECTOR_ORDER])
+def _fabric_tensors(values, suffix: str = "") -> np.ndarray:
+    """<nn> from the ``n11<suffix>`` ... ``n23<suffix>`` entries of a mapping (one tensor) or
+    a table (one per row)."""
+    return model.vec_to_sym(np.stack([np.asarray(values[f"n{c}{suffix}"], dtype=float)
+                                      for c in model.VECTOR_ORDER], -1))
 
 
 def source_steady_fabrics(fits: dict) -> dict[str, np.ndarray]:
     """The steady fabric of each source: the simulated targets and each model's own steady state."""
-    simulated = _tensor({name: value["mean"] for name, value in fits["targets"].items() if name in COMPONENTS})
-    return {"simulation": simulated, **{key: _tensor(fits["model_steady_state"][key]) for key in ("gw", "modified")}}
+    simulated = _fabric_tensors({name: value["mean"] for name, value in fits["targets"].items() if name in COMPONENTS})
+    return {"simulation": simulated, **{key: _fabric_tensors(fits["model_steady_state"][key]) for key in ("gw", "modified")}}
 
 
 def relation_stress(fabric, coefficients: dict, phi: float) -> pd.DataFrame:
@@ -142,10 +145,6 @@ def relation_fits(stress_steady: pd.DataFrame, fits: dict) -> pd.DataFrame:
             row[f"{name}_simulated_sem"] = sem
         rows.append(row)
     return pd.DataFrame(rows)
-
-
-def _fabric_tensors(frame: pd.DataFrame, suffix: str = "") -> np.ndarray:
-    return model.vec_to_sym(np.stack([frame[f"n{c}{suffix}"].to_numpy(dtype=float) for c in model.VECTOR_ORDER], -1))
 
 
 def stress_predictions(relation: pd.DataFrame, startup_aggregate: pd.DataFrame, rotation_aggregate: pd.DataFrame,

@@ -111,7 +111,8 @@ def _check_table(table: pd.DataFrame, source: str, value_columns=VALUE_COLUMNS) 
     required = (*METADATA_COLUMNS, "step", "strain", *value_columns)
     missing = [c for c in required if c not in table.columns]
     if missing:
-        raise ValueError(f"{source}: table lacks column(s) {missing}")
+        kind = "fabric table" if tuple(value_columns) == VALUE_COLUMNS else "table"
+        raise ValueError(f"{source}: {kind} lacks column(s) {missing}")
     numeric = ["theta", "phi", "strain", *value_columns]
     values = table[numeric].to_numpy(dtype=float)
     if not np.all(np.isfinite(values)):
