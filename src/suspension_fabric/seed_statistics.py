@@ -1,0 +1,127 @@
+"""Statistics with the seeds as the independent units: t-intervals, the three-way decision rule,
+the number of seeds a decision needs, and resampling over seeds (jackknife, bootstrap).
+
+The decision rule (docs/verdict_statistics.md, Sec. 4): a decision statistic T is computed per
+seed, with the claim's effect size built in so that T > 0 says what the claim says; with the
+two-sided t-interval [lo, hi] of its seed mean at ``level``: "confirmed" if lo > 0, "refuted" if
+hi < 0, "undecided" otherwise. When the true T is 0 each wrong verdict has probability
+(1 - level) / 2.
+"""
+
+from __future__ import annotations
+
+import itertools
+from typing import NamedTuple
+
+import numpy as np
+from scipy import stats
+
+__all__ = ["LEVEL", "CONFIRMED", "REFUTED", "UNDECIDED", "Interval", "t_interval", "decide", "seeds_needed",
+           "jackknife", "seed_bootstrap"]
+
+#: Default confidence level of every interval (two-sided); config key ``verdicts.level``.
+LEVEL = 0.95
+CONFIRMED, REFUTED, UNDECIDED = "confirmed", "refuted", "undecided"
+# Exhaustive bootstrap (every resample of n seeds with replacement) up to this many resamples;
+# above it, this many random ones from a fixed generator seed (reproducible).
+_BOOTSTRAP_EXHAUSTIVE = 20_000
+_BOOTSTRAP_SEED = 20260
+
+
+class Interval(NamedTuple):
+    """Mean over n seeds, its standard error and the two-sided t-interval at ``level``."""
+
+    mean: float
+    se: float
+    low: float
+    high: float
+    n: int
+    level: float
+
+
+def _check_level(level: float) -> float:
+    level = float(level)
+    if not 0.0 < level < 1.0:
+        raise ValueError(f"confidence level must lie in (0, 1), got {level}")
+    return level
+
+
+def t_interval(values, level: float = LEVEL) -> Interval:
+    """Student t-interval of the mean of per-seed values (n - 1 degrees of freedom).
+
+    Non-finite values are an error (a seed whose statistic cannot be computed must be named by
+    the caller, not silently dropped). One value gives an infinite interval.
+    """
+    level = _check_level(level)
+    values = np.asarray(values, dtype=float).ravel()
+    if values.size == 0:
+        raise ValueError("t_interval needs at least one value")
+    if not np.all(np.isfinite(values)):
+        raise ValueError(f"t_interval: non-finite per-seed values {values.tolist()}")
+    n, mean = values.size, float(values.mean())
+    if n < 2:
+        return Interval(mean, np.inf, -np.inf, np.inf, n, level)
+    se = float(values.std(ddof=1) / np.sqrt(n))
+    half = float(stats.t.ppf(0.5 + level / 2.0, n - 1)) * se
+    return Interval(mean, se, mean - half, mean + half, n, level)
+
+
+def decide(interval: Interval) -> str:
+    """Three-way verdict on a decision statistic whose sign is the claim (T > 0: as the paper)."""
+    if interval.low > 0.0:
+        return CONFIRMED
+    if interval.high < 0.0:
+        return REFUTED
+    return UNDECIDED
+
+
+def seeds_needed(interval: Interval, max_seeds: int = 10_000) -> float:
+    """Smallest n for which the interval would exclude 0 if the observed mean and spread held:
+    t_{1-a/2, n-1} sd / sqrt(n) < |mean|; inf if the mean is 0 or more than ``max_seeds`` are
+    needed, nan if the spread is unknown (one seed)."""
+    if interval.n < 2:
+        return np.nan
+    sd = interval.se * np.sqrt(interval.n)
+    if sd == 0.0:
+        return float(interval.n) if interval.mean != 0.0 else np.inf
+    if interval.mean == 0.0:
+        return np.inf
+    n = np.arange(2, max_seeds + 1)
+    deciding = stats.t.ppf(0.5 + interval.level / 2.0, n - 1) * sd / np.sqrt(n) < abs(interval.mean)
+    return float(n[np.argmax(deciding)]) if deciding.any() else np.inf
+
+
+def jackknife(statistic, seeds) -> tuple[float, float]:
+    """statistic(all seeds) and its jackknife standard error (leave one seed out).
+
+    For smooth functions of the seeds' data only (a fit, a mean); never for a minimum or a
+    first-crossing strain, whose leave-one-out values are not a sampling distribution.
+    """
+    seeds = list(seeds)
+    value = float(statistic(seeds))
+    if len(seeds) < 2:
+        return value, np.nan
+    leave_one_out = np.array([statistic([s for s in seeds if s != left]) for left in seeds], dtype=float)
+    n = len(seeds)
+    return value, float(np.sqrt((n - 1) / n * np.sum((leave_one_out - leave_one_out.mean()) ** 2)))
+
+
+def seed_bootstrap(statistic, seeds, level: float = LEVEL) -> tuple[float, float, float]:
+    """statistic(all seeds) and the percentile interval of statistic over resamples of the seeds
+    with replacement: (value, low, high). Every resample is taken when there are at most 20 000
+    (4 seeds: 256), else 20 000 drawn from a fixed generator seed, so the result is reproducible.
+    Descriptive only: with a handful of seeds it is coarse and no verdict rests on it."""
+    level = _check_level(level)
+    seeds = list(seeds)
+    value = float(statistic(seeds))
+    n = len(seeds)
+    if n < 2:
+        return value, np.nan, np.nan
+    if n**n <= _BOOTSTRAP_EXHAUSTIVE:
+        resamples = itertools.product(seeds, repeat=n)
+    else:
+        generator = np.random.default_rng(_BOOTSTRAP_SEED)
+        resamples = (list(generator.choice(seeds, size=n)) for _ in range(_BOOTSTRAP_EXHAUSTIVE))
+    values = np.array([statistic(list(sample)) for sample in resamples], dtype=float)
+    low, high = np.quantile(values, [0.5 - level / 2.0, 0.5 + level / 2.0])
+    return value, float(low), float(high)
