@@ -36,7 +36,7 @@ from typing import NamedTuple
 import numpy as np
 import scipy.linalg
 from scipy.integrate import solve_ivp
-from scipy.optimize import brentq
+from scipy.optimize import brentq, least_squares
 
 from .frames import rotation_about_gradient, simple_shear_gradient, to_basis
 
@@ -55,6 +55,7 @@ __all__ = [
     "fit_gw",
     "fit_modified",
     "ModifiedFit",
+    "fit_startup_curve",
     "startup_shear",
     "shear_rotation",
     "sym_to_vec",
@@ -488,6 +489,39 @@ def fit_modified(n11, n12, phi) -> ModifiedFit:
             candidates.append((float(beta), float(A)))
     beta, A = _pick_unique(candidates, "fit_modified", f"<nn>_11 = {n11}, <nn>_12 = {n12} at phi = {phi}")
     return ModifiedFit(beta=beta, A=A)
+
+
+def fit_startup_curve(strains, observed: dict, phi, fabric0=None, *, free_A: bool, start) -> ModifiedFit:
+    """(beta, A) minimising the squared distance of :func:`startup_shear` from ``fabric0`` to an
+    observed startup curve, summed over the strains and the components of ``observed``
+    ({"12": values, "11": values, ...}, each aligned with ``strains``).
+
+    ``free_A=False`` fits G-W (A = beta, one parameter), ``True`` the modified model. ``start``
+    is the initial (beta, A) (e.g. the steady-state fit). Bounds: beta in the fits' search range,
+    A >= 0. Raises ValueError if the least-squares solver fails.
+    """
+    strains = _as_strains(strains)
+    phi = _check_phi(phi)
+    unknown = set(observed) - set(VECTOR_ORDER)
+    if not observed or unknown:
+        raise ValueError(f"observed components must be among {VECTOR_ORDER}, got {sorted(observed)}")
+    index = [VECTOR_ORDER.index(name) for name in observed]
+    target = np.stack([_check_finite(f"observed[{name!r}]", values) for name, values in observed.items()], axis=-1)
+    if target.shape[0] != len(strains):
+        raise ValueError(f"observed curves have {target.shape[0]} points for {len(strains)} strains")
+
+    def residual(p):
+        beta, A = (p[0], p[1]) if free_A else (p[0], p[0])
+        return (sym_to_vec(startup_shear(strains, beta, A, phi, fabric0))[:, index] - target).ravel()
+
+    x0 = [start[0], start[1]] if free_A else [start[0]]
+    lower = [_BETA_SEARCH[0], 0.0] if free_A else [_BETA_SEARCH[0]]
+    upper = [_BETA_SEARCH[1], np.inf] if free_A else [_BETA_SEARCH[1]]
+    result = least_squares(residual, x0, bounds=(lower, upper), x_scale="jac", xtol=1e-12, ftol=1e-12)
+    if not result.success:
+        raise ValueError(f"fit_startup_curve: least squares failed ({result.message})")
+    beta = float(result.x[0])
+    return ModifiedFit(beta=beta, A=float(result.x[1]) if free_A else beta)
 
 
 # ----------------------------------------------------------- flow protocols
