@@ -10,12 +10,15 @@ input tables are synthetic DataFrames in the formats of the workflow's tables.
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pandas as pd
 import pytest
+from scipy import stats
 from scipy.optimize import brentq
 
-from suspension_fabric import frames, model, stress_model
+from suspension_fabric import frames, model, stress_model, tables
 from suspension_fabric.stress import EINSTEIN_COEFFICIENT
 
 RNG = np.random.default_rng(20240611)
@@ -554,6 +557,7 @@ def test_summarise_relation_errors():
 # ------------------------------------------------------------------ 8. viscosity transients
 T_GRID = np.round(np.arange(0.0, 2.0 + 1e-9, 0.01), 10)
 ETA_SS = 7.0
+LEVEL = 0.95
 
 
 def exponential(amplitude=0.5, tau=0.2):
@@ -573,68 +577,190 @@ def dip_recovery(amplitude=0.4, tau=0.25) -> float:
     return float(T_GRID[np.searchsorted(T_GRID, root)])
 
 
-def runs_table(curves: dict[float, list[np.ndarray]]) -> pd.DataFrame:
-    """Per-seed stress rows (seed, theta, strain, eta_r = eta_ss * curve), shuffled."""
+def runs_table(curves: dict[float, list[np.ndarray]], eta_ss=None, strain=T_GRID) -> pd.DataFrame:
+    """Per-seed stress rows (seed, theta, strain, eta_r = eta_ss,s * curve), shuffled; eta_ss a
+    list per seed (seeds 1, 2, ...), ETA_SS for all by default."""
     rows = []
     for theta, per_seed in curves.items():
         for seed, curve in enumerate(per_seed, start=1):
-            rows.append(pd.DataFrame({"seed": seed, "theta": theta, "strain": T_GRID, "eta_r": ETA_SS * curve,
+            scale = ETA_SS if eta_ss is None else eta_ss[seed - 1]
+            rows.append(pd.DataFrame({"seed": seed, "theta": theta, "strain": strain, "eta_r": scale * curve,
                                       "N1": 0.0}))
     return pd.concat(rows, ignore_index=True).sample(frac=1.0, random_state=4)
+
+
+def same_steady(n_seeds, value=ETA_SS) -> dict[int, float]:
+    return {seed: value for seed in range(1, n_seeds + 1)}
+
+
+def bootstrap_interval(statistic, curves, level=LEVEL):
+    """Percentile interval of statistic(mean of a resample of the curves) over all n^n resamples
+    of n seeds with replacement (independent of seed_statistics)."""
+    n = len(curves)
+    values = [statistic(np.mean([curves[k] for k in sample], axis=0))
+              for sample in itertools.product(range(n), repeat=n)]
+    return tuple(np.quantile(values, [0.5 - level / 2, 0.5 + level / 2]))
+
+
+def test_seed_steady_viscosity_is_each_seeds_mean_over_the_window():
+    """Per seed, the mean of eta_r over 2 <= strain <= 5 (both ends in), one value per seed, and
+    their mean equals the steady-state table's mean (tables.steady_state) on the same runs."""
+    strain = np.round(np.arange(0.0, 5.0 + 1e-9, 0.5), 10)
+    rows = []
+    for seed, level in ((1, 10.0), (2, 12.0), (3, 11.0)):
+        eta = level + 0.1 * seed * np.sin(3.0 * strain) + (strain < 2.0) * 5.0
+        rows.append(pd.DataFrame({"seed": seed, "theta": 0.0, "N": 100, "phi": PHI, "step": np.arange(len(strain)),
+                                  "strain": strain, "eta_r": eta}))
+    startup = pd.concat(rows, ignore_index=True).sample(frac=1.0, random_state=2)
+    out = stress_model.seed_steady_viscosity(startup, [2.0, 5.0])
+    inside = (strain >= 2.0) & (strain <= 5.0)
+    for seed, level in ((1, 10.0), (2, 12.0), (3, 11.0)):
+        assert out[seed] == pytest.approx(np.mean(level + 0.1 * seed * np.sin(3.0 * strain[inside])), rel=1e-14)
+    steady = tables.steady_state(startup, 2.0, 5.0, value_columns=("eta_r",))
+    assert out.mean() == pytest.approx(float(steady["mean"].iloc[0]), rel=1e-14)
+    with pytest.raises(ValueError, match="startup seed 1 has 1 frame"):
+        stress_model.seed_steady_viscosity(startup, [4.8, 5.2])
+
+
+def test_viscosity_deficit_per_seed_and_its_t_interval():
+    """eta_r,s = eta_ss,s (1 - a_s exp(-g/g0)) with each seed's own eta_ss,s: the deficit
+    integral_0^W (1 - eta_r,s/eta_ss,s) = a_s g0 (1 - exp(-W/g0)) per seed (trapezoidal rule on a
+    0.01 grid: relative error (h/g0)^2/12 ~ 3e-4), whatever eta_ss,s; the summary is the seed
+    mean with the Student t-interval mean +- t_{(1+level)/2, n-1} sd/sqrt(n) (scipy.stats.t)."""
+    amplitudes, g0, window, level = [0.3, 0.45, 0.5, 0.62], 0.2, 1.5, 0.9
+    steady = [6.0, 7.5, 8.0, 6.8]
+    table = runs_table({120.0: [exponential(a, g0) for a in amplitudes]}, eta_ss=steady)
+    eta_ss = dict(zip(range(1, 5), steady))
+    per_seed = stress_model.viscosity_deficits(table, eta_ss, window)
+    assert list(per_seed.columns) == ["seed", "theta", "window", "eta_ss_seed", "deficit"]
+    assert per_seed["seed"].tolist() == [1, 2, 3, 4] and (per_seed["theta"] == 120.0).all()
+    assert (per_seed["window"] == window).all() and per_seed["eta_ss_seed"].tolist() == steady
+    analytic = np.array(amplitudes) * g0 * (1.0 - np.exp(-window / g0))
+    np.testing.assert_allclose(per_seed["deficit"], analytic, rtol=5e-4)
+    # exactly the trapezoidal rule on the frames of [0, W]
+    inside = T_GRID <= window + 1e-12
+    trapezoid = [np.trapezoid(a * np.exp(-T_GRID[inside] / g0), T_GRID[inside]) for a in amplitudes]
+    np.testing.assert_allclose(per_seed["deficit"], trapezoid, rtol=1e-12)
+
+    out = stress_model.viscosity_transients(table, eta_ss, window, level, smoothing_strain=0.0).iloc[0]
+    values = per_seed["deficit"].to_numpy()
+    n, mean, sd = len(values), values.mean(), values.std(ddof=1)
+    half = stats.t.ppf(0.5 + level / 2, n - 1) * sd / np.sqrt(n)
+    assert out["deficit"] == pytest.approx(mean, rel=1e-13)
+    assert out["deficit_se"] == pytest.approx(sd / np.sqrt(n), rel=1e-12)
+    assert out["deficit_low"] == pytest.approx(mean - half, rel=1e-12)
+    assert out["deficit_high"] == pytest.approx(mean + half, rel=1e-12)
+    assert out["n_seeds"] == 4 and out["level"] == level and out["window"] == window
+    # the same interval from the analytic per-seed values, to the trapezoidal rule's accuracy
+    exact_half = stats.t.ppf(0.95, 3) * analytic.std(ddof=1) / 2.0
+    assert out["deficit_low"] == pytest.approx(analytic.mean() - exact_half, rel=2e-3)
+    assert out["deficit_high"] == pytest.approx(analytic.mean() + exact_half, rel=2e-3)
+
+
+def test_viscosity_deficit_window_between_frames_and_at_the_end():
+    """A window between two frames ends the last trapezoid at W (linear interpolation); a window
+    equal to the run's last strain uses every frame; 1 - eta/eta_ss linear in strain integrates
+    exactly."""
+    curve = 1.0 - 0.1 * (2.0 - T_GRID)  # 1 - eta/eta_ss = 0.1 (2 - g)
+    table = runs_table({30.0: [curve]})
+    for window in (0.505, 1.0, 2.0):
+        deficit = stress_model.viscosity_deficits(table, same_steady(1), window)["deficit"].iloc[0]
+        assert deficit == pytest.approx(0.1 * (2.0 * window - window**2 / 2), rel=1e-12)
+
+
+def test_viscosity_deficit_of_a_run_shorter_than_the_window_is_an_error():
+    """A run that ends before W raises, naming the angle, the run's last strain and W; a seed
+    with no steady value raises too."""
+    table = runs_table({90.0: [dip(), dip()]})
+    with pytest.raises(ValueError, match=r"theta=90\.0: seed 1's run ends at strain 2 .*window 2\.5"):
+        stress_model.viscosity_deficits(table, same_steady(2), 2.5)
+    with pytest.raises(ValueError, match=r"theta=90\.0: seed 1's run ends at strain 2 .*window 2\.5"):
+        stress_model.viscosity_transients(table, same_steady(2), 2.5)
+    with pytest.raises(ValueError, match=r"no steady eta_r for seed\(s\) \[2\]"):
+        stress_model.viscosity_deficits(table, {1: ETA_SS}, 1.0)
 
 
 def test_viscosity_transients_identical_seeds():
     """Three identical seeds: exponential 1 - 0.5 exp(-g/0.2): min 0.5 at g = 0, recovery at the first
     grid strain >= 0.2 ln 5 = 0.3219, i.e. 0.33; dip with a = 0.4, tau = 0.25: min 0.6 at g = 0.25,
     recovery at the grid strain after its root; 1 - 0.5 exp(-g/5) never recovers on [0, 2]:
-    recovered False, recovery strain = 2 (the last strain). All jackknife errors exactly 0."""
+    recovery_settled False, recovery strain = 2 (the last strain). Every bootstrap resample is the
+    same curve, so every interval is the value itself; the deficit has s.e. 0 and a zero-width
+    t-interval."""
     table = runs_table({0.0: [exponential()] * 3, 90.0: [dip()] * 3, 180.0: [exponential(0.5, 5.0)] * 3})
-    out = stress_model.viscosity_transients(table, ETA_SS, smoothing_strain=0.0).set_index("theta")
+    out = stress_model.viscosity_transients(table, same_steady(3), 2.0, smoothing_strain=0.0).set_index("theta")
     assert list(out.index) == [0.0, 90.0, 180.0]
-    assert (out["n_seeds"] == 3).all()
+    assert (out["n_seeds"] == 3).all() and (out["level"] == LEVEL).all() and (out["window"] == 2.0).all()
     assert 0.2 * np.log(5) == pytest.approx(0.32189, abs=1e-5)
     expected = {0.0: (0.5, 0.0, 0.33, True), 90.0: (0.6, 0.25, dip_recovery(), True), 180.0: (0.5, 0.0, 2.0, False)}
-    for theta, (minimum, at, recovery, recovered) in expected.items():
+    for theta, (minimum, at, recovery, settled) in expected.items():
         row = out.loc[theta]
-        assert row["eta_min_over_ss"] == pytest.approx(minimum, rel=1e-12)
+        assert row["minimum"] == pytest.approx(minimum, rel=1e-12)
         assert row["strain_at_min"] == pytest.approx(at, abs=1e-12)
         assert row["recovery_strain"] == pytest.approx(recovery, abs=1e-12)
-        assert bool(row["recovered"]) is recovered
-        for name in ("eta_min_over_ss_err", "strain_at_min_err", "recovery_strain_err"):
-            assert row[name] == 0.0
+        assert bool(row["recovery_settled"]) is settled
+        for name in ("minimum", "strain_at_min", "recovery_strain"):
+            assert row[f"{name}_low"] == pytest.approx(row[name], abs=1e-12)
+            assert row[f"{name}_high"] == pytest.approx(row[name], abs=1e-12)
+        assert row["deficit_se"] == pytest.approx(0.0, abs=1e-15)
+        assert row["deficit_low"] == pytest.approx(row["deficit"], abs=1e-12)
+        assert row["deficit_high"] == pytest.approx(row["deficit"], abs=1e-12)
+    # 1 - 0.5 exp(-g/0.2) over [0, 2]: deficit 0.1 (1 - exp(-10))
+    assert out.loc[0.0, "deficit"] == pytest.approx(0.1 * (1 - np.exp(-10.0)), rel=5e-4)
     assert 0.5 < dip_recovery() < 2.0
 
 
 def test_viscosity_transients_different_seeds():
     """Seeds with different dips (a, tau) = (0.3, 0.2), (0.4, 0.25), (0.5, 0.3): the values are those
     of the seed-mean curve / eta_ss (its minimum, argmin strain, first strain of staying within 10%)
-    and the errors the jackknife sqrt((n-1)/n sum (loo - mean loo)^2) over leave-one-out mean
-    curves, all three non-zero."""
+    and the intervals the 2.5% and 97.5% quantiles over all 27 resamples of the seeds with
+    replacement, recomputed here; each contains its value and the minimum's has non-zero width."""
     seeds = [dip(0.3, 0.2), dip(0.4, 0.25), dip(0.5, 0.3)]
-    out = stress_model.viscosity_transients(runs_table({90.0: seeds}), ETA_SS, smoothing_strain=0.0).iloc[0]
+    out = stress_model.viscosity_transients(runs_table({90.0: seeds}), same_steady(3), 2.0,
+                                            smoothing_strain=0.0).iloc[0]
 
-    def stats(curves):
-        mean = np.mean(curves, axis=0)
-        outside = np.flatnonzero(np.abs(mean - 1.0) > 0.1)
-        return np.array([mean.min(), T_GRID[np.argmin(mean)], T_GRID[outside[-1] + 1]])
+    def outside_last(mean):
+        return T_GRID[np.flatnonzero(np.abs(mean - 1.0) > 0.1)[-1] + 1]
 
-    full = stats(seeds)
-    loo = np.array([stats([c for j, c in enumerate(seeds) if j != k]) for k in range(3)])
-    errors = np.sqrt(2 / 3 * np.sum((loo - loo.mean(axis=0)) ** 2, axis=0))
-    names = ("eta_min_over_ss", "strain_at_min", "recovery_strain")
-    for k, name in enumerate(names):
-        assert out[name] == pytest.approx(full[k], rel=1e-12)
-        assert out[f"{name}_err"] == pytest.approx(errors[k], rel=1e-9)
-        assert out[f"{name}_err"] > 0
-    assert bool(out["recovered"]) and out["n_seeds"] == 3
+    statistics = {"minimum": np.min, "strain_at_min": lambda mean: T_GRID[np.argmin(mean)],
+                  "recovery_strain": outside_last}
+    mean = np.mean(seeds, axis=0)
+    for name, statistic in statistics.items():
+        low, high = bootstrap_interval(statistic, seeds)
+        assert out[name] == pytest.approx(statistic(mean), rel=1e-12)
+        assert out[f"{name}_low"] == pytest.approx(low, rel=1e-12, abs=1e-12)
+        assert out[f"{name}_high"] == pytest.approx(high, rel=1e-12, abs=1e-12)
+        assert out[f"{name}_low"] <= out[name] <= out[f"{name}_high"]
+    assert out["minimum_high"] > out["minimum_low"]
+    assert bool(out["recovery_settled"]) and out["n_seeds"] == 3
+    for old in ("eta_min_over_ss_err", "strain_at_min_err", "recovery_strain_err", "recovered"):
+        assert old not in out.index
+
+
+def test_viscosity_transients_resample_each_seeds_own_steady_state():
+    """Seeds with their own steady eta_ss,s: the description is on mean_s eta_r,s / mean_s eta_ss,s
+    (the study's eta_r/eta_r^ss), and a bootstrap resample divides by the mean steady value of the
+    same seeds; the deficit divides each seed by its own."""
+    curves, steady = [dip(0.3, 0.2), dip(0.5, 0.3)], [6.0, 9.0]
+    table = runs_table({90.0: curves}, eta_ss=steady)
+    out = stress_model.viscosity_transients(table, {1: 6.0, 2: 9.0}, 2.0, smoothing_strain=0.0).iloc[0]
+    ratio = (6.0 * curves[0] + 9.0 * curves[1]) / 15.0
+    assert out["minimum"] == pytest.approx(ratio.min(), rel=1e-12)
+    # resamples (1, 1) and (2, 2) are each seed's own curve: the extremes of the 4 resamples
+    assert out["minimum_low"] == pytest.approx(np.quantile([curves[1].min(), ratio.min(), ratio.min(),
+                                                            curves[0].min()], 0.025), rel=1e-12)
+    per_seed = stress_model.viscosity_deficits(table, {1: 6.0, 2: 9.0}, 2.0)
+    np.testing.assert_allclose(per_seed["deficit"], [np.trapezoid(1 - c, T_GRID) for c in curves], rtol=1e-12)
 
 
 def test_viscosity_transients_single_seed_and_tolerance():
-    """One seed: jackknife error nan; a wider tolerance (0.2) moves the exponential's recovery to the
-    first grid strain >= 0.2 ln(0.5/0.2) = 0.1833, i.e. 0.19."""
-    out = stress_model.viscosity_transients(runs_table({0.0: [exponential()]}), ETA_SS, tolerance=0.2, smoothing_strain=0.0).iloc[0]
+    """One seed: no bootstrap interval (nan) and an infinite t-interval; a wider tolerance (0.2)
+    moves the exponential's recovery to the first grid strain >= 0.2 ln(0.5/0.2) = 0.1833, i.e. 0.19."""
+    out = stress_model.viscosity_transients(runs_table({0.0: [exponential()]}), same_steady(1), 2.0, tolerance=0.2,
+                                            smoothing_strain=0.0).iloc[0]
     assert out["recovery_strain"] == pytest.approx(0.19, abs=1e-12)
-    assert np.isnan(out["recovery_strain_err"]) and out["n_seeds"] == 1
+    assert np.isnan(out["recovery_strain_low"]) and np.isnan(out["recovery_strain_high"]) and out["n_seeds"] == 1
+    assert out["deficit_low"] == -np.inf and out["deficit_high"] == np.inf
 
 
 def test_moving_average_and_smoothed_transients():
@@ -642,7 +768,8 @@ def test_moving_average_and_smoothed_transients():
     so a linear series is unchanged inside and an alternating +-a series (frame noise) is damped
     to a/3 by a 3-point window; viscosity_transients smooths the seed mean by it, so a dip of
     1 - 0.5 exp(-gamma/0.2) with +-0.15 frame noise recovers where the noiseless curve does
-    (0.2 ln 5 = 0.32), while unsmoothed it never re-enters the 10% band."""
+    (0.2 ln 5 = 0.32), while unsmoothed it never re-enters the 10% band. The deficit is not
+    smoothed."""
     strain = T_GRID
     np.testing.assert_allclose(stress_model.moving_average(strain, 2 * strain, 0.02)[1:-1], 2 * strain[1:-1])
     noise = 0.15 * (-1.0) ** np.arange(len(strain))
@@ -651,7 +778,8 @@ def test_moving_average_and_smoothed_transients():
     np.testing.assert_array_equal(stress_model.moving_average(strain, noise, 0.0), noise)
     clean = 1 - 0.5 * np.exp(-strain / 0.2)
     noisy = runs_table({90.0: [clean + noise, clean + noise]})
-    raw = stress_model.viscosity_transients(noisy, ETA_SS, smoothing_strain=0.0).iloc[0]
-    smoothed = stress_model.viscosity_transients(noisy, ETA_SS, smoothing_strain=0.1).iloc[0]
-    assert not raw["recovered"] and raw["recovery_strain"] == strain[-1]
-    assert smoothed["recovered"] and abs(smoothed["recovery_strain"] - 0.33) <= 0.03
+    raw = stress_model.viscosity_transients(noisy, same_steady(2), 2.0, smoothing_strain=0.0).iloc[0]
+    smoothed = stress_model.viscosity_transients(noisy, same_steady(2), 2.0, smoothing_strain=0.1).iloc[0]
+    assert not raw["recovery_settled"] and raw["recovery_strain"] == strain[-1]
+    assert smoothed["recovery_settled"] and abs(smoothed["recovery_strain"] - 0.33) <= 0.03
+    assert smoothed["deficit"] == raw["deficit"] == pytest.approx(np.trapezoid(-(clean + noise - 1.0), strain))

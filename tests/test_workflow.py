@@ -72,6 +72,19 @@ def test_study_produces_the_stress_tables_figures_and_relation(study):
     assert sorted(errors[errors["protocol"] == "rotation"]["theta"].unique()) == [0.0, 90.0]
     transients = pd.read_csv(results / "tables/stress_viscosity_transients.csv")
     assert transients["theta"].tolist() == [0.0, 90.0]
+    # the deficit over verdicts.window = 0.1 per seed, each against its own steady eta_r
+    assert (transients["window"] == 0.1).all() and (transients["level"] == 0.95).all()
+    assert (transients["n_seeds"] == 2).all()
+    assert (transients["deficit_low"] <= transients["deficit"]).all()
+    assert (transients["deficit"] <= transients["deficit_high"]).all()
+    for name in ("minimum", "strain_at_min", "recovery_strain"):
+        assert (transients[f"{name}_low"] <= transients[f"{name}_high"]).all()
+    deficits = pd.read_csv(results / "tables/stress_viscosity_deficit_per_seed.csv")
+    assert list(deficits.columns) == ["seed", "theta", "window", "eta_ss_seed", "deficit"]
+    assert len(deficits) == 4 and (deficits["window"] == 0.1).all()
+    np.testing.assert_allclose(deficits.groupby("theta")["deficit"].mean(), transients["deficit"], rtol=1e-12)
+    np.testing.assert_allclose(deficits.groupby("seed")["eta_ss_seed"].first().mean(), steady.loc["eta_r", "mean"],
+                               rtol=1e-12)
 
 
 def test_nothing_left_to_do_after_a_run(study):

@@ -219,10 +219,62 @@ def figure_stress_startup(simulation: pd.DataFrame, relation_predictions: pd.Dat
     return fig
 
 
+def _interval_bars(ax, x, value, low, high, color: str, fmt: str = "o", **kwargs):
+    """Markers at ``value`` and bars spanning [low, high] exactly (asymmetric about the value;
+    drawn as given even where an interval does not contain its value)."""
+    x, value, low, high = (np.asarray(a, dtype=float) for a in (x, value, low, high))
+    finite = np.isfinite(low) & np.isfinite(high)  # one seed: no interval to draw
+    ax.errorbar(x[finite], 0.5 * (low + high)[finite], yerr=0.5 * (high - low)[finite], fmt="none", ecolor=color,
+                elinewidth=0.9, capsize=2)
+    return ax.plot(x, value, fmt, color=color, ms=4, **kwargs)
+
+
+def _viscosity_transient_panels(fig, cell, transients: pd.DataFrame):
+    """Fig. 4 (e-g) per angle: (e) the integrated viscosity deficit, seed mean with its t-interval
+    (the deciding number); (f) the minimum of eta_r/eta_r^ss and (g) the recovery strain, each
+    with its seed-bootstrap percentile interval (description)."""
+    transients = transients.sort_values("theta")
+    theta = transients["theta"]
+    window, level = float(transients["window"].iloc[0]), float(transients["level"].iloc[0])
+    n_seeds = int(transients["n_seeds"].min())
+    percent = f"{100 * level:g}%"
+    ax_def, ax_min, ax_rec = (fig.add_subplot(c) for c in cell.subgridspec(1, 3, wspace=0.05))
+    _interval_bars(ax_def, theta, transients["deficit"], transients["deficit_low"], transients["deficit_high"], "C0",
+                   fmt="o-", lw=1)
+    ax_def.axhline(0.0, color="0.6", lw=0.6)
+    ax_def.set_ylabel(rf"$\int_0^{{{window:g}}} (1 - \eta_r / \eta_r^{{ss}})\, d\gamma$")
+    ax_def.set_title(f"(e) viscosity deficit over {window:g} strain\n(seed mean, {percent} t-interval, "
+                     f"{n_seeds} seeds)", fontsize=8)
+    _interval_bars(ax_min, theta, transients["minimum"], transients["minimum_low"], transients["minimum_high"], "k",
+                   fmt="o-", lw=1)
+    ax_min.set_ylabel(r"min $\eta_r / \eta_r^{ss}$")
+    ax_min.set_title(f"(f) viscosity minimum\n(seed bootstrap {percent}; description)", fontsize=8)
+    settled = transients["recovery_settled"].astype(bool).to_numpy()
+    _interval_bars(ax_rec, theta[settled], transients["recovery_strain"][settled],
+                   transients["recovery_strain_low"][settled], transients["recovery_strain_high"][settled], "C3",
+                   label="recovered")
+    if (~settled).any():
+        _interval_bars(ax_rec, theta[~settled], transients["recovery_strain"][~settled],
+                       transients["recovery_strain_low"][~settled], transients["recovery_strain_high"][~settled],
+                       "C3", fmt="^", mfc="none", label="not within 10% by the end (lower bound)")
+    ax_rec.set_ylabel("recovery strain")
+    ax_rec.set_title(f"(g) strain to recover $\\eta_r$ to within 10%\n(seed bootstrap {percent}; description)",
+                     fontsize=8)
+    ax_rec.legend(fontsize=6)
+    for ax in (ax_def, ax_min, ax_rec):
+        ax.set_xlabel(r"rotation angle $\theta$ (deg)", fontsize=8)
+        ax.tick_params(labelsize=7)
+        ax.yaxis.label.set_size(8)
+        ax.xaxis.set_major_locator(matplotlib.ticker.MultipleLocator(45))
+    return ax_def, ax_min, ax_rec
+
+
 def figure_stress_rotation(simulation: pd.DataFrame, relation_predictions: pd.DataFrame, transients: pd.DataFrame,
                            sigma12_ss: float):
     """Paper-style Fig. 4 from the rotation stress seed aggregate, the relation's predictions and
-    the viscosity transients (minimum and recovery per angle)."""
+    the viscosity transients per angle (stress_model.viscosity_transients): the integrated
+    deficit with its t-interval, the minimum and the recovery strain with their seed-bootstrap
+    intervals."""
     sim, mirrored = mirror_negative_angles(simulation, ["total_12_mean", "total_23_mean"])
     sim = sim.rename(columns={"total_12_mean": "total_12", "total_23_mean": "total_23"})
     predicted = relation_predictions[(relation_predictions["protocol"] == "rotation")
@@ -231,8 +283,8 @@ def figure_stress_rotation(simulation: pd.DataFrame, relation_predictions: pd.Da
     rows = [("simulation", sim), ("G-W relation on the simulated fabric", predicted)]
     columns = {"total_12": r"$\sigma'_{12}/\sigma_{12}^{ss}$", "total_23": r"$\sigma'_{23}/\sigma_{12}^{ss}$"}
     grids = {(r, c): _polar_grid(table, c) for r, (_, table) in enumerate(rows) for c in columns}
-    fig = plt.figure(figsize=(8.5, 12), constrained_layout=True)
-    spec = fig.add_gridspec(3, 2, height_ratios=[1, 1, 0.6])
+    fig = plt.figure(figsize=(8.5, 12.5), constrained_layout=True)
+    spec = fig.add_gridspec(3, 2, height_ratios=[1, 1, 0.7])
     limits = {"total_12": (0.0, max(1.2, np.nanmax([np.nanmax(grids[(r, "total_12")][2]) for r in range(2)]) / sigma12_ss)),
               "total_23": (None, None)}
     bound = np.nanmax([np.nanmax(np.abs(grids[(r, "total_23")][2])) for r in range(2)]) / sigma12_ss
@@ -249,25 +301,7 @@ def figure_stress_rotation(simulation: pd.DataFrame, relation_predictions: pd.Da
             ax.set_title(f"({'abcd'[2 * r + c]}) {row_name}", fontsize=9)
             ax.tick_params(labelsize=7)
             fig.colorbar(mesh, ax=ax, orientation="horizontal", shrink=0.7, label=label, pad=0.08)
-    ax_min = fig.add_subplot(spec[2, 0])
-    ax_min.errorbar(transients["theta"], transients["eta_min_over_ss"], yerr=transients["eta_min_over_ss_err"],
-                    fmt="o-", color="k", ms=4)
-    ax_min.set_xlabel(r"rotation angle $\theta$ (deg)")
-    ax_min.set_ylabel(r"min $\eta_r / \eta_r^{ss}$")
-    ax_min.set_title("(e) viscosity minimum after rotation", fontsize=9)
-    ax_rec = fig.add_subplot(spec[2, 1])
-    recovered = transients["recovered"].astype(bool)
-    shown = transients[recovered]
-    # a recovery strain is >= 0: the lower bar stops there
-    lower = np.minimum(shown["recovery_strain_err"], shown["recovery_strain"])
-    ax_rec.errorbar(shown["theta"], shown["recovery_strain"], yerr=[lower, shown["recovery_strain_err"]], fmt="o",
-                    color="C3", ms=4, label="recovered")
-    ax_rec.plot(transients["theta"][~recovered], transients["recovery_strain"][~recovered], "^", color="C3",
-                mfc="none", label="not within 10% by the end (lower bound)")
-    ax_rec.set_xlabel(r"rotation angle $\theta$ (deg)")
-    ax_rec.set_ylabel("recovery strain")
-    ax_rec.set_title(r"(f) strain to recover $\eta_r$ to within 10%", fontsize=9)
-    ax_rec.legend(fontsize=7)
+    _viscosity_transient_panels(fig, spec[2, :], transients)
     note = (f"Radius: strain after rotation; angle: rotation angle theta. sigma_12^ss = eta_r^ss = {sigma12_ss:.4g} "
             "eta_f gammadot (simulated steady state, solvent and Einstein terms included).")
     if mirrored:

@@ -44,6 +44,8 @@ __all__ = [
     "write_fits_page",
     "write_steady_state_page",
     "write_error_summary_page",
+    "format_interval",
+    "viscosity_transient_table",
     "MISSING",
 ]
 
@@ -355,10 +357,63 @@ def stress_error_table(summary: pd.DataFrame, significant: int = 3) -> pd.DataFr
     return frame
 
 
+def format_interval(value, low, high, digits: int = 2) -> str:
+    """Format as "value [low, high]", all three rounded to the decimal place of the interval's
+    width to ``digits`` significant figures, e.g. (0.2791, 0.1434, 0.4148) -> "0.28 [0.14, 0.41]".
+    A missing or infinite bound (one seed) gives "value [—]"."""
+    if _is_missing(value):
+        return MISSING
+    value = float(value)
+    if _is_missing(low) or _is_missing(high) or not (math.isfinite(float(low)) and math.isfinite(float(high))):
+        return f"{format_number(value)} [{MISSING}]"
+    low, high = float(low), float(high)
+    width = high - low
+    if width <= 0.0 or not math.isfinite(value):
+        return f"{format_number(value)} [{format_number(low)}, {format_number(high)}]"
+    decimals = max(digits - 1 - math.floor(math.log10(width)), 0)
+    shown = [f"{round(x, decimals) + 0.0:.{decimals}f}" for x in (value, low, high)]
+    return f"{shown[0]} [{shown[1]}, {shown[2]}]"
+
+
+def viscosity_transient_table(transients: pd.DataFrame) -> tuple[pd.DataFrame, str]:
+    """The viscosity after a rotation per angle (stress_model.viscosity_transients) and the note
+    saying what each interval is: the integrated deficit with its t-interval over seeds, the
+    minimum, its strain and the recovery strain with their seed-bootstrap percentile intervals."""
+    window, level = float(transients["window"].iloc[0]), float(transients["level"].iloc[0])
+    percent = f"{100 * level:g}%"
+    table = pd.DataFrame({
+        "θ (deg)": [format_number(t) for t in transients["theta"]],
+        f"deficit ∫₀^{window:g} (1 − ηᵣ/ηᵣˢˢ) dγ [{percent} t-interval]": [
+            format_interval(v, lo, hi) for v, lo, hi in
+            zip(transients["deficit"], transients["deficit_low"], transients["deficit_high"])],
+        "s.e.": [format_number(x, 2) for x in transients["deficit_se"]],
+        "seeds": [str(int(n)) for n in transients["n_seeds"]],
+        f"min ηᵣ/ηᵣˢˢ [{percent} bootstrap]": [
+            format_interval(v, lo, hi) for v, lo, hi in
+            zip(transients["minimum"], transients["minimum_low"], transients["minimum_high"])],
+        f"at strain [{percent} bootstrap]": [
+            format_interval(v, lo, hi) for v, lo, hi in
+            zip(transients["strain_at_min"], transients["strain_at_min_low"], transients["strain_at_min_high"])],
+        f"recovery strain (10%) [{percent} bootstrap]": [
+            format_interval(v, lo, hi) + ("" if ok else " (not recovered: lower bound)") for v, lo, hi, ok in
+            zip(transients["recovery_strain"], transients["recovery_strain_low"],
+                transients["recovery_strain_high"], transients["recovery_settled"].astype(bool))],
+    })
+    note = (f"Deficit: per seed, ∫ over the first {window:g} strain after the rotation of 1 − ηᵣ/ηᵣˢˢ, with ηᵣˢˢ "
+            "that seed's own steady viscosity (trapezoidal rule on the frames; 0.1 = 10% below steady for one "
+            f"strain); seed mean, its standard error and the two-sided {percent} Student t-interval over the "
+            "seeds (n − 1 degrees of freedom). Minimum, its strain and the recovery strain (first strain from "
+            "which ηᵣ/ηᵣˢˢ stays within 10% of 1): on the seed-mean ηᵣ/ηᵣˢˢ smoothed over "
+            f"{format_number(float(transients['smoothing_strain'].iloc[0]))} strain, with the {percent} percentile "
+            "interval over bootstrap resamples of whole seeds; description only, no verdict rests on them.")
+    return table, note
+
+
 def write_stress_page(steady: pd.DataFrame, relation: pd.DataFrame, summary: pd.DataFrame,
                       transients: pd.DataFrame, path: str | os.PathLike) -> Path:
     """The report page of the stress: its steady state, the fitted G-W stress relation, the
-    relation's errors through startup and rotations, and the viscosity minimum and recovery per angle."""
+    relation's errors through startup and rotations, and the viscosity after a rotation per angle
+    (:func:`viscosity_transient_table`)."""
     shown = steady[steady["quantity"].isin(["eta_r", "N1", "N2", "Pi", "contact_12", "lubrication_12",
                                              "kinetic_12", "total_23"])]
     low, high = float(steady["strain_min"].iloc[0]), float(steady["strain_max"].iloc[0])
@@ -368,15 +423,7 @@ def write_stress_page(steady: pd.DataFrame, relation: pd.DataFrame, summary: pd.
         "s.e. between seeds": [format_number(s, 2) for s in shown["sem_between_seeds"]],
         "Autocorrelation strain": [format_number(t, 2) for t in shown["tau_strain"]],
     })
-    transient_text = pd.DataFrame({
-        "θ (deg)": [format_number(t) for t in transients["theta"]],
-        "min ηᵣ/ηᵣˢˢ": [format_value_error(v, e) for v, e in zip(transients["eta_min_over_ss"],
-                                                                  transients["eta_min_over_ss_err"])],
-        "at strain": [format_value_error(v, e) for v, e in zip(transients["strain_at_min"], transients["strain_at_min_err"])],
-        "recovery strain (10%)": [format_value_error(v, e) + ("" if ok else " (not recovered: lower bound)")
-                                  for v, e, ok in zip(transients["recovery_strain"], transients["recovery_strain_err"],
-                                                      transients["recovered"])],
-    })
+    transient_text, transient_note = viscosity_transient_table(transients)
     return write_html_tables(path, "Stress (stress_*.csv)", [
         (f"Steady stress of startup shear over {low:g} ≤ γ ≤ {high:g}, units η_f γ̇", steady_text,
          "ηᵣ includes the solvent (1) and the Einstein term (2.5 φ); Π is the particle pressure of the contact, "
@@ -386,6 +433,6 @@ def write_stress_page(steady: pd.DataFrame, relation: pd.DataFrame, summary: pd.
          "a_H from the steady lubrication σ₁₂, a_C from the steady contact σ₁₂ (errors: those of the stress "
          "targets only); the normal stresses and the pressure are then predictions."),
         ("rms error of the relation, in units of σ₁₂ˢˢ, averaged over angles", stress_error_table(summary)),
-        ("Viscosity after a rotation: minimum and recovery per angle", transient_text,
-         "On the seed-mean ηᵣ(γ)/ηᵣˢˢ; errors: jackknife over seeds."),
+        ("Viscosity after a rotation per angle: the integrated deficit per seed with its t-interval; the "
+         "minimum and the recovery strain as description", transient_text, transient_note),
     ])

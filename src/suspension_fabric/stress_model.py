@@ -28,9 +28,17 @@ Predictions after a rotation (:func:`stress_predictions`) come from (a) the seed
 simulated fabric and (b) each fabric model's predicted fabric, all in the rotated paper
 frame (e1', e2, e3'), where the flow is simple shear e1' e2 again. Errors
 (:func:`relation_errors`) are |prediction - simulation| / sigma_12^ss of the total shear stress.
+
+The viscosity after a rotation (:func:`viscosity_transients`) is decided per seed, like the
+fabric claims (docs/verdict_statistics.md): the integrated deficit of eta_r below the seed's own
+steady eta_r^ss,s over the first W strain, with a t-interval over seeds. Its minimum, the
+strain of the minimum and the recovery strain are kept as description, with seed-bootstrap
+intervals.
 """
 
 from __future__ import annotations
+
+import functools
 
 import numpy as np
 import pandas as pd
@@ -39,7 +47,8 @@ from . import model
 from .fabric import COMPONENTS
 from .frames import simple_shear_gradient
 from .stress import EINSTEIN_COEFFICIENT
-from .verdicts import TOLERANCE, jackknife, settle_strain
+from .seed_statistics import LEVEL, seed_bootstrap, t_interval
+from .verdicts import TOLERANCE, settle_strain
 
 __all__ = [
     "SOURCES",
@@ -53,6 +62,8 @@ __all__ = [
     "relation_stress",
     "stress_predictions",
     "relation_errors",
+    "seed_steady_viscosity",
+    "viscosity_deficits",
     "viscosity_transients",
     "moving_average",
 ]
@@ -216,13 +227,101 @@ def moving_average(strain, values, width: float) -> np.ndarray:
     return (near * values[None, :]).sum(axis=1) / near.sum(axis=1)
 
 
-def viscosity_transients(stress_runs: pd.DataFrame, eta_ss: float, tolerance: float = TOLERANCE,
-                         smoothing_strain: float = 0.1) -> pd.DataFrame:
-    """Per angle, on the seed-mean eta_r(gamma) / eta_ss after the rotation, smoothed by a centred
-    running mean over ``smoothing_strain`` (the frame-to-frame noise of a few seeds is ~10%, the
-    size of the band): its minimum, the strain of the minimum, and the recovery strain (first
-    strain from which it stays within ``tolerance`` of 1; censored at the run's end if it never
-    does), each with its jackknife error over seeds."""
+def seed_steady_viscosity(startup_runs: pd.DataFrame, steady_window) -> pd.Series:
+    """Each seed's own steady eta_r^ss,s: the mean of eta_r over strain_min <= strain <= strain_max
+    of that seed's startup stress run (the frames :func:`suspension_fabric.tables.steady_state`
+    averages; the seed mean of these values is its ``mean``). A Series indexed by seed; a seed
+    with fewer than 2 frames in the window is an error."""
+    strain_min, strain_max = (float(x) for x in steady_window)
+    if not strain_max > strain_min:
+        raise ValueError(f"empty strain window [{strain_min}, {strain_max}]")
+    if startup_runs["theta"].nunique() != 1:
+        raise ValueError(f"startup stress runs hold several angles: {sorted(startup_runs['theta'].unique())}")
+    values = {}
+    for seed, rows in startup_runs.groupby("seed", sort=True):
+        inside = rows[(rows["strain"] >= strain_min) & (rows["strain"] <= strain_max)]
+        if len(inside) < 2:
+            raise ValueError(f"startup seed {seed} has {len(inside)} frame(s) in the steady window "
+                             f"[{strain_min}, {strain_max}], need at least 2")
+        values[int(seed)] = float(inside["eta_r"].mean())
+    return pd.Series(values, name="eta_ss_seed").rename_axis("seed")
+
+
+def _seed_eta_ss(eta_ss, seeds) -> dict[int, float]:
+    """{seed: eta_r^ss,s} for the given seeds from a mapping seed -> value; a missing seed is an error."""
+    eta_ss = {int(k): float(v) for k, v in dict(eta_ss).items()}
+    missing = sorted(int(s) for s in seeds if int(s) not in eta_ss)
+    if missing:
+        raise ValueError(f"no steady eta_r for seed(s) {missing} (have {sorted(eta_ss)})")
+    return {int(s): eta_ss[int(s)] for s in seeds}
+
+
+def _window_integral(strain: np.ndarray, values: np.ndarray, window: float, theta: float, seed) -> float:
+    """Trapezoidal integral of ``values`` over the frames with 0 <= strain <= ``window``; if
+    ``window`` falls between two frames the last piece ends at it (linear interpolation)."""
+    tolerance = 1e-9 * max(1.0, window)
+    if abs(strain[0]) > tolerance:
+        raise ValueError(f"theta={theta}: seed {seed}'s run starts at strain {strain[0]:g} after the rotation, not 0")
+    if strain[-1] < window - tolerance:
+        raise ValueError(f"theta={theta}: seed {seed}'s run ends at strain {strain[-1]:g} after the rotation, "
+                         f"shorter than the window {window:g}")
+    inside = strain < window - tolerance
+    x = np.append(strain[inside], window)
+    y = np.append(values[inside], np.interp(window, strain, values))
+    return float(np.trapezoid(y, x))
+
+
+def viscosity_deficits(stress_runs: pd.DataFrame, eta_ss, window: float) -> pd.DataFrame:
+    """Per seed s and angle theta, the integrated viscosity deficit after the rotation
+
+        V_s(theta) = integral_0^W (1 - eta_r,s(theta, gamma) / eta_r^ss,s) d gamma
+
+    (trapezoidal rule on the frames, W = ``window``), with ``eta_ss`` a mapping seed ->
+    eta_r^ss,s, the seed's own steady viscosity (:func:`seed_steady_viscosity`). 0.1 means 10 %
+    below steady for one strain. A run shorter than W is an error naming the angle and both
+    strains. Long table: seed, theta, window, eta_ss_seed, deficit."""
+    window = float(window)
+    if not window > 0.0:
+        raise ValueError(f"deficit window must be positive, got {window}")
+    rows = []
+    for (theta, seed), run in stress_runs.groupby(["theta", "seed"], sort=True):
+        run = run.sort_values("strain")
+        strain = run["strain"].to_numpy(dtype=float)
+        if np.any(np.diff(strain) <= 0.0):
+            raise ValueError(f"theta={theta}: seed {seed} has duplicated strain values")
+        eta_ss_seed = _seed_eta_ss(eta_ss, [seed])[int(seed)]
+        deficit = _window_integral(strain, 1.0 - run["eta_r"].to_numpy(dtype=float) / eta_ss_seed, window,
+                                   float(theta), int(seed))
+        rows.append({"seed": int(seed), "theta": float(theta), "window": window, "eta_ss_seed": eta_ss_seed,
+                     "deficit": deficit})
+    return pd.DataFrame(rows, columns=["seed", "theta", "window", "eta_ss_seed", "deficit"])
+
+
+def viscosity_transients(stress_runs: pd.DataFrame, eta_ss, window: float, level: float = LEVEL,
+                         tolerance: float = TOLERANCE, smoothing_strain: float = 0.1) -> pd.DataFrame:
+    """Per angle, the integrated viscosity deficit with its t-interval over seeds (the deciding
+    number), and the viscosity minimum, its strain and the recovery strain as description.
+
+    ``eta_ss`` maps seed -> that seed's own steady eta_r^ss,s (:func:`seed_steady_viscosity`).
+
+    Deficit: the per-seed V_s(theta) of :func:`viscosity_deficits` over [0, ``window``]; columns
+    deficit (seed mean), deficit_se, deficit_low, deficit_high, the Student t-interval at
+    ``level`` over the n_seeds seeds (:func:`suspension_fabric.seed_statistics.t_interval`).
+
+    Description: on the seed-mean curve  mean_s eta_r,s(gamma) / mean_s eta_r^ss,s  (the study's
+    eta_r / eta_r^ss), smoothed by a centred running mean over ``smoothing_strain`` (the
+    frame-to-frame noise of a few seeds is ~10 %, the size of the band): its minimum, the strain
+    of the minimum, and the recovery strain (first strain from which it stays within
+    ``tolerance`` of 1; censored at the run's end if it never does: recovery_settled False),
+    each with the seed-bootstrap percentile interval at ``level`` (_low, _high;
+    :func:`suspension_fabric.seed_statistics.seed_bootstrap`, every resample takes whole seeds,
+    their rotation curves with their own steady state; a resample whose curve never settles
+    counts with the run's last strain). These are descriptive only: a minimum and a first
+    crossing are not smooth functions of the seeds, their bootstrap intervals are coarse with a
+    few seeds, and no verdict rests on them.
+    """
+    level = float(level)
+    deficits = viscosity_deficits(stress_runs, eta_ss, window)
     rows = []
     for theta, group in stress_runs.groupby("theta", sort=True):
         curves = {int(seed): rows_.sort_values("strain") for seed, rows_ in group.groupby("seed")}
@@ -231,18 +330,28 @@ def viscosity_transients(stress_runs: pd.DataFrame, eta_ss: float, tolerance: fl
             other = rows_["strain"].to_numpy(dtype=float)
             if len(other) != len(strain) or not np.allclose(other, strain, rtol=1e-9, atol=1e-12):
                 raise ValueError(f"theta={theta}: the strains of seed {seed} differ from those of seed {next(iter(curves))}")
+        eta = {seed: rows_["eta_r"].to_numpy(dtype=float) for seed, rows_ in curves.items()}
+        steady = _seed_eta_ss(eta_ss, curves)
 
-        def mean_curve(seeds):
-            mean = np.mean([curves[s]["eta_r"].to_numpy(dtype=float) for s in seeds], axis=0) / eta_ss
-            return moving_average(strain, mean, smoothing_strain)
+        @functools.lru_cache(maxsize=None)
+        def smoothed(sample: tuple) -> np.ndarray:
+            ratio = np.mean([eta[s] for s in sample], axis=0) / np.mean([steady[s] for s in sample])
+            return moving_average(strain, ratio, smoothing_strain)
 
-        minimum, minimum_err = jackknife(lambda seeds: float(mean_curve(seeds).min()), list(curves))
-        at, at_err = jackknife(lambda seeds: float(strain[np.argmin(mean_curve(seeds))]), list(curves))
-        recovery, recovery_err = jackknife(lambda seeds: settle_strain(strain, mean_curve(seeds) - 1.0, tolerance)[0],
-                                           list(curves))
-        rows.append({"theta": float(theta), "eta_min_over_ss": minimum, "eta_min_over_ss_err": minimum_err,
-                     "strain_at_min": at, "strain_at_min_err": at_err, "recovery_strain": recovery,
-                     "recovery_strain_err": recovery_err,
-                     "recovered": settle_strain(strain, mean_curve(list(curves)) - 1.0, tolerance)[1],
-                     "n_seeds": len(curves), "smoothing_strain": smoothing_strain})
+        def mean_curve(seeds) -> np.ndarray:
+            return smoothed(tuple(sorted(seeds)))  # the mean does not depend on the order
+
+        seeds = list(curves)
+        minimum = seed_bootstrap(lambda s: float(mean_curve(s).min()), seeds, level)
+        at = seed_bootstrap(lambda s: float(strain[np.argmin(mean_curve(s))]), seeds, level)
+        recovery = seed_bootstrap(lambda s: settle_strain(strain, mean_curve(s) - 1.0, tolerance)[0], seeds, level)
+        interval = t_interval(deficits.loc[deficits["theta"] == theta, "deficit"], level)
+        row = {"theta": float(theta), "window": float(window), "deficit": interval.mean, "deficit_se": interval.se,
+               "deficit_low": interval.low, "deficit_high": interval.high, "n_seeds": interval.n,
+               "level": level}
+        for name, (value, low, high) in (("minimum", minimum), ("strain_at_min", at), ("recovery_strain", recovery)):
+            row.update({name: value, f"{name}_low": low, f"{name}_high": high})
+        row["recovery_settled"] = settle_strain(strain, mean_curve(seeds) - 1.0, tolerance)[1]
+        row["smoothing_strain"] = float(smoothing_strain)
+        rows.append(row)
     return pd.DataFrame(rows)

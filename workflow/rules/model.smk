@@ -72,7 +72,9 @@ rule verdicts:
 
 
 rule stress_relation:
-    """G-W stress relation: fit on the steady stress per fabric source, predict startup and rotations, errors."""
+    """G-W stress relation: fit on the steady stress per fabric source, predict startup and rotations, errors;
+    the viscosity after a rotation: integrated deficit per seed (own steady eta_r) with its t-interval,
+    minimum and recovery strain with seed-bootstrap intervals."""
     input:
         fits=rules.fit_models.output[0],
         predictions=rules.predict.output[0],
@@ -82,12 +84,18 @@ rule stress_relation:
         stress_startup=rules.aggregate_stress_startup.output.aggregate,
         stress_rotation=rules.aggregate_stress_rotation.output.aggregate,
         stress_rotation_runs=rules.aggregate_stress_rotation.output.runs,
+        stress_startup_runs=rules.aggregate_stress_startup.output.runs,
     output:
         fits=f"{RESULTS}/tables/stress_relation_fits.csv",
         predictions=f"{RESULTS}/tables/stress_predictions.csv",
         errors=f"{RESULTS}/tables/stress_model_errors.csv",
         summary=f"{RESULTS}/tables/stress_model_errors_summary.csv",
         transients=f"{RESULTS}/tables/stress_viscosity_transients.csv",
+        deficits=f"{RESULTS}/tables/stress_viscosity_deficit_per_seed.csv",
+    params:
+        steady_window=config["analysis"]["steady_window"],
+        window=config["verdicts"]["window"],
+        level=config["verdicts"]["level"],
     conda:
         CONDA_ENV
     log:

@@ -21,6 +21,12 @@ with logged(sm.log[0]):
     errors.to_csv(sm.output.errors, index=False)
     summary = stress_model.summarise_relation_errors(errors)
     summary.to_csv(sm.output.summary, index=False)
-    transients = stress_model.viscosity_transients(pd.read_csv(sm.input.stress_rotation_runs), sigma12_ss)
+    # the viscosity after a rotation, per seed against that seed's own steady eta_r
+    eta_ss_seed = stress_model.seed_steady_viscosity(pd.read_csv(sm.input.stress_startup_runs),
+                                                     sm.params.steady_window)
+    rotation_runs = pd.read_csv(sm.input.stress_rotation_runs)
+    deficits = stress_model.viscosity_deficits(rotation_runs, eta_ss_seed, sm.params.window)
+    deficits.to_csv(sm.output.deficits, index=False)
+    transients = stress_model.viscosity_transients(rotation_runs, eta_ss_seed, sm.params.window, sm.params.level)
     transients.to_csv(sm.output.transients, index=False)
     print(relation.to_string(), summary.to_string(), transients.to_string(), sep="\n\n")
