@@ -1,7 +1,8 @@
 """Uncertainties and error summaries of models versus simulation (suspension_fabric.model_vs_simulation).
 
-fit_steady_state reports 1-sigma parameter errors by linear propagation of the standard
-errors of the steady-state targets; here they are compared with the actual spread of the
+propagated_fit_errors gives 1-sigma parameter errors by linear propagation of the standard
+errors of the steady-state targets (fits.json's *_err_propagated; the *_err are a jackknife over
+seeds, tests/test_fit_errors.py); here they are compared with the actual spread of the
 fitted parameters over noisy targets (Monte Carlo). summarise_errors is checked on a
 hand-built error table with exactly representable numbers.
 """
@@ -41,10 +42,11 @@ def test_propagated_fit_errors_match_monte_carlo_spread(sem_11, sem_12):
     (beta, A) = (9.4, 42.4), phi = 0.45, within 20% (the sampling error of a 200-draw std is
     5%); with one sigma_k = 0 only the other target's derivative is tested."""
     exact = model.steady_state_ode(BETA, A, PHI)
-    fits = model_vs_simulation.fit_steady_state(steady_table(exact, {"n11": sem_11, "n12": sem_12}), PHI)
-    assert fits["modified"]["beta"] == pytest.approx(BETA, rel=1e-8)
-    assert fits["modified"]["A"] == pytest.approx(A, rel=1e-8)
-    assert fits["targets"]["n11"] == {"mean": pytest.approx(exact[0, 0]), "sem": sem_11}
+    steady = steady_table(exact, {"n11": sem_11, "n12": sem_12})
+    fitted = model_vs_simulation.fit_both_models(steady, PHI)
+    assert fitted.beta == pytest.approx(BETA, rel=1e-8)
+    assert fitted.A == pytest.approx(A, rel=1e-8)
+    errors = model_vs_simulation.propagated_fit_errors(steady, PHI)
 
     rng = np.random.default_rng(2024)
     draws = []
@@ -54,11 +56,11 @@ def test_propagated_fit_errors_match_monte_carlo_spread(sem_11, sem_12):
         modified = model.fit_modified(n11, n12, PHI)
         draws.append((model.fit_gw(n12, PHI), modified.beta, modified.A))
     spread = np.std(np.array(draws), axis=0, ddof=1)
-    propagated = np.array([fits["gw"]["beta_err"], fits["modified"]["beta_err"], fits["modified"]["A_err"]])
+    propagated = np.array(errors)  # (G-W beta, modified beta, A)
     # atol: a parameter that does not depend on the noisy target (G-W beta when only
     # <nn>_11 is noisy) has sigma = 0 and a round-off spread
     np.testing.assert_allclose(propagated, spread, rtol=0.2, atol=1e-9)
-    assert (fits["gw"]["beta_err"] == 0.0) == (sem_12 == 0.0)
+    assert (errors.gw_beta == 0.0) == (sem_12 == 0.0)
     assert spread[1] > 0.0 and spread[2] > 0.0
 
 

@@ -10,8 +10,19 @@ Protocol of the model predictions (paper Sec. 4)
     shear (the random packing is not contact-free), are sheared to the startup
     strain of the simulations, then rotated by theta and sheared again. G-W uses the
     beta fitted to the steady <nn>_12; the modified model the (beta, A) fitted to
-    the steady <nn>_11 and <nn>_12 (paper Sec. 4.1). Fit uncertainties are the
-    linear propagation of the standard errors of the targets.
+    the steady <nn>_11 and <nn>_12 (paper Sec. 4.1).
+
+Fit uncertainties (:func:`fit_steady_state`)
+    Fit uncertainties are a jackknife over seeds of the whole fit: the steady state is
+    recomputed from the per-seed startup runs with each seed left out in turn
+    (:func:`suspension_fabric.tables.steady_state`), both models are fitted to it
+    (:func:`fit_both_models`), and the standard error is
+    sqrt((n - 1)/n sum_i (p_i - p_mean)^2) over the n leave-one-out parameters
+    (:func:`suspension_fabric.seed_statistics.jackknife`; NaN, written null, for one seed).
+    It includes the covariance of the steady <nn>_11 and <nn>_12 across seeds (strongly
+    negative in the simulations) and the seed-to-seed scatter. The linear propagation
+    of the targets' standard errors, which ignores that covariance
+    (:func:`propagated_fit_errors`), is kept alongside as ``*_err_propagated``.
 """
 
 from __future__ import annotations
@@ -21,14 +32,21 @@ import os
 from pathlib import Path
 from typing import NamedTuple
 
+import warnings
+
 import numpy as np
 import pandas as pd
 
-from . import model
+from . import model, tables
 from .fabric import COMPONENTS
+from .seed_statistics import jackknife
 
 __all__ = [
     "fit_steady_state",
+    "fit_both_models",
+    "propagated_fit_errors",
+    "FittedParameters",
+    "FIT_ERRORS",
     "write_fits",
     "read_fits",
     "initial_fabric",
@@ -45,6 +63,18 @@ __all__ = [
 #: Model keys used in tables and fits.json, with their display names.
 MODEL_NAMES = {"gw": "G-W (Eq. 1)", "modified": "modified G-W (Eq. 2)"}
 
+#: fits.json's ``fit_errors``: what its parameter errors are.
+FIT_ERRORS = ("jackknife over seeds of the whole fit (leave one seed out); *_propagated: linear propagation "
+              "of the targets' standard errors, ignoring their covariance")
+
+
+class FittedParameters(NamedTuple):
+    """The three fitted parameters (or their errors): G-W beta, modified beta and A."""
+
+    gw_beta: float
+    beta: float
+    A: float
+
 
 def _steady_value(steady: pd.DataFrame, quantity: str, theta: float = 0.0):
     rows = steady[(steady["quantity"] == quantity) & np.isclose(steady["theta"], theta)]
@@ -54,40 +84,118 @@ def _steady_value(steady: pd.DataFrame, quantity: str, theta: float = 0.0):
     return float(row["mean"]), float(row["sem"])
 
 
-def fit_steady_state(steady: pd.DataFrame, phi: float) -> dict:
-    """Fit both models to the startup (theta = 0) steady state; returns the fits.json content.
+def fit_both_models(steady: pd.DataFrame, phi: float) -> FittedParameters:
+    """Both models fitted to the startup (theta = 0) steady state of a steady-state table:
+    G-W beta to <nn>_12, modified (beta, A) to <nn>_11 and <nn>_12 (the one fit of the
+    steady state, used for all seeds and for each leave-one-out subset)."""
+    n11, _ = _steady_value(steady, "n11")
+    n12, _ = _steady_value(steady, "n12")
+    modified = model.fit_modified(n11, n12, phi)
+    return FittedParameters(model.fit_gw(n12, phi), modified.beta, modified.A)
 
-    ``gw.beta`` from <nn>_12, ``modified.beta`` and ``modified.A`` from <nn>_11 and
-    <nn>_12, each with a 1-sigma error from the standard errors of the targets
-    (finite-difference Jacobian of the fit). ``targets`` holds every steady
-    component with its error and the strain window.
-    """
+
+def _propagated(func, values, errors):
+    """sqrt(sum_k (df/dx_k sigma_k)^2) with central differences of a tenth of sigma."""
+    total = np.zeros_like(np.atleast_1d(func(*values)), dtype=float)
+    for k, sigma in enumerate(errors):
+        if not np.isfinite(sigma) or sigma == 0.0:
+            continue
+        step = 0.1 * sigma
+        plus, minus = list(values), list(values)
+        plus[k] += step
+        minus[k] -= step
+        try:
+            derivative = (np.atleast_1d(func(*plus)) - np.atleast_1d(func(*minus))) / (2 * step)
+        except ValueError:  # the target +- sigma/10 leaves the fittable range
+            return np.full_like(total, np.nan)
+        total += (derivative * sigma) ** 2
+    return np.sqrt(total)
+
+
+def propagated_fit_errors(steady: pd.DataFrame, phi: float) -> FittedParameters:
+    """1-sigma errors of :func:`fit_both_models` by linear propagation of the standard errors of
+    the targets (finite-difference Jacobian of the fits), ignoring the covariance of <nn>_11 and
+    <nn>_12; NaN where a target +- sigma/10 leaves the fittable range."""
     n11, n11_err = _steady_value(steady, "n11")
     n12, n12_err = _steady_value(steady, "n12")
-    beta_gw = model.fit_gw(n12, phi)
-    mod = model.fit_modified(n11, n12, phi)
+    gw_err = _propagated(lambda a: model.fit_gw(a, phi), [n12], [n12_err])[0]
+    mod_err = _propagated(lambda a, b: np.array(model.fit_modified(a, b, phi)), [n11, n12], [n11_err, n12_err])
+    return FittedParameters(float(gw_err), float(mod_err[0]), float(mod_err[1]))
 
-    def propagated(func, values, errors):
-        """sqrt(sum_k (df/dx_k sigma_k)^2) with central differences of a tenth of sigma."""
-        total = np.zeros_like(np.atleast_1d(func(*values)), dtype=float)
-        for k, sigma in enumerate(errors):
-            if not np.isfinite(sigma) or sigma == 0.0:
-                continue
-            step = 0.1 * sigma
-            plus, minus = list(values), list(values)
-            plus[k] += step
-            minus[k] -= step
+
+def _startup_seeds(runs: pd.DataFrame) -> tuple[pd.DataFrame, list[int]]:
+    startup = runs[np.isclose(runs["theta"].to_numpy(dtype=float), 0.0)]
+    if startup.empty:
+        raise ValueError("startup run table has no theta = 0 rows")
+    return startup, sorted(int(seed) for seed in startup["seed"].unique())
+
+
+def _check_steady_matches_runs(steady: pd.DataFrame, startup: pd.DataFrame, seeds, strain_min, strain_max):
+    """The steady-state table must be that of these runs over this window (else the jackknife
+    errors would belong to another fit)."""
+    window = steady[np.isclose(steady["theta"], 0.0)].iloc[0]
+    if not (np.isclose(window["strain_min"], strain_min) and np.isclose(window["strain_max"], strain_max)):
+        raise ValueError(f"steady-state table window [{window['strain_min']}, {window['strain_max']}] differs "
+                         f"from the jackknife window [{strain_min}, {strain_max}]")
+    if int(window["n_seeds"]) != len(seeds):
+        raise ValueError(f"steady-state table has {int(window['n_seeds'])} seeds, the run table {len(seeds)} "
+                         f"({seeds})")
+    recomputed = tables.steady_state(startup, strain_min, strain_max)
+    for quantity in ("n11", "n12"):
+        given, again = _steady_value(steady, quantity)[0], _steady_value(recomputed, quantity)[0]
+        if not np.isclose(given, again, rtol=1e-9, atol=1e-12):
+            raise ValueError(f"steady-state table {quantity} = {given!r} is not that of the run table "
+                             f"({again!r}) over [{strain_min}, {strain_max}]")
+
+
+def _jackknife_errors(startup: pd.DataFrame, seeds, strain_min, strain_max, phi):
+    """Jackknife standard errors of :func:`fit_both_models` over seeds and the correlation of the
+    leave-one-out modified beta and A (NaN for fewer than 3 seeds). A leave-one-out fit that fails
+    (a target outside the fittable range) gives NaN errors, with a warning naming the seed."""
+    fitted = {}
+
+    def parameters(subset) -> np.ndarray:
+        key = tuple(subset)
+        if key not in fitted:
+            steady = tables.steady_state(startup[startup["seed"].isin(key)], strain_min, strain_max)
             try:
-                derivative = (np.atleast_1d(func(*plus)) - np.atleast_1d(func(*minus))) / (2 * step)
-            except ValueError:  # the target +- sigma/10 leaves the fittable range
-                return np.full_like(total, np.nan)
-            total += (derivative * sigma) ** 2
-        return np.sqrt(total)
+                fitted[key] = np.array(fit_both_models(steady, phi), dtype=float)
+            except ValueError as error:
+                left_out = sorted(set(seeds) - set(key))
+                warnings.warn(f"fit without seed(s) {left_out} failed ({error}); its jackknife errors are NaN",
+                              stacklevel=3)
+                fitted[key] = np.full(3, np.nan)
+        return fitted[key]
 
-    gw_err = propagated(lambda a: model.fit_gw(a, phi), [n12], [n12_err])[0]
-    mod_err = propagated(
-        lambda a, b: np.array(model.fit_modified(a, b, phi)), [n11, n12], [n11_err, n12_err]
-    )
+    errors = FittedParameters(*(jackknife(lambda subset, k=k: parameters(subset)[k], seeds)[1] for k in range(3)))
+    correlation = np.nan
+    if len(seeds) >= 3:
+        leave_one_out = np.array([parameters([s for s in seeds if s != left]) for left in seeds])
+        beta, A = leave_one_out[:, 1], leave_one_out[:, 2]
+        if np.all(np.isfinite(leave_one_out)) and beta.std() > 0.0 and A.std() > 0.0:
+            correlation = float(np.corrcoef(beta, A)[0, 1])
+    return errors, correlation
+
+
+def fit_steady_state(steady: pd.DataFrame, phi: float, runs: pd.DataFrame, strain_min: float,
+                     strain_max: float) -> dict:
+    """Fit both models to the startup (theta = 0) steady state; returns the fits.json content.
+
+    ``steady`` is :func:`suspension_fabric.tables.steady_state` of the per-seed startup run
+    table ``runs`` (columns seed, theta, ..., strain, n11 ... n23, Z; startup_runs.csv) over
+    strain_min <= strain <= strain_max (checked: window, seeds and the fitted <nn>_11,
+    <nn>_12). ``gw.beta`` from <nn>_12, ``modified.beta`` and ``modified.A`` from <nn>_11 and
+    <nn>_12 (:func:`fit_both_models`). Their ``*_err`` are jackknife standard errors over seeds
+    of the whole fit (null for one seed), ``*_err_propagated`` the linear propagation of the
+    targets' standard errors (:func:`propagated_fit_errors`), and ``modified.beta_A_correlation``
+    the correlation of the leave-one-out beta and A (null for fewer than 3 seeds). ``targets``
+    holds every steady component with its error; ``fit_errors`` says what the errors are.
+    """
+    startup, seeds = _startup_seeds(runs)
+    _check_steady_matches_runs(steady, startup, seeds, strain_min, strain_max)
+    fitted = fit_both_models(steady, phi)
+    propagated = propagated_fit_errors(steady, phi)
+    jackknifed, correlation = _jackknife_errors(startup, seeds, strain_min, strain_max, phi)
     targets = {}
     for quantity in (*COMPONENTS, "Z"):
         mean, sem = _steady_value(steady, quantity)
@@ -97,15 +205,18 @@ def fit_steady_state(steady: pd.DataFrame, phi: float) -> dict:
         "phi": float(phi),
         "steady_window": [float(window["strain_min"]), float(window["strain_max"])],
         "n_seeds": int(window["n_seeds"]),
+        "fit_errors": FIT_ERRORS,
         "targets": targets,
-        "gw": {"beta": beta_gw, "beta_err": float(gw_err), "fitted_to": ["n12"]},
+        "gw": {"beta": fitted.gw_beta, "beta_err": jackknifed.gw_beta,
+               "beta_err_propagated": propagated.gw_beta, "fitted_to": ["n12"]},
         "modified": {
-            "beta": mod.beta, "beta_err": float(mod_err[0]),
-            "A": mod.A, "A_err": float(mod_err[1]), "fitted_to": ["n11", "n12"],
+            "beta": fitted.beta, "beta_err": jackknifed.beta, "beta_err_propagated": propagated.beta,
+            "A": fitted.A, "A_err": jackknifed.A, "A_err_propagated": propagated.A,
+            "beta_A_correlation": correlation, "fitted_to": ["n11", "n12"],
         },
         "model_steady_state": {
-            "gw": _as_components(model.steady_state_ode(beta_gw, None, phi)),
-            "modified": _as_components(model.steady_state_ode(mod.beta, mod.A, phi)),
+            "gw": _as_components(model.steady_state_ode(fitted.gw_beta, None, phi)),
+            "modified": _as_components(model.steady_state_ode(fitted.beta, fitted.A, phi)),
         },
     }
 

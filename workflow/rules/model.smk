@@ -1,11 +1,13 @@
 rule fit_models:
-    """G-W beta from steady <nn>_12; modified (beta, A) from steady <nn>_11 and <nn>_12."""
+    """G-W beta from steady <nn>_12; modified (beta, A) from <nn>_11 and <nn>_12; errors: jackknife over seeds."""
     input:
         steady=rules.aggregate_startup.output.steady,
+        runs=rules.aggregate_startup.output.runs,
     output:
         f"{RESULTS}/fits.json",
     params:
         phi=config["particles"]["phi"],
+        steady_window=config["analysis"]["steady_window"],
     conda:
         CONDA_ENV
     log:
