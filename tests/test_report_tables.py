@@ -50,13 +50,15 @@ def test_component_labels():
 
 @pytest.fixture
 def fits():
-    """fits.json as :func:`model_vs_simulation.fit_steady_state` writes it (values of the default study)."""
+    """fits.json as :func:`model_vs_simulation.fit_steady_state` writes it (values of the default study;
+    the propagated errors are those of the reference study)."""
     return {
-        "phi": 0.45, "steady_window": [2.0, 5.0], "n_seeds": 3,
+        "phi": 0.45, "steady_window": [2.0, 5.0], "n_seeds": 3, "fit_errors": model_vs_simulation.FIT_ERRORS,
         "targets": {"n11": {"mean": 0.5465, "sem": 0.00193}, "n12": {"mean": -0.10306, "sem": 0.00194},
                     "Z": {"mean": 3.4748, "sem": 0.01035}},
-        "gw": {"beta": 10.747, "beta_err": 0.18753, "fitted_to": ["n12"]},
-        "modified": {"beta": 9.2517, "beta_err": None, "A": 44.763, "A_err": 0.30719,
+        "gw": {"beta": 10.747, "beta_err": 0.18753, "beta_err_propagated": 0.0901, "fitted_to": ["n12"]},
+        "modified": {"beta": 9.2517, "beta_err": None, "beta_err_propagated": 0.0392,
+                     "A": 44.763, "A_err": 0.30719, "A_err_propagated": 0.2255, "beta_A_correlation": 0.9756,
                      "fitted_to": ["n11", "n12"]},
         "model_steady_state": {"gw": {"n11": 0.20831, "n12": -0.10306},
                                "modified": {"n11": 0.54653, "n12": -0.10306}},
@@ -65,13 +67,29 @@ def fits():
 
 
 def test_fit_parameters_table(fits):
+    """Both errors, named: the jackknife over seeds (fits.json <parameter>_err) and the propagated one."""
     table = rt.fit_parameters_table(fits)
-    assert list(table.columns) == ["Model", "Parameter", "Value ± 1σ", "Fitted to (steady state)"]
+    assert list(table.columns) == ["Model", "Parameter", "Value ± 1σ (jackknife over seeds)",
+                                   "Value ± 1σ (propagated)", "Fitted to (steady state)"]
     assert table.values.tolist() == [
-        ["G-W (Eq. 1)", "β", "10.75 ± 0.19", "⟨nn⟩₁₂"],
-        ["modified G-W (Eq. 2)", "β", "9.252 ± —", "⟨nn⟩₁₁, ⟨nn⟩₁₂"],  # null error in fits.json
-        ["modified G-W (Eq. 2)", "A", "44.76 ± 0.31", "⟨nn⟩₁₁, ⟨nn⟩₁₂"],
+        ["G-W (Eq. 1)", "β", "10.75 ± 0.19", "10.747 ± 0.090", "⟨nn⟩₁₂"],
+        ["modified G-W (Eq. 2)", "β", "9.252 ± —", "9.252 ± 0.039", "⟨nn⟩₁₁, ⟨nn⟩₁₂"],  # null error in fits.json
+        ["modified G-W (Eq. 2)", "A", "44.76 ± 0.31", "44.76 ± 0.23", "⟨nn⟩₁₁, ⟨nn⟩₁₂"],
     ]
+
+
+def test_fit_parameters_table_of_a_fits_json_without_jackknife(fits):
+    """A fits.json written before the jackknife (no fit_errors key): its <parameter>_err was the
+    propagated error and is shown as such, the jackknife column is missing."""
+    for key in ("gw", "modified"):
+        for name in ("beta_err", "A_err"):
+            if name in fits[key]:
+                fits[key][name] = fits[key].pop(f"{name}_propagated")
+        fits[key].pop("beta_A_correlation", None)
+    del fits["fit_errors"]
+    table = rt.fit_parameters_table(fits)
+    assert table[rt.JACKKNIFE_COLUMN].tolist() == ["10.75 ± —", "9.252 ± —", "44.76 ± —"]
+    assert table[rt.PROPAGATED_COLUMN].tolist() == ["10.747 ± 0.090", "9.252 ± 0.039", "44.76 ± 0.23"]
 
 
 def test_fit_targets_table(fits):
@@ -96,7 +114,7 @@ def test_fits_round_trip_through_fits_json(tmp_path, fits):
     fits["modified"]["beta_err"] = float("nan")
     path = model_vs_simulation.write_fits(fits, tmp_path / "fits.json")
     table = rt.fit_parameters_table(model_vs_simulation.read_fits(path))
-    assert table["Value ± 1σ"].tolist() == ["10.75 ± 0.19", "9.252 ± —", "44.76 ± 0.31"]
+    assert table[rt.JACKKNIFE_COLUMN].tolist() == ["10.75 ± 0.19", "9.252 ± —", "44.76 ± 0.31"]
 
 
 def steady_rows(thetas=(0.0,)):
@@ -200,6 +218,11 @@ def test_report_pages(tmp_path, fits):
     fits_page = parse(rt.write_fits_page(fits, tmp_path / "fits.html"))
     assert fits_page.captions[0] == "Fitted model parameters"
     assert "10.75 ± 0.19" in fits_page.cells and "44.76 ± 0.31" in fits_page.cells
+    assert "44.76 ± 0.23" in fits_page.cells  # the propagated error, in its own column
+    assert {"Value ± 1σ (jackknife over seeds)", "Value ± 1σ (propagated)"} <= set(fits_page.cells)
+    text = (tmp_path / "fits.html").read_text(encoding="utf-8")
+    assert "Jackknife over seeds" in text and "Propagated: linear propagation" in text
+    assert "leave-one-out fits: 0.976." in text
     steady_page = parse(rt.write_steady_state_page(steady_rows(), tmp_path / "steady.html"))
     assert steady_page.captions == ["Simulated steady state over the strain window 2 ≤ γ ≤ 5"]
     assert "-0.1031 ± 0.0019" in steady_page.cells

@@ -6,7 +6,8 @@ turned into small self-contained HTML pages here:
 
 * :func:`fit_parameters_table` and :func:`fit_targets_table` -- fits.json
   (:func:`suspension_fabric.model_vs_simulation.fit_steady_state`): fitted parameters with their
-  1-sigma errors, and the steady-state targets next to the models' own steady states;
+  1-sigma errors (jackknife over seeds, and the linear propagation of the targets' standard
+  errors), and the steady-state targets next to the models' own steady states;
 * :func:`steady_state_table` -- the steady-state table of
   :func:`suspension_fabric.tables.steady_state`;
 * :func:`error_summary_table` -- :func:`suspension_fabric.model_vs_simulation.summarise_errors`.
@@ -36,6 +37,8 @@ __all__ = [
     "format_number",
     "component_label",
     "fit_parameters_table",
+    "JACKKNIFE_COLUMN",
+    "PROPAGATED_COLUMN",
     "fit_targets_table",
     "fit_settings",
     "steady_state_table",
@@ -117,21 +120,40 @@ def _components_label(names) -> str:
     return ", ".join(component_label(n) for n in names)
 
 
+#: Columns of :func:`fit_parameters_table` with the parameter ± its two errors.
+JACKKNIFE_COLUMN = "Value ± 1σ (jackknife over seeds)"
+PROPAGATED_COLUMN = "Value ± 1σ (propagated)"
+
+
+def _fit_errors(entry: dict, parameter: str, jackknifed: bool):
+    """(jackknife, propagated) error of a parameter of fits.json; a fits.json written before the
+    jackknife (no ``fit_errors`` key) holds only the propagated error, as ``<parameter>_err``."""
+    if not jackknifed:
+        return None, entry.get(f"{parameter}_err")
+    return entry.get(f"{parameter}_err"), entry.get(f"{parameter}_err_propagated")
+
+
 def fit_parameters_table(fits: dict) -> pd.DataFrame:
-    """One row per fitted parameter: Model, Parameter, "Value ± 1σ" and the fit targets."""
+    """One row per fitted parameter: Model, Parameter, the value ± its jackknife error over seeds
+    (fits.json ``<parameter>_err``), ± its propagated error (``<parameter>_err_propagated``), and
+    the fit targets."""
+    jackknifed = "fit_errors" in fits
     rows = []
     for key in MODEL_NAMES:
         entry = fits[key]
         for parameter, label in _PARAMETER_LABELS.items():
             if parameter not in entry:
                 continue
+            jackknife_error, propagated_error = _fit_errors(entry, parameter, jackknifed)
             rows.append({
                 "Model": MODEL_NAMES[key],
                 "Parameter": label,
-                "Value ± 1σ": format_value_error(entry[parameter], entry.get(f"{parameter}_err")),
+                JACKKNIFE_COLUMN: format_value_error(entry[parameter], jackknife_error),
+                PROPAGATED_COLUMN: format_value_error(entry[parameter], propagated_error),
                 "Fitted to (steady state)": _components_label(entry.get("fitted_to", ())),
             })
-    return pd.DataFrame(rows, columns=["Model", "Parameter", "Value ± 1σ", "Fitted to (steady state)"])
+    return pd.DataFrame(rows, columns=["Model", "Parameter", JACKKNIFE_COLUMN, PROPAGATED_COLUMN,
+                                       "Fitted to (steady state)"])
 
 
 def fit_targets_table(fits: dict) -> pd.DataFrame:
@@ -255,12 +277,25 @@ def write_html_tables(path: str | os.PathLike, title: str, tables) -> Path:
     return path
 
 
+def _fit_errors_note(fits: dict) -> str:
+    """The note under the fitted parameters: what the two errors are, and the correlation of
+    the modified model's β and A over the leave-one-out fits."""
+    note = ("1σ errors. Jackknife over seeds: the whole fit repeated with each seed left out, "
+            "σ = √((n−1)/n Σᵢ (pᵢ − p̄)²) over the n leave-one-out fits; it includes the covariance of "
+            f"the fitted ⟨nn⟩₁₁ and ⟨nn⟩₁₂ across seeds ({MISSING} with one seed). Propagated: linear "
+            "propagation of the standard errors of the fit targets, ignoring their covariance "
+            f"({MISSING} where a target ± σ/10 leaves the fittable range).")
+    if "fit_errors" not in fits:
+        return note + " This fits.json predates the jackknife: only the propagated errors exist."
+    correlation = fits["modified"].get("beta_A_correlation")
+    shown = MISSING + " (fewer than 3 seeds)" if _is_missing(correlation) else format_number(correlation, 3)
+    return note + f" Correlation of the modified model's β and A over the leave-one-out fits: {shown}."
+
+
 def write_fits_page(fits: dict, path: str | os.PathLike) -> Path:
     """The report page of fits.json: fitted parameters, fit targets vs model steady states, settings."""
     return write_html_tables(path, "Model fits (fits.json)", [
-        ("Fitted model parameters", fit_parameters_table(fits),
-         "1σ errors: linear propagation of the standard errors of the fit targets; "
-         f"{MISSING} where the target ± σ/10 leaves the fittable range."),
+        ("Fitted model parameters", fit_parameters_table(fits), _fit_errors_note(fits)),
         ("Steady state of startup shear: simulation (fit targets) and the fitted models",
          fit_targets_table(fits),
          "Simulation: seed mean over the steady-state strain window with its correlation-aware "
