@@ -102,7 +102,7 @@ def test_report_table_names_the_level_and_each_interval():
                        "recovery strain (10%) [90% bootstrap]"]
     assert "Student t-interval" in note and "bootstrap resamples of whole seeds" in note
     assert "no verdict rests on them" in note and "own steady viscosity" in note
-    assert table["seeds"].tolist() == ["3", "3", "3"]
+    assert table["seeds"].tolist() == ["3", "3", "3"] and table["θ (deg)"].tolist() == ["0", "90", "180"]
     assert table.iloc[2, -1].endswith("(not recovered: lower bound)")
 
 

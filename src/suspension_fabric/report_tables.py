@@ -417,7 +417,7 @@ def viscosity_transient_table(transients: pd.DataFrame) -> tuple[pd.DataFrame, s
     window, level = float(transients["window"].iloc[0]), float(transients["level"].iloc[0])
     percent = f"{100 * level:g}%"
     table = pd.DataFrame({
-        "θ (deg)": [format_number(t) for t in transients["theta"]],
+        "θ (deg)": [f"{t:g}" for t in transients["theta"]],
         f"deficit ∫₀^{window:g} (1 − ηᵣ/ηᵣˢˢ) dγ [{percent} t-interval]": [
             format_interval(v, lo, hi) for v, lo, hi in
             zip(transients["deficit"], transients["deficit_low"], transients["deficit_high"])],
