@@ -32,6 +32,7 @@ else:
 
 include: "workflow/rules/analyse.smk"
 include: "workflow/rules/model.smk"
+include: "workflow/rules/claims.smk"
 include: "workflow/rules/figures.smk"
 include: "workflow/rules/report.smk"
 

@@ -312,13 +312,19 @@ def claim_values(stats: pd.DataFrame) -> pd.DataFrame:
     return pd.concat(blocks, ignore_index=True)
 
 
-def range_interval(values: pd.DataFrame, claim: str, thetas, level: float = LEVEL):
-    """t-interval over seeds of T averaged over ``thetas`` within each seed."""
-    rows = values[(values["claim"] == claim) & np.isin(values["theta"], thetas)]
-    if rows.empty:
+def _seed_by_angle(values: pd.DataFrame, claim: str) -> pd.DataFrame:
+    """T of one claim as a (seed x theta) table."""
+    return values[values["claim"] == claim].pivot(index="seed", columns="theta", values="T")
+
+
+def range_interval(values: pd.DataFrame, claim: str, thetas, level: float = LEVEL, table: pd.DataFrame | None = None):
+    """t-interval over seeds of T averaged over ``thetas`` within each seed (None if no angle);
+    ``table`` is the claim's :func:`_seed_by_angle` when the caller has it already."""
+    table = _seed_by_angle(values, claim) if table is None else table
+    columns = [t for t in table.columns if np.any(np.isclose(t, np.asarray(thetas, dtype=float)))]
+    if not columns:
         return None
-    per_seed = rows.groupby("seed")["T"].mean()
-    return t_interval(per_seed.to_numpy(), level)
+    return t_interval(table[columns].mean(axis=1).to_numpy(), level)
 
 
 def _row(interval, **keys) -> dict:
@@ -342,7 +348,8 @@ def claim_table(values: pd.DataFrame, level: float = LEVEL) -> pd.DataFrame:
     rows = []
     for claim in CLAIMS:
         inside = claim_angles(claim, thetas)
-        rows.append(_row(range_interval(values, claim.key, inside, level), claim=claim.key, text=claim.text,
+        rows.append(_row(range_interval(values, claim.key, inside, level, _seed_by_angle(values, claim.key)),
+                         claim=claim.key, text=claim.text,
                          statistic=DECISION_STATISTIC[claim.statistic], angles=_angle_text(inside), level=level))
     return pd.DataFrame(rows)
 
@@ -426,3 +433,34 @@ def choices_table(values_by_choice: dict[str, pd.DataFrame], level: float = LEVE
         robust[claim] = primary if not flips else f"{primary} (primary); differs under: {', '.join(flips)}"
     table["robust"] = table["claim"].map(robust)
     return table
+
+
+def evaluate_study(startup_runs: pd.DataFrame, rotation_runs: pd.DataFrame, *, phi: float, steady_window,
+                   startup_strain: float, rotation_strain: float, window: float) -> dict[str, pd.DataFrame]:
+    """Every choice of :func:`study_choices` on one study: ``statistics`` (per seed and angle),
+    ``values`` (T per claim, seed and angle) and ``fits`` (per-seed parameters), each with a
+    ``choice`` column. The theta = 0 baseline is left out when the study has no theta = 0 run."""
+    has_zero = bool(np.any(np.abs(rotation_runs["theta"].to_numpy(dtype=float)) < _ANGLE_TOL))
+    out = {"statistics": [], "values": [], "fits": []}
+    for choice in study_choices(window, rotation_strain):
+        if choice.baseline == "continuation" and not has_zero:
+            continue
+        results = study_claim_values(startup_runs, rotation_runs, phi, steady_window, startup_strain, choice)
+        for key, table in zip(("statistics", "values", "fits"), results):
+            out[key].append(table.assign(choice=choice.name))
+    return {key: pd.concat(blocks, ignore_index=True) for key, blocks in out.items()}
+
+
+def evaluate_dataset(folder, window: float) -> pd.DataFrame:
+    """T per claim, seed and angle of a reference dataset under the primary choices (its own phi,
+    steady window and startup strain; ``window`` after the rotation)."""
+    from .dataset import read_fabric_runs  # the dataset module needs the simulation stack
+
+    record, startup, rotation = read_fabric_runs(folder)
+    config = record["config"]
+    if config["run"]["rotation_strain"] < window - 1e-9:
+        raise ValueError(f"the dataset {folder} runs {config['run']['rotation_strain']:g} strain after each rotation, "
+                         f"less than the window verdicts.window = {window:g}")
+    _, values, _ = study_claim_values(startup, rotation, config["particles"]["phi"], config["analysis"]["steady_window"],
+                                      config["run"]["startup_strain"], Choice("primary", window))
+    return values

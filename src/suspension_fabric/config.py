@@ -114,6 +114,10 @@ def validate_config(config: dict, schema_path: str | os.PathLike = SCHEMA_PATH) 
             "rank; parallelism comes from running seeds and angles as separate jobs (use "
             "run.integrator = explicit for MPI runs)"
         )
+    window = config["verdicts"]["window"]
+    if window > run["rotation_strain"]:
+        raise ConfigError(f"config key 'verdicts.window' ({window}) exceeds run.rotation_strain "
+                          f"({run['rotation_strain']}): the claims integrate over the strain after a rotation")
     labels = [angle_label(a) for a in config["angles_deg"]]
     if len(set(labels)) != len(labels):
         raise ConfigError(f"config key 'angles_deg': angles collide after formatting: {labels}")

@@ -31,13 +31,15 @@ import time
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 
 from .config import angle_label, load_config, simulation_settings
 from .lammps.plugin import plugin_sources
 from .stressio import read_stress_table
+from .tables import read_fabric_table
 
 __all__ = ["DATASET_FILE", "run_names", "export_dataset", "read_dataset", "check_config_matches",
-           "import_run_table", "has_run_tables", "read_dataset_stress", "RUN_TABLES"]
+           "import_run_table", "has_run_tables", "read_dataset_stress", "read_fabric_runs", "RUN_TABLES"]
 
 DATASET_FILE = "dataset.json"
 #: The analysed per-run tables a dataset carries (the stress one only once recorded).
@@ -171,15 +173,32 @@ def import_run_table(folder: Path, name: str, table: str, target: Path) -> Path:
     checking its recorded SHA-256."""
     if table not in RUN_TABLES:
         raise ValueError(f"unknown run table {table!r}; expected one of {RUN_TABLES}")
-    record = read_dataset(folder)
-    key = f"{name}/{table}"
+    shutil.copy(_checked_file(folder, read_dataset(folder), f"{name}/{table}"), target)
+    return Path(target)
+
+
+def _checked_file(folder: Path, record: dict, key: str) -> Path:
+    """The dataset file ``key`` after checking its recorded SHA-256; errors name the file."""
     source = Path(folder) / key
     if key not in record["files"]:
         raise ValueError(f"the dataset {folder} has no {key}")
     if _sha256(source) != record["files"][key]:
         raise ValueError(f"{source} does not match the SHA-256 recorded in {Path(folder) / DATASET_FILE}")
-    shutil.copy(source, target)
-    return Path(target)
+    return source
+
+
+def read_fabric_runs(folder: Path) -> tuple[dict, pd.DataFrame, pd.DataFrame]:
+    """A dataset's record and its fabric tables, concatenated: (record, startup runs, rotation runs),
+    every file's SHA-256 checked (the run tables of the workflow's ``aggregate_*`` rules)."""
+    record = read_dataset(folder)
+    if record["runs_missing"]:
+        raise ValueError(f"the dataset {folder} lacks {len(record['runs_missing'])} run(s), e.g. "
+                         f"{record['runs_missing'][0]}")
+    startup, rotation = [], []
+    for name in run_names(record["config"]):
+        table = read_fabric_table(_checked_file(folder, record, f"{name}/fabric.csv"))
+        (startup if name.endswith("/startup") else rotation).append(table)
+    return record, pd.concat(startup, ignore_index=True), pd.concat(rotation, ignore_index=True)
 
 
 def main(argv: list[str] | None = None) -> None:

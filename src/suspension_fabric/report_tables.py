@@ -327,40 +327,89 @@ def write_error_summary_page(summary: pd.DataFrame, path: str | os.PathLike) -> 
     ])
 
 
+def _cell(mean, low, high, verdict, seeds) -> str:
+    needed = f"; ~{int(seeds)} seeds would decide" if verdict == "undecided" and math.isfinite(seeds) else ""
+    return f"{format_interval(mean, low, high)} {verdict}{needed}"
+
+
 def verdicts_display_table(verdicts: pd.DataFrame) -> pd.DataFrame:
-    """The paper's claims, each with its deciding number ± error and the verdict."""
+    """The paper's claims, each with its decision statistic, interval and verdict."""
     return pd.DataFrame({
-        "claim of the paper": verdicts["claim"],
-        "deciding number": verdicts["deciding number"],
-        "value": [format_value_error(v, e) for v, e in zip(verdicts["value"], verdicts["error"])],
+        "": verdicts["claim"],
+        "claim of the paper": verdicts["text"],
+        "decision statistic T (> 0: as the paper says)": verdicts["statistic"],
+        "angles (deg)": verdicts["angles"],
+        "T [interval]": [format_interval(m, lo, hi) for m, lo, hi in zip(verdicts["mean"], verdicts["low"],
+                                                                          verdicts["high"])],
         "verdict": verdicts["verdict"].replace("", "(parameter)"),
+        "seeds that would decide": [format_number(n, 3) if v == "undecided" else ""
+                                    for n, v in zip(verdicts["seeds_needed"], verdicts["verdict"])],
         "criterion": verdicts["criterion"],
     })
 
 
-def write_verdicts_page(verdicts: pd.DataFrame, recovery: pd.DataFrame, path: str | os.PathLike) -> Path:
-    """The report page of the verdict table (rule verdicts) and the recovery strains behind it."""
-    shown = recovery[["theta", "sim_steady", "sim_steady_err", "sim_continuation", "sim_continuation_err",
-                      "gw_steady", "modified_steady", "sim_n23", "sim_n23_err", "gw_n23", "modified_n23"]]
-    recovery_text = pd.DataFrame({
-        "θ (deg)": [format_number(t) for t in shown["theta"]],
-        "simulation, ⟨nn⟩′₁₂ (steady)": [format_value_error(v, e) for v, e in zip(shown["sim_steady"], shown["sim_steady_err"])],
-        "simulation, ⟨nn⟩′₁₂ (θ = 0)": [format_value_error(v, e) for v, e in zip(shown["sim_continuation"], shown["sim_continuation_err"])],
-        "G-W, ⟨nn⟩′₁₂": [format_number(v, 3) for v in shown["gw_steady"]],
-        "modified, ⟨nn⟩′₁₂": [format_number(v, 3) for v in shown["modified_steady"]],
-        "simulation, ⟨nn⟩′₂₃": [format_value_error(v, e) for v, e in zip(shown["sim_n23"], shown["sim_n23_err"])],
-        "G-W, ⟨nn⟩′₂₃": [format_number(v, 3) for v in shown["gw_n23"]],
-        "modified, ⟨nn⟩′₂₃": [format_number(v, 3) for v in shown["modified_n23"]],
+def choices_display_table(choices: pd.DataFrame) -> pd.DataFrame:
+    """Claims by rows, choices (and comparison datasets) by columns: T [interval] and verdict."""
+    cells = choices.assign(cell=[_cell(*row) for row in zip(choices["mean"], choices["low"], choices["high"],
+                                                             choices["verdict"], choices["seeds_needed"])])
+    wide = cells.pivot(index="claim", columns="choice", values="cell")
+    wide = wide.loc[list(dict.fromkeys(choices["claim"])), list(dict.fromkeys(choices["choice"]))]
+    robust = choices.drop_duplicates("claim").set_index("claim")["robust"]
+    return wide.assign(robust=robust).reset_index()
+
+
+def per_angle_display_table(per_angle: pd.DataFrame) -> pd.DataFrame:
+    """T per claim and angle with its interval and verdict, and the seed means behind it."""
+    return pd.DataFrame({
+        "claim": per_angle["claim"], "θ (deg)": [format_number(t) for t in per_angle["theta"]],
+        "T [interval]": [format_interval(m, lo, hi) for m, lo, hi in zip(per_angle["mean"], per_angle["low"],
+                                                                          per_angle["high"])],
+        "verdict": per_angle["verdict"], "quantity": per_angle["quantity"],
+        **{name: [format_number(x, 3) for x in per_angle[key]] for key, name in
+           (("sim", "simulation"), ("gw", "G-W"), ("modified", "modified")) if key in per_angle},
     })
+
+
+def write_verdicts_page(verdicts: pd.DataFrame, per_angle: pd.DataFrame, edges: pd.DataFrame,
+                        choices: pd.DataFrame, recovery: pd.DataFrame, path: str | os.PathLike) -> Path:
+    """The report page of rule verdicts: the verdict table, the choices table, the per-angle and
+    range-edge tables, and the recovery strains (description)."""
+    level = float(choices["level"].iloc[0])
+    recovery_text = pd.DataFrame({
+        "θ (deg)": [format_number(t) for t in recovery["theta"]],
+        **{label: [format_interval(v, lo, hi) for v, lo, hi in
+                   zip(recovery[key], recovery[f"{key}_low"], recovery[f"{key}_high"])]
+           for key, label in (("sim_steady", "simulation, ⟨nn⟩′₁₂ (steady)"),
+                              ("sim_continuation", "simulation, ⟨nn⟩′₁₂ (θ = 0)"))},
+        "G-W, ⟨nn⟩′₁₂": [format_number(v, 3) for v in recovery["gw_steady"]],
+        "modified, ⟨nn⟩′₁₂": [format_number(v, 3) for v in recovery["modified_steady"]],
+        "simulation, ⟨nn⟩′₂₃": [format_interval(v, lo, hi) for v, lo, hi in
+                                zip(recovery["sim_n23"], recovery["sim_n23_low"], recovery["sim_n23_high"])],
+        "G-W, ⟨nn⟩′₂₃": [format_number(v, 3) for v in recovery["gw_n23"]],
+        "modified, ⟨nn⟩′₂₃": [format_number(v, 3) for v in recovery["modified_n23"]],
+    })
+    edge_text = edges.assign(**{"T [interval]": [format_interval(m, lo, hi) for m, lo, hi in
+                                                 zip(edges["mean"], edges["low"], edges["high"])]})
     return write_html_tables(path, "The paper's claims (verdicts.csv)", [
-        ("Each claim of the paper, the number that decides it and the verdict", verdicts_display_table(verdicts),
-         "Errors: jackknife over seeds of the seed-mean quantity (steady state: correlation-aware standard "
-         "error). Confirmed / refuted: beyond 2 errors on the paper's side / the other side."),
-        ("Recovery strain after a rotation (first strain from which the component stays within 10%)",
-         recovery_text,
-         "⟨nn⟩′₁₂ within 10% of its steady value (steady: of startup's ⟨nn⟩₁₂ˢˢ; θ = 0: of the same seed's "
-         "continuation without rotation); ⟨nn⟩′₂₃ within 0.1 |⟨nn⟩₁₂ˢˢ| of 0. A curve that never settles is "
-         "given its last strain (recovery_table.csv says which)."),
+        ("Each claim of the paper, its decision statistic T per seed, the interval over seeds and the verdict",
+         verdicts_display_table(verdicts),
+         f"Shear-rotation claims (C): T computed on each seed alone (own steady state, fit and predictions), "
+         f"averaged over the claim's angles within the seed; {level:.0%} two-sided t-interval over seeds; "
+         "confirmed if it lies above 0, refuted if below (effect sizes built into T: docs/verdict_statistics.md). "
+         "Steady-state claims (S): ± 2 standard errors."),
+        ("The choices each verdict may hinge on (claims by rows, choices by columns)", choices_display_table(choices),
+         "Each cell: T [interval] and verdict under one change from the primary choices (models from their own "
+         "strain-5 state, window 2, steady-state fit, steady baseline); columns after the study's own choices are "
+         "other datasets (config verdicts.comparisons) under the primary choices."),
+        ("T per angle", per_angle_display_table(per_angle),
+         "The seed means of the quantity behind T: D12, E23, X12 (strain units), MSE (in units of (⟨nn⟩₁₂ˢˢ)²), "
+         "O12 the modified model's overshoot."),
+        ("The claims' angle ranges moved by one simulated angle at either edge",
+         edge_text[["claim", "edges", "angles", "T [interval]", "verdict"]], None),
+        ("Recovery strain after a rotation (description: no verdict rests on it)", recovery_text,
+         f"First strain from which ⟨nn⟩′₁₂ stays within 10% of its steady value (steady: startup's ⟨nn⟩₁₂ˢˢ; "
+         f"θ = 0: the same seed's continuation) and ⟨nn⟩′₂₃ within 0.1 |⟨nn⟩₁₂ˢˢ| of 0, on the seed-mean curve; "
+         f"[{level:.0%} seed-bootstrap percentile interval]."),
     ])
 
 

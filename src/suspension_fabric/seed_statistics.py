@@ -86,9 +86,20 @@ def seeds_needed(interval: Interval, max_seeds: int = 10_000) -> float:
         return float(interval.n) if interval.mean != 0.0 else np.inf
     if interval.mean == 0.0:
         return np.inf
-    n = np.arange(2, max_seeds + 1)
-    deciding = stats.t.ppf(0.5 + interval.level / 2.0, n - 1) * sd / np.sqrt(n) < abs(interval.mean)
-    return float(n[np.argmax(deciding)]) if deciding.any() else np.inf
+    def decides(n: int) -> bool:
+        return stats.t.ppf(0.5 + interval.level / 2.0, n - 1) * sd / np.sqrt(n) < abs(interval.mean)
+
+    # The half-width falls with n: double until it decides, then bisect.
+    high = 2
+    while not decides(high):
+        if high >= max_seeds:
+            return np.inf
+        high = min(2 * high, max_seeds)
+    low = max(high // 2, 1)  # decides(low) is False unless low < 2
+    while high - low > 1:
+        middle = (low + high) // 2
+        low, high = (low, middle) if decides(middle) else (middle, high)
+    return float(high)
 
 
 def jackknife(statistic, seeds) -> tuple[float, float]:

@@ -1,27 +1,30 @@
-"""The paper's claims, each decided by a number with its error bar across seeds.
+"""The paper's steady-state claims, and descriptive tables of the shear-rotation transients.
 
-Inputs are the workflow's tables: ``fits.json`` (fitted parameters, the simulated steady state
-and each model's own steady state), the per-seed rotation table (``rotation_runs.csv``: one row
-per seed, angle and strain, components in the rotated paper frame) and the model predictions
-(``predictions.csv``). Post-rotation components are normalised by the steady <nn>_12 of startup
-shear, n12_ss (< 0), as in the paper's Fig. 2.
+The shear-rotation claims are decided per seed in :mod:`suspension_fabric.claims`
+(docs/verdict_statistics.md); this module keeps
+
+- the steady-state claims, decided from ``fits.json`` (the fitted parameters, the simulated
+  steady state with its correlation-aware error, each model's own steady state): "confirmed" /
+  "refuted" beyond 2 standard errors on the paper's side / the other side, else "undecided";
+- description, on which no verdict rests: per angle, the recovery strain (first strain after
+  which a seed-mean curve stays inside a 10% band), the rms errors of the models and their ratio,
+  and the modified model's overshoot with the simulation around it, each with a seed-bootstrap
+  percentile interval (:func:`suspension_fabric.seed_statistics.seed_bootstrap`).
+
+Inputs: the per-seed rotation table (``rotation_runs.csv``: one row per seed, angle and strain,
+components in the rotated paper frame) and the model predictions (``predictions.csv``, pooled
+fit). Post-rotation components are normalised by the steady <nn>_12 of startup shear, n12_ss
+(< 0), as in the paper's Fig. 2.
 
 Measures
     recovery strain of <nn>'_12: the first strain after which |<nn>'_12 / baseline - 1| stays
     within ``tolerance`` (10%) to the end of the run; of <nn>'_23, after which
-    |<nn>'_23 / n12_ss| stays within it. For the simulation it is taken on the seed-mean curve
-    (a single seed's fluctuations reach ~10% at N = 500). Baselines: the startup's steady n12_ss, or (simulation
-    only) the theta = 0 continuation of the same seed from the same checkpoint, which removes
-    the slow fluctuation of the steady state a single seed carries through the rotation. A run
-    that never settles counts as recovering at its last strain (censored; the table says so).
-    overshoot of <nn>'_12: a model's max over strain of <nn>'_12 / n12_ss - 1 (> 0: |<nn>'_12|
-    above steady); the simulation's mean of <nn>'_12 / baseline - 1 around that strain.
+    |<nn>'_23 / n12_ss| stays within it; baselines: the startup's steady n12_ss, or (simulation
+    only) the theta = 0 continuation of the same seed from the same checkpoint. A run that never
+    settles counts as recovering at its last strain (censored; the table says so).
+    overshoot of <nn>'_12: a model's max over strain of <nn>'_12 / n12_ss - 1; the simulation's
+    mean of <nn>'_12 / baseline - 1 over that strain +- 0.25.
     rms error of a model on a component: over strains, |model - seed mean| / |n12_ss|.
-Errors across seeds: the jackknife over seeds (leave one seed out) of each quantity of the
-seed-mean curves.
-
-Verdicts: "confirmed" if the deciding number lies beyond 2 standard errors on the paper's
-side, "refuted" if beyond 2 on the other side, otherwise "not resolved at this precision".
 """
 
 from __future__ import annotations
@@ -29,11 +32,12 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-__all__ = ["TOLERANCE", "settle_strain", "jackknife", "recovery_table", "rms_error_table", "overshoot_table",
-           "steady_state_verdicts", "rotation_verdicts", "verdict_table"]
+from .seed_statistics import CONFIRMED, LEVEL, REFUTED, UNDECIDED, seed_bootstrap
+
+__all__ = ["TOLERANCE", "PAPER", "settle_strain", "recovery_table", "rms_error_table", "overshoot_table",
+           "steady_state_verdicts", "verdict_table", "descriptive_tables"]
 
 TOLERANCE = 0.1
-CONFIRMED, REFUTED, UNRESOLVED = "confirmed", "refuted", "not resolved at this precision"
 # the paper's fitted parameters (its Sec. 3)
 PAPER = {"gw_beta": 10.9, "modified_beta": 9.4, "modified_A": 42.4}
 MODELS = ("gw", "modified")
@@ -56,23 +60,18 @@ def settle_strain(strain: np.ndarray, deviation: np.ndarray, tolerance: float = 
 def _verdict(value: float, error: float, paper_sign: int) -> str:
     """Verdict for a number whose sign the claim predicts (paper_sign = +1 or -1)."""
     if not np.isfinite(value):
-        return UNRESOLVED
+        return UNDECIDED
     z = value / error if error > 0 else (np.inf * np.sign(value) if value != 0 else 0.0)
     if paper_sign * z > 2:
         return CONFIRMED
     if paper_sign * z < -2:
         return REFUTED
-    return UNRESOLVED
+    return UNDECIDED
 
 
-def jackknife(statistic, seeds) -> tuple[float, float]:
-    """statistic(all seeds) and its jackknife standard error over seeds."""
-    value = statistic(list(seeds))
-    if len(seeds) < 2:
-        return value, np.nan
-    leave_one_out = np.array([statistic([s for s in seeds if s != left]) for left in seeds])
-    n = len(seeds)
-    return value, float(np.sqrt((n - 1) / n * np.sum((leave_one_out - leave_one_out.mean()) ** 2)))
+def _bootstrap(row: dict, key: str, statistic, seeds, level: float) -> None:
+    """row[key], row[key_low], row[key_high]: the value over all seeds and its seed-bootstrap interval."""
+    row[key], row[f"{key}_low"], row[f"{key}_high"] = seed_bootstrap(statistic, seeds, level)
 
 
 def _curves(runs: pd.DataFrame, theta: float, column: str) -> tuple[np.ndarray, dict]:
@@ -110,21 +109,20 @@ def _ratio_curves(runs: pd.DataFrame, theta: float, n12_ss: float) -> tuple[np.n
 
 
 def recovery_table(runs: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float,
-                   tolerance: float = TOLERANCE) -> pd.DataFrame:
+                   tolerance: float = TOLERANCE, level: float = LEVEL) -> pd.DataFrame:
     """Recovery strains of <nn>'_12 (steady and theta = 0 baselines) and <nn>'_23 per angle:
-    simulation (seed-mean curve, jackknife error over seeds) and both models; ``*_settled``
-    is False where the curve never settles within the run (then its last strain is given)."""
+    simulation (seed-mean curve, with ``_low``/``_high`` its seed-bootstrap interval) and both
+    models; ``*_settled`` is False where the curve never settles within the run (then its last
+    strain is given). Description only: a first-crossing strain decides nothing."""
     rows = []
     for theta in sorted(runs["theta"].unique()):
         strain, deviations = _ratio_curves(runs, theta, n12_ss)
         row = {"theta": theta}
         for key, per_seed in deviations.items():
-            seeds = sorted(per_seed)
-
             def statistic(subset, per_seed=per_seed):
                 return settle_strain(strain, np.mean([per_seed[s] for s in subset], axis=0), tolerance)[0]
 
-            row[f"sim_{key}"], row[f"sim_{key}_err"] = jackknife(statistic, seeds)
+            _bootstrap(row, f"sim_{key}", statistic, sorted(per_seed), level)
             row[f"sim_{key}_settled"] = settle_strain(strain, np.mean(list(per_seed.values()), axis=0), tolerance)[1]
         for model in MODELS:
             series = _model_series(predictions, model, theta)
@@ -136,14 +134,14 @@ def recovery_table(runs: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float,
     return pd.DataFrame(rows)
 
 
-def rms_error_table(runs: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float) -> pd.DataFrame:
+def rms_error_table(runs: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float, level: float = LEVEL) -> pd.DataFrame:
     """Per angle and component (12, 23): rms |model - seed mean| / |n12_ss| of each model, and the
-    ratio G-W / modified, with jackknife errors over seeds."""
+    ratio G-W / modified, with seed-bootstrap intervals (``_low``, ``_high``). Description only:
+    each rms carries the seed-noise floor (claims.py compares the models by paired differences)."""
     rows = []
     for theta in sorted(runs["theta"].unique()):
         for column in ("n12", "n23"):
             strain, curves = _curves(runs, theta, column)
-            seeds = sorted(curves)
             models = {model: _model_on(strain, predictions, model, theta, column) for model in MODELS}
 
             def rms(model, subset):
@@ -152,20 +150,19 @@ def rms_error_table(runs: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float
 
             row = {"theta": theta, "component": column}
             for model in MODELS:
-                row[f"{model}_rms"], row[f"{model}_rms_err"] = jackknife(lambda subset, m=model: rms(m, subset), seeds)
+                _bootstrap(row, f"{model}_rms", lambda subset, m=model: rms(m, subset), sorted(curves), level)
             with np.errstate(divide="ignore", invalid="ignore"):  # both models exact: no ratio (nan)
-                row["ratio"], row["ratio_err"] = jackknife(
-                    lambda subset: np.float64(rms("gw", subset)) / rms("modified", subset), seeds)
+                _bootstrap(row, "ratio", lambda subset: np.float64(rms("gw", subset)) / rms("modified", subset),
+                           sorted(curves), level)
             rows.append(row)
     return pd.DataFrame(rows)
 
 
 def overshoot_table(runs: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float,
-                    half_window: float = 0.25) -> pd.DataFrame:
+                    half_window: float = 0.25, level: float = LEVEL) -> pd.DataFrame:
     """Per angle: each model's largest <nn>'_12 / n12_ss - 1 and the strain where it occurs; the
     simulation's mean of <nn>'_12 / baseline - 1 over that strain +- ``half_window`` (seed-mean
-    curve, jackknife error; steady and theta = 0 baselines). A mean over a window, not a
-    maximum, which noise would bias upward."""
+    curve, seed-bootstrap interval; steady and theta = 0 baselines). Description only."""
     rows = []
     for theta in sorted(runs["theta"].unique()):
         strain, deviations = _ratio_curves(runs, theta, n12_ss)
@@ -178,14 +175,14 @@ def overshoot_table(runs: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float
         window = (strain >= peak - half_window) & (strain <= peak + half_window)
         for key in ("steady", "continuation"):
             per_seed = deviations[key]
-            row[f"sim_{key}"], row[f"sim_{key}_err"] = jackknife(
-                lambda subset, p=per_seed: float(np.mean([p[s][window] for s in subset])), sorted(per_seed))
+            _bootstrap(row, f"sim_{key}", lambda subset, p=per_seed: float(np.mean([p[s][window] for s in subset])),
+                       sorted(per_seed), level)
         rows.append(row)
     return pd.DataFrame(rows)
 
 
-def _claim(claim: str, number: str, value: float, error: float, verdict: str, criterion: str) -> dict:
-    return {"claim": claim, "deciding number": number, "value": value, "error": error,
+def _claim(text: str, number: str, value: float, error: float, verdict: str, criterion: str) -> dict:
+    return {"text": text, "statistic": number, "mean": value, "low": value - 2 * error, "high": value + 2 * error,
             "verdict": verdict, "criterion": criterion}
 
 
@@ -195,7 +192,8 @@ def steady_state_verdicts(fits: dict) -> list[dict]:
     targets, model_ss = fits["targets"], fits["model_steady_state"]
     rows = [
         _claim(f"{label} (paper {name} ~ {PAPER[f'{model}_{name}']:g})", f"{model.replace('gw', 'G-W')} {name}",
-               fits[model][name], fits[model][f"{name}_err"], "", f"fitted value; paper {PAPER[f'{model}_{name}']:g}")
+               fits[model][name], fits[model][f"{name}_err"], "",
+               f"fitted value +- 2 jackknife errors over seeds; paper {PAPER[f'{model}_{name}']:g}")
         for model, name, label in (("gw", "beta", "G-W fitted on <nn>_12"),
                                    ("modified", "beta", "modified fitted on <nn>_11, <nn>_12"),
                                    ("modified", "A", "modified fitted on <nn>_11, <nn>_12"))
@@ -203,7 +201,7 @@ def steady_state_verdicts(fits: dict) -> list[dict]:
     differences = {c: (model_ss["gw"][c] - targets[c]["mean"], targets[c]["sem"]) for c in ("n11", "n22", "n33")}
     worst = max(differences.values(), key=lambda d: d[0] / d[1])  # the least negative in sigma
     verdicts = {_verdict(d, s, -1) for d, s in differences.values()}
-    verdict = CONFIRMED if verdicts == {CONFIRMED} else REFUTED if REFUTED in verdicts else UNRESOLVED
+    verdict = CONFIRMED if verdicts == {CONFIRMED} else REFUTED if REFUTED in verdicts else UNDECIDED
     rows.append(_claim("G-W underestimates the diagonal components",
                        "largest of G-W - simulation over <nn>_11, _22, _33", worst[0], worst[1], verdict,
                        "confirmed if all three lie below the simulation by > 2 sem"))
@@ -216,64 +214,26 @@ def steady_state_verdicts(fits: dict) -> list[dict]:
     d33, s33 = model_ss["modified"]["n33"] - targets["n33"]["mean"], targets["n33"]["sem"]
     rows.append(_claim("modified overestimates <nn>_33", "modified - simulation, <nn>_33", d33, s33,
                        _verdict(d33, s33, +1), "confirmed if above the simulation by > 2 sem"))
-    return rows
+    return [{"claim": f"S{k}", **row} for k, row in enumerate(rows, start=1)]
 
 
-def _angle_mean(table: pd.DataFrame, lo: float, hi: float, column: str, error: str) -> tuple[float, float]:
-    rows = table[(table["theta"].abs() >= lo - 1e-9) & (table["theta"].abs() <= hi + 1e-9)]
-    if rows.empty:
-        return np.nan, np.nan
-    return float(rows[column].mean()), float(np.sqrt(np.sum(rows[error] ** 2)) / len(rows))
+def verdict_table(fits: dict, rotation_claims: pd.DataFrame) -> pd.DataFrame:
+    """The steady-state claims (S1-S6, +- 2 errors) and the shear-rotation claims decided per seed
+    (:func:`suspension_fabric.claims.claim_table`), in one table: claim, text, statistic, angles,
+    mean, low, high, level, verdict, seeds_needed, criterion."""
+    steady = pd.DataFrame(steady_state_verdicts(fits)).assign(angles="", level=np.nan, seeds_needed=np.nan)
+    rotation = rotation_claims.assign(criterion=[
+        f"confirmed if the {level:.0%} t-interval over {n} seeds lies above 0, refuted if below"
+        for level, n in zip(rotation_claims["level"], rotation_claims["n_seeds"])])
+    columns = ["claim", "text", "statistic", "angles", "mean", "low", "high", "level", "verdict", "seeds_needed",
+               "criterion"]
+    return pd.concat([steady[columns], rotation[columns]], ignore_index=True)
 
 
-def rotation_verdicts(recovery: pd.DataFrame, rms: pd.DataFrame, overshoot: pd.DataFrame) -> list[dict]:
-    """The paper's shear-rotation claims from the recovery, rms-error and overshoot tables."""
-    rows = []
-    for baseline, key in (("steady <nn>_12", "steady"), ("theta = 0 continuation", "continuation")):
-        table = recovery.assign(difference=recovery["gw_steady"] - recovery[f"sim_{key}"],
-                                difference_err=recovery[f"sim_{key}_err"])
-        value, error = _angle_mean(table, 45, 135, "difference", "difference_err")
-        rows.append(_claim(f"G-W overestimates the effect on <nn>_12 for pi/4 <~ |theta| <~ 3pi/4 "
-                           f"(baseline: {baseline})",
-                           "recovery strain G-W - simulation, mean over 45-135 deg", value, error,
-                           _verdict(value, error, +1), "confirmed if G-W recovers later by > 2 sem"))
-    table = recovery.assign(difference=recovery["gw_n23"] - recovery["sim_n23"], difference_err=recovery["sim_n23_err"])
-    value, error = _angle_mean(table, 90, 180, "difference", "difference_err")
-    rows.append(_claim("G-W underestimates the effect on <nn>_23 for pi/2 <~ |theta| <~ pi (recovers too fast)",
-                       "recovery strain of <nn>'_23, G-W - simulation, mean over 90-180 deg", value, error,
-                       _verdict(value, error, -1), "confirmed if G-W recovers earlier by > 2 sem"))
-    for component in ("n12", "n23"):
-        part = rms[rms["component"] == component]
-        part = part[np.isfinite(part["ratio"])]  # both models exact (e.g. <nn>'_23 at theta = 0): no ratio
-        value, error = ((float(part["ratio"].mean()), float(np.sqrt(np.sum(part["ratio_err"] ** 2)) / len(part)))
-                        if len(part) else (np.nan, np.nan))
-        rows.append(_claim(f"modified significantly better than G-W on <nn>'_{component[1:]}",
-                           "rms error G-W / modified, mean over angles", value, error,
-                           _verdict(value - 1.0, error, +1), "confirmed if the ratio exceeds 1 by > 2 errors"))
-    near = overshoot[(overshoot["theta"].abs() >= 75 - 1e-9) & (overshoot["theta"].abs() <= 105 + 1e-9)]
-    if near.empty:
-        return rows
-    peak = near.loc[near["modified"].idxmax()]
-    model_overshoots = peak["modified"] > TOLERANCE
-    for baseline, key in (("steady <nn>_12", "steady"), ("theta = 0 continuation", "continuation")):
-        value, error = float(peak[f"sim_{key}"]), float(peak[f"sim_{key}_err"])
-        below = _verdict(TOLERANCE - value, error, +1)  # confirmed: the simulation stays below the band
-        verdict = (REFUTED if not model_overshoots or below == REFUTED
-                   else CONFIRMED if below == CONFIRMED else UNRESOLVED)
-        rows.append(_claim(f"modified overshoots <nn>_12 near pi/2, the simulations do not (baseline: {baseline})",
-                           f"simulation <nn>'_12 / baseline - 1 around the modified model's peak "
-                           f"({peak['modified']:+.2f} at theta = {peak['theta']:g}, strain {peak['modified_strain']:.2f})",
-                           value, error, verdict,
-                           f"confirmed if the model exceeds {TOLERANCE:.0%} and the simulation, averaged over "
-                           f"+-0.25 strain around the model's peak, stays below it by > 2 errors"))
-    return rows
-
-
-def verdict_table(fits: dict, runs: pd.DataFrame, predictions: pd.DataFrame) -> tuple[pd.DataFrame, dict]:
-    """All verdicts, and the tables that decide them (recovery, rms, overshoot)."""
+def descriptive_tables(fits: dict, runs: pd.DataFrame, predictions: pd.DataFrame,
+                       level: float = LEVEL) -> dict[str, pd.DataFrame]:
+    """The recovery, rms-error and overshoot tables (description; no verdict rests on them)."""
     n12_ss = fits["targets"]["n12"]["mean"]
-    tables = {"recovery": recovery_table(runs, predictions, n12_ss),
-              "rms": rms_error_table(runs, predictions, n12_ss),
-              "overshoot": overshoot_table(runs, predictions, n12_ss)}
-    rows = steady_state_verdicts(fits) + rotation_verdicts(tables["recovery"], tables["rms"], tables["overshoot"])
-    return pd.DataFrame(rows), tables
+    return {"recovery": recovery_table(runs, predictions, n12_ss, level=level),
+            "rms": rms_error_table(runs, predictions, n12_ss, level=level),
+            "overshoot": overshoot_table(runs, predictions, n12_ss, level=level)}

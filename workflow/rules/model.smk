@@ -53,26 +53,6 @@ rule model_errors:
         "../scripts/model_errors.py"
 
 
-rule verdicts:
-    """The paper's claims, each decided by a number with its error across seeds (suspension_fabric.verdicts)."""
-    input:
-        fits=rules.fit_models.output[0],
-        runs=rules.aggregate_rotation.output.runs,
-        predictions=rules.predict.output[0],
-    output:
-        verdicts=f"{RESULTS}/tables/verdicts.csv",
-        recovery=f"{RESULTS}/tables/recovery_table.csv",
-        rms=f"{RESULTS}/tables/rotation_rms_errors.csv",
-        overshoot=f"{RESULTS}/tables/overshoot_table.csv",
-        page=report(f"{RESULTS}/tables/verdicts.html", caption="../report/table_verdicts.rst", category="Tables"),
-    conda:
-        CONDA_ENV
-    log:
-        f"{RESULTS}/logs/verdicts.log",
-    script:
-        "../scripts/verdicts.py"
-
-
 rule stress_relation:
     """G-W stress relation: fit on the steady stress per fabric source, predict startup and rotations, errors;
     the viscosity after a rotation: integrated deficit per seed (own steady eta_r) with its t-interval,

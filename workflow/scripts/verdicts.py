@@ -1,16 +1,32 @@
-"""Snakemake: the verdict on each of the paper's claims and the tables behind it (rule verdicts)."""
+"""Snakemake: the verdict on each of the paper's claims, per angle, at the range edges, under each
+choice and comparison dataset, and the descriptive tables (rule verdicts)."""
 import pandas as pd
 
-from suspension_fabric import model_vs_simulation, report_tables, verdicts
+from suspension_fabric import claims, model_vs_simulation, report_tables, verdicts
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
-    table, details = verdicts.verdict_table(model_vs_simulation.read_fits(sm.input.fits),
-                                            pd.read_csv(sm.input.runs), pd.read_csv(sm.input.predictions))
+    level = sm.params.level
+    fits = model_vs_simulation.read_fits(sm.input.fits)
+    values = pd.read_csv(sm.input.values)
+    by_choice = {choice: rows for choice, rows in values.groupby("choice", sort=False)}
+    for label, folder in sm.params.comparisons.items():
+        by_choice[label] = claims.evaluate_dataset(folder, sm.params.window)
+    primary = by_choice["primary"]
+    statistics = pd.read_csv(sm.input.statistics)
+    decided = claims.claim_table(primary, level)
+    table = verdicts.verdict_table(fits, decided)
     table.to_csv(sm.output.verdicts, index=False)
-    details["recovery"].to_csv(sm.output.recovery, index=False)
-    details["rms"].to_csv(sm.output.rms, index=False)
-    details["overshoot"].to_csv(sm.output.overshoot, index=False)
-    report_tables.write_verdicts_page(table, details["recovery"], sm.output.page)
-    print(table[["claim", "value", "error", "verdict"]].to_string(index=False))
+    per_angle = claims.per_angle_table(primary, statistics[statistics["choice"] == "primary"], level)
+    per_angle.to_csv(sm.output.per_angle, index=False)
+    edges = claims.range_edge_table(primary, level)
+    edges.to_csv(sm.output.edges, index=False)
+    choices = claims.choices_table(by_choice, level)
+    choices.to_csv(sm.output.choices, index=False)
+    details = verdicts.descriptive_tables(fits, pd.read_csv(sm.input.runs), pd.read_csv(sm.input.predictions), level)
+    for key in ("recovery", "rms", "overshoot"):
+        details[key].to_csv(sm.output[key], index=False)
+    report_tables.write_verdicts_page(table, per_angle, edges, choices, details["recovery"], sm.output.page)
+    print(table[["claim", "mean", "low", "high", "verdict"]].to_string(index=False))
+    print(choices.pivot(index="claim", columns="choice", values="verdict").to_string())

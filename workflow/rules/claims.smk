@@ -1,0 +1,67 @@
+# The paper's claims decided per seed (docs/verdict_statistics.md): rule claims computes every
+# seed's statistics under every choice; rule verdicts decides, adds the comparison datasets and
+# writes the tables and the report page.
+import os
+
+from suspension_fabric.dataset import read_dataset, run_names
+
+COMPARISONS = config["verdicts"]["comparisons"]
+for _label, _folder in COMPARISONS.items():  # named early: a missing dataset stops before any job
+    if not os.path.isfile(os.path.join(_folder, "dataset.json")):
+        raise ValueError(f"config key 'verdicts.comparisons': '{_label}' names {_folder}, which holds no "
+                         "dataset.json (a reference dataset folder, suspension_fabric.dataset)")
+COMPARISON_FILES = [f"{folder}/{name}/fabric.csv" for folder in COMPARISONS.values()
+                    for name in run_names(read_dataset(folder)["config"])]
+
+
+rule claims:
+    """Per seed: own steady state, fits and predictions under each choice; the claims' statistics per angle."""
+    input:
+        startup=rules.aggregate_startup.output.runs,
+        rotation=rules.aggregate_rotation.output.runs,
+    output:
+        statistics=f"{RESULTS}/tables/claims_statistics.csv",
+        values=f"{RESULTS}/tables/claims_values.csv",
+        fits=f"{RESULTS}/tables/claims_seed_fits.csv",
+    params:
+        phi=config["particles"]["phi"],
+        steady_window=config["analysis"]["steady_window"],
+        startup_strain=config["run"]["startup_strain"],
+        rotation_strain=config["run"]["rotation_strain"],
+        window=config["verdicts"]["window"],
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/claims.log",
+    script:
+        "../scripts/claims.py"
+
+
+rule verdicts:
+    """Each claim decided on a t-interval over seeds; per angle, range edges, the choices table; description."""
+    input:
+        fits=rules.fit_models.output[0],
+        runs=rules.aggregate_rotation.output.runs,
+        predictions=rules.predict.output[0],
+        statistics=rules.claims.output.statistics,
+        values=rules.claims.output.values,
+        comparisons=COMPARISON_FILES,
+    output:
+        verdicts=f"{RESULTS}/tables/verdicts.csv",
+        per_angle=f"{RESULTS}/tables/claims_per_angle.csv",
+        edges=f"{RESULTS}/tables/claims_range_edges.csv",
+        choices=f"{RESULTS}/tables/verdict_choices.csv",
+        recovery=f"{RESULTS}/tables/recovery_table.csv",
+        rms=f"{RESULTS}/tables/rotation_rms_errors.csv",
+        overshoot=f"{RESULTS}/tables/overshoot_table.csv",
+        page=report(f"{RESULTS}/tables/verdicts.html", caption="../report/table_verdicts.rst", category="Tables"),
+    params:
+        comparisons=COMPARISONS,
+        level=config["verdicts"]["level"],
+        window=config["verdicts"]["window"],
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/verdicts.log",
+    script:
+        "../scripts/verdicts.py"
