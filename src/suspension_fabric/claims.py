@@ -312,19 +312,23 @@ def claim_values(stats: pd.DataFrame) -> pd.DataFrame:
     return pd.concat(blocks, ignore_index=True)
 
 
-def _seed_by_angle(values: pd.DataFrame, claim: str) -> pd.DataFrame:
-    """T of one claim as a (seed x theta) table."""
-    return values[values["claim"] == claim].pivot(index="seed", columns="theta", values="T")
+def _seed_by_angle(values: pd.DataFrame) -> dict[str, pd.DataFrame]:
+    """T of every claim as a (seed x theta) table, keyed by claim."""
+    wide = values.set_index(["claim", "seed", "theta"])["T"].unstack("theta")
+    return {claim: rows.droplevel("claim").dropna(axis=1, how="all") for claim, rows in wide.groupby(level="claim")}
 
 
-def range_interval(values: pd.DataFrame, claim: str, thetas, level: float = LEVEL, table: pd.DataFrame | None = None):
+def range_interval(values: pd.DataFrame, claim: str, thetas, level: float = LEVEL, tables: dict | None = None):
     """t-interval over seeds of T averaged over ``thetas`` within each seed (None if no angle);
-    ``table`` is the claim's :func:`_seed_by_angle` when the caller has it already."""
-    table = _seed_by_angle(values, claim) if table is None else table
-    columns = [t for t in table.columns if np.any(np.isclose(t, np.asarray(thetas, dtype=float)))]
-    if not columns:
+    ``tables`` is :func:`_seed_by_angle` of ``values`` when the caller has it already."""
+    table = (_seed_by_angle(values) if tables is None else tables).get(claim)
+    if table is None:
         return None
-    return t_interval(table[columns].mean(axis=1).to_numpy(), level)
+    columns = table.columns.to_numpy(dtype=float)
+    chosen = np.isclose(columns[:, None], np.asarray(thetas, dtype=float)[None, :]).any(axis=1)
+    if not chosen.any():
+        return None
+    return t_interval(table.to_numpy()[:, chosen].mean(axis=1), level)
 
 
 def _row(interval, **keys) -> dict:
@@ -344,12 +348,11 @@ def _angle_text(thetas) -> str:
 def claim_table(values: pd.DataFrame, level: float = LEVEL) -> pd.DataFrame:
     """One row per claim: its angles, T's mean and interval over seeds, the verdict and, if
     undecided, the seeds that would decide it."""
-    thetas = values["theta"].unique()
+    thetas, tables = values["theta"].unique(), _seed_by_angle(values)
     rows = []
     for claim in CLAIMS:
         inside = claim_angles(claim, thetas)
-        rows.append(_row(range_interval(values, claim.key, inside, level, _seed_by_angle(values, claim.key)),
-                         claim=claim.key, text=claim.text,
+        rows.append(_row(range_interval(values, claim.key, inside, level, tables), claim=claim.key, text=claim.text,
                          statistic=DECISION_STATISTIC[claim.statistic], angles=_angle_text(inside), level=level))
     return pd.DataFrame(rows)
 
@@ -360,12 +363,14 @@ def per_angle_table(values: pd.DataFrame, stats: pd.DataFrame, level: float = LE
     quantities = {"C1": ("D12", ("sim", *MODELS)), "C2": ("E23", ("sim", *MODELS)), "C3": ("MSE12", MODELS),
                   "C4": ("MSE23", MODELS), "C5": ("O12", ("modified",)), "C6": ("X12", ("sim", *MODELS))}
     means = stats.groupby("theta").mean(numeric_only=True)
+    tables = _seed_by_angle(values)
     rows = []
     for claim in CLAIMS:
         if claim.key.endswith("'"):
             continue  # the same T per angle as its ranged claim
         for theta in np.unique(values[values["claim"] == claim.key]["theta"]):
-            row = _row(range_interval(values, claim.key, [theta], level), claim=claim.key, theta=theta, level=level)
+            row = _row(range_interval(values, claim.key, [theta], level, tables), claim=claim.key, theta=theta,
+                       level=level)
             quantity, sources = quantities[claim.statistic]
             row["quantity"] = quantity
             for source in sources:
@@ -378,6 +383,7 @@ def range_edge_table(values: pd.DataFrame, level: float = LEVEL) -> pd.DataFrame
     """Each ranged claim with its range moved by one simulated angle at either edge (inward or
     outward): does the verdict change?"""
     grid = np.unique(np.abs(values["theta"].to_numpy()))
+    tables = _seed_by_angle(values)
     rows = []
     for claim in CLAIMS:
         if claim.angles == (0.0, 180.0):
@@ -395,7 +401,7 @@ def range_edge_table(values: pd.DataFrame, level: float = LEVEL) -> pd.DataFrame
             chosen = eligible[a:b + 1]
             thetas = values["theta"].unique()
             selected = thetas[np.isin(np.abs(thetas), chosen)]
-            rows.append(_row(range_interval(values, claim.key, selected, level), claim=claim.key, edges=name,
+            rows.append(_row(range_interval(values, claim.key, selected, level, tables), claim=claim.key, edges=name,
                              angles=_angle_text(selected), level=level))
     return pd.DataFrame(rows)
 

@@ -10,6 +10,7 @@ hi < 0, "undecided" otherwise. When the true T is 0 each wrong verdict has proba
 
 from __future__ import annotations
 
+import functools
 import itertools
 from typing import NamedTuple
 
@@ -46,6 +47,12 @@ def _check_level(level: float) -> float:
     return level
 
 
+@functools.lru_cache(maxsize=4096)
+def _t_quantile(level: float, dof: int) -> float:
+    """The two-sided quantile t_{1-a/2, dof} (cached: scipy's ppf is slow and the same few are asked for)."""
+    return float(stats.t.ppf(0.5 + level / 2.0, dof))
+
+
 def t_interval(values, level: float = LEVEL) -> Interval:
     """Student t-interval of the mean of per-seed values (n - 1 degrees of freedom).
 
@@ -62,7 +69,7 @@ def t_interval(values, level: float = LEVEL) -> Interval:
     if n < 2:
         return Interval(mean, np.inf, -np.inf, np.inf, n, level)
     se = float(values.std(ddof=1) / np.sqrt(n))
-    half = float(stats.t.ppf(0.5 + level / 2.0, n - 1)) * se
+    half = _t_quantile(level, n - 1) * se
     return Interval(mean, se, mean - half, mean + half, n, level)
 
 
@@ -87,7 +94,7 @@ def seeds_needed(interval: Interval, max_seeds: int = 10_000) -> float:
     if interval.mean == 0.0:
         return np.inf
     def decides(n: int) -> bool:
-        return stats.t.ppf(0.5 + interval.level / 2.0, n - 1) * sd / np.sqrt(n) < abs(interval.mean)
+        return _t_quantile(interval.level, n - 1) * sd / np.sqrt(n) < abs(interval.mean)
 
     # The half-width falls with n: double until it decides, then bisect.
     high = 2
