@@ -7,6 +7,7 @@ import json
 import shutil
 
 import numpy as np
+import pandas as pd
 import pytest
 import yaml
 
@@ -50,7 +51,8 @@ def test_export_holds_every_run_with_checksums_and_fits(study, dataset):
 def test_a_study_on_the_dataset_runs_no_simulation_and_reproduces_the_fits(study, dataset, tmp_path):
     workdir = copy_workflow(tmp_path)
     config = yaml.safe_load((workdir / "config/test.yaml").read_text())
-    config.update(study="test", dataset=str(dataset))
+    # the dataset also compared with itself (verdicts.comparisons): its column must equal the primary one
+    config.update(study="test", dataset=str(dataset), verdicts={"window": 0.1, "comparisons": {"itself": str(dataset)}})
     (workdir / "config/reference.yaml").write_text(yaml.safe_dump(config))
     plan = snakemake(workdir, "--configfile", "config/reference.yaml", "-n")
     assert plan.returncode == 0, (plan.stdout + plan.stderr)[-3000:]
@@ -66,6 +68,9 @@ def test_a_study_on_the_dataset_runs_no_simulation_and_reproduces_the_fits(study
         assert (workdir / RESULTS / "figures" / figure).is_file()
     relation = (workdir / RESULTS / "tables/stress_relation_fits.csv").read_text()
     assert relation == (study / RESULTS / "tables/stress_relation_fits.csv").read_text()
+    choices = pd.read_csv(workdir / RESULTS / "tables/verdict_choices.csv").set_index(["choice", "claim"])
+    for column in ("mean", "low", "high", "verdict"):
+        assert choices.loc["itself", column].equals(choices.loc["primary", column]), column
 
 
 def test_a_dataset_without_stress_tables_builds_everything_else(study, dataset, tmp_path):

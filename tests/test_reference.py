@@ -8,6 +8,7 @@ from __future__ import annotations
 import json
 import shutil
 
+import pandas as pd
 import pytest
 
 from suspension_fabric.config import load_config
@@ -32,7 +33,7 @@ def test_the_dataset_is_complete_and_small():
 
 def test_the_reference_study_rebuilds_the_fits_without_simulating(tmp_path):
     workdir = copy_workflow(tmp_path)
-    shutil.copytree(DATASET, workdir / "data" / "reference")
+    shutil.copytree(REPO / "data", workdir / "data")  # the reference and the datasets it is compared with
     plan = snakemake(workdir, "--configfile", "config/reference.yaml", "-n")
     assert plan.returncode == 0, (plan.stdout + plan.stderr)[-3000:]
     rules = {job["rule"] for job in dry_run_jobs(plan.stdout + plan.stderr)}
@@ -45,5 +46,7 @@ def test_the_reference_study_rebuilds_the_fits_without_simulating(tmp_path):
     for model, parameter in (("gw", "beta"), ("modified", "beta"), ("modified", "A")):
         assert fits[model][parameter] == pytest.approx(recorded[model][parameter], rel=1e-12)
     assert (workdir / "results/reference/tables/verdicts.csv").is_file()
+    choices = pd.read_csv(workdir / "results/reference/tables/verdict_choices.csv")
+    assert set(load_config(REPO / "config" / "reference.yaml")["verdicts"]["comparisons"]) <= set(choices["choice"])
     for figure in ("fig3_stress.png", "fig4_stress_rotation.png"):
         assert (workdir / "results/reference/figures" / figure).is_file()

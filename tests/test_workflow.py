@@ -87,6 +87,38 @@ def test_study_produces_the_stress_tables_figures_and_relation(study):
                                rtol=1e-12)
 
 
+def test_study_decides_the_claims_per_seed(study):
+    """Rule claims: per seed and angle, the statistics and T of every claim under every choice the
+    test study allows (its window 0.1 is the whole rotation run, so no other window); rule
+    verdicts: each claim's T averaged over its angles within a seed, then the t-interval over
+    the 2 seeds (t_{0.975,1} = 12.706), per angle, and the choices table."""
+    import numpy as np
+    from scipy import stats
+
+    tables = study / RESULTS / "tables"
+    values = pd.read_csv(tables / "claims_values.csv")
+    assert list(dict.fromkeys(values["choice"])) == ["primary", "state: simulated", "state: model steady",
+                                                     "fit: startup curve", "baseline: theta = 0"]
+    primary = values[values["choice"] == "primary"]
+    assert sorted(primary["seed"].unique()) == [1, 2]
+    assert set(primary[primary["claim"] == "C2"]["theta"]) == {90.0}  # 0 (and 180) left out of the 23 claims
+    fits = pd.read_csv(tables / "claims_seed_fits.csv")
+    assert len(fits) == 2 * 5 and (fits["gw_beta"] > 0).all()
+    verdicts = pd.read_csv(tables / "verdicts.csv").set_index("claim")
+    c1 = primary[(primary["claim"] == "C1") & (primary["theta"] == 90.0)].set_index("seed")["T"]
+    half = stats.t.ppf(0.975, 1) * c1.std(ddof=1) / np.sqrt(2)
+    assert verdicts.loc["C1", "angles"] == "90"
+    np.testing.assert_allclose(verdicts.loc["C1", ["mean", "low", "high"]].to_numpy(dtype=float),
+                               [c1.mean(), c1.mean() - half, c1.mean() + half], rtol=1e-9)
+    assert verdicts.loc["C2", "angles"] == "90" and verdicts.loc["C3'", "angles"] == "0, 90"
+    choices = pd.read_csv(tables / "verdict_choices.csv")
+    assert set(choices["choice"]) == set(values["choice"]) and choices["robust"].notna().all()
+    per_angle = pd.read_csv(tables / "claims_per_angle.csv")
+    assert set(per_angle[per_angle["claim"] == "C1"]["theta"]) == {0.0, 90.0}
+    for name in ("recovery_table", "rotation_rms_errors", "overshoot_table", "claims_range_edges"):
+        assert (tables / f"{name}.csv").is_file()
+
+
 def test_nothing_left_to_do_after_a_run(study):
     result = snakemake(study, *TEST_CONFIG, "-n")
     assert result.returncode == 0
@@ -208,9 +240,11 @@ def test_report_shows_the_tables(study):
     assert "<caption>Angle-averaged rms error" in pages["model_errors_summary.html"]
     verdicts = pd.read_csv(study / RESULTS / "tables/verdicts.csv")
     assert "<caption>Each claim of the paper" in pages["verdicts.html"]
-    for claim in verdicts["claim"]:
-        assert html_module.escape(claim) in pages["verdicts.html"], claim
-    assert set(verdicts["verdict"].fillna("")) <= {"", "confirmed", "refuted", "not resolved at this precision"}
+    for claim, text in zip(verdicts["claim"], verdicts["text"]):
+        assert f"<td>{html_module.escape(claim)}</td>" in pages["verdicts.html"], claim
+        assert html_module.escape(text) in pages["verdicts.html"], text
+    assert set(verdicts["verdict"].fillna("")) <= {"", "confirmed", "refuted", "undecided"}
+    assert "<caption>The choices each verdict may hinge on" in pages["verdicts.html"]
     relation = pd.read_csv(study / RESULTS / "tables/stress_relation_fits.csv")
     assert "<caption>G-W stress relation" in pages["stress.html"]
     for value, error in zip(relation["a_H"], relation["a_H_err"]):
