@@ -48,6 +48,19 @@ def test_export_holds_every_run_with_checksums_and_fits(study, dataset):
     assert not list(dataset.rglob("*.dump")) and not list(dataset.rglob("*.rst"))
 
 
+def test_export_without_raw_stress_keeps_what_rules_read(study, tmp_path):
+    """--without-raw-stress: every run's fabric.csv, stress.csv and run.json with checksums, no
+    stress.csv.gz (no rule reads it); the fabric tables read back through read_fabric_runs."""
+    from suspension_fabric.dataset import read_fabric_runs
+
+    config = load_config(study / "config/test.yaml")
+    record = export_dataset(config, study / RESULTS, tmp_path / "light", raw_stress=False)
+    assert not list((tmp_path / "light").rglob("*.gz"))
+    assert len(record["files"]) == 3 * len(run_names(config))
+    _, startup, rotation = read_fabric_runs(tmp_path / "light")
+    assert sorted(startup["seed"].unique()) == config["seeds"] and sorted(rotation["theta"].unique()) == [0.0, 90.0]
+
+
 def test_a_study_on_the_dataset_runs_no_simulation_and_reproduces_the_fits(study, dataset, tmp_path):
     workdir = copy_workflow(tmp_path)
     config = yaml.safe_load((workdir / "config/test.yaml").read_text())

@@ -90,8 +90,13 @@ def read_dataset_stress(path: Path) -> dict[str, np.ndarray]:
     return {name: data[:, k] for k, name in enumerate(names)}
 
 
-def export_dataset(config: dict, results: Path, target: Path, *, repository: Path | None = None) -> dict:
+def export_dataset(config: dict, results: Path, target: Path, *, repository: Path | None = None,
+                   raw_stress: bool = True) -> dict:
     """Copy the finished runs of a study (``results/<study>``) into the dataset folder ``target``.
+
+    ``raw_stress=False`` leaves out each run's raw stress table (``stress.csv.gz``), which no
+    rule reads (a study on the dataset uses the per-frame ``stress.csv``): for datasets kept
+    only to be compared with (config key ``verdicts.comparisons``).
 
     Runs without a fabric table yet are skipped and listed as missing, so a dataset can be
     exported while a study is still running and completed later. Returns the dataset record.
@@ -106,11 +111,13 @@ def export_dataset(config: dict, results: Path, target: Path, *, repository: Pat
             continue
         (target / name).mkdir(parents=True, exist_ok=True)
         shutil.copy(source / "run_complete.json", target / name / "run.json")
-        _write_stress(source / "stress.txt", target / name / "stress.csv.gz")
         copied = [table for table in RUN_TABLES if (source / table).is_file()]
         for table in copied:
             shutil.copy(source / table, target / name / table)
-        for file in (*copied, "run.json", "stress.csv.gz"):
+        if raw_stress:
+            _write_stress(source / "stress.txt", target / name / "stress.csv.gz")
+            copied.append("stress.csv.gz")
+        for file in (*copied, "run.json"):
             files[f"{name}/{file}"] = _sha256(target / name / file)
     fits_file = results / "fits.json"
     record = {
@@ -208,10 +215,12 @@ def main(argv: list[str] | None = None) -> None:
     export.add_argument("--config", type=Path, required=True, help="the study's config file")
     export.add_argument("--to", type=Path, required=True, help="the dataset folder")
     export.add_argument("--results", type=Path, help="default: results/<study>")
+    export.add_argument("--without-raw-stress", action="store_true",
+                        help="leave out each run's raw stress table (stress.csv.gz), which no rule reads")
     args = parser.parse_args(argv)
     config = load_config(args.config)
     results = args.results or Path("results") / config["study"]
-    record = export_dataset(config, results, args.to)
+    record = export_dataset(config, results, args.to, raw_stress=not args.without_raw_stress)
     done = sum(1 for key in record["files"] if key.endswith("/run.json"))
     print(f"{args.to}: {done} runs exported, {len(record['runs_missing'])} missing")
 

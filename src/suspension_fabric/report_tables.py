@@ -327,8 +327,15 @@ def write_error_summary_page(summary: pd.DataFrame, path: str | os.PathLike) -> 
     ])
 
 
+def _seeds_text(seeds) -> str:
+    """The seeds an undecided claim would need (seed_statistics.seeds_needed): an integer or "> 10000"."""
+    if _is_missing(seeds):
+        return MISSING
+    return f"{int(seeds)}" if math.isfinite(seeds) else "> 10000"
+
+
 def _cell(mean, low, high, verdict, seeds) -> str:
-    needed = f"; ~{int(seeds)} seeds would decide" if verdict == "undecided" and math.isfinite(seeds) else ""
+    needed = f"; {_seeds_text(seeds)} seeds would decide" if verdict == "undecided" else ""
     return f"{format_interval(mean, low, high)} {verdict}{needed}"
 
 
@@ -342,7 +349,7 @@ def verdicts_display_table(verdicts: pd.DataFrame) -> pd.DataFrame:
         "T [interval]": [format_interval(m, lo, hi) for m, lo, hi in zip(verdicts["mean"], verdicts["low"],
                                                                           verdicts["high"])],
         "verdict": verdicts["verdict"].replace("", "(parameter)"),
-        "seeds that would decide": [format_number(n, 3) if v == "undecided" else ""
+        "seeds that would decide": [_seeds_text(n) if v == "undecided" else ""
                                     for n, v in zip(verdicts["seeds_needed"], verdicts["verdict"])],
         "criterion": verdicts["criterion"],
     })
