@@ -45,6 +45,7 @@ rule all:
         f"{RESULTS}/tables/model_errors.csv",
         rules.report_tables.output,
         rules.verdicts.output,
+        rules.figure_claims.output,
         STRESS_FIGURES if STRESS_TABLES else [],
         rules.stress_relation.output if STRESS_TABLES else [],
         rules.report_stress.output if STRESS_TABLES else [],

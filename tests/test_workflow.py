@@ -20,7 +20,7 @@ pytestmark = pytest.mark.workflow
 
 def test_study_produces_figures_fits_and_error_table(study):
     results = study / RESULTS
-    for stem in ("fig1_startup", "fig2_rotation"):
+    for stem in ("fig1_startup", "fig2_rotation", "fig5_claims"):
         for ext in ("pdf", "png"):
             assert (results / "figures" / f"{stem}.{ext}").stat().st_size > 10_000
     fits = json.loads((results / "fits.json").read_text())

@@ -34,8 +34,8 @@ import pandas as pd  # noqa: E402
 from .model_vs_simulation import MODEL_NAMES  # noqa: E402
 from .stress_model import SOURCES  # noqa: E402
 
-__all__ = ["figure_startup", "figure_rotation", "figure_stress_startup", "figure_stress_rotation", "save_figure",
-           "mirror_negative_angles"]
+__all__ = ["figure_startup", "figure_rotation", "figure_stress_startup", "figure_stress_rotation", "figure_claims",
+           "save_figure", "mirror_negative_angles"]
 
 _STARTUP_COMPONENTS = {"n11": "C0", "n22": "C1", "n33": "C2", "n12": "C3"}
 _LABELS = {"n11": r"$\langle nn\rangle_{11}$", "n22": r"$\langle nn\rangle_{22}$",
@@ -307,4 +307,61 @@ def figure_stress_rotation(simulation: pd.DataFrame, relation_predictions: pd.Da
     if mirrored:
         note += " theta < 0 filled by symmetry (12 even, 23 odd in theta)."
     fig.suptitle(note, fontsize=8, wrap=True)
+    return fig
+
+
+def _seed_interval(statistics: pd.DataFrame, column: str, level: float) -> pd.DataFrame:
+    """Per angle: the seed mean of ``column`` and its t-interval over seeds."""
+    from .seed_statistics import t_interval  # noqa: PLC0415 (figures stay importable without scipy.stats first)
+
+    rows = []
+    for theta, group in statistics.groupby("theta", sort=True):
+        interval = t_interval(group[column].to_numpy(), level)
+        rows.append({"theta": theta, "mean": interval.mean, "low": interval.low, "high": interval.high})
+    return pd.DataFrame(rows)
+
+
+def figure_claims(statistics: pd.DataFrame, level: float):
+    """Fig. 5: the quantities the shear-rotation claims rest on, per angle (primary choice):
+    (a) the <nn>'_12 deficit D12, (b) the <nn>'_23 effect E23, (c) the paired mean-square-error
+    difference G-W - modified on r12 and r23 (> 0: the modified model is closer), (d) the excess
+    X12 above steady inside the modified model's overshoot window. Simulation: seed mean with its
+    t-interval over seeds; models: seed mean of each seed's own fit. Shaded: the claims' ranges."""
+    from .claims import CLAIMS  # noqa: PLC0415
+
+    ranges = {claim.key: claim.angles for claim in CLAIMS}
+    fig, axes = plt.subplots(2, 2, figsize=(10, 7.2), sharex=True)
+    panels = [(axes[0, 0], "D12", "C1", r"(a) deficit $D_{12}=\int_0^W (1 - r_{12})\,d\gamma$"),
+              (axes[0, 1], "E23", "C2", r"(b) transverse effect $E_{23}=\mathrm{sgn}\,\theta\int_0^W r_{23}\,d\gamma$"),
+              (axes[1, 1], "X12", "C6", r"(d) excess $X_{12}$ in the modified model's overshoot window")]
+    colors = {"gw": "C1", "modified": "C2"}
+    percent = f"{100 * level:g}%"
+    for ax, quantity, claim, title in panels:
+        sim = _seed_interval(statistics, f"{quantity}_sim", level)
+        _interval_bars(ax, sim["theta"], sim["mean"], sim["low"], sim["high"], "k",
+                       label=f"simulation ({percent} t-interval)")
+        for model, color in colors.items():
+            mean = statistics.groupby("theta")[f"{quantity}_{model}"].mean()
+            ax.plot(mean.index, mean.to_numpy(), "-", color=color, marker="s", ms=3, label=MODEL_NAMES[model])
+        ax.axvspan(*ranges[claim], color="0.9", zorder=0)
+        ax.axhline(0.0, color="0.6", lw=0.6)
+        ax.set_title(title, fontsize=10)
+    ax = axes[1, 0]
+    for component, color in (("12", "C0"), ("23", "C3")):
+        difference = statistics.assign(d=statistics[f"MSE{component}_gw"] - statistics[f"MSE{component}_modified"])
+        if component == "23":  # both models exact by symmetry at 0 and 180 degrees
+            difference = difference[~np.isclose(np.abs(difference["theta"]), 0.0)
+                                    & ~np.isclose(np.abs(difference["theta"]), 180.0)]
+        paired = _seed_interval(difference, "d", level)
+        _interval_bars(ax, paired["theta"] + (1.0 if component == "23" else -1.0), paired["mean"], paired["low"],
+                       paired["high"], color, label=rf"$r_{{{component}}}$ ({percent} t-interval)")
+    ax.axvspan(*ranges["C3"], color="0.9", zorder=0)
+    ax.axhline(0.0, color="0.6", lw=0.6)
+    ax.axvspan(*ranges["C4"], ymin=0.0, ymax=0.06, color="C3", alpha=0.25, zorder=0)  # C4's range, on the axis
+    ax.set_title("(c) paired MSE, G-W $-$ modified (> 0: modified closer)", fontsize=10)
+    for ax in axes.flat:
+        ax.legend(fontsize=7, frameon=False)
+    for ax in axes[1]:
+        ax.set_xlabel(r"rotation angle $\theta$ (deg)")
+    fig.tight_layout()
     return fig

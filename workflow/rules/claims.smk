@@ -65,3 +65,20 @@ rule verdicts:
         f"{RESULTS}/logs/verdicts.log",
     script:
         "../scripts/verdicts.py"
+
+
+rule figure_claims:
+    """Fig. 5: D12, E23, the paired MSE difference and X12 per angle, simulation (t-interval) and models."""
+    input:
+        statistics=rules.claims.output.statistics,
+    output:
+        pdf=f"{RESULTS}/figures/fig5_claims.pdf",
+        png=report(f"{RESULTS}/figures/fig5_claims.png", caption="../report/fig5.rst", category="Figures"),
+    params:
+        level=config["verdicts"]["level"],
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/figure_claims.log",
+    script:
+        "../scripts/figure_claims.py"
