@@ -13,7 +13,8 @@ Choices (:class:`Choice`, :func:`study_choices`): the models' state at the rotat
 their own startup state, rotated; "simulated": the seed's simulated fabric at the rotation;
 "steady": their own steady state, rotated), the strain window W, the fit ("steady": steady
 <nn>_12 for G-W, <nn>_11 and <nn>_12 for the modified model, as in the paper; "startup": least
-squares on the seed's whole startup curve of the same components) and the baseline of the
+squares on the seed's whole startup curve of the same components; "paper": the paper's printed
+values, beta 10.9 and (9.4, 42.4)) and the baseline of the
 <nn>'_12 deficit ("steady": 1; "continuation": the same seed's theta = 0 curve).
 
 Tables are tidy: ``angle_statistics`` has one row per (seed, theta) with the quantities of the
@@ -32,6 +33,7 @@ from . import model, tables
 from .fabric import COMPONENTS
 from .frames import rotation_about_gradient, simple_shear_gradient, to_basis
 from .seed_statistics import LEVEL, decide, seeds_needed, t_interval
+from .verdicts import PAPER
 
 __all__ = ["Choice", "study_choices", "Claim", "CLAIMS", "EFFECT", "seed_replicate", "SeedReplicate", "deficit",
            "transverse_effect", "overshoot_excess", "mean_square", "angle_statistics", "claim_values",
@@ -40,7 +42,7 @@ __all__ = ["Choice", "study_choices", "Claim", "CLAIMS", "EFFECT", "seed_replica
 
 MODELS = ("gw", "modified")
 STATES = ("own", "simulated", "steady")
-FITS = ("steady", "startup")
+FITS = ("steady", "startup", "paper")
 BASELINES = ("steady", "continuation")
 #: Effect sizes, named before looking (docs/verdict_statistics.md, Sec. 3).
 EFFECT = {"factor": 1.25, "mse_reduction": 0.2, "overshoot_share": 0.25, "overshoot_margin": 0.05}
@@ -69,13 +71,14 @@ class Choice:
 def study_choices(window: float, rotation_strain: float) -> list[Choice]:
     """The primary choice, then one change at a time (docs/verdict_statistics.md, Sec. 6): the
     models' state (simulated, steady), the window (1; and 3 when the runs reach it), the fit on the
-    startup curve, the theta = 0 continuation baseline."""
+    startup curve or the paper's printed parameters, the theta = 0 continuation baseline."""
     primary = Choice("primary", window)
     choices = [primary, replace(primary, name="state: simulated", state="simulated"),
                replace(primary, name="state: model steady", state="steady")]
     choices += [replace(primary, name=f"window {other:g}", window=other)
                 for other in (1.0, 2.0, 3.0) if other != window and other <= rotation_strain + _ANGLE_TOL]
     choices += [replace(primary, name="fit: startup curve", fit="startup"),
+                replace(primary, name="fit: paper's values", fit="paper"),
                 replace(primary, name="baseline: theta = 0", baseline="continuation")]
     return choices
 
@@ -102,6 +105,8 @@ def _tensors(rows: pd.DataFrame) -> np.ndarray:
 
 
 def _fit(startup: pd.DataFrame, steady: dict, phi: float, fabric0: np.ndarray, how: str) -> dict:
+    if how == "paper":
+        return {"gw": (PAPER["gw_beta"], None), "modified": (PAPER["modified_beta"], PAPER["modified_A"])}
     gw_beta = model.fit_gw(steady["n12"], phi)
     modified = model.fit_modified(steady["n11"], steady["n12"], phi)
     if how == "steady":
