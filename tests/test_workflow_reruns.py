@@ -56,6 +56,9 @@ CASES = {
          ("aggregate_stress_rotation", "")},
         {("pack", "seed=3"), ("startup", "seed=3"), ("rotate", "seed=3, angle=0"), ("rotate", "seed=3, angle=90")},
     ),
+    "verdicts.level": (["verdicts={level: 0.9}"],
+                       {("verdicts", ""), ("figure_claims", ""), ("stress_relation", "")}, set()),
+    "verdicts.window": (["verdicts={window: 0.05}"], {("claims", ""), ("stress_relation", "")}, set()),
     "checks, thermo and restart intervals": (
         ["run={thermo_strain: 0.02, restart_strain: 0.05, max_overlap: 0.02, max_stress_jitter: 0.6, "
          "max_contact_relaxation_strain: 0.02}"], set(), set()),
