@@ -90,7 +90,7 @@ def seeds_needed(interval: Interval, max_seeds: int = 10_000) -> float:
         return np.nan
     sd = interval.se * np.sqrt(interval.n)
     if sd == 0.0:
-        return float(interval.n) if interval.mean != 0.0 else np.inf
+        return 2.0 if interval.mean != 0.0 else np.inf  # no spread: two seeds already decide
     if interval.mean == 0.0:
         return np.inf
     def decides(n: int) -> bool:
