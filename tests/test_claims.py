@@ -264,10 +264,14 @@ def test_noise_floors_are_between_seed_variances(statistics):
     np.testing.assert_allclose(statistics["s2_23"], var_d * mean_g2, rtol=1e-9)
 
 
-def test_noise_floor_is_nan_for_one_seed(replicates):
-    """A variance with ddof 1 needs two seeds: one seed gives NaN floors."""
+def test_one_seed_has_no_noise_floor_and_an_infinite_interval(replicates):
+    """A variance with ddof 1 needs two seeds: one seed gets floor 0 (no estimate), its T stays
+    finite and every claim's interval is infinite, so nothing is decided."""
     one = claims.angle_statistics(replicates[:1], PRIMARY)
-    assert one["s2_12"].isna().all() and one["s2_23"].isna().all()
+    assert (one["s2_12"] == 0.0).all() and (one["s2_23"] == 0.0).all()
+    table = claims.claim_table(claims.claim_values(one))
+    decided = table[table["n_seeds"] > 0]
+    assert (decided["verdict"] == "undecided").all() and np.isinf(decided["high"]).all()
 
 
 def test_c3_uses_the_noise_floor(statistics):

@@ -206,7 +206,8 @@ def angle_statistics(replicates: list[SeedReplicate], choice: Choice) -> pd.Data
     """Per (seed, theta): D12, E23, X12 of the simulation and both models, the models' mean-square
     errors on r12 and r23, the modified model's overshoot max(r12) - 1, and the noise floors
     ``s2_12``, ``s2_23`` (between-seed variance of the simulated curve, ddof 1, averaged over the
-    strains of (0, W]; the same for every seed of an angle; NaN for one seed)."""
+    strains of (0, W]; the same for every seed of an angle; 0 for a single seed, whose interval is
+    infinite anyway)."""
     strain, thetas = replicates[0].strain, replicates[0].thetas
     for rep in replicates[1:]:
         if len(rep.strain) != len(strain) or not np.allclose(rep.strain, strain) or not np.allclose(rep.thetas, thetas):
@@ -217,13 +218,14 @@ def angle_statistics(replicates: list[SeedReplicate], choice: Choice) -> pd.Data
     after = strain > 0.0
     sim12 = np.stack([rep.sim["r12"] for rep in replicates])
     sim23 = np.stack([rep.sim["r23"] for rep in replicates])
-    s2 = {c: (np.var(x, axis=0, ddof=1)[..., after].mean(axis=-1) if len(replicates) > 1 else np.full(len(thetas), np.nan))
+    s2 = {c: (np.var(x, axis=0, ddof=1)[..., after].mean(axis=-1) if len(replicates) > 1 else np.zeros(len(thetas)))
           for c, x in (("12", sim12), ("23", sim23))}
+
+    def base(curve):
+        return curve[zero[0]][None, :] if choice.baseline == "continuation" else None
+
     rows = []
     for rep in replicates:
-        def base(curve):
-            return curve[zero[0]][None, :] if choice.baseline == "continuation" else None
-
         curves = {"sim": rep.sim, **rep.models}
         window = rep.models["modified"]["r12"]
         window_base = base(window)
