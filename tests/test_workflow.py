@@ -8,6 +8,7 @@ repository's results/.
 
 import json
 import re
+import shutil
 
 import pandas as pd
 import pytest
@@ -98,12 +99,12 @@ def test_study_decides_the_claims_per_seed(study):
     tables = study / RESULTS / "tables"
     values = pd.read_csv(tables / "claims_values.csv")
     assert list(dict.fromkeys(values["choice"])) == ["primary", "state: simulated", "state: model steady",
-                                                     "fit: startup curve", "baseline: theta = 0"]
+                                                     "fit: startup curve", "fit: paper's values", "baseline: theta = 0"]
     primary = values[values["choice"] == "primary"]
     assert sorted(primary["seed"].unique()) == [1, 2]
     assert set(primary[primary["claim"] == "C2"]["theta"]) == {90.0}  # 0 (and 180) left out of the 23 claims
     fits = pd.read_csv(tables / "claims_seed_fits.csv")
-    assert len(fits) == 2 * 5 and (fits["gw_beta"] > 0).all()
+    assert len(fits) == 2 * 6 and (fits["gw_beta"] > 0).all()
     verdicts = pd.read_csv(tables / "verdicts.csv").set_index("claim")
     c1 = primary[(primary["claim"] == "C1") & (primary["theta"] == 90.0)].set_index("seed")["T"]
     half = stats.t.ppf(0.975, 1) * c1.std(ddof=1) / np.sqrt(2)
@@ -288,6 +289,7 @@ def test_command_line_overrides_on_the_default_study(tmp_path):
     default study's own analysis.steady_window [2, 5] in the cross-key check (so the override
     took effect and the rest of config.yaml was kept); a bad value names its key."""
     workdir = copy_workflow(tmp_path)
+    shutil.copytree(REPO / "data", workdir / "data")  # the datasets the default study compares with
     result = snakemake(workdir, "-n", "--config", "run={rotation_strain: 2.5}")
     assert result.returncode == 0, (result.stdout + result.stderr)[-3000:]
     counts = job_counts(result.stdout)
