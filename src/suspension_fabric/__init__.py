@@ -55,11 +55,15 @@ Modules
     stress       -- the stress per frame: symmetric contact, lubrication, kinetic, solvent and
                     Einstein parts in the paper frame of the current shear, eta_r, N1, N2, Pi
     stress_model -- the G-W stress relation: fits per fabric source, predictions, errors,
-                    viscosity minimum and recovery after a rotation
+                    the viscosity deficit after a rotation per seed (minimum, recovery as description)
     model_vs_simulation -- models versus simulation: fits to the simulated steady
                     state, predictions at the simulated strains and angles, errors
-    verdicts     -- the paper's claims, each decided by a number with its error
-    figures      -- the paper's Fig. 1 and Fig. 2; the stress figures 3 and 4
+    seed_statistics -- the seeds as independent units: t-intervals, the three-way decision
+                    rule, seeds needed, jackknife and seed bootstrap
+    claims       -- the shear-rotation claims decided per seed: each seed's own fits and
+                    predictions under a choice, linear statistics, verdicts, choices table
+    verdicts     -- the steady-state claims; recovery, rms and overshoot tables (description)
+    figures      -- the paper's Fig. 1 and Fig. 2; the stress figures 3 and 4; Fig. 5 (claims)
     report_tables -- fits, steady state, error summary, verdicts and stress as HTML tables for the report
     dataset      -- reference datasets: a finished study's tables, committed, rebuilt without simulating
     config       -- study configuration: schema validation, cross-key checks
