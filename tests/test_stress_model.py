@@ -618,7 +618,7 @@ def test_seed_steady_viscosity_is_each_seeds_mean_over_the_window():
         assert out[seed] == pytest.approx(np.mean(level + 0.1 * seed * np.sin(3.0 * strain[inside])), rel=1e-14)
     steady = tables.steady_state(startup, 2.0, 5.0, value_columns=("eta_r",))
     assert out.mean() == pytest.approx(float(steady["mean"].iloc[0]), rel=1e-14)
-    with pytest.raises(ValueError, match="startup seed 1 has 1 frame"):
+    with pytest.raises(ValueError, match="seed 1 has 1 frame"):
         stress_model.seed_steady_viscosity(startup, [4.8, 5.2])
 
 

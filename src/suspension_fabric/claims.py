@@ -30,7 +30,8 @@ import numpy as np
 import pandas as pd
 
 from . import model, tables
-from .fabric import COMPONENTS
+from .model_vs_simulation import fit_both_models
+from .tables import fabric_tensors
 from .frames import rotation_about_gradient, simple_shear_gradient, to_basis
 from .seed_statistics import LEVEL, decide, seeds_needed, t_interval
 from .verdicts import PAPER
@@ -97,24 +98,18 @@ class SeedReplicate(NamedTuple):
     models: dict
 
 
-def _tensors(rows: pd.DataFrame) -> np.ndarray:
-    out = np.zeros((len(rows), 3, 3))
-    for name, (i, j) in COMPONENTS.items():
-        out[:, i, j] = out[:, j, i] = rows[name].to_numpy(dtype=float)
-    return out
-
-
-def _fit(startup: pd.DataFrame, steady: dict, phi: float, fabric0: np.ndarray, how: str) -> dict:
+def _fit(startup: pd.DataFrame, steady: pd.DataFrame, phi: float, fabric0: np.ndarray, how: str) -> dict:
+    """Each model's (beta, A) for one seed (``steady``: its steady-state table) under the fit choice."""
     if how == "paper":
         return {"gw": (PAPER["gw_beta"], None), "modified": (PAPER["modified_beta"], PAPER["modified_A"])}
-    gw_beta = model.fit_gw(steady["n12"], phi)
-    modified = model.fit_modified(steady["n11"], steady["n12"], phi)
+    fitted = fit_both_models(steady, phi)
     if how == "steady":
-        return {"gw": (gw_beta, None), "modified": (modified.beta, modified.A)}
+        return {"gw": (fitted.gw_beta, None), "modified": (fitted.beta, fitted.A)}
     strains = startup["strain"].to_numpy(dtype=float)
     n11, n12 = startup["n11"].to_numpy(dtype=float), startup["n12"].to_numpy(dtype=float)
-    gw = model.fit_startup_curve(strains, {"12": n12}, phi, fabric0, free_A=False, start=(gw_beta, None))
-    mod = model.fit_startup_curve(strains, {"11": n11, "12": n12}, phi, fabric0, free_A=True, start=modified)
+    gw = model.fit_startup_curve(strains, {"12": n12}, phi, fabric0, free_A=False, start=(fitted.gw_beta, None))
+    mod = model.fit_startup_curve(strains, {"11": n11, "12": n12}, phi, fabric0, free_A=True,
+                                  start=(fitted.beta, fitted.A))
     return {"gw": (gw.beta, None), "modified": (mod.beta, mod.A)}
 
 
@@ -132,10 +127,9 @@ def seed_replicate(startup: pd.DataFrame, rotation: pd.DataFrame, phi: float, st
         raise ValueError(f"seed_replicate needs one seed's rows, got seeds {sorted(seeds)}")
     seed = int(seeds.pop())
     startup = startup.sort_values("strain")
-    steady_rows = tables.steady_state(startup, *steady_window)
-    steady = dict(zip(steady_rows["quantity"], steady_rows["mean"]))
-    n12_ss = float(steady["n12"])
-    fabric0 = _tensors(startup.iloc[[0]])[0]
+    steady = tables.steady_state(startup, *steady_window)
+    n12_ss = float(steady.loc[steady["quantity"] == "n12", "mean"].iloc[0])
+    fabric0 = fabric_tensors(startup.iloc[0])
     params = _fit(startup, steady, phi, fabric0, choice.fit)
 
     thetas = np.array(sorted(rotation["theta"].unique()), dtype=float)
@@ -154,7 +148,7 @@ def seed_replicate(startup: pd.DataFrame, rotation: pd.DataFrame, phi: float, st
                          f"{choice.window:g} of choice '{choice.name}'")
     keep = strain <= choice.window + 1e-9
     strain = strain[keep]
-    simulated = np.stack([_tensors(curves[t])[keep] for t in thetas])  # (angles, strains, 3, 3)
+    simulated = np.stack([fabric_tensors(curves[t])[keep] for t in thetas])  # (angles, strains, 3, 3)
     sim = {"r12": simulated[..., 0, 1] / n12_ss, "r23": simulated[..., 1, 2] / n12_ss}
 
     models = {}

@@ -47,6 +47,7 @@ from . import model
 from .fabric import COMPONENTS
 from .frames import simple_shear_gradient
 from .stress import EINSTEIN_COEFFICIENT
+from .tables import fabric_tensors, steady_state
 from .seed_statistics import LEVEL, seed_bootstrap, t_interval
 from .verdicts import TOLERANCE, settle_strain
 
@@ -104,17 +105,10 @@ def steady_value(stress_steady: pd.DataFrame, quantity: str) -> tuple[float, flo
     return float(rows["mean"].iloc[0]), float(rows["sem"].iloc[0])
 
 
-def _fabric_tensors(values, suffix: str = "") -> np.ndarray:
-    """<nn> from the ``n11<suffix>`` ... ``n23<suffix>`` entries of a mapping (one tensor) or
-    a table (one per row)."""
-    return model.vec_to_sym(np.stack([np.asarray(values[f"n{c}{suffix}"], dtype=float)
-                                      for c in model.VECTOR_ORDER], -1))
-
-
 def source_steady_fabrics(fits: dict) -> dict[str, np.ndarray]:
     """The steady fabric of each source: the simulated targets and each model's own steady state."""
-    simulated = _fabric_tensors({name: value["mean"] for name, value in fits["targets"].items() if name in COMPONENTS})
-    return {"simulation": simulated, **{key: _fabric_tensors(fits["model_steady_state"][key]) for key in ("gw", "modified")}}
+    simulated = fabric_tensors({name: value["mean"] for name, value in fits["targets"].items() if name in COMPONENTS})
+    return {"simulation": simulated, **{key: fabric_tensors(fits["model_steady_state"][key]) for key in ("gw", "modified")}}
 
 
 def relation_stress(fabric, coefficients: dict, phi: float) -> pd.DataFrame:
@@ -178,10 +172,10 @@ def stress_predictions(relation: pd.DataFrame, startup_aggregate: pd.DataFrame, 
         blocks.append(block)
 
     for protocol, aggregate in (("startup", startup_aggregate), ("rotation", rotation_aggregate)):
-        add("simulation", protocol, aggregate, _fabric_tensors(aggregate, "_mean"))
+        add("simulation", protocol, aggregate, fabric_tensors(aggregate, "_mean"))
         for key in ("gw", "modified"):
             rows = predictions[(predictions["model"] == key) & (predictions["protocol"] == protocol)]
-            add(key, protocol, rows, _fabric_tensors(rows))
+            add(key, protocol, rows, fabric_tensors(rows))
     return pd.concat(blocks, ignore_index=True)
 
 
@@ -232,18 +226,10 @@ def seed_steady_viscosity(startup_runs: pd.DataFrame, steady_window) -> pd.Serie
     of that seed's startup stress run (the frames :func:`suspension_fabric.tables.steady_state`
     averages; the seed mean of these values is its ``mean``). A Series indexed by seed; a seed
     with fewer than 2 frames in the window is an error."""
-    strain_min, strain_max = (float(x) for x in steady_window)
-    if not strain_max > strain_min:
-        raise ValueError(f"empty strain window [{strain_min}, {strain_max}]")
     if startup_runs["theta"].nunique() != 1:
         raise ValueError(f"startup stress runs hold several angles: {sorted(startup_runs['theta'].unique())}")
-    values = {}
-    for seed, rows in startup_runs.groupby("seed", sort=True):
-        inside = rows[(rows["strain"] >= strain_min) & (rows["strain"] <= strain_max)]
-        if len(inside) < 2:
-            raise ValueError(f"startup seed {seed} has {len(inside)} frame(s) in the steady window "
-                             f"[{strain_min}, {strain_max}], need at least 2")
-        values[int(seed)] = float(inside["eta_r"].mean())
+    values = {int(seed): float(steady_state(rows, *steady_window, value_columns=("eta_r",))["mean"].iloc[0])
+              for seed, rows in startup_runs.groupby("seed", sort=True)}
     return pd.Series(values, name="eta_ss_seed").rename_axis("seed")
 
 

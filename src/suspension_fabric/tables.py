@@ -60,11 +60,23 @@ __all__ = [
     "aggregate_seeds",
     "integrated_autocorrelation_time",
     "steady_state",
+    "fabric_tensors",
 ]
 
 METADATA_COLUMNS: tuple[str, ...] = ("seed", "theta", "N", "phi")
 VALUE_COLUMNS: tuple[str, ...] = (*COMPONENTS, "Z")
 TABLE_COLUMNS: tuple[str, ...] = (*METADATA_COLUMNS, "step", "strain", *VALUE_COLUMNS)
+
+
+def fabric_tensors(values, suffix: str = "") -> np.ndarray:
+    """<nn> from the ``n11<suffix>`` ... ``n23<suffix>`` entries of a mapping (one 3x3 tensor) or of
+    a table (one per row, shape (rows, 3, 3)), e.g. ``suffix="_mean"`` for a seed aggregate."""
+    rows, cols = zip(*COMPONENTS.values())
+    stacked = np.stack([np.asarray(values[f"{name}{suffix}"], dtype=float) for name in COMPONENTS], axis=-1)
+    tensors = np.empty(stacked.shape[:-1] + (3, 3))
+    tensors[..., rows, cols] = stacked
+    tensors[..., cols, rows] = stacked
+    return tensors
 
 
 def fabric_table(analysis, *, seed: int, phi: float | None = None) -> pd.DataFrame:
