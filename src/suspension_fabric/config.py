@@ -13,7 +13,9 @@ from pathlib import Path
 import yaml
 
 from .resources import SCHEMA_PATH
-from .scales import contact_period, contact_relaxation_time, max_dt_explicit, max_dt_implicit
+from .scales import (
+    contact_period, contact_relaxation_time, max_dt_explicit, max_dt_implicit, max_dt_implicit_springs,
+)
 
 __all__ = ["SCHEMA_PATH", "ConfigError", "validate_config", "load_config", "angle_label",
            "simulation_settings", "SIMULATION_RUN_KEYS"]
@@ -24,7 +26,8 @@ MIN_STEPS_PER_CONTACT_PERIOD = 30
 
 #: The ``run`` keys that change a simulation's outputs besides its strain (and all of
 #: ``forces``); the others (thermo and restart intervals, failure bounds, MPI ranks) do not.
-SIMULATION_RUN_KEYS = ("integrator", "solver_tol", "dt", "dump_strain", "table_strain")
+SIMULATION_RUN_KEYS = ("integrator", "contact_springs", "preconditioner", "solver_tol", "dt", "dump_strain",
+                       "table_strain")
 
 
 def simulation_settings(config: dict) -> dict:
@@ -108,6 +111,9 @@ def validate_config(config: dict, schema_path: str | os.PathLike = SCHEMA_PATH) 
             f"{forces['kn'] * relaxation / run['max_contact_relaxation_strain']:.3g}"
         )
     _check_time_step(run, forces, particles["d_small"])
+    if run["integrator"] == "explicit" and run["contact_springs"] == "implicit":
+        raise ConfigError("config key 'run.contact_springs' (implicit) needs run.integrator = implicit: the "
+                          "springs are solved with the implicit hydrodynamics")
     if run["integrator"] == "implicit" and run["mpi_ranks"] > 1:
         raise ConfigError(
             f"config key 'run.mpi_ranks' ({run['mpi_ranks']}): the implicit integrator runs on one MPI "
@@ -128,7 +134,12 @@ def _check_time_step(run: dict, forces: dict, d_small: float) -> None:
     """dt within the stability limit of the chosen integrator (suspension_fabric.scales)."""
     dt, integrator = run["dt"], run["integrator"]
     kt = forces["kt"] if forces["kt"] is not None else 2.0 / 7.0 * forces["kn"]
-    if integrator == "implicit":
+    if integrator == "implicit" and run["contact_springs"] == "implicit":
+        limit = max_dt_implicit_springs(d_small, forces["eta_f"], forces["delta"], forces["kn"])
+        reason = (f"with the contact springs implicit the normal spring (kn = {forces['kn']:g}, damped by "
+                  f"the lubrication squeeze at the regularised gap) allows dt < {limit:.3g} "
+                  "(suspension_fabric.scales.max_dt_implicit_springs)")
+    elif integrator == "implicit":
         limit = max_dt_implicit(d_small, forces["eta_f"], forces["delta"], kt)
         reason = (f"the explicit tangential contact spring (kt = {kt:g}, damped by the shear "
                   f"lubrication at the regularised gap) is stable only for dt < {limit:.3g} "

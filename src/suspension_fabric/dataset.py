@@ -144,9 +144,16 @@ def read_dataset(folder: Path) -> dict:
     return json.loads(path.read_text())
 
 
+#: ``run`` keys added after datasets were exported, with the value those datasets were made with
+#: (the contact springs taken explicitly by pair granular, the block-Jacobi solve).
+KEYS_BEFORE_RECORDED = {"contact_springs": "explicit", "preconditioner": "jacobi"}
+
+
 def _what_was_simulated(config: dict) -> dict:
     """The config keys that decide the runs and their fabric tables (config.simulation_settings,
-    the strains, the particles, seeds, angles and eps); steady window and models may differ."""
+    the strains, the particles, seeds, angles and eps); steady window and models may differ.
+    A dataset's config without a key of KEYS_BEFORE_RECORDED was made with its value there."""
+    config = {**config, "run": {**KEYS_BEFORE_RECORDED, **config["run"]}}
     settings = simulation_settings(config)
     return {
         "seeds": config["seeds"], "angles_deg": config["angles_deg"], "particles": config["particles"],

@@ -1,30 +1,47 @@
-/* fix <ID> all hydro/implicit/sf [tol <t>] [maxiter <n>]
+/* fix <ID> all hydro/implicit/sf [tol <t>] [maxiter <n>] [contacts <kn> <kt> <mu>]
 
    Time integration of spheres whose hydrodynamic forces, the one-body Stokes drag and the
-   pairwise lubrication of pair_style lubricate/sf, are taken implicitly; every other force
-   (the granular contacts) is explicit.  Replaces fix nve/sphere + fix stokes/sf; needs
-   `pair_style hybrid/overlay granular lubricate/sf <eta_f> <delta> <h_out> implicit`, whose
-   parameters and neighbour list it uses.
+   pairwise lubrication of pair_style lubricate/sf, are taken implicitly.  Replaces fix
+   nve/sphere + fix stokes/sf; needs `pair_style lubricate/sf <eta_f> <delta> <h_out>
+   implicit` (alone, or in hybrid/overlay), whose parameters and neighbour list it uses.
 
    With u, w the velocities relative to the imposed flow (u = v - u_inf(x), w = omega -
    Omega_inf) and E the imposed strain rate, the hydrodynamic force and torque are linear,
    F_h = -R (u, w) + F_E, with R = R_drag + sum over pairs R_pair symmetric positive
    semi-definite and F_E the lubrication force on particles that follow the imposed flow
-   (the pair forces at du = E (x_i - x_j), w = 0).  Each step (symplectic Euler for the
-   contacts, backward Euler for the hydrodynamics):
-     x_{n+1} = x_n + dt v_n                                       (initial_integrate)
-     F_c = contact forces at x_{n+1}                              (pair granular)
-     (M/dt + R) (u, w)_{n+1} = (M/dt) (u, w)_old + F_c + F_E      (final_integrate)
-   where (u, w)_old are the old velocities relative to the flow at x_{n+1}.  The resistance
-   no longer limits dt (any dt is stable for it); the contact springs do (explicit).
+   (the pair forces at du = E (x_i - x_j), w = 0).  Each step:
+     x_{n+1} = x_n + dt v_n                                            (initial_integrate)
+     F_c = contact forces at x_{n+1}
+     (M/dt + R + dt K) (u, w)_{n+1} = (M/dt) (u, w)_old + F_c + F_E     (final_integrate)
+   where (u, w)_old are the old velocities relative to the flow at x_{n+1}.
+
+   Contacts.  Without `contacts`, F_c comes from another pair style (granular) and K = 0:
+   symplectic Euler for the contact springs, whose stiffness then limits dt (for
+   m x'' = -k x - c x' the scheme is stable iff k dt^2 < 4 m + 2 c dt).  With `contacts kn kt
+   mu` the fix owns the contacts (contact.h: Hooke normal, linear-history tangential spring,
+   Coulomb friction; no other contact pair style allowed) and takes the tangential spring of
+   every sticking contact implicitly: its force is -kt (xi_n + dt s_{n+1}), the spring
+   stretched by the slip s of the solved velocities, which adds K = kt B^T B to the operator
+   (backward Euler for the spring: stable for any kt dt).  Sliding contacts (|kt xi| at the
+   Coulomb bound mu F_n with the old slip) carry the bound mu F_n, explicit, along the trial
+   spring.  A sticking spring whose solved stretch exceeds the bound is released to sliding
+   and the system solved again (at most MAX_CONTACT_PASSES solves per step).  The normal spring
+   stays explicit: the lubrication squeeze X(delta) at contact damps it, so it is stable for
+   dt < 2 X(delta)/kn (8e-4 at the defaults).  After the step each spring holds
+   xi_{n+1} = xi_n + dt s_{n+1} (capped), the displacement the next position update makes.
+
    The linear system is solved matrix-free by conjugate gradients over the pair list with a
    6x6 block-Jacobi preconditioner (rebuilt every 10 steps and after the atoms are re-sorted),
-   warm-started from the old velocities, until the largest
-   component of D^-1 r (a velocity, in units of gammadot d) is below `tol` (default 1e-5).
-   A solve that does not converge within `maxiter` (default 1000) stops the run with an error.
+   warm-started from the old velocities, until the largest component of D^-1 r (a velocity,
+   in units of gammadot d) is below `tol` (default 1e-5).  A solve that does not converge
+   within `maxiter` (default 1000) stops the run with an error.
 
-   The symmetrised lubrication virial sum (x_i - x_j) F_ij of the solved velocities is the fix's virial
-   (compute pressure ... fix, and the total pressure); the drag adds none (see README.md).
+   Virial: the symmetrised lubrication virial sum (x_i - x_j) F_ij of the solved velocities,
+   plus with `contacts` the contact virial in LAMMPS's convention (sum (x_i - x_j)_a F_b, as
+   pair granular tallies it), is the fix's virial (compute pressure ... fix, and the total
+   pressure); the drag adds none (see README.md).  The parts are in the fix's vector.
+   The springs are written to restart files (global fix state) and read back when a fix with
+   the same ID and style is defined after read_restart.
    One MPI rank only: parallelism comes from running seeds and angles side by side. */
 
 #include "fix_hydro_implicit_sf.h"
@@ -42,7 +59,9 @@
 #include "imposed_flow.h"
 #include "pair_lubricate_sf.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 using namespace LAMMPS_NS;
@@ -116,34 +135,56 @@ double dot(const std::vector<double> &a, const std::vector<double> &b)
 
 constexpr double INERTIA = 0.4;    // moment of inertia of a solid sphere / (m a^2)
 constexpr bigint PRECONDITIONER_AGE = 10;    // steps between preconditioner rebuilds at most
+constexpr int MAX_CONTACT_PASSES = 4;        // solves per step while sticking springs are released
 }    // namespace
 
 FixHydroImplicitSF::FixHydroImplicitSF(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), tolerance(1.0e-5), max_iterations(1000), dtv(0.0),
-    lubrication(nullptr), steps(0), total_iterations(0), last_iterations(0), last_error(0.0)
+    Fix(lmp, narg, arg), tolerance(1.0e-5), max_iterations(1000), own_contacts(false), kn(0.0),
+    kt(0.0), mu(0.0), dtv(0.0), lubrication(nullptr), steps(0), total_iterations(0),
+    total_passes(0), total_released(0), last_iterations(0), last_error(0.0), sliding_contacts(0),
+    use_dilu(false), dilu_fallbacks(0)
 {
   int iarg = 3;
   while (iarg < narg) {
     if (strcmp(arg[iarg], "tol") == 0 && iarg + 1 < narg) {
       tolerance = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
       if (!(tolerance > 0.0)) error->all(FLERR, "fix hydro/implicit/sf: tol must be > 0");
+      iarg += 2;
     } else if (strcmp(arg[iarg], "maxiter") == 0 && iarg + 1 < narg) {
       max_iterations = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
       if (max_iterations < 1) error->all(FLERR, "fix hydro/implicit/sf: maxiter must be >= 1");
+      iarg += 2;
+    } else if (strcmp(arg[iarg], "precond") == 0 && iarg + 1 < narg) {
+      if (strcmp(arg[iarg + 1], "dilu") == 0) use_dilu = true;
+      else if (strcmp(arg[iarg + 1], "jacobi") == 0) use_dilu = false;
+      else error->all(FLERR, "fix hydro/implicit/sf: precond must be dilu or jacobi, got '{}'", arg[iarg + 1]);
+      iarg += 2;
+    } else if (strcmp(arg[iarg], "contacts") == 0 && iarg + 3 < narg) {
+      own_contacts = true;
+      kn = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      kt = utils::numeric(FLERR, arg[iarg + 2], false, lmp);
+      mu = utils::numeric(FLERR, arg[iarg + 3], false, lmp);
+      if (!(kn > 0.0) || !(kt > 0.0) || !(mu >= 0.0))
+        error->all(FLERR, "fix hydro/implicit/sf: contacts needs kn > 0, kt > 0, mu >= 0");
+      iarg += 4;
     } else {
-      error->all(FLERR, "Illegal fix hydro/implicit/sf keyword '{}': expected tol <t> or maxiter <n>",
+      error->all(FLERR, "Illegal fix hydro/implicit/sf keyword '{}': expected tol <t>, maxiter <n>, "
+                        "precond dilu|jacobi or contacts <kn> <kt> <mu>",
                  arg[iarg]);
     }
-    iarg += 2;
   }
   time_integrate = 1;
   virial_global_flag = 1;
   thermo_virial = 1;
+  restart_global = 1;
   vector_flag = 1;
-  size_vector = 3;
+  size_vector = 22;
   global_freq = 1;
   extvector = 0;
   for (double &v : virial) v = 0.0;
+  for (double &v : contact_virial) v = 0.0;
+  for (double &v : contact_torque) v = 0.0;
+  for (double &v : lubrication_virial) v = 0.0;
 }
 
 int FixHydroImplicitSF::setmask()
@@ -171,6 +212,17 @@ void FixHydroImplicitSF::init()
                       "'implicit' (else the lubrication would be applied twice)");
   if (!modify->get_fix_by_style("^stokes/sf$").empty())
     error->all(FLERR, "fix hydro/implicit/sf already includes the Stokes drag; remove fix stokes/sf");
+  if (own_contacts) {
+    if (force->pair_match("granular", 0, 0) != nullptr || force->pair_match("gran", 0, 0) != nullptr)
+      error->all(FLERR, "fix hydro/implicit/sf ... contacts computes the contacts itself; remove the "
+                        "granular pair style (else every contact would act twice)");
+    if (!force->newton_pair)
+      error->all(FLERR, "fix hydro/implicit/sf ... contacts needs newton_pair on (each contact listed once)");
+    tagint largest_tag = 0;
+    for (int i = 0; i < atom->nlocal; i++) largest_tag = std::max(largest_tag, atom->tag[i]);
+    if (static_cast<long long>(largest_tag) >= (1LL << 31))
+      error->all(FLERR, "fix hydro/implicit/sf ... contacts: atom IDs must stay below 2^31");
+  }
   dtv = update->dt;
 }
 
@@ -181,12 +233,16 @@ void FixHydroImplicitSF::reset_dt()
 
 void FixHydroImplicitSF::setup(int /*vflag*/)
 {
-  // the virial of the current velocities, for output at the first step
+  // forces and virial of the current state, for output at the first step; springs unchanged
   const SuspensionFabric::ImposedFlow flow(domain);
   double E[3][3];
   strain_rate(flow, E);
-  collect_pairs();
+  collect_pairs(E);
   relative_velocities(flow);
+  if (own_contacts) {
+    for (SuspensionFabric::Contact &c : contacts) c.sticking = true;
+    finish_contacts(false);
+  }
   tally_virial(E);
 }
 
@@ -221,11 +277,15 @@ void FixHydroImplicitSF::initial_integrate(int /*vflag*/)
     for (int k = 0; k < 3; k++) x[i][k] += dtv * v[i][k];
 }
 
-void FixHydroImplicitSF::collect_pairs()
+/* The lubricated pairs and, with `contacts`, the touching pairs with their geometry, normal
+   force and last spring (projected onto the current tangent plane). */
+void FixHydroImplicitSF::collect_pairs(const double E[3][3])
 {
   pairs.clear();
+  contacts.clear();
   const NeighList *list = lubrication->list;
   double **x = atom->x;
+  const double *radius = atom->radius;
   const tagint *tag = atom->tag;
   const int nlocal = atom->nlocal;
   const int newton_pair = force->newton_pair;
@@ -243,8 +303,136 @@ void FixHydroImplicitSF::collect_pairs()
         error->one(FLERR, "fix hydro/implicit/sf: no local owner of ghost atom {}", tag[j]);
       p.add_to_j = newton_pair || j < nlocal;
       pairs.push_back(p);
+      if (!own_contacts) continue;
+
+      const double rsq = SuspensionFabric::dot3(p.del, p.del);
+      const double radsum = radius[i] + radius[j];
+      if (rsq >= radsum * radsum) continue;
+      SuspensionFabric::Contact c;
+      c.i = p.i;
+      c.j = p.j;
+      c.pair = static_cast<int>(pairs.size()) - 1;
+      const double r = std::sqrt(rsq);
+      const double overlap = radsum - r;
+      for (int k = 0; k < 3; k++) {
+        c.del[k] = p.del[k];
+        c.n[k] = p.del[k] / r;
+      }
+      c.li = radius[i] - 0.5 * overlap;
+      c.lj = radius[j] - 0.5 * overlap;
+      c.normal_force = kn * overlap;
+      const tagint low = std::min(tag[i], tag[j]), high = std::max(tag[i], tag[j]);
+      c.key = (static_cast<unsigned long long>(low) << 32) | static_cast<unsigned long long>(high);
+      c.history_sign = tag[i] < tag[j] ? 1.0 : -1.0;
+      const auto found = springs.find(c.key);
+      for (int k = 0; k < 3; k++) c.spring[k] = found == springs.end() ? 0.0 : c.history_sign * found->second.xi[k];
+      SuspensionFabric::project_spring(c.n, c.spring);
+      // slip of the imposed flow: P E (x_i - x_j) (its rotation does not slip a touching pair)
+      double edel[3];
+      for (int a = 0; a < 3; a++) edel[a] = E[a][0] * p.del[0] + E[a][1] * p.del[1] + E[a][2] * p.del[2];
+      const double along = SuspensionFabric::dot3(edel, c.n);
+      for (int k = 0; k < 3; k++) c.flow_slip[k] = edel[k] - along * c.n[k];
+      c.sticking = true;
+      contacts.push_back(c);
     }
   }
+}
+
+namespace {
+// trial spring xi + dt s, with s the whole slip (imposed flow and the velocities in `u`)
+void trial_spring(const SuspensionFabric::Contact &c, const std::vector<double> &u, double dt,
+                  double *trial)
+{
+  const double *ui = &u[6 * c.i], *uj = &u[6 * c.j];
+  const double du[3] = {ui[0] - uj[0], ui[1] - uj[1], ui[2] - uj[2]};
+  double s[3];
+  SuspensionFabric::contact_slip(c, du, ui + 3, uj + 3, s);
+  for (int k = 0; k < 3; k++) trial[k] = c.spring[k] + dt * (c.flow_slip[k] + s[k]);
+}
+
+// the Coulomb force mu F_n against the trial spring direction
+void coulomb_force(const double *trial, double bound, double *f)
+{
+  const double length = std::sqrt(SuspensionFabric::dot3(trial, trial));
+  for (int k = 0; k < 3; k++) f[k] = length > 0.0 ? -bound * trial[k] / length : 0.0;
+}
+}    // namespace
+
+/* Sticking or sliding, from the trial spring of the old velocities (in `solution`). */
+void FixHydroImplicitSF::classify_contacts()
+{
+  double trial[3];
+  for (SuspensionFabric::Contact &c : contacts) {
+    trial_spring(c, solution, dtv, trial);
+    const double bound = mu * c.normal_force;
+    c.sticking = kt * std::sqrt(SuspensionFabric::dot3(trial, trial)) <= bound;
+    if (!c.sticking) coulomb_force(trial, bound, c.sliding_force);
+  }
+}
+
+/* Sticking springs stretched beyond the Coulomb bound by the solved velocities slide: returns
+   how many were released. */
+int FixHydroImplicitSF::release_violated_springs()
+{
+  int released = 0;
+  double trial[3];
+  for (SuspensionFabric::Contact &c : contacts) {
+    if (!c.sticking) continue;
+    trial_spring(c, solution, dtv, trial);
+    const double bound = mu * c.normal_force;
+    if (kt * std::sqrt(SuspensionFabric::dot3(trial, trial)) > bound * (1.0 + 1.0e-9)) {
+      c.sticking = false;
+      coulomb_force(trial, bound, c.sliding_force);
+      released++;
+    }
+  }
+  return released;
+}
+
+/* Tangential forces of the solved step, the contact virial and torque and, if update_springs,
+   the springs xi_{n+1} (capped at the Coulomb bound) for the next step. */
+void FixHydroImplicitSF::finish_contacts(bool update_springs)
+{
+  for (double &v : contact_virial) v = 0.0;
+  for (double &v : contact_torque) v = 0.0;
+  if (update_springs) next_springs.clear();
+  sliding_contacts = 0;
+  double trial[3], ti[3], tj[3];
+  for (SuspensionFabric::Contact &c : contacts) {
+    const double bound = mu * c.normal_force;
+    if (update_springs) {
+      trial_spring(c, solution, dtv, trial);
+    } else {
+      for (int k = 0; k < 3; k++) trial[k] = c.spring[k];
+    }
+    if (c.sticking && update_springs) {
+      for (int k = 0; k < 3; k++) c.force[k] = -kt * trial[k];    // the force the solve used
+    } else if (c.sticking) {
+      const double magnitude = kt * std::sqrt(SuspensionFabric::dot3(trial, trial));
+      const double scale = magnitude > bound ? bound / magnitude : 1.0;
+      for (int k = 0; k < 3; k++) c.force[k] = -kt * scale * trial[k];
+    } else {
+      for (int k = 0; k < 3; k++) c.force[k] = c.sliding_force[k];
+      sliding_contacts++;
+    }
+    if (update_springs) {
+      const double magnitude = kt * std::sqrt(SuspensionFabric::dot3(trial, trial));
+      const double scale = magnitude > bound ? bound / magnitude : 1.0;
+      Spring &stored = next_springs[c.key];
+      for (int k = 0; k < 3; k++) stored.xi[k] = c.history_sign * scale * trial[k];
+    }
+    double F[3];
+    for (int k = 0; k < 3; k++) F[k] = c.normal_force * c.n[k] + c.force[k];
+    contact_virial[0] += c.del[0] * F[0];
+    contact_virial[1] += c.del[1] * F[1];
+    contact_virial[2] += c.del[2] * F[2];
+    contact_virial[3] += c.del[0] * F[1];
+    contact_virial[4] += c.del[0] * F[2];
+    contact_virial[5] += c.del[1] * F[2];
+    SuspensionFabric::contact_torques(c, c.force, ti, tj);
+    for (int k = 0; k < 3; k++) contact_torque[k] += ti[k] + tj[k];
+  }
+  if (update_springs) springs.swap(next_springs);
 }
 
 void FixHydroImplicitSF::apply_operator(const std::vector<double> &in, std::vector<double> &out) const
@@ -280,7 +468,44 @@ void FixHydroImplicitSF::apply_operator(const std::vector<double> &in, std::vect
       }
     }
   }
+  // sticking springs: kt dt B^T B, i.e. minus the force -kt dt s of the slip s
+  const double stiffness = kt * dtv;
+  for (const SuspensionFabric::Contact &c : contacts) {
+    if (!c.sticking) continue;
+    const double *ui = &in[6 * c.i], *uj = &in[6 * c.j];
+    const double du[3] = {ui[0] - uj[0], ui[1] - uj[1], ui[2] - uj[2]};
+    double s[3];
+    SuspensionFabric::contact_slip(c, du, ui + 3, uj + 3, s);
+    for (int k = 0; k < 3; k++) fi[k] = -stiffness * s[k];
+    SuspensionFabric::contact_torques(c, fi, ti, tj);
+    double *oi = &out[6 * c.i], *oj = &out[6 * c.j];
+    for (int k = 0; k < 3; k++) {
+      oi[k] -= fi[k];
+      oi[3 + k] -= ti[k];
+      oj[k] += fi[k];
+      oj[3 + k] -= tj[k];
+    }
+  }
 }
+
+namespace {
+// The 6x6 block c B^T B a sticking spring adds to one of its atoms: B = [P, l N] for i and
+// [-P, l N] for j (N w = n x w), so the block is c [[P, sign l N], [-sign l N, l^2 P]].
+void add_spring_block(const SuspensionFabric::Contact &c, double stiffness, double lever,
+                      double sign, double *block)
+{
+  const double *n = c.n;
+  const double N[3][3] = {{0.0, -n[2], n[1]}, {n[2], 0.0, -n[0]}, {-n[1], n[0], 0.0}};
+  for (int a = 0; a < 3; a++)
+    for (int b = 0; b < 3; b++) {
+      const double proj = (a == b ? 1.0 : 0.0) - n[a] * n[b];
+      block[6 * a + b] += stiffness * proj;
+      block[6 * a + 3 + b] += stiffness * sign * lever * N[a][b];
+      block[6 * (3 + a) + b] -= stiffness * sign * lever * N[a][b];
+      block[6 * (3 + a) + 3 + b] += stiffness * lever * lever * proj;
+    }
+}
+}    // namespace
 
 void FixHydroImplicitSF::build_preconditioner()
 {
@@ -301,7 +526,24 @@ void FixHydroImplicitSF::build_preconditioner()
     add_pair_block(p.R, p.R.YBi, p.R.YCi, 1.0, &block_factor[36 * p.i]);
     if (p.add_to_j) add_pair_block(p.R, p.R.YBj, p.R.YCj, -1.0, &block_factor[36 * p.j]);
   }
+  const double stiffness = kt * dtv;
+  for (const SuspensionFabric::Contact &c : contacts) {
+    if (!c.sticking) continue;
+    add_spring_block(c, stiffness, c.li, 1.0, &block_factor[36 * c.i]);
+    add_spring_block(c, stiffness, c.lj, -1.0, &block_factor[36 * c.j]);
+  }
   block_inverse.resize(block_factor.size());
+  if (use_dilu) {
+    const std::vector<double> diagonal = block_factor;
+    collect_couplings();
+    if (factor_dilu()) return;
+    // not positive definite after the elimination: block Jacobi for this rebuild
+    dilu_fallbacks++;
+    couplings.clear();
+    by_lo.clear();
+    by_hi.clear();
+    block_factor = diagonal;
+  }
   for (int i = 0; i < nlocal; i++) {
     if (!cholesky6(&block_factor[36 * i]))
       error->one(FLERR, "fix hydro/implicit/sf: the resistance block of atom {} is not positive "
@@ -311,23 +553,175 @@ void FixHydroImplicitSF::build_preconditioner()
   }
 }
 
-/* z = D^-1 r with the inverted diagonal blocks; returns r.z and sets largest = max |z_k|. */
+namespace {
+// out = A x for a coupling block (transpose: A^T x = [[T, -delta N], [-gamma N, epsilon P]] x)
+template <class C>
+inline void apply_coupling(const C &c, const double *__restrict x, double *__restrict out, bool transpose)
+{
+  const double *n = c.n;
+  const double *u = x, *w = x + 3;
+  const double un = n[0] * u[0] + n[1] * u[1] + n[2] * u[2];
+  const double wn = n[0] * w[0] + n[1] * w[1] + n[2] * w[2];
+  const double nxu[3] = {n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]};
+  const double nxw[3] = {n[1] * w[2] - n[2] * w[1], n[2] * w[0] - n[0] * w[2], n[0] * w[1] - n[1] * w[0]};
+  const double tr = transpose ? -c.delta : c.gamma;
+  const double rt = transpose ? -c.gamma : c.delta;
+  for (int k = 0; k < 3; k++) {
+    out[k] = -c.alpha * un * n[k] - c.beta * (u[k] - un * n[k]) + tr * nxw[k];
+    out[3 + k] = rt * nxu[k] + c.epsilon * (w[k] - wn * n[k]);
+  }
+}
+
+// the dense row-major 6x6 block of a coupling
+template <class C>
+void dense_coupling(const C &c, double *block)
+{
+  const double *n = c.n;
+  const double N[3][3] = {{0.0, -n[2], n[1]}, {n[2], 0.0, -n[0]}, {-n[1], n[0], 0.0}};
+  for (int a = 0; a < 3; a++)
+    for (int b = 0; b < 3; b++) {
+      const double nn = n[a] * n[b];
+      const double proj = (a == b ? 1.0 : 0.0) - nn;
+      block[6 * a + b] = -(c.alpha * nn + c.beta * proj);
+      block[6 * a + 3 + b] = c.gamma * N[a][b];
+      block[6 * (3 + a) + b] = c.delta * N[a][b];
+      block[6 * (3 + a) + 3 + b] = c.epsilon * proj;
+    }
+}
+
+// out = A in for a row-major 6x6 A
+inline void multiply6(const double *__restrict A, const double *__restrict in, double *__restrict out)
+{
+  for (int a = 0; a < 6; a++) {
+    double s = 0.0;
+    for (int b = 0; b < 6; b++) s += A[6 * a + b] * in[b];
+    out[a] = s;
+  }
+}
+
+// start[k] .. start[k + 1]: the entries with key k, in `sorted` (a stable counting sort)
+template <class C, class Key>
+void sort_by(const std::vector<C> &entries, int n, Key key, std::vector<C> &sorted, std::vector<int> &start)
+{
+  start.assign(n + 1, 0);
+  for (const C &c : entries) start[key(c) + 1]++;
+  for (int k = 0; k < n; k++) start[k + 1] += start[k];
+  sorted.resize(entries.size());
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (const C &c : entries) sorted[fill[key(c)]++] = c;
+}
+}    // namespace
+
+/* The off-diagonal blocks of the operator, one per lubricated pair (lubrication and, if the
+   pair is a sticking contact, its spring), each stored for lo < hi.  In the lubrication's
+   n (from i to j): alpha = X, beta = YA, gamma = YBj, delta = YBi, epsilon = YCx
+   (lubrication_forces), and a spring c = kt dt adds beta += c, gamma -= c l_j,
+   delta -= c l_i, epsilon += c l_i l_j (c B_i^T B_j, contact.h).  A_ji = A_ij^T is the same
+   form with n -> -n and gamma <-> delta. */
+void FixHydroImplicitSF::collect_couplings()
+{
+  couplings.clear();
+  pair_coupling.assign(pairs.size(), -1);
+  for (size_t k = 0; k < pairs.size(); k++) {
+    const LubricatedPair &p = pairs[k];
+    if (!p.add_to_j || p.i == p.j) continue;    // acts on i only, or a pair with its own image
+    Coupling c;
+    c.lo = p.i;
+    c.hi = p.j;
+    for (int a = 0; a < 3; a++) c.n[a] = p.R.n[a];
+    c.alpha = p.R.X;
+    c.beta = p.R.YA;
+    c.gamma = p.R.YBj;
+    c.delta = p.R.YBi;
+    c.epsilon = p.R.YCx;
+    pair_coupling[k] = static_cast<int>(couplings.size());
+    couplings.push_back(c);
+  }
+  const double stiffness = kt * dtv;
+  for (const SuspensionFabric::Contact &contact : contacts) {
+    if (!contact.sticking || pair_coupling[contact.pair] < 0) continue;
+    Coupling &c = couplings[pair_coupling[contact.pair]];
+    c.beta += stiffness;
+    c.gamma -= stiffness * contact.lj;
+    c.delta -= stiffness * contact.li;
+    c.epsilon += stiffness * contact.li * contact.lj;
+  }
+  for (Coupling &c : couplings)
+    if (c.lo > c.hi) {
+      std::swap(c.lo, c.hi);
+      std::swap(c.gamma, c.delta);
+      for (double &component : c.n) component = -component;
+    }
+  const int nlocal = atom->nlocal;
+  sort_by(couplings, nlocal, [](const Coupling &c) { return c.lo; }, by_lo, by_lo_start);
+  sort_by(couplings, nlocal, [](const Coupling &c) { return c.hi; }, by_hi, by_hi_start);
+}
+
+/* Diagonal-modified incomplete factorisation M = (D + L) D^-1 (D + L^T), L the strictly lower
+   blocks of the operator and D_k = A_kk - sum_{m<k} A_km D_m^-1 A_mk over the pairs (m, k):
+   the block incomplete Cholesky without fill-in, exact on a tree of pairs.  False if a D_k is
+   not positive definite. */
+bool FixHydroImplicitSF::factor_dilu()
+{
+  const int nlocal = atom->nlocal;
+  double A[36], scaled[36];
+  for (int k = 0; k < nlocal; k++) {
+    if (!cholesky6(&block_factor[36 * k])) return false;
+    const double *inverse = &block_inverse[36 * k];
+    inverse_from_cholesky6(&block_factor[36 * k], &block_inverse[36 * k]);
+    for (int q = by_lo_start[k]; q < by_lo_start[k + 1]; q++) {
+      dense_coupling(by_lo[q], A);
+      // scaled = D_k^-1 A, then D_hi -= A^T scaled
+      for (int a = 0; a < 6; a++)
+        for (int b = 0; b < 6; b++) {
+          double sum = 0.0;
+          for (int m = 0; m < 6; m++) sum += inverse[6 * a + m] * A[6 * m + b];
+          scaled[6 * a + b] = sum;
+        }
+      double *D = &block_factor[36 * static_cast<size_t>(by_lo[q].hi)];
+      for (int a = 0; a < 6; a++)
+        for (int b = 0; b < 6; b++) {
+          double sum = 0.0;
+          for (int m = 0; m < 6; m++) sum += A[6 * m + a] * scaled[6 * m + b];
+          D[6 * a + b] -= sum;
+        }
+    }
+  }
+  return true;
+}
+
+/* z = M^-1 r: block Jacobi (z = D^-1 r) or, with couplings, the dilu sweeps
+   (D + L) y = r, then z = y - D^-1 L^T z from the last atom back.  Returns r.z and sets
+   largest = max |z_k|, the velocity error estimate the solve stops on. */
 double FixHydroImplicitSF::apply_preconditioner(const std::vector<double> &r, std::vector<double> &z,
                                                double &largest) const
 {
   const int nlocal = atom->nlocal;
+  const bool sweeps = !by_lo.empty();
+  double acc[6], term[6];
+  for (int i = 0; i < nlocal; i++) {
+    const double *ri = &r[6 * i];
+    for (int a = 0; a < 6; a++) acc[a] = ri[a];
+    if (sweeps)
+      for (int q = by_hi_start[i]; q < by_hi_start[i + 1]; q++) {
+        apply_coupling(by_hi[q], &z[6 * by_hi[q].lo], term, true);
+        for (int a = 0; a < 6; a++) acc[a] -= term[a];
+      }
+    multiply6(&block_inverse[36 * i], acc, &z[6 * i]);
+  }
+  if (sweeps)
+    for (int i = nlocal - 1; i >= 0; i--) {
+      for (int a = 0; a < 6; a++) acc[a] = 0.0;
+      for (int q = by_lo_start[i]; q < by_lo_start[i + 1]; q++) {
+        apply_coupling(by_lo[q], &z[6 * by_lo[q].hi], term, false);
+        for (int a = 0; a < 6; a++) acc[a] += term[a];
+      }
+      // z_i = y_i - D_i^-1 (L^T z)_i
+      multiply6(&block_inverse[36 * i], acc, term);
+      for (int a = 0; a < 6; a++) z[6 * i + a] -= term[a];
+    }
   double rz = 0.0;
   largest = 0.0;
-  for (int i = 0; i < nlocal; i++) {
-    const double *m = &block_inverse[36 * i];
-    const double *ri = &r[6 * i];
-    double *zi = &z[6 * i];
-    for (int a = 0; a < 6; a++) {
-      double s = 0.0;
-      for (int b = 0; b < 6; b++) s += m[6 * a + b] * ri[b];
-      zi[a] = s;
-    }
-  }
   const size_t size = 6 * static_cast<size_t>(nlocal);
   for (size_t k = 0; k < size; k++) {
     rz += r[k] * z[k];
@@ -336,42 +730,25 @@ double FixHydroImplicitSF::apply_preconditioner(const std::vector<double> &r, st
   return rz;
 }
 
-void FixHydroImplicitSF::final_integrate()
+/* Right-hand side: inertia of the old velocities (relative to the flow here, in
+   `old_velocity`), external forces and torques, the lubrication forcing of the imposed strain
+   and, with `contacts`, the explicit contact forces (normal springs, sticking springs at
+   their last stretch plus the imposed flow's slip over the step, sliding contacts' Coulomb
+   forces). */
+void FixHydroImplicitSF::assemble_rhs(const double E[3][3])
 {
   const int nlocal = atom->nlocal;
-  double **x = atom->x;
-  double **v = atom->v;
-  double **omega = atom->omega;
   double **f = atom->f;
   double **torque = atom->torque;
   const double *radius = atom->radius;
   const double *rmass = atom->rmass;
-
-  const SuspensionFabric::ImposedFlow flow(domain);
-  const double *W = flow.omega;
-  double E[3][3];
-  strain_rate(flow, E);
-
-  collect_pairs();
-  const size_t size = 6 * static_cast<size_t>(nlocal);
-  // every entry of these buffers is written before it is read
-  rhs.resize(size);
-  residual.resize(size);
-  precond.resize(size);
-  direction.resize(size);
-  product.resize(size);
-
-  // right-hand side: inertia of the old velocities (relative to the flow here), contact
-  // forces and torques, and the lubrication forcing of the imposed strain; the old
-  // relative velocities are the first guess
-  relative_velocities(flow);
   for (int i = 0; i < nlocal; i++) {
     const double a = radius[i];
     const double m_dt = rmass[i] / dtv;
     const double i_dt = INERTIA * rmass[i] * a * a / dtv;
     for (int k = 0; k < 3; k++) {
-      rhs[6 * i + k] = m_dt * solution[6 * i + k] + f[i][k];
-      rhs[6 * i + 3 + k] = i_dt * solution[6 * i + 3 + k] + torque[i][k];
+      rhs[6 * i + k] = m_dt * old_velocity[6 * i + k] + f[i][k];
+      rhs[6 * i + 3 + k] = i_dt * old_velocity[6 * i + 3 + k] + torque[i][k];
     }
   }
   const double zero[3] = {0.0, 0.0, 0.0};
@@ -390,16 +767,28 @@ void FixHydroImplicitSF::final_integrate()
         rhs[6 * p.j + 3 + k] += tj[k];
       }
   }
-
-  // preconditioned conjugate gradients; the block-Jacobi preconditioner is rebuilt every
-  // PRECONDITIONER_AGE steps and whenever the local atoms were reordered (sorting): it only
-  // steers the convergence, the solution is that of the current resistance to within tol
-  bool reordered = preconditioner_tags.size() != static_cast<size_t>(nlocal);
-  for (int i = 0; i < nlocal && !reordered; i++) reordered = preconditioner_tags[i] != atom->tag[i];
-  if (reordered || update->ntimestep % PRECONDITIONER_AGE == 0) {
-    build_preconditioner();
-    preconditioner_tags.assign(atom->tag, atom->tag + nlocal);
+  for (const SuspensionFabric::Contact &c : contacts) {
+    double ft[3];
+    if (c.sticking) {
+      for (int k = 0; k < 3; k++) ft[k] = -kt * (c.spring[k] + dtv * c.flow_slip[k]);
+    } else {
+      for (int k = 0; k < 3; k++) ft[k] = c.sliding_force[k];
+    }
+    SuspensionFabric::contact_torques(c, ft, ti, tj);
+    for (int k = 0; k < 3; k++) {
+      const double F = c.normal_force * c.n[k] + ft[k];
+      rhs[6 * c.i + k] += F;
+      rhs[6 * c.i + 3 + k] += ti[k];
+      rhs[6 * c.j + k] -= F;
+      rhs[6 * c.j + 3 + k] += tj[k];
+    }
   }
+}
+
+/* Preconditioned conjugate gradients from the current `solution`; returns the iterations. */
+int FixHydroImplicitSF::conjugate_gradients()
+{
+  const size_t size = 6 * static_cast<size_t>(atom->nlocal);
   apply_operator(solution, product);
   for (size_t k = 0; k < size; k++) residual[k] = rhs[k] - product[k];
   double error_now;
@@ -424,6 +813,59 @@ void FixHydroImplicitSF::final_integrate()
     for (size_t k = 0; k < size; k++) direction[k] = precond[k] + beta * direction[k];
     iteration++;
   }
+  last_error = error_now;
+  return iteration;
+}
+
+void FixHydroImplicitSF::final_integrate()
+{
+  const int nlocal = atom->nlocal;
+  double **x = atom->x;
+  double **v = atom->v;
+  double **omega = atom->omega;
+
+  const SuspensionFabric::ImposedFlow flow(domain);
+  const double *W = flow.omega;
+  double E[3][3];
+  strain_rate(flow, E);
+
+  collect_pairs(E);
+  const size_t size = 6 * static_cast<size_t>(nlocal);
+  // every entry of these buffers is written before it is read
+  rhs.resize(size);
+  residual.resize(size);
+  precond.resize(size);
+  direction.resize(size);
+  product.resize(size);
+
+  // the old relative velocities: inertia on the right-hand side, and the first guess
+  relative_velocities(flow);
+  old_velocity = solution;
+  if (own_contacts) classify_contacts();
+  assemble_rhs(E);
+
+  // the block-Jacobi preconditioner is rebuilt every PRECONDITIONER_AGE steps and whenever the
+  // local atoms were reordered (sorting): it only steers the convergence, the solution is that
+  // of the current operator to within tol
+  bool reordered = preconditioner_tags.size() != static_cast<size_t>(nlocal);
+  for (int i = 0; i < nlocal && !reordered; i++) reordered = preconditioner_tags[i] != atom->tag[i];
+  if (reordered || update->ntimestep % PRECONDITIONER_AGE == 0) {
+    build_preconditioner();
+    preconditioner_tags.assign(atom->tag, atom->tag + nlocal);
+  }
+  int iterations = conjugate_gradients();
+  int passes = 1;
+  if (own_contacts) {
+    while (passes < MAX_CONTACT_PASSES) {
+      const int released = release_violated_springs();
+      if (released == 0) break;
+      total_released += released;
+      assemble_rhs(E);
+      iterations += conjugate_gradients();
+      passes++;
+    }
+    finish_contacts(true);
+  }
 
   double u[3];
   for (int i = 0; i < nlocal; i++) {
@@ -435,18 +877,18 @@ void FixHydroImplicitSF::final_integrate()
   }
   tally_virial(E);
   steps++;
-  total_iterations += iteration;
-  last_iterations = iteration;
-  last_error = error_now;
+  total_iterations += iterations;
+  total_passes += passes;
+  last_iterations = iterations;
 }
 
 /* Virial of the lubrication forces at the velocities in `solution`: sum over pairs of
    (x_i - x_j) F_ij, symmetrised (the tangential forces make it asymmetric), in LAMMPS order
-   xx yy zz xy xz yz, half of it for a pair seen from both
-   sides (newton off across a periodic boundary). */
+   xx yy zz xy xz yz, half of it for a pair seen from both sides (newton off across a
+   periodic boundary).  The fix's virial adds the contact virial of finish_contacts. */
 void FixHydroImplicitSF::tally_virial(const double E[3][3])
 {
-  for (double &value : virial) value = 0.0;
+  for (double &value : lubrication_virial) value = 0.0;
   double fi[3], ti[3], tj[3];
   for (const LubricatedPair &p : pairs) {
     const double *ui = &solution[6 * p.i], *uj = &solution[6 * p.j];
@@ -455,20 +897,65 @@ void FixHydroImplicitSF::tally_virial(const double E[3][3])
       du[a] = ui[a] - uj[a] + E[a][0] * p.del[0] + E[a][1] * p.del[1] + E[a][2] * p.del[2];
     SuspensionFabric::lubrication_forces(p.R, du, ui + 3, uj + 3, fi, ti, tj);
     const double weight = p.add_to_j ? 1.0 : 0.5;
-    virial[0] += weight * p.del[0] * fi[0];
-    virial[1] += weight * p.del[1] * fi[1];
-    virial[2] += weight * p.del[2] * fi[2];
-    virial[3] += weight * 0.5 * (p.del[0] * fi[1] + p.del[1] * fi[0]);
-    virial[4] += weight * 0.5 * (p.del[0] * fi[2] + p.del[2] * fi[0]);
-    virial[5] += weight * 0.5 * (p.del[1] * fi[2] + p.del[2] * fi[1]);
+    lubrication_virial[0] += weight * p.del[0] * fi[0];
+    lubrication_virial[1] += weight * p.del[1] * fi[1];
+    lubrication_virial[2] += weight * p.del[2] * fi[2];
+    lubrication_virial[3] += weight * 0.5 * (p.del[0] * fi[1] + p.del[1] * fi[0]);
+    lubrication_virial[4] += weight * 0.5 * (p.del[0] * fi[2] + p.del[2] * fi[0]);
+    lubrication_virial[5] += weight * 0.5 * (p.del[1] * fi[2] + p.del[2] * fi[1]);
   }
+  for (int k = 0; k < 6; k++) virial[k] = lubrication_virial[k] + (own_contacts ? contact_virial[k] : 0.0);
 }
 
-/* 1: CG iterations of the last step, 2: mean iterations per step since the fix was
-   created, 3: velocity error |D^-1 r|_max reached in the last step. */
+/* 1: CG iterations of the last step (all its solves), 2: mean iterations per step since the
+   fix was created, 3: velocity error |D^-1 r|_max reached in the last solve, 4-9: contact
+   virial (LAMMPS order xx yy zz xy xz yz, sum (x_i - x_j)_a F_b), 10-12: summed contact torque,
+   13-18: lubrication virial (symmetrised), 19: mean solves per step, 20: contacts, 21: sliding
+   contacts, 22: springs released to sliding per step (mean).  4-12 and 20-22 are zero without
+   `contacts`. */
 double FixHydroImplicitSF::compute_vector(int n)
 {
   if (n == 0) return last_iterations;
   if (n == 1) return steps > 0 ? static_cast<double>(total_iterations) / steps : 0.0;
-  return last_error;
+  if (n == 2) return last_error;
+  if (n >= 3 && n < 9) return contact_virial[n - 3];
+  if (n >= 9 && n < 12) return contact_torque[n - 9];
+  if (n >= 12 && n < 18) return lubrication_virial[n - 12];
+  if (n == 18) return steps > 0 ? static_cast<double>(total_passes) / steps : 0.0;
+  if (n == 19) return static_cast<double>(contacts.size());
+  if (n == 20) return sliding_contacts;
+  return steps > 0 ? static_cast<double>(total_released) / steps : 0.0;
+}
+
+/* Global restart state: the springs, as (smaller tag, larger tag, xi) records. */
+void FixHydroImplicitSF::write_restart(FILE *fp)
+{
+  std::vector<double> list;
+  list.reserve(1 + 5 * springs.size());
+  list.push_back(static_cast<double>(springs.size()));
+  for (const auto &entry : springs) {
+    list.push_back(static_cast<double>(entry.first >> 32));
+    list.push_back(static_cast<double>(entry.first & 0xffffffffULL));
+    for (int k = 0; k < 3; k++) list.push_back(entry.second.xi[k]);
+  }
+  if (comm->me == 0) {
+    const int size = static_cast<int>(list.size() * sizeof(double));
+    fwrite(&size, sizeof(int), 1, fp);
+    fwrite(list.data(), sizeof(double), list.size(), fp);
+  }
+}
+
+void FixHydroImplicitSF::restart(char *buf)
+{
+  const double *list = reinterpret_cast<const double *>(buf);
+  const auto count = static_cast<size_t>(list[0]);
+  springs.clear();
+  springs.reserve(count);
+  for (size_t e = 0; e < count; e++) {
+    const double *record = &list[1 + 5 * e];
+    const auto key = (static_cast<unsigned long long>(record[0]) << 32) |
+        static_cast<unsigned long long>(record[1]);
+    Spring &stored = springs[key];
+    for (int k = 0; k < 3; k++) stored.xi[k] = record[2 + k];
+  }
 }

