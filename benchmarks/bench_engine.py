@@ -1,26 +1,31 @@
-"""Engine speed in steady shear: implicit hydrodynamics against the explicit plugin and stock
-LAMMPS (BENCHMARKS.md, "Engine speed").
+"""Engine speed in steady shear: the implicit contact springs (engine speed II) against the
+implicit hydrodynamics with explicit springs (engine speed I), the explicit plugin and stock
+LAMMPS (BENCHMARKS.md, "Engine speed II: speed").
 
     .venv/bin/python benchmarks/bench_engine.py prepare      # steady-state checkpoints (any load)
     .venv/bin/python benchmarks/bench_engine.py measure      # the timings: run on an idle machine
 
-`prepare`: for N = 250, 500, 1000, 2000 (phi = 0.45, packing seed 1, default forces) an implicit
-startup at the production dt to strain 1.5, where the contact network is built up (Z ~ 3.4),
-into results/bench_engine/n<N>/. Reused when present.
+`prepare`: for N = 250, 500, 1000, 2000, 4000 (phi = 0.45, packing seed 1, default forces) a
+startup to strain 1.5 with the implicit springs at SPRINGS_DT, where the contact network is
+built up (Z ~ 3.4), into results/bench_engine/n<N>/. Reused when present.
 
 `measure`: from each checkpoint, a short continuation of the same shear (rotate.lmp at
-theta = 0) with (a) the explicit plugin (velocity Verlet, lubricate/sf + stokes/sf) at
-dt = 2e-7, (b) the implicit integration (fix hydro/implicit/sf) at its production dt and
-(c) stock lubricate/poly + granular (explicit) at 2e-7, the largest step at which the
-explicit plugin is stable in steady shear (stock is not more stable: BENCHMARKS.md, "LAMMPS
-engine"); (a) and (c) at N = 500 only. The time is LAMMPS's own loop time of the run (no
+theta = 0) with (a) the implicit springs and the dilu preconditioner at SPRINGS_DT (default
+2e-4; environment variable SPRINGS_DT), (b) the same with block Jacobi, (c) the implicit
+hydrodynamics with the springs explicit (pair granular) at its production dt = 2e-5,
+(d) the explicit plugin (velocity Verlet, lubricate/sf + stokes/sf) at dt = 2e-7 and
+(e) stock lubricate/poly + granular (explicit) at 2e-7; (d) and (e) at N = 500 only. The
+runs (c)-(e) start with unloaded granular springs (the checkpoint holds the fix's springs),
+which does not matter for a timing. The time is LAMMPS's own loop time of the run (no
 start-up or output checks), on one core, reported as core-s per particle per unit strain,
-with the mean CG iterations per step of (b). Prints a Markdown table and the ratios.
+with the steps per unit strain and the mean CG iterations per step (all solves of a step).
+Prints a Markdown table and the ratios.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import platform
 import re
 from pathlib import Path
@@ -30,12 +35,13 @@ from suspension_fabric.lammps import (
 )
 
 ROOT = Path("results/bench_engine")
-SIZES = (250, 500, 1000, 2000)
+SIZES = (250, 500, 1000, 2000, 4000)
 PREPARE_STRAIN = 1.5
-PRODUCTION_DT = ShearSettings().dt  # the implicit integrator's default (config/schema.yaml)
+PRODUCTION_DT = 2.0e-5  # the implicit integrator with explicit contact springs (engine speed I)
+SPRINGS_DT = float(os.environ.get("SPRINGS_DT", "2e-4"))  # implicit springs: its production dt (Engine speed II)
 EXPLICIT_DT = 2.0e-7
 # continuation strain per method: long enough for >= 10 s of loop time at N = 500
-STRAIN = {"explicit": 0.02, "implicit": 0.2, "stock": 0.01}
+STRAIN = {"explicit": 0.02, "implicit": 0.2, "stock": 0.01, "springs": 0.5, "springs_jacobi": 0.5}
 LOOP_TIME = re.compile(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms")
 
 
@@ -50,8 +56,9 @@ def prepare() -> None:
             pack(packing, n, phi=0.45, seed=1)
         startup = ROOT / f"n{n}" / "startup"
         if not is_complete(startup):
-            run_startup(startup, packing / PACK_FILES["data"], PREPARE_STRAIN, settings=ShearSettings(dump_strain=0.1),
-                        progress_interval=120)
+            run_startup(startup, packing / PACK_FILES["data"], PREPARE_STRAIN,
+                        force_model=ForceModel(contact_springs="implicit", preconditioner="dilu"),
+                        settings=ShearSettings(dt=SPRINGS_DT, dump_strain=0.1), progress_interval=120)
 
 
 def loop_time(log: Path) -> tuple[float, int]:
@@ -69,18 +76,22 @@ def mean_iterations(log: Path) -> float | None:
 
 
 def measure() -> None:
-    methods = [("implicit", n) for n in SIZES] + [("explicit", 500), ("stock", 500)]
+    methods = ([("springs", n) for n in SIZES] + [("springs_jacobi", n) for n in SIZES]
+               + [("implicit", n) for n in SIZES] + [("explicit", 500), ("stock", 500)])
     models = {
-        "implicit": (ForceModel(), PRODUCTION_DT),
+        "springs": (ForceModel(contact_springs="implicit", preconditioner="dilu"), SPRINGS_DT),
+        "springs_jacobi": (ForceModel(contact_springs="implicit", preconditioner="jacobi"), SPRINGS_DT),
+        "implicit": (ForceModel(contact_springs="explicit", preconditioner="jacobi"), PRODUCTION_DT),
         "explicit": (ForceModel(integrator="explicit"), EXPLICIT_DT),
         "stock": (ForceModel(lubrication="stock", integrator="explicit"), EXPLICIT_DT),
     }
-    label = {"implicit": "implicit (fix hydro/implicit/sf)", "explicit": "explicit plugin (Verlet)",
+    label = {"springs": "implicit springs, dilu", "springs_jacobi": "implicit springs, block Jacobi",
+             "implicit": "implicit hydrodynamics, explicit springs (engine speed I)", "explicit": "explicit plugin (Verlet)",
              "stock": "stock lubricate/poly + granular"}
     cost = {}
     print(f"# {platform.machine()}, {platform.python_version()}, one core per run; continuation of the "
           f"startup shear from strain {PREPARE_STRAIN:g} (phi = 0.45, default forces)\n")
-    print("| method | N | dt | strain | steps | loop s | core-s per particle per unit strain | mean CG iterations |")
+    print("| method | N | dt | steps per unit strain | strain | loop s | core-s per particle per unit strain | mean CG iterations per step |")
     print("|---|---|---|---|---|---|---|---|")
     for method, n in methods:
         model, dt = models[method]
@@ -96,12 +107,15 @@ def measure() -> None:
             continue
         seconds, steps = loop_time(run.log_file)  # the LAMMPS log of the run (one segment: resume=False)
         cost[method, n] = seconds / (n * run.strain)
-        iterations = mean_iterations(run.log_file) if method == "implicit" else None
-        print(f"| {label[method]} | {n} | {dt:g} | {run.strain:g} | {steps} | {seconds:.1f} | "
+        iterations = mean_iterations(run.log_file) if method not in ("explicit", "stock") else None
+        print(f"| {label[method]} | {n} | {dt:g} | {round(1 / dt)} | {run.strain:g} | {seconds:.1f} | "
               f"{cost[method, n]:.4f} | {'' if iterations is None else f'{iterations:.1f}'} |", flush=True)
-    ratios = [f"{method} / implicit = {cost[method, 500] / cost['implicit', 500]:.1f}x"
-              for method in ("explicit", "stock") if (method, 500) in cost and ("implicit", 500) in cost]
-    print(f"\nat N = 500: {', '.join(ratios)}; target for implicit: <= 0.13 core-s per particle per unit strain")
+    ratios = [f"{method} / springs = {cost[method, 500] / cost['springs', 500]:.1f}x"
+              for method in ("implicit", "springs_jacobi", "explicit", "stock")
+              if (method, 500) in cost and ("springs", 500) in cost]
+    print(f"\nat N = 500: {', '.join(ratios)}; target for the new scheme: <= 0.012 core-s per particle per unit strain")
+    if ("springs", 4000) in cost and ("springs", 500) in cost:
+        print(f"springs, N = 4000 / N = 500: {cost['springs', 4000] / cost['springs', 500]:.2f} (target <= 1.3)")
 
 
 def main() -> None:

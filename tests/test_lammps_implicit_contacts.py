@@ -76,9 +76,10 @@ def test_contact_force_is_capped_by_coulomb_and_normal_force_is_kn_overlap():
     """Two spheres pressed together by +-kn o0 (o0 = 1e-4) and pushed tangentially along y by
     +-F_t = 2 mu kn o0 (above the Coulomb bound, mu = 0.5) slide past each other. The fix's
     contact virial W = (x_1 - x_2) (x) F_1 (LAMMPS's xx, xy, the motion stays in the xy
-    plane) gives the contact force on atom 1: its normal part is kn o (o = 1 - r, the overlap of
-    the step) to round-off, its tangential part never exceeds mu kn o and sits at it once the
-    contact slides."""
+    plane) gives the contact force on atom 1: its normal part is the implicit normal spring
+    kn (o - dt s_n), the overlap o = 1 - r at the start of the step less the separation over
+    the step (to round-off), and its tangential part never exceeds the Coulomb
+    bound mu kn o and sits at it once the contact slides."""
     overlap, mu = 1e-4, 0.5
     normal = KN * overlap
     push = 2.0 * mu * normal
@@ -92,7 +93,7 @@ def test_contact_force_is_capped_by_coulomb_and_normal_force_is_kn_overlap():
     records = []
     for _ in range(40):
         lmp.command("run 1 post no")
-        x = atom_array(lmp, "x")
+        x, v = atom_array(lmp, "x"), atom_array(lmp, "v")
         separation = x[0] - x[1]
         w_xx = lmp.numpy.extract_fix("integrate", 0, 1, 3)
         w_xy = lmp.numpy.extract_fix("integrate", 0, 1, 6)
@@ -100,13 +101,15 @@ def test_contact_force_is_capped_by_coulomb_and_normal_force_is_kn_overlap():
         n = separation / np.linalg.norm(separation)
         f_normal = force @ n
         f_tangential = np.linalg.norm(force - f_normal * n)
-        records.append((f_normal, f_tangential, KN * (1.0 - np.linalg.norm(separation))))
+        overlap = 1.0 - np.linalg.norm(separation)
+        end_of_step = overlap - 1e-5 * (v[0] - v[1]) @ n  # the next step moves x by dt v
+        records.append((f_normal, f_tangential, KN * overlap, KN * end_of_step))
     lmp.close()
-    for f_normal, f_tangential, expected_normal in records:
-        assert f_normal == pytest.approx(expected_normal, rel=1e-6)
-        assert f_tangential <= mu * f_normal * (1 + 1e-9)
+    for f_normal, f_tangential, spring, implicit_spring in records:
+        assert f_normal == pytest.approx(implicit_spring, rel=1e-9)
+        assert f_tangential <= mu * spring * (1 + 1e-9)
     assert records[0][1] > 0.0
-    assert records[-1][1] == pytest.approx(mu * records[-1][0], rel=1e-9)  # sliding at the bound
+    assert records[-1][1] == pytest.approx(mu * records[-1][2], rel=1e-9)  # sliding at the bound
 
 
 def chain_of_spheres(preconditioner, count=4):

@@ -12,7 +12,9 @@
    linear_history), and the slip velocity that feeds it is
      s = P (v_i - v_j) - (l_i omega_i + l_j omega_j) x n,    P = I - n n.
    (LAMMPS uses a_i, a_j instead of l_i, l_j in s; l makes the spring's operator symmetric,
-   and the difference is of order o/a ~ 1e-5.)  Virtual work: the slip is B (v, omega) and
+   and the difference is of order o/a ~ 1e-5.)  The normal spring, taken implicitly, pushes
+   with kn (o - dt s_n), the overlap at the end of the step, s_n = (v_i - v_j) . n the rate at
+   which the pair separates: it adds kn dt n n to the pair's translational blocks.  Virtual work: the slip is B (v, omega) and
    the tangential force and torques are B^T F_t, so a spring acting on the slip adds the
    symmetric positive semi-definite block kt dt B^T B to the implicit operator. */
 
@@ -29,7 +31,10 @@ struct Contact {
   double n[3];           // (x_i - x_j) / r: from j to i
   double del[3];         // x_i - x_j
   double li, lj;         // lever arms a - o/2
-  double normal_force;   // kn o (> 0)
+  double overlap;        // o at the start of the step (> 0)
+  double normal_force;   // kn o: the Coulomb bound is mu kn o
+  double flow_approach;  // n . E (x_i - x_j): separation rate of the imposed flow
+  double solved_normal;  // normal force of the solved step
   double spring[3];      // xi of the last step, projected onto the current tangent plane
   double flow_slip[3];   // slip of the imposed flow, P E (x_i - x_j)
   double sliding_force[3];    // tangential force of a sliding contact (explicit)
@@ -37,6 +42,7 @@ struct Contact {
   double history_sign;   // +1 if the history is stored for (i, j), -1 for (j, i)
   unsigned long long key;
   bool sticking;         // spring implicit (in the operator); else the Coulomb force, explicit
+  bool pressed;          // normal spring implicit, kn (o - dt s_n); else kn o, explicit
 };
 
 inline double dot3(const double *a, const double *b)

@@ -320,6 +320,7 @@ void FixHydroImplicitSF::collect_pairs(const double E[3][3])
       }
       c.li = radius[i] - 0.5 * overlap;
       c.lj = radius[j] - 0.5 * overlap;
+      c.overlap = overlap;
       c.normal_force = kn * overlap;
       const tagint low = std::min(tag[i], tag[j]), high = std::max(tag[i], tag[j]);
       c.key = (static_cast<unsigned long long>(low) << 32) | static_cast<unsigned long long>(high);
@@ -332,7 +333,10 @@ void FixHydroImplicitSF::collect_pairs(const double E[3][3])
       for (int a = 0; a < 3; a++) edel[a] = E[a][0] * p.del[0] + E[a][1] * p.del[1] + E[a][2] * p.del[2];
       const double along = SuspensionFabric::dot3(edel, c.n);
       for (int k = 0; k < 3; k++) c.flow_slip[k] = edel[k] - along * c.n[k];
+      c.flow_approach = along;
       c.sticking = true;
+      c.pressed = false;
+      c.solved_normal = c.normal_force;
       contacts.push_back(c);
     }
   }
@@ -350,6 +354,14 @@ void trial_spring(const SuspensionFabric::Contact &c, const std::vector<double> 
   for (int k = 0; k < 3; k++) trial[k] = c.spring[k] + dt * (c.flow_slip[k] + s[k]);
 }
 
+// overlap at the end of the step, o - dt (n . (u_i - u_j) + n . E (x_i - x_j)), for the velocities in `u`
+double predicted_overlap(const SuspensionFabric::Contact &c, const std::vector<double> &u, double dt)
+{
+  const double *ui = &u[6 * c.i], *uj = &u[6 * c.j];
+  const double du[3] = {ui[0] - uj[0], ui[1] - uj[1], ui[2] - uj[2]};
+  return c.overlap - dt * (SuspensionFabric::dot3(du, c.n) + c.flow_approach);
+}
+
 // the Coulomb force mu F_n against the trial spring direction
 void coulomb_force(const double *trial, double bound, double *f)
 {
@@ -358,11 +370,14 @@ void coulomb_force(const double *trial, double bound, double *f)
 }
 }    // namespace
 
-/* Sticking or sliding, from the trial spring of the old velocities (in `solution`). */
+/* Sticking or sliding, from the trial spring of the old velocities (in `solution`), and the
+   normal spring implicit while the old velocities keep the pair overlapping to the end of the
+   step. */
 void FixHydroImplicitSF::classify_contacts()
 {
   double trial[3];
   for (SuspensionFabric::Contact &c : contacts) {
+    c.pressed = predicted_overlap(c, solution, dtv) > 0.0;
     trial_spring(c, solution, dtv, trial);
     const double bound = mu * c.normal_force;
     c.sticking = kt * std::sqrt(SuspensionFabric::dot3(trial, trial)) <= bound;
@@ -370,13 +385,18 @@ void FixHydroImplicitSF::classify_contacts()
   }
 }
 
-/* Sticking springs stretched beyond the Coulomb bound by the solved velocities slide: returns
-   how many were released. */
+/* Sticking springs stretched beyond the Coulomb bound by the solved velocities slide, and
+   implicit normal springs whose pair the solved velocities separate within the step become
+   explicit (kn o): returns how many contacts changed. */
 int FixHydroImplicitSF::release_violated_springs()
 {
   int released = 0;
   double trial[3];
   for (SuspensionFabric::Contact &c : contacts) {
+    if (c.pressed && predicted_overlap(c, solution, dtv) < 0.0) {
+      c.pressed = false;
+      released++;
+    }
     if (!c.sticking) continue;
     trial_spring(c, solution, dtv, trial);
     const double bound = mu * c.normal_force;
@@ -421,8 +441,9 @@ void FixHydroImplicitSF::finish_contacts(bool update_springs)
       Spring &stored = next_springs[c.key];
       for (int k = 0; k < 3; k++) stored.xi[k] = c.history_sign * scale * trial[k];
     }
+    c.solved_normal = c.pressed && update_springs ? kn * predicted_overlap(c, solution, dtv) : c.normal_force;
     double F[3];
-    for (int k = 0; k < 3; k++) F[k] = c.normal_force * c.n[k] + c.force[k];
+    for (int k = 0; k < 3; k++) F[k] = c.solved_normal * c.n[k] + c.force[k];
     contact_virial[0] += c.del[0] * F[0];
     contact_virial[1] += c.del[1] * F[1];
     contact_virial[2] += c.del[2] * F[2];
@@ -468,15 +489,21 @@ void FixHydroImplicitSF::apply_operator(const std::vector<double> &in, std::vect
       }
     }
   }
-  // sticking springs: kt dt B^T B, i.e. minus the force -kt dt s of the slip s
+  // implicit springs: sticking ones kt dt B^T B, i.e. minus the force -kt dt s of the slip
+  // s, and pressed normal springs kn dt n n on the relative translation
   const double stiffness = kt * dtv;
+  const double normal_stiffness = kn * dtv;
   for (const SuspensionFabric::Contact &c : contacts) {
-    if (!c.sticking) continue;
+    if (!c.sticking && !c.pressed) continue;
     const double *ui = &in[6 * c.i], *uj = &in[6 * c.j];
     const double du[3] = {ui[0] - uj[0], ui[1] - uj[1], ui[2] - uj[2]};
-    double s[3];
-    SuspensionFabric::contact_slip(c, du, ui + 3, uj + 3, s);
+    double s[3] = {0.0, 0.0, 0.0};
+    if (c.sticking) SuspensionFabric::contact_slip(c, du, ui + 3, uj + 3, s);
     for (int k = 0; k < 3; k++) fi[k] = -stiffness * s[k];
+    if (c.pressed) {
+      const double separation = SuspensionFabric::dot3(du, c.n);
+      for (int k = 0; k < 3; k++) fi[k] -= normal_stiffness * separation * c.n[k];
+    }
     SuspensionFabric::contact_torques(c, fi, ti, tj);
     double *oi = &out[6 * c.i], *oj = &out[6 * c.j];
     for (int k = 0; k < 3; k++) {
@@ -527,10 +554,18 @@ void FixHydroImplicitSF::build_preconditioner()
     if (p.add_to_j) add_pair_block(p.R, p.R.YBj, p.R.YCj, -1.0, &block_factor[36 * p.j]);
   }
   const double stiffness = kt * dtv;
+  const double normal_stiffness = kn * dtv;
   for (const SuspensionFabric::Contact &c : contacts) {
-    if (!c.sticking) continue;
-    add_spring_block(c, stiffness, c.li, 1.0, &block_factor[36 * c.i]);
-    add_spring_block(c, stiffness, c.lj, -1.0, &block_factor[36 * c.j]);
+    if (c.sticking) {
+      add_spring_block(c, stiffness, c.li, 1.0, &block_factor[36 * c.i]);
+      add_spring_block(c, stiffness, c.lj, -1.0, &block_factor[36 * c.j]);
+    }
+    if (c.pressed)
+      for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++) {
+          block_factor[36 * c.i + 6 * a + b] += normal_stiffness * c.n[a] * c.n[b];
+          block_factor[36 * c.j + 6 * a + b] += normal_stiffness * c.n[a] * c.n[b];
+        }
   }
   block_inverse.resize(block_factor.size());
   if (use_dilu) {
@@ -639,12 +674,15 @@ void FixHydroImplicitSF::collect_couplings()
   }
   const double stiffness = kt * dtv;
   for (const SuspensionFabric::Contact &contact : contacts) {
-    if (!contact.sticking || pair_coupling[contact.pair] < 0) continue;
+    if (pair_coupling[contact.pair] < 0) continue;
     Coupling &c = couplings[pair_coupling[contact.pair]];
-    c.beta += stiffness;
-    c.gamma -= stiffness * contact.lj;
-    c.delta -= stiffness * contact.li;
-    c.epsilon += stiffness * contact.li * contact.lj;
+    if (contact.sticking) {
+      c.beta += stiffness;
+      c.gamma -= stiffness * contact.lj;
+      c.delta -= stiffness * contact.li;
+      c.epsilon += stiffness * contact.li * contact.lj;
+    }
+    if (contact.pressed) c.alpha += kn * dtv;
   }
   for (Coupling &c : couplings)
     if (c.lo > c.hi) {
@@ -774,9 +812,11 @@ void FixHydroImplicitSF::assemble_rhs(const double E[3][3])
     } else {
       for (int k = 0; k < 3; k++) ft[k] = c.sliding_force[k];
     }
+    // the normal spring at its current overlap, or (implicit) less the imposed flow's separation
+    const double normal = c.pressed ? kn * (c.overlap - dtv * c.flow_approach) : c.normal_force;
     SuspensionFabric::contact_torques(c, ft, ti, tj);
     for (int k = 0; k < 3; k++) {
-      const double F = c.normal_force * c.n[k] + ft[k];
+      const double F = normal * c.n[k] + ft[k];
       rhs[6 * c.i + k] += F;
       rhs[6 * c.i + 3 + k] += ti[k];
       rhs[6 * c.j + k] -= F;

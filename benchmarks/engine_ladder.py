@@ -1,0 +1,168 @@
+"""Accuracy of the engine's time-step ladder against the production engine (BENCHMARKS.md,
+"Engine speed II: accuracy").
+
+    .venv/bin/snakemake --cores 2 --configfile benchmarks/configs/engine_springs_dt2e-4.yaml
+    .venv/bin/python -m suspension_fabric.dataset export --config benchmarks/configs/engine_springs_dt2e-4.yaml \
+        --to benchmarks/data/engine_ladder/engine_springs_dt2e-4 --without-raw-stress
+    .venv/bin/python benchmarks/engine_ladder.py [--reference data/default] [--explicit benchmarks/data/engine_accuracy] \
+        benchmarks/data/engine_ladder/engine_springs_dt*
+
+Each study (a dataset folder, or results/<study>) is the default study (N = 500, phi = 0.45,
+seeds 1-3, rotations every 30 degrees, 2 strain after each) run with another engine setting;
+the reference is the committed default study, made with the production engine of the time
+(contact springs explicit, block Jacobi, dt = 2e-5). Same packings, independent trajectories.
+
+Steady state over strain 2-5 of the startup: per quantity the seed mean with its
+correlation-aware standard error (tables.steady_state), and z = (study - reference) /
+sqrt(sem_study^2 + sem_reference^2); the fabric also against the explicit dt = 2e-7 runs of
+`benchmarks/data/engine_accuracy` (packings 2024, 2025). Quantities: the fabric <nn>_ij and Z;
+the relative viscosity eta_r with its contact and lubrication parts, N1, N2 and Pi (units
+eta_f gammadot, stress.csv).
+
+After the 90 and 180 degree rotations: the seed means of <nn>'_12, <nn>'_23, sigma'_12 and
+sigma'_23 (rotated frame) in strain bins, their difference from the reference, and that
+difference over the reference's seed-to-seed standard deviation (the issue's criterion:
+within the seed-to-seed spread, i.e. |ratio| < 1).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from suspension_fabric.tables import steady_state
+
+STEADY_WINDOW = (2.0, 5.0)
+FABRIC = ("n11", "n22", "n33", "n12", "n13", "n23", "Z")
+STRESS = ("eta_r", "contact_12", "lubrication_12", "N1", "N2", "Pi")
+ANGLES = (90, 180)
+BINS = [(0.0, 0.05), (0.05, 0.1), (0.1, 0.2), (0.2, 0.3), (0.3, 0.5), (0.5, 1.0), (1.0, 2.0)]
+TRANSIENTS = (("fabric", "n12"), ("fabric", "n23"), ("stress", "total_12"), ("stress", "total_23"))
+
+
+def seed_folders(study: Path) -> list[Path]:
+    folders = sorted(p for p in study.glob("seed*") if p.is_dir())
+    if not folders:
+        raise FileNotFoundError(f"{study}: no seed*/ folders")
+    return folders
+
+
+def run_table(study: Path, run: str, kind: str) -> pd.DataFrame:
+    """The per-seed tables of one run (startup or rotation_theta<angle>) stacked."""
+    tables = []
+    for folder in seed_folders(study):
+        path = folder / run / f"{kind}.csv"
+        if not path.is_file():
+            raise FileNotFoundError(f"{path} missing: finish the study (or export it) first")
+        tables.append(pd.read_csv(path))
+    return pd.concat(tables, ignore_index=True)
+
+
+def engine_label(study: Path) -> str:
+    """The engine settings a study was run with, from its dataset record or a run record."""
+    record = study / "dataset.json"
+    if record.is_file():
+        run = json.loads(record.read_text())["config"]["run"]
+    else:
+        run = json.loads((seed_folders(study)[0] / "startup" / "run_complete.json").read_text())["variables"]
+    springs = run.get("contact_springs", "explicit")
+    preconditioner = run.get("preconditioner", "jacobi")
+    return f"springs {springs}, {preconditioner}, dt {float(run['dt']):g}"
+
+
+def steady(study: Path, kind: str, columns) -> pd.DataFrame:
+    table = run_table(study, "startup", kind)
+    return steady_state(table, *STEADY_WINDOW, value_columns=columns).set_index("quantity")
+
+
+def steady_rows(name: str, study: pd.DataFrame, reference: pd.DataFrame | None, columns) -> str:
+    cells = []
+    largest = 0.0
+    for quantity in columns:
+        mean, sem = study.loc[quantity, "mean"], study.loc[quantity, "sem"]
+        cell = f"{mean:.4f} +- {sem:.4f}"
+        if reference is not None:
+            z = (mean - reference.loc[quantity, "mean"]) / np.hypot(sem, reference.loc[quantity, "sem"])
+            largest = max(largest, abs(z))
+            cell += f" (z {z:+.1f})"
+        cells.append(cell)
+    tail = f"{largest:.1f}" if reference is not None else "-"
+    return f"| {name} | {' | '.join(cells)} | {tail} |"
+
+
+def binned_seed_means(study: Path, angle: int, kind: str, column: str) -> np.ndarray:
+    """Per seed (rows) and strain bin (columns) the mean of `column` after the rotation."""
+    table = run_table(study, f"rotation_theta{angle}", kind)
+    rows = []
+    for _, series in table.groupby("seed", sort=True):
+        strain = series["strain"].to_numpy()
+        values = series[column].to_numpy(dtype=float)
+        rows.append([values[(strain >= lo) & (strain < hi) if hi < strain.max() else (strain >= lo)].mean()
+                     for lo, hi in BINS])
+    return np.array(rows)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("studies", nargs="+", type=Path)
+    parser.add_argument("--reference", type=Path, default=Path("data/default"))
+    parser.add_argument("--explicit", type=Path, default=Path("benchmarks/data/engine_accuracy"))
+    args = parser.parse_args()
+
+    labels = {args.reference: f"reference: {engine_label(args.reference)}"}
+    labels.update({study: engine_label(study) for study in args.studies})
+    print(f"N = 500, phi = 0.45, seeds 1-3; steady window strain {STEADY_WINDOW[0]:g}-{STEADY_WINDOW[1]:g}; "
+          "z = (study - reference) / combined sem\n")
+
+    print("Steady fabric (seed mean +- correlation-aware sem)\n")
+    print(f"| engine | {' | '.join(FABRIC)} | max abs z |")
+    print("|---|" + "---|" * (len(FABRIC) + 1))
+    reference = steady(args.reference, "fabric", FABRIC)
+    explicit = None
+    explicit_runs = sorted(args.explicit.glob("seed*/explicit_dt2e-07/startup/fabric.csv"))
+    if explicit_runs:
+        explicit = steady_state(pd.concat([pd.read_csv(p) for p in explicit_runs], ignore_index=True),
+                                *STEADY_WINDOW, value_columns=FABRIC).set_index("quantity")
+        print(steady_rows(f"explicit dt 2e-7 (packings 2024, 2025; {args.explicit})", explicit, None, FABRIC))
+    print(steady_rows(labels[args.reference], reference, None, FABRIC))
+    for study in args.studies:
+        print(steady_rows(labels[study], steady(study, "fabric", FABRIC), reference, FABRIC))
+    if explicit is not None:
+        print("\nthe same against the explicit dt = 2e-7 runs:\n")
+        print(f"| engine | {' | '.join(FABRIC)} | max abs z |")
+        print("|---|" + "---|" * (len(FABRIC) + 1))
+        for study in (args.reference, *args.studies):
+            print(steady_rows(labels[study], steady(study, "fabric", FABRIC), explicit, FABRIC))
+
+    print("\nSteady stress (units eta_f gammadot; seed mean +- correlation-aware sem)\n")
+    print(f"| engine | {' | '.join(STRESS)} | max abs z |")
+    print("|---|" + "---|" * (len(STRESS) + 1))
+    reference_stress = steady(args.reference, "stress", STRESS)
+    print(steady_rows(labels[args.reference], reference_stress, None, STRESS))
+    for study in args.studies:
+        print(steady_rows(labels[study], steady(study, "stress", STRESS), reference_stress, STRESS))
+
+    bins = " | ".join(f"{lo:g}-{hi:g}" for lo, hi in BINS)
+    for angle in ANGLES:
+        for kind, column in TRANSIENTS:
+            name = {"n12": "<nn>'_12", "n23": "<nn>'_23", "total_12": "sigma'_12", "total_23": "sigma'_23"}[column]
+            print(f"\nAfter the {angle} degree rotation: {name} (seed mean per strain bin; "
+                  "ratio = (study - reference) / seed-to-seed sd of the reference)\n")
+            print(f"| engine | {bins} | max abs ratio |")
+            print("|---|" + "---|" * (len(BINS) + 1))
+            ref = binned_seed_means(args.reference, angle, kind, column)
+            spread = ref.std(axis=0, ddof=1)
+            print(f"| {labels[args.reference]} | {' | '.join(f'{v:.4f}' for v in ref.mean(axis=0))} | - |")
+            print(f"| seed-to-seed sd (reference) | {' | '.join(f'{v:.4f}' for v in spread)} | - |")
+            for study in args.studies:
+                means = binned_seed_means(study, angle, kind, column).mean(axis=0)
+                ratio = (means - ref.mean(axis=0)) / spread
+                print(f"| {labels[study]} | {' | '.join(f'{v:.4f}' for v in means)} | {np.abs(ratio).max():.2f} |")
+
+
+if __name__ == "__main__":
+    main()
