@@ -4,14 +4,18 @@ LAMMPS (BENCHMARKS.md, "Engine speed II: speed").
 
     .venv/bin/python benchmarks/bench_engine.py prepare      # steady-state checkpoints (any load)
     .venv/bin/python benchmarks/bench_engine.py measure      # the timings: run on an idle machine
+    .venv/bin/python benchmarks/bench_engine.py ladder       # cost and iterations against dt (idle machine)
 
 `prepare`: for N = 250, 500, 1000, 2000, 4000 (phi = 0.45, packing seed 1, default forces) a
 startup to strain 1.5 with the implicit springs at SPRINGS_DT, where the contact network is
 built up (Z ~ 3.4), into results/bench_engine/n<N>/. Reused when present.
 
+`ladder [--kn K]`: at N = 500, the implicit springs with block Jacobi and with dilu at
+dt = 2e-5 ... 4e-4 (the cost and the CG iterations against the step).
+
 `measure`: from each checkpoint, a short continuation of the same shear (rotate.lmp at
 theta = 0) with (a) the implicit springs and the dilu preconditioner at SPRINGS_DT (default
-2e-4; environment variable SPRINGS_DT), (b) the same with block Jacobi, (c) the implicit
+2e-4) and SPRINGS_KN (default 1.25e9; both environment variables), (b) the same with block Jacobi, (c) the implicit
 hydrodynamics with the springs explicit (pair granular) at its production dt = 2e-5,
 (d) the explicit plugin (velocity Verlet, lubricate/sf + stokes/sf) at dt = 2e-7 and
 (e) stock lubricate/poly + granular (explicit) at 2e-7; (d) and (e) at N = 500 only. The
@@ -38,9 +42,11 @@ ROOT = Path("results/bench_engine")
 SIZES = (250, 500, 1000, 2000, 4000)
 PREPARE_STRAIN = 1.5
 PRODUCTION_DT = 2.0e-5  # the implicit integrator with explicit contact springs (engine speed I)
-SPRINGS_DT = float(os.environ.get("SPRINGS_DT", "2e-4"))  # implicit springs: its production dt (Engine speed II)
+SPRINGS_DT = float(os.environ.get("SPRINGS_DT", "2e-4"))  # implicit springs: the step measured (Engine speed II)
+SPRINGS_KN = float(os.environ.get("SPRINGS_KN", "1.25e9"))  # and the normal stiffness
 EXPLICIT_DT = 2.0e-7
 # continuation strain per method: long enough for >= 10 s of loop time at N = 500
+LADDER_DTS = (2e-5, 5e-5, 1e-4, 2e-4, 4e-4)
 STRAIN = {"explicit": 0.02, "implicit": 0.2, "stock": 0.01, "springs": 0.5, "springs_jacobi": 0.5}
 LOOP_TIME = re.compile(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms")
 
@@ -75,12 +81,47 @@ def mean_iterations(log: Path) -> float | None:
     return sum(values[1:]) / len(values[1:]) if len(values) > 1 else None
 
 
+TABLE_HEAD = ("| method | N | dt | steps per unit strain | strain | loop s | core-s per particle per unit strain "
+              "| mean CG iterations per step |\n|---|---|---|---|---|---|---|---|")
+
+
+def timed_continuation(label: str, model: ForceModel, dt: float, n: int, strain: float, out: Path) -> float | None:
+    """Continues the N = n checkpoint for `strain` and prints one table row; returns the cost in
+    core-s per particle per unit strain (None if the run failed)."""
+    try:
+        settings = ShearSettings(dt=dt, dump_strain=strain, table_strain=strain / 10, thermo_strain=strain / 20,
+                                 restart_strain=strain, max_stress_jitter=None)
+        run = run_rotation(out, checkpoint(n), 0.0, strain, force_model=model, settings=settings,
+                           overwrite=True, resume=False, progress=None)
+    except LammpsRunError as err:
+        print(f"| {label} | {n} | {dt:g} | failed: {str(err).splitlines()[0][:120]} |||||", flush=True)
+        return None
+    seconds, _ = loop_time(run.log_file)  # the LAMMPS log of the run (one segment: resume=False)
+    cost = seconds / (n * run.strain)
+    iterations = mean_iterations(run.log_file) if model.integrator == "implicit" else None
+    print(f"| {label} | {n} | {dt:g} | {round(1 / dt)} | {run.strain:g} | {seconds:.1f} | {cost:.4f} | "
+          f"{'' if iterations is None else f'{iterations:.1f}'} |", flush=True)
+    return cost
+
+
+def ladder(kn: float) -> None:
+    """Cost and CG iterations of the implicit springs against dt at N = 500, both preconditioners."""
+    print(f"# {platform.machine()}, {platform.python_version()}, one core per run; N = 500, kn = {kn:g}; "
+          f"continuation of the startup shear from strain {PREPARE_STRAIN:g}\n")
+    print(TABLE_HEAD)
+    for dt in LADDER_DTS:
+        for preconditioner in ("jacobi", "dilu"):
+            model = ForceModel(contact_springs="implicit", preconditioner=preconditioner, kn=kn)
+            timed_continuation(f"implicit springs, {preconditioner}", model, dt, 500, max(0.1, 2000 * dt),
+                               ROOT / "n500" / f"ladder_kn{kn:g}_{preconditioner}_dt{dt:g}")
+
+
 def measure() -> None:
     methods = ([("springs", n) for n in SIZES] + [("springs_jacobi", n) for n in SIZES]
                + [("implicit", n) for n in SIZES] + [("explicit", 500), ("stock", 500)])
     models = {
-        "springs": (ForceModel(contact_springs="implicit", preconditioner="dilu"), SPRINGS_DT),
-        "springs_jacobi": (ForceModel(contact_springs="implicit", preconditioner="jacobi"), SPRINGS_DT),
+        "springs": (ForceModel(contact_springs="implicit", preconditioner="dilu", kn=SPRINGS_KN), SPRINGS_DT),
+        "springs_jacobi": (ForceModel(contact_springs="implicit", preconditioner="jacobi", kn=SPRINGS_KN), SPRINGS_DT),
         "implicit": (ForceModel(contact_springs="explicit", preconditioner="jacobi"), PRODUCTION_DT),
         "explicit": (ForceModel(integrator="explicit"), EXPLICIT_DT),
         "stock": (ForceModel(lubrication="stock", integrator="explicit"), EXPLICIT_DT),
@@ -91,25 +132,12 @@ def measure() -> None:
     cost = {}
     print(f"# {platform.machine()}, {platform.python_version()}, one core per run; continuation of the "
           f"startup shear from strain {PREPARE_STRAIN:g} (phi = 0.45, default forces)\n")
-    print("| method | N | dt | steps per unit strain | strain | loop s | core-s per particle per unit strain | mean CG iterations per step |")
-    print("|---|---|---|---|---|---|---|---|")
+    print(TABLE_HEAD)
     for method, n in methods:
         model, dt = models[method]
-        out = ROOT / f"n{n}" / f"measure_{method}"
-        try:
-            settings = ShearSettings(dt=dt, dump_strain=STRAIN[method], table_strain=STRAIN[method] / 10,
-                                     thermo_strain=STRAIN[method] / 20, restart_strain=STRAIN[method],
-                                     max_stress_jitter=None)
-            run = run_rotation(out, checkpoint(n), 0.0, STRAIN[method], force_model=model, settings=settings,
-                               overwrite=True, resume=False, progress=None)
-        except LammpsRunError as err:
-            print(f"| {label[method]} | {n} | {dt:g} | failed: {str(err).splitlines()[0][:120]} |||||", flush=True)
-            continue
-        seconds, steps = loop_time(run.log_file)  # the LAMMPS log of the run (one segment: resume=False)
-        cost[method, n] = seconds / (n * run.strain)
-        iterations = mean_iterations(run.log_file) if method not in ("explicit", "stock") else None
-        print(f"| {label[method]} | {n} | {dt:g} | {round(1 / dt)} | {run.strain:g} | {seconds:.1f} | "
-              f"{cost[method, n]:.4f} | {'' if iterations is None else f'{iterations:.1f}'} |", flush=True)
+        result = timed_continuation(label[method], model, dt, n, STRAIN[method], ROOT / f"n{n}" / f"measure_{method}")
+        if result is not None:
+            cost[method, n] = result
     ratios = [f"{method} / springs = {cost[method, 500] / cost['springs', 500]:.1f}x"
               for method in ("implicit", "springs_jacobi", "explicit", "stock")
               if (method, 500) in cost and ("springs", 500) in cost]
@@ -120,9 +148,15 @@ def measure() -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("phase", choices=("prepare", "measure"))
+    parser.add_argument("phase", choices=("prepare", "measure", "ladder"))
+    parser.add_argument("--kn", type=float, default=1.25e9, help="ladder: normal contact stiffness")
     args = parser.parse_args()
-    prepare() if args.phase == "prepare" else measure()
+    if args.phase == "prepare":
+        prepare()
+    elif args.phase == "ladder":
+        ladder(args.kn)
+    else:
+        measure()
 
 
 if __name__ == "__main__":

@@ -124,7 +124,8 @@ def assert_continuous(result, uninterrupted, restart_step: int) -> None:
 
 def test_a_killed_run_resumes_from_its_latest_restart(tmp_path, packing, uninterrupted, capsys):
     """SIGKILL after the second restart (strain 6): the rerun continues from restart.b at
-    step 30000, reaches the same outputs, and takes less time than the whole run."""
+    step 30000 (so only the steps after it are run again) and reaches the same outputs. The
+    saving is counted in steps, not in wall time, which load on the machine would blur."""
     output = start_and_kill(tmp_path, packing)
     result, messages = resume(output, packing, capsys)
     restart_step = 2 * RESTART_STEPS
@@ -132,7 +133,6 @@ def test_a_killed_run_resumes_from_its_latest_restart(tmp_path, packing, uninter
     marker = json.loads((output / "run_complete.json").read_text())
     resumed = marker["segments"][-1]
     assert result.segments == 2 and resumed["start_step"] == restart_step
-    assert resumed["wall_time_s"] < uninterrupted.wall_time
     assert_continuous(result, uninterrupted, restart_step)
     assert not (tmp_path / ".run.partial").exists()
 
@@ -210,9 +210,8 @@ def test_snakemake_killed_with_its_simulation_resumes_it(tmp_path):
     log = (killed / "results/resume/logs/startup_seed1.log").read_text()
     assert f"at step {2 * RESTART_STEPS}" in log
     marker = json.loads((killed / target).read_text())
-    whole_marker = json.loads((whole / target).read_text())
     assert len(marker["segments"]) == 2
-    assert marker["segments"][-1]["wall_time_s"] < whole_marker["wall_time_s"]
+    assert marker["segments"][-1]["start_step"] == 2 * RESTART_STEPS  # only the rest is run again
     a = read_stress_table(whole / "results/resume/seed1/startup/stress.txt")
     b = read_stress_table(killed / "results/resume/seed1/startup/stress.txt")
     np.testing.assert_array_equal(b["step"], a["step"])

@@ -19,16 +19,19 @@
    symplectic Euler for the contact springs, whose stiffness then limits dt (for
    m x'' = -k x - c x' the scheme is stable iff k dt^2 < 4 m + 2 c dt).  With `contacts kn kt
    mu` the fix owns the contacts (contact.h: Hooke normal, linear-history tangential spring,
-   Coulomb friction; no other contact pair style allowed) and takes the tangential spring of
-   every sticking contact implicitly: its force is -kt (xi_n + dt s_{n+1}), the spring
-   stretched by the slip s of the solved velocities, which adds K = kt B^T B to the operator
-   (backward Euler for the spring: stable for any kt dt).  Sliding contacts (|kt xi| at the
-   Coulomb bound mu F_n with the old slip) carry the bound mu F_n, explicit, along the trial
-   spring.  A sticking spring whose solved stretch exceeds the bound is released to sliding
-   and the system solved again (at most MAX_CONTACT_PASSES solves per step).  The normal spring
-   stays explicit: the lubrication squeeze X(delta) at contact damps it, so it is stable for
-   dt < 2 X(delta)/kn (8e-4 at the defaults).  After the step each spring holds
+   Coulomb friction; no other contact pair style allowed) and takes their springs implicitly
+   (backward Euler, stable for any k dt): the tangential spring of every sticking contact
+   pushes with -kt (xi_n + dt s_{n+1}), stretched by the slip s of the solved velocities
+   (K = kt B^T B), and the normal spring of every pressed contact with kn (o - dt s_n), the
+   overlap at the end of the step (K = kn n n).  Sliding contacts (|kt xi| at the Coulomb
+   bound mu kn o with the old velocities) carry the bound, explicit, along the trial spring;
+   contacts that the old velocities open within the step push with kn o, explicit.  A
+   sticking spring whose solved stretch exceeds the bound is released to sliding, a pressed
+   contact that the solved velocities open becomes explicit, and the system is solved again
+   (at most MAX_CONTACT_PASSES solves per step).  After the step each spring holds
    xi_{n+1} = xi_n + dt s_{n+1} (capped), the displacement the next position update makes.
+   Stability no longer limits dt; accuracy does: the contact relaxation time X(delta)/kn
+   must be resolved (BENCHMARKS.md, "Engine speed II").
 
    The linear system is solved matrix-free by conjugate gradients over the pair list with a
    6x6 block-Jacobi preconditioner (rebuilt every 10 steps and after the atoms are re-sorted),
