@@ -7,20 +7,22 @@ LAMMPS (BENCHMARKS.md, "Engine speed II: speed").
     .venv/bin/python benchmarks/bench_engine.py ladder       # cost and iterations against dt (idle machine)
 
 `prepare`: for N = 250, 500, 1000, 2000, 4000 (phi = 0.45, packing seed 1, default forces) a
-startup to strain 1.5 with the implicit springs at SPRINGS_DT, where the contact network is
-built up (Z ~ 3.4), into results/bench_engine/n<N>/. Reused when present.
+startup to strain 1.5 with the implicit springs at SPRINGS_DT and SPRINGS_KN, where the
+contact network is built up (Z ~ 3.4), into results/bench_engine/n<N>/. Reused when present.
 
 `ladder [--kn K]`: at N = 500, the implicit springs with block Jacobi and with dilu at
 dt = 2e-5 ... 4e-4 (the cost and the CG iterations against the step).
 
 `measure`: from each checkpoint, a short continuation of the same shear (rotate.lmp at
 theta = 0) with (a) the implicit springs and the dilu preconditioner at SPRINGS_DT (default
-2e-4) and SPRINGS_KN (default 1.25e9; both environment variables), (b) the same with block Jacobi, (c) the implicit
+1e-4) and SPRINGS_KN (default 1.25e8; both environment variables: the accurate pair of the
+ladder, BENCHMARKS.md "Engine speed II"), (b) the same with block Jacobi, (c) the implicit
 hydrodynamics with the springs explicit (pair granular) at its production dt = 2e-5,
 (d) the explicit plugin (velocity Verlet, lubricate/sf + stokes/sf) at dt = 2e-7 and
 (e) stock lubricate/poly + granular (explicit) at 2e-7; (d) and (e) at N = 500 only. The
-runs (c)-(e) start with unloaded granular springs (the checkpoint holds the fix's springs),
-which does not matter for a timing. The time is LAMMPS's own loop time of the run (no
+runs (c)-(e) start with unloaded granular springs (the checkpoint holds the fix's springs) and,
+at their kn = 1.25e9, from the larger overlaps of the softer contacts: a transient of ~1e-3
+strain, small against the strain timed. The time is LAMMPS's own loop time of the run (no
 start-up or output checks), on one core, reported as core-s per particle per unit strain,
 with the steps per unit strain and the mean CG iterations per step (all solves of a step).
 Prints a Markdown table and the ratios.
@@ -42,8 +44,8 @@ ROOT = Path("results/bench_engine")
 SIZES = (250, 500, 1000, 2000, 4000)
 PREPARE_STRAIN = 1.5
 PRODUCTION_DT = 2.0e-5  # the implicit integrator with explicit contact springs (engine speed I)
-SPRINGS_DT = float(os.environ.get("SPRINGS_DT", "2e-4"))  # implicit springs: the step measured (Engine speed II)
-SPRINGS_KN = float(os.environ.get("SPRINGS_KN", "1.25e9"))  # and the normal stiffness
+SPRINGS_DT = float(os.environ.get("SPRINGS_DT", "1e-4"))  # implicit springs: the step measured (Engine speed II)
+SPRINGS_KN = float(os.environ.get("SPRINGS_KN", "1.25e8"))  # and the normal stiffness
 EXPLICIT_DT = 2.0e-7
 # continuation strain per method: long enough for >= 10 s of loop time at N = 500
 LADDER_DTS = (2e-5, 5e-5, 1e-4, 2e-4, 4e-4)
@@ -63,7 +65,7 @@ def prepare() -> None:
         startup = ROOT / f"n{n}" / "startup"
         if not is_complete(startup):
             run_startup(startup, packing / PACK_FILES["data"], PREPARE_STRAIN,
-                        force_model=ForceModel(contact_springs="implicit", preconditioner="dilu"),
+                        force_model=ForceModel(contact_springs="implicit", preconditioner="dilu", kn=SPRINGS_KN),
                         settings=ShearSettings(dt=SPRINGS_DT, dump_strain=0.1), progress_interval=120)
 
 
@@ -89,7 +91,9 @@ def timed_continuation(label: str, model: ForceModel, dt: float, n: int, strain:
     """Continues the N = n checkpoint for `strain` and prints one table row; returns the cost in
     core-s per particle per unit strain (None if the run failed)."""
     try:
-        settings = ShearSettings(dt=dt, dump_strain=strain, table_strain=strain / 10, thermo_strain=strain / 20,
+        # strides of 1000 / 100 / 50 steps: they divide the checkpoint's step (15000 at the
+        # prepare step 1e-4, 75000 at 2e-5), so the outputs stay on LAMMPS's grid of multiples
+        settings = ShearSettings(dt=dt, dump_strain=1000 * dt, table_strain=100 * dt, thermo_strain=50 * dt,
                                  restart_strain=strain, max_stress_jitter=None)
         run = run_rotation(out, checkpoint(n), 0.0, strain, force_model=model, settings=settings,
                            overwrite=True, resume=False, progress=None)

@@ -72,16 +72,41 @@ def test_a_default_config_runs_what_the_python_defaults_run():
 
 
 def test_time_step_limit_follows_the_integrator():
-    """implicit: dt up to the tangential-spring limit (scales.max_dt_implicit, 3.65e-5 at the
-    defaults) passes, above it fails naming the limit; explicit: the squeeze limit
+    """implicit with the springs explicit: dt up to the tangential-spring limit
+    (scales.max_dt_implicit, 3.65e-5 at the defaults) passes, above it fails naming the limit; explicit: the squeeze limit
     (scales.max_dt_explicit, 2.5e-7) applies instead."""
     implicit_limit = max_dt_implicit(1.0, 223.0, 1e-3, 2.0 / 7.0 * 1.25e9)
     explicit_limit = max_dt_explicit(1.0, 223.0, 1e-3)
     assert 3e-5 < implicit_limit < 4e-5 and 2e-7 < explicit_limit < 3e-7
-    for dt in (2.0e-5, 0.99 * implicit_limit):
+    for dt in (2.0e-5, 3.125e-5):  # 3.125e-5: just below the limit, on the output grid
         assert validate_config({**MINIMAL, "run": {"dt": dt}})["run"]["dt"] == dt
     with pytest.raises(ConfigError, match=rf"run.dt' \(4e-05\).*tangential contact spring.*{implicit_limit:.3g}"):
         validate_config({**MINIMAL, "run": {"dt": 4.0e-5}})
     assert validate_config({**MINIMAL, "run": {"integrator": "explicit", "dt": 2.0e-7}})
     with pytest.raises(ConfigError, match=rf"run.dt' \(5e-07\).*lubrication squeeze.*{explicit_limit:.3g}"):
         validate_config({**MINIMAL, "run": {"integrator": "explicit", "dt": 5.0e-7}})
+
+
+def test_implicit_springs_bound_and_integrator():
+    """With the contact springs implicit the tangential limit no longer applies (2e-4 passes)
+    and the conservative bound scales.max_dt_implicit_springs (4.2e-4 at the defaults) does;
+    implicit springs with the explicit integrator are refused, naming the key."""
+    implicit_springs = {"contact_springs": "implicit"}
+    assert validate_config({**MINIMAL, "run": {**implicit_springs, "dt": 2.0e-4}})["run"]["dt"] == 2.0e-4
+    with pytest.raises(ConfigError, match=r"run.dt' \(0.0005\).*max_dt_implicit_springs"):
+        validate_config({**MINIMAL, "run": {**implicit_springs, "dt": 5.0e-4}})
+    with pytest.raises(ConfigError, match=r"run.contact_springs' \(implicit\) needs run.integrator = implicit"):
+        validate_config({**MINIMAL, "run": {**implicit_springs, "integrator": "explicit", "dt": 2.0e-7}})
+
+
+@pytest.mark.parametrize("run, message", [
+    ({"dt": 3.0e-5}, r"run.dt' \(3e-05\): run.startup_strain \(5\) is not a whole number of steps"),
+    ({"dt": 2.0e-5, "table_strain": 0.0014}, r"run.table_strain' \(0.0014\) gives a stride of 70 steps"),
+])
+def test_rotations_start_on_the_output_grid(run, message):
+    """LAMMPS writes a row or frame when the step is a multiple of the stride: a startup that
+    does not end on every grid would start the rotations off it, so such a config is refused
+    early, naming the key (startup 5 strain: 166666.7 steps at dt = 3e-5; a stride of 70 steps
+    does not divide 250000)."""
+    with pytest.raises(ConfigError, match=message):
+        validate_config({**MINIMAL, "run": run})

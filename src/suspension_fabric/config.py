@@ -7,6 +7,7 @@ checks what a schema cannot express. Errors name the offending key.
 
 from __future__ import annotations
 
+import math
 import os
 from pathlib import Path
 
@@ -111,6 +112,7 @@ def validate_config(config: dict, schema_path: str | os.PathLike = SCHEMA_PATH) 
             f"{forces['kn'] * relaxation / run['max_contact_relaxation_strain']:.3g}"
         )
     _check_time_step(run, forces, particles["d_small"])
+    _check_output_grid(run)
     if run["integrator"] == "explicit" and run["contact_springs"] == "implicit":
         raise ConfigError("config key 'run.contact_springs' (implicit) needs run.integrator = implicit: the "
                           "springs are solved with the implicit hydrodynamics")
@@ -157,6 +159,24 @@ def _check_time_step(run: dict, forces: dict, d_small: float) -> None:
                       f"forces.delta = {forces['delta']:g} (suspension_fabric.scales.max_dt_explicit)")
     if dt > limit:
         raise ConfigError(f"config key 'run.dt' ({dt:g}) is too large: {reason}; use dt <= {limit:.3g}")
+
+
+def _check_output_grid(run: dict) -> None:
+    """The startup must end on a step of every output grid: LAMMPS writes a table row or a frame
+    when the step is a multiple of the stride, so a rotation that starts between two grid
+    steps would miss its first row (and the strain grid would be shifted)."""
+    steps_per_strain = 1.0 / run["dt"]
+    startup_steps = run["startup_strain"] * steps_per_strain
+    if abs(startup_steps - round(startup_steps)) > 1e-6 * startup_steps:
+        raise ConfigError(f"config key 'run.dt' ({run['dt']:g}): run.startup_strain "
+                          f"({run['startup_strain']:g}) is not a whole number of steps "
+                          f"({startup_steps:.6g}); choose dt that divides it")
+    for key in ("dump_strain", "table_strain"):
+        stride = max(1, math.floor(run[key] * steps_per_strain + 0.5))
+        if round(startup_steps) % stride:
+            raise ConfigError(f"config key 'run.{key}' ({run[key]:g}) gives a stride of {stride} steps at "
+                              f"dt = {run['dt']:g}, which does not divide the {round(startup_steps)} steps "
+                              f"of the startup; the rotations would start off the output grid")
 
 
 def load_config(path: str | os.PathLike) -> dict:
