@@ -134,6 +134,7 @@ def test_dilu_is_exact_on_a_tree_of_pairs():
         lmp = chain_of_spheres(name)
         lmp.command("run 1 post no")  # the preconditioner is built for this step's pairs
         iterations[name] = lmp.numpy.extract_fix("integrate", 0, 1, 0)
+        assert lmp.numpy.extract_fix("integrate", 0, 1, 22) == 0  # no fallback to block Jacobi
         lmp.close()
     assert iterations["dilu"] <= 1
     assert iterations["jacobi"] >= 3

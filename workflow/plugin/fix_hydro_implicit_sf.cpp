@@ -181,7 +181,7 @@ FixHydroImplicitSF::FixHydroImplicitSF(LAMMPS *lmp, int narg, char **arg) :
   thermo_virial = 1;
   restart_global = 1;
   vector_flag = 1;
-  size_vector = 22;
+  size_vector = 23;
   global_freq = 1;
   extvector = 0;
   for (double &v : virial) v = 0.0;
@@ -954,8 +954,8 @@ void FixHydroImplicitSF::tally_virial(const double E[3][3])
    fix was created, 3: velocity error |D^-1 r|_max reached in the last solve, 4-9: contact
    virial (LAMMPS order xx yy zz xy xz yz, sum (x_i - x_j)_a F_b), 10-12: summed contact torque,
    13-18: lubrication virial (symmetrised), 19: mean solves per step, 20: contacts, 21: sliding
-   contacts, 22: springs released to sliding per step (mean).  4-12 and 20-22 are zero without
-   `contacts`. */
+   contacts, 22: springs released to sliding per step (mean), 23: dilu rebuilds that fell back
+   to block Jacobi (not positive definite).  4-12 and 20-22 are zero without `contacts`. */
 double FixHydroImplicitSF::compute_vector(int n)
 {
   if (n == 0) return last_iterations;
@@ -967,7 +967,8 @@ double FixHydroImplicitSF::compute_vector(int n)
   if (n == 18) return steps > 0 ? static_cast<double>(total_passes) / steps : 0.0;
   if (n == 19) return static_cast<double>(contacts.size());
   if (n == 20) return sliding_contacts;
-  return steps > 0 ? static_cast<double>(total_released) / steps : 0.0;
+  if (n == 21) return steps > 0 ? static_cast<double>(total_released) / steps : 0.0;
+  return static_cast<double>(dilu_fallbacks);
 }
 
 /* Global restart state: the springs, as (smaller tag, larger tag, xi) records. */
