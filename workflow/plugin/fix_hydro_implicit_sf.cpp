@@ -111,21 +111,20 @@ void inverse_from_cholesky6(const double *l, double *inv)
   }
 }
 
-// Resistance blocks a pair adds to the diagonal 6x6 block of one of its particles:
-// sign_b = +1 for i (pump YBi), -1 for j (pump YBj).
-void add_pair_block(const SuspensionFabric::PairResistance &R, double yb, double yc,
-                    double sign_b, double *block)
+// Adds to the diagonal 6x6 block of one particle the form every pair term here has:
+// [[along n n + across P, pump N], [-pump N, rotation P]], P = I - n n, N w = n x w.
+void add_diagonal_block(const double *n, double along, double across, double pump, double rotation,
+                        double *block)
 {
-  const double *n = R.n;
   const double N[3][3] = {{0.0, -n[2], n[1]}, {n[2], 0.0, -n[0]}, {-n[1], n[0], 0.0}};
   for (int a = 0; a < 3; a++)
     for (int b = 0; b < 3; b++) {
       const double nn = n[a] * n[b];
       const double proj = (a == b ? 1.0 : 0.0) - nn;
-      block[6 * a + b] += R.X * nn + R.YA * proj;
-      block[6 * a + 3 + b] += sign_b * yb * N[a][b];
-      block[6 * (3 + a) + b] -= sign_b * yb * N[a][b];
-      block[6 * (3 + a) + 3 + b] += yc * proj;
+      block[6 * a + b] += along * nn + across * proj;
+      block[6 * a + 3 + b] += pump * N[a][b];
+      block[6 * (3 + a) + b] -= pump * N[a][b];
+      block[6 * (3 + a) + 3 + b] += rotation * proj;
     }
 }
 
@@ -518,25 +517,6 @@ void FixHydroImplicitSF::apply_operator(const std::vector<double> &in, std::vect
   }
 }
 
-namespace {
-// The 6x6 block c B^T B a sticking spring adds to one of its atoms: B = [P, l N] for i and
-// [-P, l N] for j (N w = n x w), so the block is c [[P, sign l N], [-sign l N, l^2 P]].
-void add_spring_block(const SuspensionFabric::Contact &c, double stiffness, double lever,
-                      double sign, double *block)
-{
-  const double *n = c.n;
-  const double N[3][3] = {{0.0, -n[2], n[1]}, {n[2], 0.0, -n[0]}, {-n[1], n[0], 0.0}};
-  for (int a = 0; a < 3; a++)
-    for (int b = 0; b < 3; b++) {
-      const double proj = (a == b ? 1.0 : 0.0) - n[a] * n[b];
-      block[6 * a + b] += stiffness * proj;
-      block[6 * a + 3 + b] += stiffness * sign * lever * N[a][b];
-      block[6 * (3 + a) + b] -= stiffness * sign * lever * N[a][b];
-      block[6 * (3 + a) + 3 + b] += stiffness * lever * lever * proj;
-    }
-}
-}    // namespace
-
 void FixHydroImplicitSF::build_preconditioner()
 {
   const int nlocal = atom->nlocal;
@@ -552,23 +532,18 @@ void FixHydroImplicitSF::build_preconditioner()
       b[7 * (k + 3)] = INERTIA * rmass[i] * a * a / dtv + 8.0 * pi_eta * a * a * a;
     }
   }
+  // lubrication (n from i to j): the pump YBi for i and -YBj for j (lubrication_forces)
   for (const LubricatedPair &p : pairs) {
-    add_pair_block(p.R, p.R.YBi, p.R.YCi, 1.0, &block_factor[36 * p.i]);
-    if (p.add_to_j) add_pair_block(p.R, p.R.YBj, p.R.YCj, -1.0, &block_factor[36 * p.j]);
+    add_diagonal_block(p.R.n, p.R.X, p.R.YA, p.R.YBi, p.R.YCi, &block_factor[36 * p.i]);
+    if (p.add_to_j) add_diagonal_block(p.R.n, p.R.X, p.R.YA, -p.R.YBj, p.R.YCj, &block_factor[36 * p.j]);
   }
-  const double stiffness = kt * dtv;
-  const double normal_stiffness = kn * dtv;
+  // implicit springs (n from j to i): c B^T B of a sticking spring, c = kt dt, with B = [P, l N]
+  // for i and [-P, l N] for j, i.e. c [[P, +-l N], [-+l N, l^2 P]]; kn dt n n of a pressed one
   for (const SuspensionFabric::Contact &c : contacts) {
-    if (c.sticking) {
-      add_spring_block(c, stiffness, c.li, 1.0, &block_factor[36 * c.i]);
-      add_spring_block(c, stiffness, c.lj, -1.0, &block_factor[36 * c.j]);
-    }
-    if (c.pressed)
-      for (int a = 0; a < 3; a++)
-        for (int b = 0; b < 3; b++) {
-          block_factor[36 * c.i + 6 * a + b] += normal_stiffness * c.n[a] * c.n[b];
-          block_factor[36 * c.j + 6 * a + b] += normal_stiffness * c.n[a] * c.n[b];
-        }
+    const double along = c.pressed ? kn * dtv : 0.0;
+    const double across = c.sticking ? kt * dtv : 0.0;
+    add_diagonal_block(c.n, along, across, across * c.li, across * c.li * c.li, &block_factor[36 * c.i]);
+    add_diagonal_block(c.n, along, across, -across * c.lj, across * c.lj * c.lj, &block_factor[36 * c.j]);
   }
   block_inverse.resize(block_factor.size());
   if (use_dilu) {
