@@ -123,7 +123,8 @@ def binned_seed_means(study: Path, angle: int, kind: str, column: str) -> np.nda
     for _, series in table.groupby("seed", sort=True):
         strain = series["strain"].to_numpy()
         values = series[column].to_numpy(dtype=float)
-        rows.append([values[(strain >= lo) & (strain < hi) if hi < strain.max() else (strain >= lo)].mean()
+        last = BINS[-1][1]  # the last bin includes its upper edge (the run's last frame)
+        rows.append([values[(strain >= lo) & ((strain < hi) | ((hi == last) & (strain <= hi)))].mean()
                      for lo, hi in BINS])
     return np.array(rows)
 

@@ -161,6 +161,12 @@ def _check_time_step(run: dict, forces: dict, d_small: float) -> None:
         raise ConfigError(f"config key 'run.dt' ({dt:g}) is too large: {reason}; use dt <= {limit:.3g}")
 
 
+def output_stride(strain: float, dt: float, rate: float = 1.0) -> int:
+    """Steps between outputs every ``strain``, as shear_run.lmp computes them (at least 1;
+    LAMMPS's round() takes halves away from zero, Python's to even)."""
+    return max(1, math.floor(strain / (dt * rate) + 0.5))
+
+
 def _check_output_grid(run: dict) -> None:
     """The startup must end on a step of every output grid: LAMMPS writes a table row or a frame
     when the step is a multiple of the stride, so a rotation that starts between two grid
@@ -172,7 +178,7 @@ def _check_output_grid(run: dict) -> None:
                           f"({run['startup_strain']:g}) is not a whole number of steps "
                           f"({startup_steps:.6g}); choose dt that divides it")
     for key in ("dump_strain", "table_strain"):
-        stride = max(1, math.floor(run[key] * steps_per_strain + 0.5))
+        stride = output_stride(run[key], run["dt"])
         if round(startup_steps) % stride:
             raise ConfigError(f"config key 'run.{key}' ({run[key]:g}) gives a stride of {stride} steps at "
                               f"dt = {run['dt']:g}, which does not divide the {round(startup_steps)} steps "

@@ -27,6 +27,7 @@ from typing import Mapping
 
 import numpy as np
 
+from ..config import output_stride
 from ..dumpio import scan_dump
 from ..resources import LAMMPS_SCRIPTS_DIR
 from ..schema import schema_default
@@ -162,9 +163,8 @@ class ShearSettings:
                 raise ValueError(f"ShearSettings.{name} must be positive, got {getattr(self, name)}")
 
     def steps_between(self, strain: float) -> int:
-        """Steps between outputs every ``strain`` (as shear_run.lmp computes them, at least 1;
-        LAMMPS's round() takes halves away from zero, Python's to even)."""
-        return max(1, math.floor(strain / (self.dt * self.rate) + 0.5))
+        """Steps between outputs every ``strain`` (:func:`suspension_fabric.config.output_stride`)."""
+        return output_stride(strain, self.dt, self.rate)
 
     def variables(self) -> dict[str, str]:
         names = ("dt", "rate", "dump_strain", "table_strain", "thermo_strain", "restart_strain", "skin")
