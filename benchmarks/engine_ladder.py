@@ -9,10 +9,11 @@
 `save` copies what the report reads (the startup and the 90 and 180 degree rotations: fabric
 and stress tables and the run records, no trajectories) to benchmarks/data/engine_ladder/<study>/.
 
-Each study (a dataset folder, or results/<study>) is the default study (N = 500, phi = 0.45,
-seeds 1-3, rotations every 30 degrees, 2 strain after each) run with another engine setting;
-the reference is the committed default study, made with the production engine of the time
-(contact springs explicit, block Jacobi, dt = 2e-5). Same packings, independent trajectories.
+Each study (a dataset folder, or results/<study>) repeats a committed dataset made with the
+explicit-spring engine (contact springs explicit, block Jacobi, kn = 1.25e9, dt = 2e-5) with
+another engine setting, from the same packings with independent trajectories: by default the
+N = 500 study of data/default (seeds 1-3, rotations every 30 degrees, 2 strain after each),
+or with --reference data/reference the N = 1000 one (seeds 1-4).
 
 Steady state over strain 2-5 of the startup: per quantity the seed mean with its
 correlation-aware standard error (tables.steady_state), and z = (study - reference) /
@@ -38,6 +39,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from scipy import stats
 
 from suspension_fabric.tables import steady_state
 
@@ -80,7 +82,17 @@ def engine_label(study: Path) -> str:
         kn = run["kn"]
     springs = run.get("contact_springs", "explicit")
     preconditioner = run.get("preconditioner", "jacobi")
-    return f"kn {float(kn):.3g}, springs {springs}, {preconditioner}, dt {float(run['dt']):g}"
+    tolerance = float(run.get("solver_tol", 1e-5))
+    label = f"kn {float(kn):.3g}, springs {springs}, {preconditioner}, dt {float(run['dt']):g}"
+    return label + (f", tol {tolerance:g}" if tolerance != 1e-5 else "")
+
+
+def particle_count(study: Path) -> int:
+    """N of a study, from its dataset record or its fabric table."""
+    record = study / "dataset.json"
+    if record.is_file():
+        return int(json.loads(record.read_text())["config"]["particles"]["n"])
+    return int(run_table(study, "startup", "fabric")["N"].iloc[0])
 
 
 def save(study: Path, root: Path = Path("benchmarks/data/engine_ladder")) -> Path:
@@ -141,6 +153,21 @@ def null_threshold(seeds: int = 3, bins: int = len(BINS), level: float = 0.95, d
     return float(np.quantile(ratio, level))
 
 
+def per_bin_t(study: np.ndarray, reference: np.ndarray) -> np.ndarray:
+    """Two-sample t per strain bin (seeds as the units, the variance pooled per bin): unlike the
+    ratio to a spread pooled over the bins, it does not flag a bin whose own seed spread is large."""
+    n, m = len(study), len(reference)
+    variance = ((n - 1) * study.var(axis=0, ddof=1) + (m - 1) * reference.var(axis=0, ddof=1)) / (n + m - 2)
+    return (study.mean(axis=0) - reference.mean(axis=0)) / np.sqrt(variance * (1.0 / n + 1.0 / m))
+
+
+def per_bin_t_threshold(seeds: int, bins: int = len(BINS), level: float = 0.95) -> float:
+    """The `level` quantile of the max over independent bins of |t| with 2 (seeds - 1) degrees
+    of freedom (Sidak)."""
+    single = 1.0 - level ** (1.0 / bins)
+    return float(stats.t.ppf(1.0 - single / 2.0, 2 * (seeds - 1)))
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("phase", choices=("save", "report"))
@@ -155,8 +182,9 @@ def main() -> None:
 
     labels = {args.reference: f"reference: {engine_label(args.reference)}"}
     labels.update({study: engine_label(study) for study in args.studies})
-    print(f"N = 500, phi = 0.45, seeds 1-3; steady window strain {STEADY_WINDOW[0]:g}-{STEADY_WINDOW[1]:g}; "
-          "z = (study - reference) / combined sem\n")
+    seeds = len(seed_folders(args.reference))
+    print(f"N = {particle_count(args.reference)}, phi = 0.45, {seeds} seeds; steady window strain "
+          f"{STEADY_WINDOW[0]:g}-{STEADY_WINDOW[1]:g}; z = (study - reference) / combined sem\n")
 
     print("Steady fabric (seed mean +- correlation-aware sem)\n")
     print(f"| engine | {' | '.join(FABRIC)} | max abs z |")
@@ -186,8 +214,9 @@ def main() -> None:
     for study in args.studies:
         print(steady_rows(labels[study], steady(study, "stress", STRESS), reference_stress, STRESS))
 
-    print(f"\nTransients: for two studies of the same engine (3 seeds each, {len(BINS)} independent bins) "
-          f"the max ratio exceeds {null_threshold():.2f} with 5% probability (engine_ladder.null_threshold).")
+    print(f"\nTransients: for two studies of the same engine ({seeds} seeds each, {len(BINS)} independent bins) "
+          f"the max ratio exceeds {null_threshold(seeds):.2f} with 5% probability (engine_ladder.null_threshold), "
+          f"the max per-bin |t| {per_bin_t_threshold(seeds):.2f} (engine_ladder.per_bin_t_threshold).")
     bins = " | ".join(f"{lo:g}-{hi:g}" for lo, hi in BINS)
     for angle in ANGLES:
         for kind, column in TRANSIENTS:
@@ -205,7 +234,8 @@ def main() -> None:
                 pooled = np.sqrt(np.mean(np.concatenate([spread, values.std(axis=0, ddof=1)]) ** 2))
                 ratio = (values.mean(axis=0) - ref.mean(axis=0)) / pooled
                 print(f"| {labels[study]} | {' | '.join(f'{v:.4f}' for v in values.mean(axis=0))} | "
-                      f"{np.abs(ratio).max():.2f} (pooled sd {pooled:.4f}) |")
+                      f"{np.abs(ratio).max():.2f} (pooled sd {pooled:.4f}); per-bin t "
+                      f"{np.abs(per_bin_t(values, ref)).max():.2f} |")
 
 
 if __name__ == "__main__":
