@@ -14,18 +14,19 @@ contact network is built up (Z ~ 3.4), into results/bench_engine/n<N>/. Reused w
 dt = 2e-5 ... 4e-4 (the cost and the CG iterations against the step).
 
 `measure`: from each checkpoint, a short continuation of the same shear (rotate.lmp at
-theta = 0) with (a) the implicit springs and the dilu preconditioner at SPRINGS_DT (default
-1e-4) and SPRINGS_KN (default 1.25e8; both environment variables: the accurate pair of the
-ladder, BENCHMARKS.md "Engine speed II"), (b) the same with block Jacobi, (c) the implicit
-hydrodynamics with the springs explicit (pair granular) at its production dt = 2e-5,
-(d) the explicit plugin (velocity Verlet, lubricate/sf + stokes/sf) at dt = 2e-7 and
-(e) stock lubricate/poly + granular (explicit) at 2e-7; (d) and (e) at N = 500 only. The
-runs (c)-(e) start with unloaded granular springs (the checkpoint holds the fix's springs) and,
-at their kn = 1.25e9, from the larger overlaps of the softer contacts: a transient of ~1e-3
-strain, small against the strain timed. The time is LAMMPS's own loop time of the run (no
-start-up or output checks), on one core, reported as core-s per particle per unit strain,
-with the steps per unit strain and the mean CG iterations per step (all solves of a step).
-Prints a Markdown table and the ratios.
+theta = 0) with (a) the default engine (the schema's defaults: the implicit springs, dilu,
+kn = 1.25e8, dt = 1e-4, solver_tol = 1e-3), (b) the same to solver_tol = 1e-5 (the
+tolerance of engine speed II's first measurement), (c) the default engine with block Jacobi,
+(d) the implicit hydrodynamics with the springs explicit (pair granular) at kn = 1.25e9, its
+production dt = 2e-5 and solver_tol 1e-5 (engine speed I: the engine of the committed
+reference data), (e) the explicit plugin (velocity Verlet, lubricate/sf + stokes/sf) at
+dt = 2e-7 and (f) stock lubricate/poly + granular (explicit) at 2e-7; (c), (e) and (f) at
+N = 500 only. The runs (d)-(f) start with unloaded granular springs (the checkpoint holds the
+fix's springs) and, at their kn = 1.25e9, from the larger overlaps of the softer contacts: a
+transient of ~1e-3 strain, small against the strain timed. The time is LAMMPS's own loop time
+of the run (no start-up or output checks), on one core, reported as core-s per particle per
+unit strain, with the steps per unit strain and the mean CG iterations per step (all solves
+of a step). Prints a Markdown table and the ratios.
 """
 
 from __future__ import annotations
@@ -49,7 +50,7 @@ SPRINGS_KN = float(os.environ.get("SPRINGS_KN", "1.25e8"))  # and the normal sti
 EXPLICIT_DT = 2.0e-7
 # continuation strain per method: long enough for >= 10 s of loop time at N = 500
 LADDER_DTS = (2e-5, 5e-5, 1e-4, 2e-4, 4e-4)
-STRAIN = {"explicit": 0.02, "implicit": 0.2, "stock": 0.01, "springs": 0.5, "springs_jacobi": 0.5}
+STRAIN = {"explicit": 0.02, "implicit": 0.2, "stock": 0.01, "default": 1.0, "tol1e-5": 0.5, "jacobi": 1.0}
 LOOP_TIME = re.compile(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms")
 
 
@@ -121,33 +122,42 @@ def ladder(kn: float) -> None:
 
 
 def measure() -> None:
-    methods = ([("springs", n) for n in SIZES] + [("springs_jacobi", n) for n in SIZES]
-               + [("implicit", n) for n in SIZES] + [("explicit", 500), ("stock", 500)])
+    methods = ([("default", n) for n in SIZES] + [("tol1e-5", n) for n in SIZES] + [("implicit", n) for n in SIZES]
+               + [("jacobi", 500), ("explicit", 500), ("stock", 500)])
+    default_dt = ShearSettings().dt
     models = {
-        "springs": (ForceModel(contact_springs="implicit", preconditioner="dilu", kn=SPRINGS_KN), SPRINGS_DT),
-        "springs_jacobi": (ForceModel(contact_springs="implicit", preconditioner="jacobi", kn=SPRINGS_KN), SPRINGS_DT),
-        "implicit": (ForceModel(contact_springs="explicit", preconditioner="jacobi"), PRODUCTION_DT),
-        "explicit": (ForceModel(integrator="explicit"), EXPLICIT_DT),
-        "stock": (ForceModel(lubrication="stock", integrator="explicit"), EXPLICIT_DT),
+        "default": (ForceModel(), default_dt),
+        "tol1e-5": (ForceModel(solver_tol=1e-5), default_dt),
+        "jacobi": (ForceModel(preconditioner="jacobi"), default_dt),
+        "implicit": (ForceModel(contact_springs="explicit", preconditioner="jacobi", kn=1.25e9, solver_tol=1e-5),
+                     PRODUCTION_DT),
+        "explicit": (ForceModel(integrator="explicit", contact_springs="explicit", kn=1.25e9), EXPLICIT_DT),
+        "stock": (ForceModel(lubrication="stock", integrator="explicit", contact_springs="explicit", kn=1.25e9),
+                  EXPLICIT_DT),
     }
-    label = {"springs": "implicit springs, dilu", "springs_jacobi": "implicit springs, block Jacobi",
-             "implicit": "implicit hydrodynamics, explicit springs (engine speed I)", "explicit": "explicit plugin (Verlet)",
-             "stock": "stock lubricate/poly + granular"}
+    model = models["default"][0]
+    label = {"default": f"default engine (springs implicit, dilu, kn {model.kn:g}, tol {model.solver_tol:g})",
+             "tol1e-5": "the same to solver_tol 1e-5",
+             "jacobi": "default engine with block Jacobi",
+             "implicit": "springs explicit, kn 1.25e9, tol 1e-5 (engine speed I, the reference data's engine)",
+             "explicit": "explicit plugin (Verlet), kn 1.25e9", "stock": "stock lubricate/poly + granular, kn 1.25e9"}
     cost = {}
     print(f"# {platform.machine()}, {platform.python_version()}, one core per run; continuation of the "
-          f"startup shear from strain {PREPARE_STRAIN:g} (phi = 0.45, default forces)\n")
+          f"startup shear from strain {PREPARE_STRAIN:g} (phi = 0.45)\n")
     print(TABLE_HEAD)
     for method, n in methods:
         model, dt = models[method]
         result = timed_continuation(label[method], model, dt, n, STRAIN[method], ROOT / f"n{n}" / f"measure_{method}")
         if result is not None:
             cost[method, n] = result
-    ratios = [f"{method} / springs = {cost[method, 500] / cost['springs', 500]:.1f}x"
-              for method in ("implicit", "springs_jacobi", "explicit", "stock")
-              if (method, 500) in cost and ("springs", 500) in cost]
-    print(f"\nat N = 500: {', '.join(ratios)}; target for the new scheme: <= 0.012 core-s per particle per unit strain")
-    if ("springs", 4000) in cost and ("springs", 500) in cost:
-        print(f"springs, N = 4000 / N = 500: {cost['springs', 4000] / cost['springs', 500]:.2f} (target <= 1.3)")
+    ratios = [f"{method} / default = {cost[method, 500] / cost['default', 500]:.1f}x"
+              for method in ("implicit", "tol1e-5", "jacobi", "explicit", "stock")
+              if (method, 500) in cost and ("default", 500) in cost]
+    print(f"\nat N = 500: {', '.join(ratios)}; target: <= 0.012 core-s per particle per unit strain")
+    for n in SIZES[1:]:
+        if ("default", n) in cost and ("default", 500) in cost:
+            print(f"default engine, N = {n} / N = 500: {cost['default', n] / cost['default', 500]:.2f}"
+                  + (" (target <= 1.3)" if n == 4000 else ""))
 
 
 def main() -> None:

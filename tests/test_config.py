@@ -1,5 +1,7 @@
 """Config validation: schema defaults, cross-key checks, shipped study files."""
 
+import math
+
 import pytest
 
 
@@ -12,7 +14,8 @@ MINIMAL = {"study": "s", "seeds": [1], "angles_deg": [0, 90]}
 
 def test_defaults_are_filled_at_every_level():
     config = validate_config(dict(MINIMAL))
-    assert config["particles"]["phi"] == 0.45 and config["forces"]["kn"] == 1.25e9
+    assert config["particles"]["phi"] == 0.45 and config["forces"]["kn"] == 1.25e8
+    assert config["run"]["contact_springs"] == "implicit" and config["run"]["dt"] == 1.0e-4
     assert config["analysis"]["eps"] == 0.01 and config["run"]["startup_strain"] == 5.0
 
 
@@ -33,7 +36,8 @@ def test_shipped_configs_are_valid(name):
         ({"angles_deg": [-0.0, 0.0]}, "angles_deg"),
         ({"study": "a/b"}, "study"),
         ({"forces": {"kn": 1.25e5}}, "forces.kn"),
-        ({"run": {"dt": 1.0e-4}}, "run.dt"),
+        ({"run": {"dt": 2.0e-4}}, "run.dt"),
+        ({"run": {"contact_springs": "explicit", "dt": 4.0e-4}}, "run.dt"),
         ({"run": {"integrator": "explicit", "dt": 1.0e-6}}, "run.dt"),
         ({"run": {"integrator": "verlet"}}, "run.integrator"),
         ({"run": {"mpi_ranks": 4}}, "run.mpi_ranks"),
@@ -72,31 +76,40 @@ def test_a_default_config_runs_what_the_python_defaults_run():
 
 
 def test_time_step_limit_follows_the_integrator():
-    """implicit with the springs explicit: dt up to the tangential-spring limit
-    (scales.max_dt_implicit, 3.65e-5 at the defaults) passes, above it fails naming the limit; explicit: the squeeze limit
-    (scales.max_dt_explicit, 2.5e-7) applies instead."""
+    """implicit with the springs explicit (kn = 1.25e9, the engine of the reference data): dt up
+    to the tangential-spring limit (scales.max_dt_implicit, 3.65e-5) passes, above it fails
+    naming the limit; explicit: the squeeze limit (scales.max_dt_explicit, 2.5e-7) applies instead."""
     implicit_limit = max_dt_implicit(1.0, 223.0, 1e-3, 2.0 / 7.0 * 1.25e9)
     explicit_limit = max_dt_explicit(1.0, 223.0, 1e-3)
     assert 3e-5 < implicit_limit < 4e-5 and 2e-7 < explicit_limit < 3e-7
+    springs_explicit = {"forces": {"kn": 1.25e9}, "run": {"contact_springs": "explicit", "preconditioner": "jacobi"}}
     for dt in (2.0e-5, 3.125e-5):  # 3.125e-5: just below the limit, on the output grid
-        assert validate_config({**MINIMAL, "run": {"dt": dt}})["run"]["dt"] == dt
+        config = {**MINIMAL, **springs_explicit, "run": {**springs_explicit["run"], "dt": dt}}
+        assert validate_config(config)["run"]["dt"] == dt
     with pytest.raises(ConfigError, match=rf"run.dt' \(4e-05\).*tangential contact spring.*{implicit_limit:.3g}"):
-        validate_config({**MINIMAL, "run": {"dt": 4.0e-5}})
-    assert validate_config({**MINIMAL, "run": {"integrator": "explicit", "dt": 2.0e-7}})
+        validate_config({**MINIMAL, **springs_explicit, "run": {**springs_explicit["run"], "dt": 4.0e-5}})
+    explicit = {"integrator": "explicit", "contact_springs": "explicit"}
+    assert validate_config({**MINIMAL, "run": {**explicit, "dt": 2.0e-7}})
     with pytest.raises(ConfigError, match=rf"run.dt' \(5e-07\).*lubrication squeeze.*{explicit_limit:.3g}"):
-        validate_config({**MINIMAL, "run": {"integrator": "explicit", "dt": 5.0e-7}})
+        validate_config({**MINIMAL, "run": {**explicit, "dt": 5.0e-7}})
 
 
-def test_implicit_springs_bound_and_integrator():
-    """With the contact springs implicit the tangential limit no longer applies (2e-4 passes)
-    and the conservative bound scales.max_dt_implicit_springs (4.2e-4 at the defaults) does;
-    implicit springs with the explicit integrator are refused, naming the key."""
-    implicit_springs = {"contact_springs": "implicit"}
-    assert validate_config({**MINIMAL, "run": {**implicit_springs, "dt": 2.0e-4}})["run"]["dt"] == 2.0e-4
-    with pytest.raises(ConfigError, match=r"run.dt' \(0.0005\).*max_dt_implicit_springs"):
-        validate_config({**MINIMAL, "run": {**implicit_springs, "dt": 5.0e-4}})
+def test_implicit_springs_step_resolves_the_contact_relaxation_time():
+    """With the contact springs implicit (the default) dt <= run.max_dt_per_relaxation x tau,
+    tau = (X(delta) + c/2)/kn of two small spheres (scales.contact_relaxation_time): at the
+    defaults X = 6 pi eta_f (1/4)^2 / (delta/2) = 5.254e5, c/2 = 3 pi eta_f / 2 = 1051, so
+    tau = 4.211e-3 at kn = 1.25e8 and the bound is 0.025 tau = 1.053e-4: 1e-4 passes, 1.25e-4
+    fails naming the key, and raising the key (a step-error study) lets it through; implicit
+    springs with the explicit integrator are refused, naming the key."""
+    tau = (6 * math.pi * 223 * 0.25**2 / 0.5e-3 + 1.5 * math.pi * 223) / 1.25e8
+    assert tau == pytest.approx(4.211e-3, rel=1e-3)
+    assert validate_config(dict(MINIMAL))["run"]["dt"] == 1.0e-4 < 0.025 * tau
+    with pytest.raises(ConfigError, match=rf"run.dt' \(0.000125\).*tau = {tau:.3g}.*max_dt_per_relaxation"):
+        validate_config({**MINIMAL, "run": {"dt": 1.25e-4}})
+    loosened = {**MINIMAL, "run": {"dt": 2.0e-4, "max_dt_per_relaxation": 0.05}}
+    assert validate_config(loosened)["run"]["dt"] == 2.0e-4
     with pytest.raises(ConfigError, match=r"run.contact_springs' \(implicit\) needs run.integrator = implicit"):
-        validate_config({**MINIMAL, "run": {**implicit_springs, "integrator": "explicit", "dt": 2.0e-7}})
+        validate_config({**MINIMAL, "run": {"integrator": "explicit", "dt": 2.0e-7}})
 
 
 @pytest.mark.parametrize("run, message", [

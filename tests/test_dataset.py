@@ -110,7 +110,7 @@ def test_a_dataset_without_stress_tables_builds_everything_else(study, dataset, 
 
 @pytest.mark.parametrize("key, value, message", [
     ("seeds", [1], "config key 'seeds' differs from the dataset"),
-    ("forces", {"eta_f": 1.0, "kn": 6.0e+6}, "config key 'forces' differs from the dataset"),
+    ("forces", {"eta_f": 1.0, "kn": 5.0e+5}, "config key 'forces' differs from the dataset"),
     ("analysis", {"eps": 0.02, "steady_window": [0.1, 0.3]}, "config key 'analysis.eps' differs from the dataset"),
 ])
 def test_a_study_that_does_not_describe_the_dataset_is_refused(dataset, tmp_path, key, value, message):

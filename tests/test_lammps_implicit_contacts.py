@@ -12,8 +12,10 @@ import pytest
 from suspension_fabric.lammps import (
     ForceModel, ShearSettings, iter_dump_frames, pack, read_stress_table, run_startup,
 )
+from suspension_fabric.fabric import FabricAnalysis
 from suspension_fabric.lammps.checks import max_overlap_in_dump
 from suspension_fabric.lammps.plugin import plugin_path
+from suspension_fabric.scales import contact_relaxation_time
 from test_lammps_implicit import IMPLICIT_PAIR, atom_array
 from test_lammps_plugin import DELTA, ETA_F, H_OUT, make_system
 
@@ -33,7 +35,8 @@ def short_startup(path, packing, springs, dt, strain):
     settings = ShearSettings(dt=dt, dump_strain=strain / 4, table_strain=strain / 20,
                              thermo_strain=strain / 20, restart_strain=strain, max_stress_jitter=None)
     return run_startup(path, packing.data_file, strain, settings=settings, progress=None,
-                       force_model=ForceModel(plugin=plugin_path(), contact_springs=springs))
+                       force_model=ForceModel(plugin=plugin_path(), contact_springs=springs, kn=KN,
+                                              solver_tol=1e-5))
 
 
 def test_implicit_springs_are_the_granular_contact_law(tmp_path, touching_packing):
@@ -157,3 +160,37 @@ def test_inconsistent_contact_setups_are_refused(pair, fix, message):
             lmp.command("run 1 post no")
         finally:
             lmp.close()
+
+
+def startup_fabric(path, packing, kn, strain=1.0):
+    """Seed-free startup of `packing` at stiffness kn with the implicit springs at dt = 0.024
+    tau (tau of two small spheres, the default study's resolution); the near-contact fabric
+    averaged over the second half of the strain."""
+    tau = contact_relaxation_time(1.0, 1.0, ETA_F, DELTA, kn)
+    dt = float(f"{0.024 * tau:.1g}")
+    settings = ShearSettings(dt=dt, dump_strain=0.02, table_strain=0.02, thermo_strain=0.05,
+                             restart_strain=strain, max_stress_jitter=None, max_overlap=1.0)
+    run = run_startup(path, packing.data_file, strain, settings=settings, progress=None,
+                      force_model=ForceModel(plugin=plugin_path(), kn=kn))
+    fabric = FabricAnalysis.from_dump(run.dump_file, dt=dt).run().results
+    late = fabric.strain > strain / 2
+    return np.array([fabric[c][late].mean() for c in ("n11", "n22", "n33", "n12", "n13", "n23")]), \
+        fabric.coordination[late].mean()
+
+
+def test_fabric_is_in_the_stiff_limit_at_the_default_stiffness(tmp_path):
+    """The stiff (rate-independent) limit: once the contact relaxation time tau = (X(delta) +
+    c/2)/kn is small against the strain over which the flow turns a contact, the fabric no longer
+    depends on kn. The same N = 200 packing sheared to strain 1, each kn at dt = 0.024 tau, the
+    fabric averaged over strain 0.5-1 (where it has built up): the default kn = 1.25e8
+    (tau = 4.2e-3) gives the fabric of kn = 1.25e9 (tau = 4.2e-4) within 0.006 in every <nn>_ij
+    (measured: 1e-3; other windows of this one small system differ by up to 0.004) and Z within
+    0.05, while kn = 1.25e6 (tau = 0.42, far from stiff) moves a component by more than 0.02
+    (measured: <nn>_22 by 0.045, <nn>_12 by 0.026): the test can tell."""
+    packing = pack(tmp_path / "packing", 200, phi=0.45, seed=5)
+    stiff, z_stiff = startup_fabric(tmp_path / "kn1.25e9", packing, 1.25e9)
+    default, z_default = startup_fabric(tmp_path / "kn1.25e8", packing, 1.25e8)
+    soft, _ = startup_fabric(tmp_path / "kn1.25e6", packing, 1.25e6)
+    np.testing.assert_allclose(default, stiff, atol=6e-3)
+    assert abs(z_default - z_stiff) < 0.05
+    assert np.abs(soft - stiff).max() > 0.02

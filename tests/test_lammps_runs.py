@@ -248,7 +248,7 @@ def test_stock_stand_in_model_runs(tmp_path, packing):
     """The development stand-in (lubricate/poly + drag by fix addforce) still runs; it cannot
     record the contact torque, so those columns are NaN (and its contact stress unsymmetrised)."""
     result = run_startup(tmp_path / "stock", packing.data_file, 0.001,
-                         force_model=ForceModel(lubrication="stock", integrator="explicit"),
+                         force_model=ForceModel(lubrication="stock", integrator="explicit", contact_springs="explicit"),
                          **EXPLICIT_RUN)
     assert is_complete(result.output_dir)
     table = read_stress_table(result.output_dir / "stress.txt")
@@ -261,7 +261,7 @@ def test_two_mpi_ranks(tmp_path, packing, monkeypatch):
     rank runs one OpenMP thread even where the environment asks for more (Snakemake sets
     OMP_NUM_THREADS to a job's threads, i.e. the rank count)."""
     monkeypatch.setenv("OMP_NUM_THREADS", "2")
-    explicit = ForceModel(plugin=plugin_path(), integrator="explicit")
+    explicit = ForceModel(plugin=plugin_path(), integrator="explicit", contact_springs="explicit")
     serial = run_startup(tmp_path / "serial", packing.data_file, 0.001, force_model=explicit,
                          **EXPLICIT_RUN)
     parallel = run_startup(tmp_path / "mpi", packing.data_file, 0.001, force_model=explicit,
@@ -283,9 +283,11 @@ def test_implicit_integrator_refuses_several_mpi_ranks(tmp_path, packing, force_
                     settings=replace(SMALL_SETTINGS, ranks=2), progress=None)
 
 
-def test_implicit_and_explicit_integrators_agree_on_a_short_startup(tmp_path, force_model):
+def test_implicit_and_explicit_integrators_agree_on_a_short_startup(tmp_path):
     """The implicit hydrodynamics at dt = 2e-5 and the explicit velocity Verlet at dt = 5e-7
-    (40x smaller) integrate the same equations. Over 0.01 strain of a touching N = 60
+    (40x smaller) integrate the same equations, both with the contacts of pair granular at
+    kn = 1.25e9 (the implicit springs are compared with pair granular in
+    test_lammps_implicit_contacts.py) and the implicit solve to 1e-5. Over 0.01 strain of a touching N = 60
     packing from rest, the particles end within 2 dt u_max of each other (u_max = lz
     gammadot, the largest imposed speed): the first-order implicit scheme lags the flow by
     about one step while the velocities build up (measured: a lag of 1.1 dt). The mean
@@ -295,10 +297,11 @@ def test_implicit_and_explicit_integrators_agree_on_a_short_startup(tmp_path, fo
     touching = pack(tmp_path / "touching", N_PARTICLES, phi=0.45, seed=11, gap_margin=0.0)
     settings = ShearSettings(dt=DT, dump_strain=0.005, table_strain=0.0005, thermo_strain=0.005,
                              restart_strain=0.01)
-    implicit = run_startup(tmp_path / "implicit", touching.data_file, 0.01, force_model=force_model,
+    granular = ForceModel(plugin=plugin_path(), contact_springs="explicit", kn=1.25e9, solver_tol=1e-5)
+    implicit = run_startup(tmp_path / "implicit", touching.data_file, 0.01, force_model=granular,
                            settings=settings, progress=None)
     explicit = run_startup(tmp_path / "explicit", touching.data_file, 0.01,
-                           force_model=ForceModel(plugin=plugin_path(), integrator="explicit"),
+                           force_model=replace(granular, integrator="explicit"),
                            settings=replace(settings, dt=EXPLICIT_DT), progress=None)
     last_implicit = list(iter_dump_frames(implicit.dump_file))[-1]
     last_explicit = list(iter_dump_frames(explicit.dump_file))[-1]

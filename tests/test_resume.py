@@ -1,7 +1,7 @@
 """Resume for real: a startup killed with SIGKILL part-way continues from its latest readable
 restart file instead of strain 0, through the Python runner and through Snakemake.
 
-N = 40 (test forces: eta_f = 1, kn = 5.6e6, dt = 2e-4), 30 strain = 150000 steps (~4 s),
+N = 40 (test forces: eta_f = 1, kn = 5.6e5, dt = 1e-4), 30 strain = 300000 steps (~8 s),
 restart files every 3 strain. "Continuous" means: the stitched stress table and trajectory hold
 every output step of the uninterrupted run once, in order; up to the restart step they are the
 uninterrupted run's own rows (the same deterministic serial run), and after it the dynamics is
@@ -33,8 +33,8 @@ from workflow_helpers import copy_workflow, snakemake
 pytestmark = pytest.mark.lammps
 
 STRAIN = 30.0
-SETTINGS = dict(dt=2.0e-4, dump_strain=0.5, table_strain=0.01, thermo_strain=0.01, restart_strain=3.0)
-FORCES = dict(eta_f=1.0, kn=5.6e6)
+SETTINGS = dict(dt=1.0e-4, dump_strain=0.5, table_strain=0.01, thermo_strain=0.01, restart_strain=3.0)
+FORCES = dict(eta_f=1.0, kn=5.6e5)
 RESTART_STEPS = round(SETTINGS["restart_strain"] / SETTINGS["dt"])
 
 
@@ -124,7 +124,7 @@ def assert_continuous(result, uninterrupted, restart_step: int) -> None:
 
 def test_a_killed_run_resumes_from_its_latest_restart(tmp_path, packing, uninterrupted, capsys):
     """SIGKILL after the second restart (strain 6): the rerun continues from restart.b at
-    step 30000 (so only the steps after it are run again) and reaches the same outputs. The
+    step 60000 (so only the steps after it are run again) and reaches the same outputs. The
     saving is counted in steps, not in wall time, which load on the machine would blur."""
     output = start_and_kill(tmp_path, packing)
     result, messages = resume(output, packing, capsys)

@@ -284,8 +284,8 @@ def test_a_rotation_is_analysed_in_its_own_frame(study, theta_deg):
 
 def test_command_line_overrides_on_the_default_study(tmp_path):
     """`--config` without `--configfile` overrides the default study (config/config.yaml)
-    key by key, nested sections too, validated like a file: the default study's 3 seeds x
-    7 angles plan survives a run.rotation_strain override; run.startup_strain = 3 meets the
+    key by key, nested sections too, validated like a file: the default study's 4 seeds x
+    13 angles plan survives a run.rotation_strain override; run.startup_strain = 3 meets the
     default study's own analysis.steady_window [2, 5] in the cross-key check (so the override
     took effect and the rest of config.yaml was kept); a bad value names its key."""
     workdir = copy_workflow(tmp_path)
@@ -293,7 +293,7 @@ def test_command_line_overrides_on_the_default_study(tmp_path):
     result = snakemake(workdir, "-n", "--config", "run={rotation_strain: 2.5}")
     assert result.returncode == 0, (result.stdout + result.stderr)[-3000:]
     counts = job_counts(result.stdout)
-    assert counts["startup"] == 3 and counts["rotate"] == 21
+    assert counts["startup"] == 4 and counts["rotate"] == 52
     merged = snakemake(workdir, "-n", "--config", "run={startup_strain: 3}")
     assert merged.returncode != 0
     assert ("config key 'analysis.steady_window': need 0 <= min < max <= run.startup_strain (3), "

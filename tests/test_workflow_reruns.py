@@ -27,11 +27,11 @@ CASES = {
     # key(s) changed: (--config arguments, jobs with a reason of their own, simulation jobs)
     "run.rotation_strain": (["run={rotation_strain: 0.2}"], ROTATE, ROTATE),
     "run.startup_strain": (["run={startup_strain: 0.4}"], STARTUP, STARTUP | ROTATE),
-    "run.dt": (["run={dt: 1.0e-4}"], STARTUP, STARTUP | ROTATE),
+    "run.dt": (["run={dt: 5.0e-5}"], STARTUP, STARTUP | ROTATE),
     "run.dump_strain": (["run={dump_strain: 0.02}"], STARTUP, STARTUP | ROTATE),
     "run.table_strain": (["run={table_strain: 0.005}"], STARTUP, STARTUP | ROTATE),
     "run.integrator, run.solver_tol": (["run={solver_tol: 1.0e-6}"], STARTUP, STARTUP | ROTATE),
-    "forces.kn": (["forces={kn: 6.0e+6}"], STARTUP, STARTUP | ROTATE),
+    "forces.kn": (["forces={kn: 5.0e+5}"], STARTUP, STARTUP | ROTATE),
     "forces.eta_f": (["forces={eta_f: 1.1}"], STARTUP, STARTUP | ROTATE),
     "forces.mu": (["forces={mu: 0.4}"], STARTUP, STARTUP | ROTATE),
     "particles.n": (["particles={n: 50}"], PACK, PACK | STARTUP | ROTATE),
@@ -87,7 +87,7 @@ def test_a_config_change_reruns_exactly_the_jobs_that_depend_on_it(study, case):
 
 @pytest.mark.parametrize("rule, override", [
     ("predict", "run={startup_strain: 0.4}"), ("fit_models", "particles={phi: 0.44}"),
-    ("rotate", "forces={kn: 6.0e+6}"), ("rotate", "run={dt: 1.0e-4}"), ("rotate", "run={table_strain: 0.005}"),
+    ("rotate", "forces={kn: 5.0e+5}"), ("rotate", "run={dt: 5.0e-5}"), ("rotate", "run={table_strain: 0.005}"),
 ])
 def test_params_of_downstream_rules(study, rule, override):
     """A key read by a rule downstream of another that reads it too: planning one output of

@@ -15,7 +15,7 @@ import yaml
 
 from .resources import SCHEMA_PATH
 from .scales import (
-    contact_period, contact_relaxation_time, max_dt_explicit, max_dt_implicit, max_dt_implicit_springs,
+    contact_period, contact_relaxation_time, max_dt_explicit, max_dt_implicit,
 )
 
 __all__ = ["SCHEMA_PATH", "ConfigError", "validate_config", "load_config", "angle_label",
@@ -137,10 +137,12 @@ def _check_time_step(run: dict, forces: dict, d_small: float) -> None:
     dt, integrator = run["dt"], run["integrator"]
     kt = forces["kt"] if forces["kt"] is not None else 2.0 / 7.0 * forces["kn"]
     if integrator == "implicit" and run["contact_springs"] == "implicit":
-        limit = max_dt_implicit_springs(d_small, forces["eta_f"], forces["delta"], forces["kn"])
-        reason = (f"with the contact springs implicit the normal spring (kn = {forces['kn']:g}, damped by "
-                  f"the lubrication squeeze at the regularised gap) allows dt < {limit:.3g} "
-                  "(suspension_fabric.scales.max_dt_implicit_springs)")
+        tau = contact_relaxation_time(d_small, d_small, forces["eta_f"], forces["delta"], forces["kn"])
+        limit = run["max_dt_per_relaxation"] * tau
+        reason = (f"with the contact springs implicit the step must resolve the contact relaxation time "
+                  f"tau = {tau:.3g} (two small spheres at forces.kn = {forces['kn']:g}, "
+                  f"suspension_fabric.scales.contact_relaxation_time): dt <= run.max_dt_per_relaxation "
+                  f"({run['max_dt_per_relaxation']:g}) x tau")
     elif integrator == "implicit":
         limit = max_dt_implicit(d_small, forces["eta_f"], forces["delta"], kt)
         reason = (f"the explicit tangential contact spring (kt = {kt:g}, damped by the shear "

@@ -80,28 +80,3 @@ def max_dt_implicit(d: float, eta_f: float, delta: float, kt: float, density: fl
     damping = math.pi * eta_f * d * math.log(1.0 / delta) / 2.0
     mass = (2.0 / 7.0) * 0.5 * _mass(d, density)
     return (damping + math.sqrt(damping**2 + 4.0 * kt * mass)) / kt
-
-
-# A conservative bound, not the step to use: half the stability limit 2 X(delta)/kn of an
-# explicit normal spring damped by the squeeze X(delta) (the fix now takes the normal spring
-# implicitly too). Accuracy needs far less: the step must resolve the contact relaxation
-# time X(delta)/kn (BENCHMARKS.md, "Engine speed II").
-IMPLICIT_SPRINGS_SAFETY = 0.5
-
-
-def max_dt_implicit_springs(d: float, eta_f: float, delta: float, kn: float, density: float = 1.0) -> float:
-    """Upper bound on dt for fix hydro/implicit/sf with the contact springs implicit
-    (``contacts``), which the config enforces.
-
-    The springs are solved with the hydrodynamics (backward Euler, stable for any dt), so
-    this is a conservative bound, not a stability limit: IMPLICIT_SPRINGS_SAFETY times the
-    limit dt < (c + sqrt(c^2 + 4 k m)) / k ~ 2 c / k of an explicit normal spring k = kn
-    damped by the squeeze at the regularised gap, c = X(delta), for two spheres of the
-    smallest diameter d (m the reduced mass): 4.2e-4 at d = 1, eta_f = 223, delta = 1e-3,
-    kn = 1.25e9. Accuracy asks for much less (BENCHMARKS.md, "Engine speed II").
-    """
-    if min(d, eta_f, delta, kn, density) <= 0:
-        raise ValueError("d, eta_f, delta, kn and density must be positive")
-    damping = _squeeze_at_contact(d, d, eta_f, delta)
-    mass = 0.5 * _mass(d, density)
-    return IMPLICIT_SPRINGS_SAFETY * (damping + math.sqrt(damping**2 + 4.0 * kn * mass)) / kn
