@@ -5,6 +5,7 @@ LAMMPS (BENCHMARKS.md, "Engine speed II: speed").
     .venv/bin/python benchmarks/bench_engine.py prepare      # steady-state checkpoints (any load)
     .venv/bin/python benchmarks/bench_engine.py measure      # the timings: run on an idle machine
     .venv/bin/python benchmarks/bench_engine.py ladder       # cost and iterations against dt (idle machine)
+    .venv/bin/python benchmarks/bench_engine.py alternate    # Jacobi and dilu back to back (idle machine)
 
 `prepare`: for N = 250, 500, 1000, 2000, 4000 (phi = 0.45, packing seed 1, default forces) a
 startup to strain 1.5 with the implicit springs at SPRINGS_DT and SPRINGS_KN, where the
@@ -162,15 +163,32 @@ def measure() -> None:
                   + (" (target <= 1.3)" if n == 4000 else ""))
 
 
+def alternate(sizes=(500, 1000), repeats: int = 3) -> None:
+    """The two preconditioners of the default engine timed back to back, alternating, `repeats`
+    times per N: separate runs of `measure` on this machine differ by ~10-15%, more than the
+    difference sought."""
+    print(f"# {platform.machine()}, {platform.python_version()}, one core per run; default engine, "
+          f"block Jacobi and dilu alternating\n")
+    print(TABLE_HEAD)
+    for n in sizes:
+        for repeat in range(repeats):
+            for preconditioner in ("jacobi", "dilu"):
+                timed_continuation(f"default engine, {preconditioner} (run {repeat + 1})",
+                                   ForceModel(preconditioner=preconditioner), ShearSettings().dt, n, 1.0,
+                                   ROOT / f"n{n}" / f"alternate_{preconditioner}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("phase", choices=("prepare", "measure", "ladder"))
+    parser.add_argument("phase", choices=("prepare", "measure", "ladder", "alternate"))
     parser.add_argument("--kn", type=float, default=1.25e9, help="ladder: normal contact stiffness")
     args = parser.parse_args()
     if args.phase == "prepare":
         prepare()
     elif args.phase == "ladder":
         ladder(args.kn)
+    elif args.phase == "alternate":
+        alternate()
     else:
         measure()
 
