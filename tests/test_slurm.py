@@ -122,7 +122,8 @@ def test_slurm_results_equal_a_local_run(slurm_study, request):
 
 
 def test_two_mpi_ranks_run_as_one_two_task_slurm_job(cluster, tmp_path):
-    """run.mpi_ranks = 2 (explicit integrator, dt below its 4.5e-5 limit at the test study's kn):
+    """run.mpi_ranks = 2 (explicit integrator with explicit springs, dt below its 5.5e-5 limit,
+    the lubrication squeeze at the test study's eta_f = 1):
     one SLURM job of 2 tasks x 1 core on one node, in which LAMMPS runs on a 2-rank grid."""
     node_cpus = subprocess.run(["sinfo", "-h", "-p", cluster[1], "-o", "%c"], capture_output=True,
                                text=True, check=True).stdout.split()
@@ -131,7 +132,7 @@ def test_two_mpi_ranks_run_as_one_two_task_slurm_job(cluster, tmp_path):
     workdir = copy_workflow(tmp_path)
     target = f"{RESULTS}/seed1/startup/run_complete.json"
     result, started = run_on_slurm(workdir, "--config", "seeds=[1]",
-                                   "run={integrator: explicit, mpi_ranks: 2, dt: 4.0e-5}", "--", target)
+                                   "run={integrator: explicit, contact_springs: explicit, mpi_ranks: 2, dt: 4.0e-5}", "--", target)
     sacct = sacct_jobs(result.stderr, started)
     startup = [row for row in sacct.values() if rule_of(row["Comment"]) == "startup"]
     assert len(startup) == 1
