@@ -128,17 +128,18 @@ def steady_rows(name: str, study: pd.DataFrame, reference: pd.DataFrame | None, 
     return f"| {name} | {' | '.join(cells)} | {tail} |"
 
 
+def bin_means(strain: np.ndarray, values: np.ndarray, bins=BINS) -> list[float]:
+    """Mean of `values` in each strain bin [lo, hi); the last bin includes its upper edge (the
+    run's last frame)."""
+    last = bins[-1][1]
+    return [values[(strain >= lo) & ((strain < hi) | ((hi == last) & (strain <= hi)))].mean() for lo, hi in bins]
+
+
 def binned_seed_means(study: Path, angle: int, kind: str, column: str) -> np.ndarray:
     """Per seed (rows) and strain bin (columns) the mean of `column` after the rotation."""
     table = run_table(study, f"rotation_theta{angle}", kind)
-    rows = []
-    for _, series in table.groupby("seed", sort=True):
-        strain = series["strain"].to_numpy()
-        values = series[column].to_numpy(dtype=float)
-        last = BINS[-1][1]  # the last bin includes its upper edge (the run's last frame)
-        rows.append([values[(strain >= lo) & ((strain < hi) | ((hi == last) & (strain <= hi)))].mean()
-                     for lo, hi in BINS])
-    return np.array(rows)
+    return np.array([bin_means(series["strain"].to_numpy(), series[column].to_numpy(dtype=float))
+                     for _, series in table.groupby("seed", sort=True)])
 
 
 def null_threshold(seeds: int = 3, bins: int = len(BINS), level: float = 0.95, draws: int = 20000) -> float:

@@ -31,7 +31,9 @@ from scipy import stats
 
 from suspension_fabric import tables
 from suspension_fabric.lammps import ForceModel, ShearSettings, run_rotation
-from suspension_fabric.stress import run_stress_table
+from suspension_fabric.stress import STRESS_FLOAT_FORMAT, run_stress_table
+
+from engine_ladder import bin_means  # same directory: the ladder's strain binning
 
 ANGLES = (90, 180)
 ROTATION_STRAIN = 1.0
@@ -53,7 +55,8 @@ def fine_rotation(study: Path, seed_folder: str, angle: int) -> Path:
     seed = int(seed_folder.removeprefix("seed"))
     fabric = tables.run_fabric_table(run.dump_file, out / "run_complete.json", seed=seed)
     tables.write_fabric_table(fabric, out / "fabric.csv")
-    run_stress_table(run.table_file, out / "run_complete.json", out / "fabric.csv").to_csv(out / "stress.csv", index=False)
+    stress = run_stress_table(run.table_file, out / "run_complete.json", out / "fabric.csv")
+    stress.to_csv(out / "stress.csv", index=False, float_format=STRESS_FLOAT_FORMAT)
     return out
 
 
@@ -81,11 +84,6 @@ def integral(table: pd.DataFrame, column: str) -> float:
     return float(np.sum(0.5 * (values[1:] + values[:-1]) * np.diff(strain)))
 
 
-def binned(table: pd.DataFrame, column: str) -> list[float]:
-    strain, values = table["strain"].to_numpy(), table[column].to_numpy(dtype=float)
-    return [values[(strain >= lo) & ((strain < hi) | ((hi == BINS[-1][1]) & (strain <= hi)))].mean() for lo, hi in BINS]
-
-
 def report(study: Path) -> None:
     fine_record = json.loads(next((study / "fine").glob("seed*/rotation_theta*/run_complete.json")).read_text())
     own_record = json.loads(next(study.glob("seed*/rotation_theta90/run_complete.json")).read_text())
@@ -108,7 +106,8 @@ def report(study: Path) -> None:
             print(f"| run | {bins} |")
             print("|---|" + "---|" * len(BINS))
             for label, runs in (("default", a), ("fine", b)):
-                means = np.mean([binned(runs[s], column) for s in seeds], axis=0)
+                means = np.mean([bin_means(runs[s]["strain"].to_numpy(), runs[s][column].to_numpy(dtype=float), BINS)
+                                 for s in seeds], axis=0)
                 print(f"| {label} | {' | '.join(f'{v:.4f}' for v in means)} |")
             print()
 
