@@ -1,5 +1,6 @@
 # Shear-rotation fabric study: LAMMPS simulations -> MDAnalysis fabric -> G-W models -> figures.
-# Default study: config/config.yaml; pick another with --configfile config/<name>.yaml.
+# Default study: config/config.yaml; pick another with --configfile config/<name>.yaml. A config
+# with a `campaign` section runs one study per state point and maps them (config/campaign.yaml).
 from suspension_fabric.config import validate_config
 
 
@@ -18,12 +19,13 @@ validate_config(config)  # schema + cross-key checks, before any job; fills defa
 include: "workflow/rules/common.smk"
 
 
-if config["dataset"]:  # fabric tables from a reference dataset: no simulation
+STRESSLESS_STUDIES = []  # studies on datasets exported before the stress parts were recorded
+if DATASET_STUDIES:  # fabric tables from reference datasets: no simulation for these studies
 
     include: "workflow/rules/dataset.smk"
 
-else:
-    STRESS_TABLES = True  # every simulation records the stress parts
+
+if SIMULATED_STUDIES:
 
     include: "workflow/rules/build.smk"
     include: "workflow/rules/simulate.smk"
@@ -37,15 +39,34 @@ include: "workflow/rules/figures.smk"
 include: "workflow/rules/report.smk"
 
 
+if config["campaign"]:
+
+    include: "workflow/rules/campaign.smk"
+
+
+def study_targets(study):
+    """Every figure and table of one study (the stress ones when its runs recorded the stress)."""
+    targets = [
+        *rules.figure_startup.output,
+        *rules.figure_rotation.output,
+        *rules.fit_models.output,
+        rules.model_errors.output.table,
+        *rules.report_tables.output,
+        *rules.verdicts.output,
+        *rules.figure_claims.output,
+    ]
+    if study not in STRESSLESS_STUDIES:
+        targets += [
+            *rules.figure_stress_startup.output,
+            *rules.figure_stress_rotation.output,
+            *rules.stress_relation.output,
+            *rules.report_stress.output,
+        ]
+    return expand(targets, study=study)
+
+
 rule all:
     default_target: True
     input:
-        FIGURES,
-        f"{RESULTS}/fits.json",
-        f"{RESULTS}/tables/model_errors.csv",
-        rules.report_tables.output,
-        rules.verdicts.output,
-        rules.figure_claims.output,
-        STRESS_FIGURES if STRESS_TABLES else [],
-        rules.stress_relation.output if STRESS_TABLES else [],
-        rules.report_stress.output if STRESS_TABLES else [],
+        [study_targets(study) for study in STUDIES],
+        CAMPAIGN_TARGETS if config["campaign"] else [],

@@ -37,13 +37,15 @@ def copy_workflow(target: Path) -> Path:
 
 
 def dry_run_jobs(output: str) -> list[dict]:
-    """Jobs of a dry run's output: rule, wildcards (text) and reason of each."""
+    """Jobs of a dry run's output: rule, study, the other wildcards (text) and reason of each."""
     jobs = []
     for block in re.split(r"\n(?=(?:local)?rule \w+:\n)", output):
         match = re.match(r"(?:local)?rule (\w+):\n", block)
         if not match:
             continue
         fields = dict(re.findall(r"^    (\w+): (.*)$", block, flags=re.M))
-        jobs.append({"rule": match.group(1), "wildcards": fields.get("wildcards", ""),
+        # every study rule carries the study's name first (one config may hold several studies)
+        study, wildcards = re.fullmatch(r"(?:study=([^,]*)(?:, |$))?(.*)", fields.get("wildcards", "")).groups()
+        jobs.append({"rule": match.group(1), "study": study, "wildcards": wildcards,
                      "reason": fields.get("reason", "")})
     return jobs

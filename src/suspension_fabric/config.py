@@ -74,7 +74,9 @@ def _coerce_command_line_text(value, schema: dict):
             return value
     if isinstance(value, dict):
         properties = schema.get("properties", {})
-        return {key: _coerce_command_line_text(item, properties.get(key, {})) for key, item in value.items()}
+        others = schema.get("additionalProperties")
+        others = others if isinstance(others, dict) else {}
+        return {key: _coerce_command_line_text(item, properties.get(key, others)) for key, item in value.items()}
     if isinstance(value, list) and isinstance(schema.get("items"), dict):
         return [_coerce_command_line_text(item, schema["items"]) for item in value]
     return value

@@ -49,6 +49,8 @@ __all__ = [
     "write_error_summary_page",
     "format_interval",
     "viscosity_transient_table",
+    "map_display_table",
+    "write_map_page",
     "MISSING",
 ]
 
@@ -527,3 +529,41 @@ def write_stress_page(steady: pd.DataFrame, relation: pd.DataFrame, summary: pd.
         ("Viscosity after a rotation per angle: the integrated deficit per seed with its t-interval; the "
          "minimum and the recovery strain as description", transient_text, transient_note),
     ])
+
+
+#: Map columns shown as "value ± error" (column, error column, heading)
+_MAP_VALUES = (("Z", "Z_sem", "Z"), ("n12", "n12_sem", "<nn>₁₂"), ("eta_r", "eta_r_sem", "η_r"),
+               ("Pi", "Pi_sem", "Π"), ("N1", "N1_sem", "N₁"), ("N2", "N2_sem", "N₂"),
+               ("gw_beta", "gw_beta_err", "G-W β"), ("modified_beta", "modified_beta_err", "modified β"),
+               ("modified_A", "modified_A_err", "modified A"),
+               ("modified_A_over_beta", "modified_A_over_beta_err", "A/β"))
+#: Claims shown per point: the paired model-error statistics
+_MAP_CLAIMS = ("C3'", "C4'")
+
+
+def map_display_table(table: pd.DataFrame) -> pd.DataFrame:
+    """The map table (state_map.map_table) as text: state point, engine, steady-state check,
+    each value with its error, the paired model-error claims with interval and verdict."""
+    rows = []
+    for point in table.itertuples(index=False):
+        entry = point._asdict()
+        row = {"φ": f"{entry['phi']:.2f}", "μ": f"{entry['mu']:g}", "steady state": entry["steady"]}
+        simulated = not str(entry["steady"]).startswith("not run")
+        row["kn, dt"] = f"{entry['kn']:.3g}, {entry['dt']:.3g}" if simulated else MISSING
+        for column, error, heading in _MAP_VALUES:
+            row[heading] = format_value_error(entry.get(column), entry.get(error)) if simulated else MISSING
+        for claim in _MAP_CLAIMS:
+            mean = entry.get(f"{claim}_mean")
+            row[claim] = (f"{format_interval(mean, entry.get(f'{claim}_low'), entry.get(f'{claim}_high'))} "
+                          f"{entry.get(f'{claim}_verdict')}") if simulated and not _is_missing(mean) else MISSING
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def write_map_page(table: pd.DataFrame, path: str | os.PathLike) -> Path:
+    """The map over the state point as an HTML page."""
+    note = ("Steady values: mean over the steady window, ± the standard error from the scatter of the seed "
+            "means; fits ± jackknife errors over seeds; claims: seed mean [t-interval] and verdict "
+            "(docs/verdict_statistics.md). Steady state: relative drift of <nn>₁₂ and η_r between the halves "
+            "of the steady window within ±10% at the 95% level (suspension_fabric.state_map).")
+    return write_html_tables(path, "Map over the state point", [("Per state point", map_display_table(table), note)])

@@ -1,4 +1,5 @@
-"""Helpers for the thin Snakemake scripts in workflow/scripts: logging to the rule's log."""
+"""Helpers for the thin Snakemake scripts in workflow/scripts: logging to the rule's log, and the
+config of the job's study."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ import sys
 import traceback
 from pathlib import Path
 
-__all__ = ["logged"]
+__all__ = ["logged", "job_study_config"]
 
 
 @contextlib.contextmanager
@@ -23,3 +24,11 @@ def logged(log_path: str | os.PathLike):
             traceback.print_exc(file=log)
             sys.__stderr__.write(f"error: see {log_path}\n")
             raise
+
+
+def job_study_config(snakemake_object) -> dict:
+    """The validated config of the study a job belongs to (its ``study`` wildcard): the workflow's
+    config itself, or one point of its campaign (suspension_fabric.campaign)."""
+    from .campaign import study_configs
+
+    return study_configs(snakemake_object.config)[snakemake_object.wildcards.study]

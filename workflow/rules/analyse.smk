@@ -1,7 +1,7 @@
 rule aggregate_startup:
     """Seed means and standard errors of startup shear; its steady state (the fit targets)."""
     input:
-        expand(f"{RESULTS}/seed{{seed}}/startup/fabric.csv", seed=SEEDS),
+        seed_runs(f"{RESULTS}/seed{{seed}}/startup/fabric.csv"),
     output:
         runs=f"{RESULTS}/tables/startup_runs.csv",
         aggregate=f"{RESULTS}/tables/startup_aggregate.csv",
@@ -9,7 +9,7 @@ rule aggregate_startup:
     params:
         kind="startup",
         quantity="fabric",
-        steady_window=config["analysis"]["steady_window"],
+        steady_window=setting("analysis", "steady_window"),
     conda:
         CONDA_ENV
     log:
@@ -21,7 +21,7 @@ rule aggregate_startup:
 rule aggregate_rotation:
     """Seed means and standard errors per angle and post-rotation strain."""
     input:
-        expand(f"{RESULTS}/seed{{seed}}/rotation_theta{{angle}}/fabric.csv", seed=SEEDS, angle=ANGLES),
+        seed_runs(f"{RESULTS}/seed{{seed}}/rotation_theta{{angle}}/fabric.csv"),
     output:
         runs=f"{RESULTS}/tables/rotation_runs.csv",
         aggregate=f"{RESULTS}/tables/rotation_aggregate.csv",
@@ -39,7 +39,7 @@ rule aggregate_rotation:
 rule aggregate_stress_startup:
     """Seed means and standard errors of the stress in startup shear; its steady state."""
     input:
-        expand(f"{RESULTS}/seed{{seed}}/startup/stress.csv", seed=SEEDS),
+        seed_runs(f"{RESULTS}/seed{{seed}}/startup/stress.csv"),
     output:
         runs=f"{RESULTS}/tables/stress_startup_runs.csv",
         aggregate=f"{RESULTS}/tables/stress_startup_aggregate.csv",
@@ -47,7 +47,7 @@ rule aggregate_stress_startup:
     params:
         kind="startup",
         quantity="stress",
-        steady_window=config["analysis"]["steady_window"],
+        steady_window=setting("analysis", "steady_window"),
     conda:
         CONDA_ENV
     log:
@@ -59,7 +59,7 @@ rule aggregate_stress_startup:
 rule aggregate_stress_rotation:
     """Seed means and standard errors of the stress per angle and post-rotation strain."""
     input:
-        expand(f"{RESULTS}/seed{{seed}}/rotation_theta{{angle}}/stress.csv", seed=SEEDS, angle=ANGLES),
+        seed_runs(f"{RESULTS}/seed{{seed}}/rotation_theta{{angle}}/stress.csv"),
     output:
         runs=f"{RESULTS}/tables/stress_rotation_runs.csv",
         aggregate=f"{RESULTS}/tables/stress_rotation_aggregate.csv",

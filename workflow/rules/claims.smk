@@ -5,13 +5,17 @@ import os
 
 from suspension_fabric.dataset import read_dataset, run_names
 
-COMPARISONS = config["verdicts"]["comparisons"]
-for _label, _folder in COMPARISONS.items():  # named early: a missing dataset stops before any job
-    if not os.path.isfile(os.path.join(_folder, "dataset.json")):
-        raise ValueError(f"config key 'verdicts.comparisons': '{_label}' names {_folder}, which holds no "
-                         "dataset.json (a reference dataset folder, suspension_fabric.dataset)")
-COMPARISON_FILES = [f"{folder}/{name}/fabric.csv" for folder in COMPARISONS.values()
-                    for name in run_names(read_dataset(folder)["config"])]
+COMPARISON_FILES = {}  # per study: every fabric table of the datasets it is compared with
+for _study, _config in STUDIES.items():
+    for _label, _folder in _config["verdicts"]["comparisons"].items():  # named early: stops before any job
+        if not os.path.isfile(os.path.join(_folder, "dataset.json")):
+            raise ValueError(f"config key 'verdicts.comparisons': '{_label}' names {_folder}, which holds no "
+                             "dataset.json (a reference dataset folder, suspension_fabric.dataset)")
+    COMPARISON_FILES[_study] = [
+        f"{folder}/{name}/fabric.csv"
+        for folder in _config["verdicts"]["comparisons"].values()
+        for name in run_names(read_dataset(folder)["config"])
+    ]
 
 
 rule claims:
@@ -24,11 +28,11 @@ rule claims:
         values=f"{RESULTS}/tables/claims_values.csv",
         fits=f"{RESULTS}/tables/claims_seed_fits.csv",
     params:
-        phi=config["particles"]["phi"],
-        steady_window=config["analysis"]["steady_window"],
-        startup_strain=config["run"]["startup_strain"],
-        rotation_strain=config["run"]["rotation_strain"],
-        window=config["verdicts"]["window"],
+        phi=setting("particles", "phi"),
+        steady_window=setting("analysis", "steady_window"),
+        startup_strain=setting("run", "startup_strain"),
+        rotation_strain=setting("run", "rotation_strain"),
+        window=setting("verdicts", "window"),
     conda:
         CONDA_ENV
     log:
@@ -45,7 +49,7 @@ rule verdicts:
         predictions=rules.predict.output[0],
         statistics=rules.claims.output.statistics,
         values=rules.claims.output.values,
-        comparisons=COMPARISON_FILES,
+        comparisons=lambda wildcards: COMPARISON_FILES[wildcards.study],
     output:
         verdicts=f"{RESULTS}/tables/verdicts.csv",
         per_angle=f"{RESULTS}/tables/claims_per_angle.csv",
@@ -56,9 +60,9 @@ rule verdicts:
         overshoot=f"{RESULTS}/tables/overshoot_table.csv",
         page=report(f"{RESULTS}/tables/verdicts.html", caption="../report/table_verdicts.rst", category="Tables"),
     params:
-        comparisons=COMPARISONS,
-        level=config["verdicts"]["level"],
-        window=config["verdicts"]["window"],
+        comparisons=setting("verdicts", "comparisons"),
+        level=setting("verdicts", "level"),
+        window=setting("verdicts", "window"),
     conda:
         CONDA_ENV
     log:
@@ -75,7 +79,7 @@ rule figure_claims:
         pdf=f"{RESULTS}/figures/fig5_claims.pdf",
         png=report(f"{RESULTS}/figures/fig5_claims.png", caption="../report/fig5.rst", category="Figures"),
     params:
-        level=config["verdicts"]["level"],
+        level=setting("verdicts", "level"),
     conda:
         CONDA_ENV
     log:

@@ -1,27 +1,63 @@
-# Shared names: output root, run directories, and the lists the aggregate rules expand.
+# Shared names: the studies of this config, their output roots, and the lists the aggregate rules expand.
+# One config is one study, or a campaign of studies (one per state point, suspension_fabric.campaign):
+# every rule carries the {study} wildcard and reads its settings from STUDIES[study].
+import re
+
+from suspension_fabric.campaign import study_configs
 from suspension_fabric.config import angle_label, simulation_settings
 from suspension_fabric.lammps import PACK_FILES, RUN_FILES
 from suspension_fabric.lammps.plugin import plugin_sources
 from suspension_fabric.resources import PLUGIN_LIBRARY_NAME
 
-RESULTS = f"results/{config['study']}"
-SEEDS = config["seeds"]
-ANGLES = [angle_label(a) for a in config["angles_deg"]]
-ANGLE_VALUE = dict(zip(ANGLES, config["angles_deg"]))
+STUDIES = study_configs(config)
+RESULTS = "results/{study}"
 PLUGIN_LIBRARY = f"build/plugin/{PLUGIN_LIBRARY_NAME}"
 PLUGIN_SOURCES = [str(path) for path in plugin_sources()]
-FIGURES = expand(f"{RESULTS}/figures/{{name}}.{{ext}}", name=["fig1_startup", "fig2_rotation"], ext=["pdf", "png"])
-STRESS_FIGURES = expand(
-    f"{RESULTS}/figures/{{name}}.{{ext}}", name=["fig3_stress", "fig4_stress_rotation"], ext=["pdf", "png"]
-)
+FIGURE_NAMES = ["fig1_startup", "fig2_rotation"]
+STRESS_FIGURE_NAMES = ["fig3_stress", "fig4_stress_rotation"]
 # The config keys that change a simulation's outputs (others, like the failure bounds, the
 # restart interval or the MPI rank count, never rerun a finished simulation).
-SIMULATION_SETTINGS = simulation_settings(config)
+SIMULATION_SETTINGS = {name: simulation_settings(study) for name, study in STUDIES.items()}
+SIMULATED_STUDIES = [name for name, study in STUDIES.items() if not study["dataset"]]
+DATASET_STUDIES = [name for name, study in STUDIES.items() if study["dataset"]]
+
+
+def study_pattern(names):
+    return "|".join(re.escape(name) for name in names)
 
 
 wildcard_constraints:
+    study=study_pattern(STUDIES),
     seed=r"\d+",
     angle=r"m?[0-9.]+(e[-+]?\d+)?",
+
+
+def setting(*keys):
+    """A params function: the value at keys (e.g. "run", "startup_strain") of the job's study."""
+
+    def value(wildcards):
+        found = STUDIES[wildcards.study]
+        for key in keys:
+            found = found[key]
+        return found
+
+    return value
+
+
+def seed_runs(path):
+    """An input function: path (with {seed} and, for rotations, {angle}) for every seed and angle of the study."""
+
+    def files(wildcards):
+        study = STUDIES[wildcards.study]
+        angles = [angle_label(a) for a in study["angles_deg"]]
+        return expand(path, study=wildcards.study, seed=study["seeds"], angle=angles)
+
+    return files
+
+
+def angle_value(wildcards):
+    study = STUDIES[wildcards.study]
+    return {angle_label(a): a for a in study["angles_deg"]}[wildcards.angle]
 
 
 def run_outputs(run_dir, files=RUN_FILES):

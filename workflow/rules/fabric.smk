@@ -6,9 +6,10 @@ rule fabric_table:
     output:
         f"{RESULTS}/seed{{seed}}/{{run}}/fabric.csv",
     wildcard_constraints:
+        study=study_pattern(SIMULATED_STUDIES),
         run=r"startup|rotation_theta[^/]+",
     params:
-        eps=config["analysis"]["eps"],
+        eps=setting("analysis", "eps"),
     conda:
         CONDA_ENV
     log:
@@ -26,6 +27,7 @@ rule stress_table:
     output:
         f"{RESULTS}/seed{{seed}}/{{run}}/stress.csv",
     wildcard_constraints:
+        study=study_pattern(SIMULATED_STUDIES),
         run=r"startup|rotation_theta[^/]+",
     conda:
         CONDA_ENV

@@ -6,8 +6,8 @@ rule fit_models:
     output:
         f"{RESULTS}/fits.json",
     params:
-        phi=config["particles"]["phi"],
-        steady_window=config["analysis"]["steady_window"],
+        phi=setting("particles", "phi"),
+        steady_window=setting("analysis", "steady_window"),
     conda:
         CONDA_ENV
     log:
@@ -25,8 +25,8 @@ rule predict:
     output:
         f"{RESULTS}/tables/predictions.csv",
     params:
-        startup_strain=config["run"]["startup_strain"],
-        polar_step=config["models"]["polar_angle_step_deg"],
+        startup_strain=setting("run", "startup_strain"),
+        polar_step=setting("models", "polar_angle_step_deg"),
     conda:
         CONDA_ENV
     log:
@@ -75,9 +75,9 @@ rule stress_relation:
         transients=f"{RESULTS}/tables/stress_viscosity_transients.csv",
         deficits=f"{RESULTS}/tables/stress_viscosity_deficit_per_seed.csv",
     params:
-        steady_window=config["analysis"]["steady_window"],
-        window=config["verdicts"]["window"],
-        level=config["verdicts"]["level"],
+        steady_window=setting("analysis", "steady_window"),
+        window=setting("verdicts", "window"),
+        level=setting("verdicts", "level"),
     conda:
         CONDA_ENV
     log:

@@ -3,7 +3,7 @@ rule pack:
     output:
         **run_outputs(f"{RESULTS}/seed{{seed}}/packing", PACK_FILES),
     params:
-        particles=config["particles"],
+        particles=setting("particles"),
     conda:
         CONDA_ENV
     log:
@@ -21,11 +21,11 @@ rule startup:
         **run_outputs(f"{RESULTS}/seed{{seed}}/startup"),
     params:
         kind="startup",
-        settings=SIMULATION_SETTINGS,
-        strain=config["run"]["startup_strain"],
-    threads: config["run"]["mpi_ranks"]
+        settings=lambda wildcards: SIMULATION_SETTINGS[wildcards.study],
+        strain=setting("run", "startup_strain"),
+    threads: setting("run", "mpi_ranks")
     resources:
-        mpi_ranks=config["run"]["mpi_ranks"],
+        mpi_ranks=setting("run", "mpi_ranks"),
     conda:
         CONDA_ENV
     log:
@@ -44,12 +44,12 @@ rule rotate:
         **run_outputs(f"{RESULTS}/seed{{seed}}/rotation_theta{{angle}}"),
     params:
         kind="rotation",
-        settings=SIMULATION_SETTINGS,
-        strain=config["run"]["rotation_strain"],
-        theta_deg=lambda wildcards: ANGLE_VALUE[wildcards.angle],
-    threads: config["run"]["mpi_ranks"]
+        settings=lambda wildcards: SIMULATION_SETTINGS[wildcards.study],
+        strain=setting("run", "rotation_strain"),
+        theta_deg=angle_value,
+    threads: setting("run", "mpi_ranks")
     resources:
-        mpi_ranks=config["run"]["mpi_ranks"],
+        mpi_ranks=setting("run", "mpi_ranks"),
     conda:
         CONDA_ENV
     log:

@@ -3,15 +3,15 @@ over the seeds of the startup runs (rule fit_models)."""
 import pandas as pd
 
 from suspension_fabric import model_vs_simulation, tables
-from suspension_fabric.workflow_io import logged
+from suspension_fabric.workflow_io import job_study_config, logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
     fits = model_vs_simulation.fit_steady_state(pd.read_csv(sm.input.steady), sm.params.phi,
                                                 tables.read_fabric_table(sm.input.runs), *sm.params.steady_window)
-    fits["provenance"] = {"study": sm.config["study"], "seeds": sm.config["seeds"],
-                          "N": sm.config["particles"]["n"], "steady_state_table": sm.input.steady,
-                          "runs_table": sm.input.runs}
+    study = job_study_config(sm)
+    fits["provenance"] = {"study": study["study"], "seeds": study["seeds"], "N": study["particles"]["n"],
+                          "steady_state_table": sm.input.steady, "runs_table": sm.input.runs}
     model_vs_simulation.write_fits(fits, sm.output[0])
     for key, parameter in (("gw", "beta"), ("modified", "beta"), ("modified", "A")):
         entry = fits[key]

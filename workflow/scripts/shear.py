@@ -2,13 +2,14 @@
 from pathlib import Path
 
 from suspension_fabric.lammps import ForceModel, ShearSettings, run_rotation, run_startup
-from suspension_fabric.workflow_io import logged
+from suspension_fabric.workflow_io import job_study_config, logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
+    study = job_study_config(sm)
     common = dict(
-        strain_total=sm.params.strain, force_model=ForceModel.from_config(sm.config, plugin=sm.input.plugin),
-        settings=ShearSettings.from_config(sm.config),
+        strain_total=sm.params.strain, force_model=ForceModel.from_config(study, plugin=sm.input.plugin),
+        settings=ShearSettings.from_config(study),
         overwrite=True,  # Snakemake decided this job must run; the old folder goes only on success
     )
     output_dir = Path(sm.output.trajectory).parent

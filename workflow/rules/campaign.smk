@@ -1,0 +1,56 @@
+# The map over a campaign's state points (suspension_fabric.state_map): one row per point from its
+# own study's tables, then the map figures. Every map output depends on every point's rules.
+CAMPAIGN_RESULTS = f"results/{config['study']}"
+POINTS = {name.split("/", 1)[1]: name for name in STUDIES}  # point name -> its study
+
+
+def per_point(path):
+    """An input function's list: path (a study output with {study}) for every point of the campaign."""
+    return [path.format(study=study) for study in STUDIES]
+
+
+rule campaign_map:
+    """The map table: per point the steady fabric, Z, stress, fits, steady-state check and claim statistics."""
+    input:
+        steady=per_point(rules.aggregate_startup.output.steady),
+        stress_steady=per_point(rules.aggregate_stress_startup.output.steady),
+        fits=per_point(rules.fit_models.output[0]),
+        verdicts=per_point(rules.verdicts.output.verdicts),
+        startup_runs=per_point(rules.aggregate_startup.output.runs),
+        stress_runs=per_point(rules.aggregate_stress_startup.output.runs),
+    output:
+        table=f"{CAMPAIGN_RESULTS}/tables/map.csv",
+        page=report(f"{CAMPAIGN_RESULTS}/tables/map.html", caption="../report/table_map.rst", category="Map"),
+    params:
+        points=POINTS,
+        not_run=config["campaign"]["not_run"],
+        level=config["verdicts"]["level"],
+    conda:
+        CONDA_ENV
+    log:
+        f"{CAMPAIGN_RESULTS}/logs/campaign_map.log",
+    script:
+        "../scripts/campaign_map.py"
+
+
+rule campaign_figures:
+    """Map figures: model parameters, steady fabric and Z, eta_r and Pi with the BGP anchor, model errors, against phi."""
+    input:
+        rules.campaign_map.output.table,
+    output:
+        **{
+            f"{name}_{ext}": f"{CAMPAIGN_RESULTS}/figures/{name}.{ext}"
+            for name in ("map_models", "map_fabric", "map_rheology", "map_model_errors")
+            for ext in ("pdf", "png")
+        },
+    params:
+        level=config["verdicts"]["level"],
+    conda:
+        CONDA_ENV
+    log:
+        f"{CAMPAIGN_RESULTS}/logs/campaign_figures.log",
+    script:
+        "../scripts/campaign_figures.py"
+
+
+CAMPAIGN_TARGETS = [*rules.campaign_map.output, *rules.campaign_figures.output]

@@ -1,0 +1,12 @@
+"""Snakemake: the map figures against phi, one line per mu (rule campaign_figures)."""
+from pathlib import Path
+
+import pandas as pd
+
+from suspension_fabric.map_figures import save_map_figures
+from suspension_fabric.workflow_io import logged
+
+sm = snakemake  # noqa: F821 (injected by Snakemake)
+with logged(sm.log[0]):
+    for path in save_map_figures(pd.read_csv(sm.input[0]), sm.params.level, Path(sm.output[0]).parent):
+        print(path)
