@@ -44,27 +44,6 @@ if config["campaign"]:
     include: "workflow/rules/campaign.smk"
 
 
-def study_targets(study):
-    """Every figure and table of one study (the stress ones when its runs recorded the stress)."""
-    targets = [
-        *rules.figure_startup.output,
-        *rules.figure_rotation.output,
-        *rules.fit_models.output,
-        rules.model_errors.output.table,
-        *rules.report_tables.output,
-        *rules.verdicts.output,
-        *rules.figure_claims.output,
-    ]
-    if study not in STRESSLESS_STUDIES:
-        targets += [
-            *rules.figure_stress_startup.output,
-            *rules.figure_stress_rotation.output,
-            *rules.stress_relation.output,
-            *rules.report_stress.output,
-        ]
-    return expand(targets, study=study)
-
-
 rule all:
     default_target: True
     input:

@@ -13,7 +13,7 @@ Each study (a dataset folder, or results/<study>) repeats a committed dataset ma
 explicit-spring engine (contact springs explicit, block Jacobi, kn = 1.25e9, dt = 2e-5) with
 another engine setting, from the same packings with independent trajectories: by default the
 N = 500 study of data/default (seeds 1-3, rotations every 30 degrees, 2 strain after each),
-or with --reference data/reference the N = 1000 one (seeds 1-4).
+or with --reference data/reference_v1 the N = 1000 one (seeds 1-4, the explicit-spring engine).
 
 Steady state over strain 2-5 of the startup: per quantity the seed mean with its
 correlation-aware standard error (tables.steady_state), and z = (study - reference) /

@@ -14,7 +14,7 @@ import pandas as pd
 import pytest
 import yaml
 
-from workflow_helpers import REPO, RESULTS, TEST_CONFIG, copy_workflow, job_counts, snakemake
+from workflow_helpers import REPO, RESULTS, TEST_CONFIG, copy_workflow, dry_run_jobs, job_counts, snakemake
 
 pytestmark = pytest.mark.workflow
 
@@ -134,7 +134,7 @@ def test_rerun_one_angle_one_seed(study):
     assert counts["aggregate_rotation"] == 1 and counts["figure_rotation"] == 1 and counts["figure_startup"] == 1
     for rule in ("pack", "startup", "aggregate_startup", "fit_models", "build_plugin"):
         assert rule not in counts
-    wildcards = set(re.findall(r"wildcards: (seed=\d+, (?:angle|run)=\S+)", result.stdout))
+    wildcards = {job["wildcards"] for job in dry_run_jobs(result.stdout) if job["wildcards"]}
     assert wildcards == {"seed=1, angle=90", "seed=1, run=rotation_theta90"}, wildcards
 
 

@@ -56,8 +56,7 @@ def campaign_points(config: dict) -> dict[str, dict]:
     points = {}
     for name in (name for name in grid if name in selected):
         phi, mu = grid[name]
-        point = _merged(base, {"study": f"{config['study']}/{name}", "particles": {"phi": phi},
-                               "forces": {"mu": mu}})
+        point = _merged(base, {"study": name, "particles": {"phi": phi}, "forces": {"mu": mu}})
         point = _merged(point, campaign["overrides"].get(name, {}))
         if campaign["datasets"]:
             point["dataset"] = f"{campaign['datasets']}/{name}"
@@ -66,6 +65,7 @@ def campaign_points(config: dict) -> dict[str, dict]:
         except ConfigError as err:
             raise ConfigError(f"campaign point {name} (config key 'campaign.overrides.{name}' or the base "
                               f"study): {err}") from None
+        points[name]["study"] = f"{config['study']}/{name}"  # its results folder: results/<campaign>/<point>
     return points
 
 

@@ -16,6 +16,9 @@ from it (rule ``import_run_table``, which checks each file's SHA-256) instead of
 config must describe the same simulations (:func:`check_config_matches`).
 
     python -m suspension_fabric.dataset export --config config/paper.yaml --to data/reference
+
+A campaign config (suspension_fabric.campaign) exports one dataset per point, ``<to>/<point>``;
+``campaign.datasets: <to>`` then rebuilds the map from them.
 """
 
 from __future__ import annotations
@@ -33,13 +36,16 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from .campaign import study_configs
 from .config import angle_label, load_config, simulation_settings
 from .lammps.plugin import plugin_sources
+from .stress import read_stress_csv
 from .stressio import read_stress_table
 from .tables import read_fabric_table
 
 __all__ = ["DATASET_FILE", "run_names", "export_dataset", "read_dataset", "check_config_matches",
-           "import_run_table", "has_run_tables", "read_dataset_stress", "read_fabric_runs", "RUN_TABLES"]
+           "import_run_table", "has_run_tables", "read_dataset_stress", "read_fabric_runs", "read_stress_runs",
+           "RUN_TABLES"]
 
 DATASET_FILE = "dataset.json"
 #: The analysed per-run tables a dataset carries (the stress one only once recorded).
@@ -215,6 +221,19 @@ def read_fabric_runs(folder: Path) -> tuple[dict, pd.DataFrame, pd.DataFrame]:
     return record, pd.concat(startup, ignore_index=True), pd.concat(rotation, ignore_index=True)
 
 
+def read_stress_runs(folder: Path) -> tuple[pd.DataFrame, pd.DataFrame] | None:
+    """A dataset's per-frame stress tables, concatenated: (startup runs, rotation runs), every
+    file's SHA-256 checked; None for a dataset exported before the stress parts were recorded."""
+    record = read_dataset(folder)
+    if not has_run_tables(record, "stress.csv"):
+        return None
+    startup, rotation = [], []
+    for name in run_names(record["config"]):
+        table = read_stress_csv(_checked_file(folder, record, f"{name}/stress.csv"))
+        (startup if name.endswith("/startup") else rotation).append(table)
+    return pd.concat(startup, ignore_index=True), pd.concat(rotation, ignore_index=True)
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description="Export a finished study's tables as a dataset.")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -226,10 +245,16 @@ def main(argv: list[str] | None = None) -> None:
                         help="leave out each run's raw stress table (stress.csv.gz), which no rule reads")
     args = parser.parse_args(argv)
     config = load_config(args.config)
-    results = args.results or Path("results") / config["study"]
-    record = export_dataset(config, results, args.to, raw_stress=not args.without_raw_stress)
-    done = sum(1 for key in record["files"] if key.endswith("/run.json"))
-    print(f"{args.to}: {done} runs exported, {len(record['runs_missing'])} missing")
+    if config["campaign"] and args.results:
+        parser.error("--results applies to a single study; a campaign's points are read from results/<study>/<point>")
+    # a campaign: one dataset per point, <to>/<point>
+    targets = ({args.to / study["study"].split("/", 1)[1]: study for study in study_configs(config).values()}
+               if config["campaign"] else {args.to: config})
+    for target, study in targets.items():
+        results = args.results or Path("results") / study["study"]
+        record = export_dataset(study, results, target, raw_stress=not args.without_raw_stress)
+        done = sum(1 for key in record["files"] if key.endswith("/run.json"))
+        print(f"{target}: {done} runs exported, {len(record['runs_missing'])} missing")
 
 
 if __name__ == "__main__":

@@ -34,8 +34,8 @@ import pandas as pd  # noqa: E402
 from .model_vs_simulation import MODEL_NAMES  # noqa: E402
 from .stress_model import SOURCES  # noqa: E402
 
-__all__ = ["figure_startup", "figure_rotation", "figure_stress_startup", "figure_stress_rotation", "figure_claims",
-           "save_figure", "mirror_negative_angles"]
+__all__ = ["figure_startup", "figure_rotation", "polar_cell_errors", "figure_stress_startup", "figure_stress_rotation",
+           "figure_claims", "save_figure", "mirror_negative_angles"]
 
 _STARTUP_COMPONENTS = {"n11": "C0", "n22": "C1", "n33": "C2", "n12": "C3"}
 _LABELS = {"n11": r"$\langle nn\rangle_{11}$", "n22": r"$\langle nn\rangle_{22}$",
@@ -141,6 +141,12 @@ def _polar_grid(table: pd.DataFrame, column: str):
     return np.radians(fine_edges), strain_edges, grid[:, owner]
 
 
+def polar_cell_errors(simulation: pd.DataFrame, n12_ss: float) -> dict[str, float]:
+    """Largest seed-mean standard error over the cells (angle, strain frame) of the polar maps,
+    relative to |<nn>_12^ss|, for <nn>'_12 and <nn>'_23 (the figure's patchwork criterion)."""
+    return {c: float(np.nanmax(simulation[f"{c}_sem"]) / abs(n12_ss)) for c in ("n12", "n23")}
+
+
 def figure_rotation(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: dict):
     """Paper Fig. 2 from the rotation seed aggregate (theta in degrees) and model predictions."""
     n12_ss = fits["targets"]["n12"]["mean"]
@@ -168,8 +174,10 @@ def figure_rotation(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: d
             ax.tick_params(labelsize=7)
             if r == len(rows) - 1:
                 fig.colorbar(mesh, ax=axes[:, c], orientation="horizontal", shrink=0.8, label=label)
+    cell = polar_cell_errors(simulation, n12_ss)
     note = ("Radius: strain after rotation; angle: rotation angle theta. "
-            f"<nn>_12^ss = {n12_ss:.4g} (simulated steady state).")
+            f"<nn>_12^ss = {n12_ss:.4g} (simulated steady state); largest seed-mean standard error of a "
+            f"cell: {cell['n12']:.3f} (12) and {cell['n23']:.3f} (23) of |<nn>_12^ss|, no smoothing.")
     if mirrored:
         note += " theta < 0 of the simulation filled by symmetry (12 even, 23 odd in theta)."
     fig.suptitle(note, fontsize=8, wrap=True)

@@ -17,8 +17,8 @@ from typing import NamedTuple
 import numpy as np
 from scipy import stats
 
-__all__ = ["LEVEL", "CONFIRMED", "REFUTED", "UNDECIDED", "Interval", "t_interval", "decide", "seeds_needed",
-           "jackknife", "seed_bootstrap"]
+__all__ = ["LEVEL", "CONFIRMED", "REFUTED", "UNDECIDED", "Interval", "t_interval", "welch_interval", "decide",
+           "seeds_needed", "jackknife", "seed_bootstrap"]
 
 #: Default confidence level of every interval (two-sided); config key ``verdicts.level``.
 LEVEL = 0.95
@@ -143,3 +143,22 @@ def seed_bootstrap(statistic, seeds, level: float = LEVEL) -> tuple[float, float
     values = np.array([statistic(list(sample)) for sample in resamples], dtype=float)
     low, high = np.quantile(values, [0.5 - level / 2.0, 0.5 + level / 2.0])
     return value, float(low), float(high)
+
+
+def welch_interval(first, second, level: float = LEVEL) -> Interval:
+    """Interval of mean(first) - mean(second) for two independent sets of per-seed values with
+    unequal spreads: Welch's t with the Welch-Satterthwaite degrees of freedom. ``n`` is the
+    smaller set's size; each set needs at least two values."""
+    level = _check_level(level)
+    a, b = (np.asarray(values, dtype=float).ravel() for values in (first, second))
+    if a.size < 2 or b.size < 2:
+        raise ValueError(f"welch_interval needs at least two values per set, got {a.size} and {b.size}")
+    if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
+        raise ValueError("welch_interval: non-finite per-seed values")
+    va, vb = a.var(ddof=1) / a.size, b.var(ddof=1) / b.size
+    difference, se = float(a.mean() - b.mean()), float(np.sqrt(va + vb))
+    if se == 0.0:
+        return Interval(difference, 0.0, difference, difference, min(a.size, b.size), level)
+    dof = (va + vb) ** 2 / (va**2 / (a.size - 1) + vb**2 / (b.size - 1))
+    half = float(stats.t.ppf(0.5 + level / 2.0, dof)) * se
+    return Interval(difference, se, difference - half, difference + half, min(a.size, b.size), level)

@@ -4,11 +4,6 @@ CAMPAIGN_RESULTS = f"results/{config['study']}"
 POINTS = {name.split("/", 1)[1]: name for name in STUDIES}  # point name -> its study
 
 
-def per_point(path):
-    """An input function's list: path (a study output with {study}) for every point of the campaign."""
-    return [path.format(study=study) for study in STUDIES]
-
-
 rule campaign_map:
     """The map table: per point the steady fabric, Z, stress, fits, steady-state check and claim statistics."""
     input:

@@ -86,3 +86,26 @@ rule figure_claims:
         f"{RESULTS}/logs/figure_claims.log",
     script:
         "../scripts/figure_claims.py"
+
+
+rule compare_datasets:
+    """The study against its comparison datasets: steady quantities and viscosity deficits per seed, t- and Welch intervals."""
+    input:
+        startup=rules.aggregate_startup.output.runs,
+        stress_startup=rules.aggregate_stress_startup.output.runs,
+        stress_rotation=rules.aggregate_stress_rotation.output.runs,
+        comparisons=lambda wildcards: COMPARISON_FILES[wildcards.study],
+    output:
+        f"{RESULTS}/tables/dataset_comparison.csv",
+    params:
+        comparisons=setting("verdicts", "comparisons"),
+        n=setting("particles", "n"),
+        steady_window=setting("analysis", "steady_window"),
+        window=setting("verdicts", "window"),
+        level=setting("verdicts", "level"),
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/compare_datasets.log",
+    script:
+        "../scripts/compare_datasets.py"

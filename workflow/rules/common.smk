@@ -60,6 +60,34 @@ def angle_value(wildcards):
     return {angle_label(a): a for a in study["angles_deg"]}[wildcards.angle]
 
 
+def study_targets(study):
+    """Every figure and table of one study (the stress ones when its runs recorded the stress)."""
+    targets = [
+        *rules.figure_startup.output,
+        *rules.figure_rotation.output,
+        *rules.fit_models.output,
+        rules.model_errors.output.table,
+        *rules.report_tables.output,
+        *rules.verdicts.output,
+        *rules.figure_claims.output,
+    ]
+    if study not in STRESSLESS_STUDIES:
+        targets += [
+            *rules.figure_stress_startup.output,
+            *rules.figure_stress_rotation.output,
+            *rules.stress_relation.output,
+            *rules.report_stress.output,
+        ]
+        if STUDIES[study]["verdicts"]["comparisons"]:
+            targets += rules.compare_datasets.output
+    return expand(targets, study=study)
+
+
+def per_point(path):
+    """Path (a study output with {study}) for every study of the config: a campaign's points."""
+    return [path.format(study=study) for study in STUDIES]
+
+
 def run_outputs(run_dir, files=RUN_FILES):
     return {role: f"{run_dir}/{name}" for role, name in files.items()}
 
