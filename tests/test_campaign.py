@@ -148,7 +148,9 @@ def test_a_campaign_runs_by_the_study_rules_and_its_map_rebuilds_from_its_datase
     (workdir / "config" / "tmap.yaml").write_text("study: tmap\ncampaign:\n  datasets: data/tcamp\n")
     plan = snakemake(workdir, "-n", "--configfile", "config/tcamp.yaml", "config/tmap.yaml")
     counts = job_counts(plan.stdout)
-    assert plan.returncode == 0 and counts["import_run_table"] == 2 * 2 * 3 * 2, plan.stderr[-3000:]
+    assert plan.returncode == 0, plan.stderr[-3000:]
+    assert {rule: count for rule, count in counts.items() if rule.startswith("import")} == {
+        "import_run_tables_0": 1, "import_run_tables_1": 1}  # one job per point
     assert not set(counts) & {"build_plugin", "pack", "startup", "rotate", "fabric_table", "stress_table"}
     rebuilt = snakemake(workdir, "--configfile", "config/tcamp.yaml", "config/tmap.yaml")
     assert rebuilt.returncode == 0, rebuilt.stderr[-3000:]

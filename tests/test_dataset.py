@@ -70,7 +70,7 @@ def test_a_study_on_the_dataset_runs_no_simulation_and_reproduces_the_fits(study
     plan = snakemake(workdir, "--configfile", "config/reference.yaml", "-n")
     assert plan.returncode == 0, (plan.stdout + plan.stderr)[-3000:]
     rules = {job["rule"] for job in dry_run_jobs(plan.stdout + plan.stderr)}
-    assert "import_run_table" in rules and not rules & SIMULATION_RULES
+    assert "import_run_tables" in rules and not rules & SIMULATION_RULES
     result = snakemake(workdir, "--configfile", "config/reference.yaml")
     assert result.returncode == 0, result.stderr[-3000:]
     fits = json.loads((workdir / RESULTS / "fits.json").read_text())
@@ -103,7 +103,7 @@ def test_a_dataset_without_stress_tables_builds_everything_else(study, dataset, 
     plan = snakemake(workdir, "--configfile", "config/old.yaml", "-n")
     assert plan.returncode == 0, (plan.stdout + plan.stderr)[-3000:]
     rules = {job["rule"] for job in dry_run_jobs(plan.stdout + plan.stderr)}
-    assert {"import_run_table", "fit_models", "figure_rotation", "verdicts"} <= rules
+    assert {"import_run_tables", "fit_models", "figure_rotation", "verdicts"} <= rules
     assert not {rule for rule in rules if "stress" in rule}, rules
     assert "has no per-run stress tables; the stress rules are left out" in plan.stdout + plan.stderr
 

@@ -1,0 +1,14 @@
+"""Snakemake: every run's fabric (and stress) table of a study from its reference dataset
+(rule import_run_tables), each file's SHA-256 checked."""
+from pathlib import Path
+
+from suspension_fabric.dataset import import_run_table
+from suspension_fabric.workflow_io import logged
+
+sm = snakemake  # noqa: F821 (injected by Snakemake)
+with logged(sm.log[0]):
+    folder = Path(sm.input[0]).parent
+    for (run, table), target in zip(sm.params.runs, sm.output):
+        Path(target).parent.mkdir(parents=True, exist_ok=True)
+        import_run_table(folder, run, table, target)
+    print(f"{len(sm.output)} tables from {folder}, SHA-256 checked")
