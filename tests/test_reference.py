@@ -1,7 +1,8 @@
-"""The committed reference dataset (data/reference, exported from config/paper.yaml) and the
-study that rebuilds the paper's figures and the stress figures from it (config/reference.yaml):
-no simulation job in its plan, every run's files present with their recorded checksums, and its
-fits equal to the ones recorded with the data."""
+"""The committed reference dataset v2 (data/reference, exported from config/paper.yaml; its
+N = 2000 companion data/reference_n2000 from config/paper_n2000.yaml) and the study that rebuilds
+the paper's figures and the stress figures from it (config/reference.yaml): no simulation job in
+its plan, every run's files present with their recorded checksums, its fits equal to the ones
+recorded with the data, and a polar figure whose every cell is resolved by the seeds."""
 
 from __future__ import annotations
 
@@ -13,6 +14,7 @@ import pytest
 
 from suspension_fabric.config import load_config
 from suspension_fabric.dataset import check_config_matches, has_run_tables, read_dataset, run_names
+from suspension_fabric.figures import polar_cell_errors
 from workflow_helpers import REPO, copy_workflow, dry_run_jobs, snakemake
 
 pytestmark = pytest.mark.workflow
@@ -20,15 +22,20 @@ pytestmark = pytest.mark.workflow
 DATASET = REPO / "data" / "reference"
 
 
-def test_the_dataset_is_complete_and_small():
-    record = read_dataset(DATASET)
-    config = load_config(REPO / "config" / "reference.yaml")
-    check_config_matches(config, record, DATASET)
+@pytest.mark.parametrize("folder, config_file, megabytes", [("reference", "reference.yaml", 30),
+                                                          ("reference_n2000", "paper_n2000.yaml", 5)])
+def test_the_datasets_are_complete_and_small(folder, config_file, megabytes):
+    """Every run's fabric table, per-frame stress table and run record, nothing else (no
+    trajectories, no raw stress), within the size budget."""
+    dataset = REPO / "data" / folder
+    record = read_dataset(dataset)
+    config = load_config(REPO / "config" / config_file)
+    check_config_matches(config, record, dataset)
     assert record["runs_missing"] == [] and record["fits"] is not None
-    assert len(record["files"]) == 4 * len(run_names(config))
+    assert len(record["files"]) == 3 * len(run_names(config))
     assert has_run_tables(record, "fabric.csv") and has_run_tables(record, "stress.csv")
-    size = sum(p.stat().st_size for p in DATASET.rglob("*") if p.is_file())
-    assert size < 10e6, f"{size / 1e6:.1f} MB"
+    size = sum(p.stat().st_size for p in dataset.rglob("*") if p.is_file())
+    assert size < megabytes * 1e6, f"{size / 1e6:.1f} MB"
 
 
 def test_the_reference_study_rebuilds_the_fits_without_simulating(tmp_path):
@@ -50,3 +57,9 @@ def test_the_reference_study_rebuilds_the_fits_without_simulating(tmp_path):
     assert set(load_config(REPO / "config" / "reference.yaml")["verdicts"]["comparisons"]) <= set(choices["choice"])
     for figure in ("fig3_stress.png", "fig4_stress_rotation.png"):
         assert (workdir / "results/reference/figures" / figure).is_file()
+    # Fig. 2 without a patchwork: every plotted cell's seed-mean standard error within 5% of |<nn>_12^ss|
+    cells = polar_cell_errors(pd.read_csv(workdir / "results/reference/tables/rotation_aggregate.csv"),
+                              fits["targets"]["n12"]["mean"])
+    assert max(cells.values()) <= 0.05, cells
+    comparison = pd.read_csv(workdir / "results/reference/tables/dataset_comparison.csv")
+    assert {"N = 2000 (data/reference_n2000)", "reference"} <= set(comparison["dataset"])

@@ -1,7 +1,10 @@
 # The map over a campaign's state points (suspension_fabric.state_map): one row per point from its
 # own study's tables, then the map figures. Every map output depends on every point's rules.
+from suspension_fabric.map_figures import MAP_FIGURES
+
 CAMPAIGN_RESULTS = f"results/{config['study']}"
 POINTS = {name.split("/", 1)[1]: name for name in STUDIES}  # point name -> its study
+MAP_FIGURE_NAMES = list(MAP_FIGURES)
 
 
 rule campaign_map:
@@ -33,10 +36,12 @@ rule campaign_figures:
     input:
         rules.campaign_map.output.table,
     output:
+        **{f"{name}_pdf": f"{CAMPAIGN_RESULTS}/figures/{name}.pdf" for name in MAP_FIGURE_NAMES},
         **{
-            f"{name}_{ext}": f"{CAMPAIGN_RESULTS}/figures/{name}.{ext}"
-            for name in ("map_models", "map_fabric", "map_rheology", "map_model_errors")
-            for ext in ("pdf", "png")
+            f"{name}_png": report(
+                f"{CAMPAIGN_RESULTS}/figures/{name}.png", caption="../report/map_figures.rst", category="Map"
+            )
+            for name in MAP_FIGURE_NAMES
         },
     params:
         level=config["verdicts"]["level"],
