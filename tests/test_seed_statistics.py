@@ -267,3 +267,23 @@ def test_seed_bootstrap_rejects_bad_level():
     """level = 1 is outside (0, 1): ValueError."""
     with pytest.raises(ValueError, match="level"):
         ss.seed_bootstrap(lambda seeds: 1.0, [1, 2, 3], level=1.0)
+
+
+@pytest.mark.parametrize("n", [3, 7])
+def test_bootstrap_of_the_mean_takes_the_same_resamples_as_seed_bootstrap(n):
+    """seed_bootstrap_of_mean(f, curves) = seed_bootstrap(f(mean of the resample's curves)): every
+    resample at n = 3 (27), 20 000 drawn at n = 7; vectorized or not."""
+    from suspension_fabric.seed_statistics import seed_bootstrap, seed_bootstrap_of_mean
+
+    curves = np.random.default_rng(n).normal(size=(n, 11))
+    seeds = list(range(10, 10 + n))
+    by_seed = dict(zip(seeds, curves))
+
+    def first_above(mean):
+        return float(np.argmax(mean > 0.1))
+
+    expected = seed_bootstrap(lambda subset: first_above(np.mean([by_seed[s] for s in subset], axis=0)), seeds)
+    assert seed_bootstrap_of_mean(first_above, curves) == pytest.approx(expected, rel=1e-12)
+    expected = seed_bootstrap(lambda subset: float(np.mean([by_seed[s] for s in subset])), seeds)
+    vectorized = seed_bootstrap_of_mean(lambda means: means.mean(axis=1), curves, vectorized=True)
+    assert vectorized == pytest.approx(expected, rel=1e-12)

@@ -18,7 +18,7 @@ import numpy as np
 from scipy import stats
 
 __all__ = ["LEVEL", "CONFIRMED", "REFUTED", "UNDECIDED", "Interval", "t_interval", "welch_interval", "decide",
-           "seeds_needed", "jackknife", "seed_bootstrap"]
+           "seeds_needed", "jackknife", "seed_bootstrap", "bootstrap_means", "seed_bootstrap_of_mean"]
 
 #: Default confidence level of every interval (two-sided); config key ``verdicts.level``.
 LEVEL = 0.95
@@ -141,6 +141,43 @@ def seed_bootstrap(statistic, seeds, level: float = LEVEL) -> tuple[float, float
         generator = np.random.default_rng(_BOOTSTRAP_SEED)
         resamples = (list(generator.choice(seeds, size=n)) for _ in range(_BOOTSTRAP_EXHAUSTIVE))
     values = np.array([statistic(list(sample)) for sample in resamples], dtype=float)
+    low, high = np.quantile(values, [0.5 - level / 2.0, 0.5 + level / 2.0])
+    return value, float(low), float(high)
+
+
+def _resample_indices(n: int) -> np.ndarray:
+    """The resamples of :func:`seed_bootstrap` as indices into its seeds, in its order: every
+    resample when there are at most 20 000, else 20 000 from the same fixed generator seed."""
+    if n**n <= _BOOTSTRAP_EXHAUSTIVE:
+        return np.array(list(itertools.product(range(n), repeat=n)), dtype=np.intp)
+    return np.random.default_rng(_BOOTSTRAP_SEED).choice(n, size=(_BOOTSTRAP_EXHAUSTIVE, n))
+
+
+def bootstrap_means(per_seed) -> np.ndarray:
+    """The mean over the seeds of every resample of :func:`seed_bootstrap` at once: ``per_seed``
+    holds one array per seed along its first axis (n, ...); returns (resamples, ...)."""
+    per_seed = np.asarray(per_seed, dtype=float)
+    n = per_seed.shape[0]
+    indices = _resample_indices(n)
+    counts = np.zeros((len(indices), n))
+    np.add.at(counts, (np.arange(len(indices))[:, None], indices), 1.0)
+    return (counts @ per_seed.reshape(n, -1) / n).reshape((len(indices), *per_seed.shape[1:]))
+
+
+def seed_bootstrap_of_mean(statistic, per_seed, level: float = LEVEL, *,
+                           vectorized: bool = False) -> tuple[float, float, float]:
+    """:func:`seed_bootstrap` of a statistic of the seed mean, statistic(mean over seeds of
+    ``per_seed``), with the resampled means computed at once (same resamples, same result up to
+    the order of a floating-point sum): (value, low, high). ``vectorized``: the statistic takes
+    the stacked means (resamples first) and returns one value per resample."""
+    level = _check_level(level)
+    per_seed = np.asarray(per_seed, dtype=float)
+    whole = per_seed.mean(axis=0)
+    value = float(statistic(whole[None])[0] if vectorized else statistic(whole))
+    if per_seed.shape[0] < 2:
+        return value, np.nan, np.nan
+    means = bootstrap_means(per_seed)
+    values = np.asarray(statistic(means) if vectorized else [statistic(mean) for mean in means], dtype=float)
     low, high = np.quantile(values, [0.5 - level / 2.0, 0.5 + level / 2.0])
     return value, float(low), float(high)
 

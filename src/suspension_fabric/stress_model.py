@@ -38,7 +38,6 @@ intervals.
 
 from __future__ import annotations
 
-import functools
 
 import numpy as np
 import pandas as pd
@@ -48,7 +47,7 @@ from .fabric import COMPONENTS
 from .frames import simple_shear_gradient
 from .stress import EINSTEIN_COEFFICIENT
 from .tables import fabric_tensors, steady_state
-from .seed_statistics import LEVEL, seed_bootstrap, t_interval
+from .seed_statistics import LEVEL, bootstrap_means, t_interval
 from .verdicts import TOLERANCE, settle_strain
 
 __all__ = [
@@ -213,12 +212,13 @@ def summarise_relation_errors(errors: pd.DataFrame) -> pd.DataFrame:
 
 def moving_average(strain, values, width: float) -> np.ndarray:
     """Centred running mean of ``values`` over the points within ``width``/2 in strain of each
-    point (fewer at the ends); ``width`` 0 returns the values unchanged."""
+    point (fewer at the ends), along the last axis (so several curves at once); ``width`` 0
+    returns the values unchanged."""
     strain, values = np.asarray(strain, dtype=float), np.asarray(values, dtype=float)
     if width <= 0:
         return values.copy()
-    near = np.abs(strain[:, None] - strain[None, :]) <= 0.5 * width + 1e-12
-    return (near * values[None, :]).sum(axis=1) / near.sum(axis=1)
+    near = (np.abs(strain[:, None] - strain[None, :]) <= 0.5 * width + 1e-12).astype(float)
+    return values @ near.T / near.sum(axis=1)
 
 
 def seed_steady_viscosity(startup_runs: pd.DataFrame, steady_window) -> pd.Series:
@@ -283,6 +283,15 @@ def viscosity_deficits(stress_runs: pd.DataFrame, eta_ss, window: float) -> pd.D
     return pd.DataFrame(rows, columns=["seed", "theta", "window", "eta_ss_seed", "deficit"])
 
 
+def _with_interval(statistic, whole: np.ndarray, resampled: np.ndarray | None, level: float) -> tuple:
+    """(statistic of the all-seed curve, percentile interval of it over the resampled curves)."""
+    if resampled is None:
+        return float(statistic(whole)), np.nan, np.nan
+    values = np.array([statistic(curve) for curve in resampled], dtype=float)
+    low, high = np.quantile(values, [0.5 - level / 2.0, 0.5 + level / 2.0])
+    return float(statistic(whole)), float(low), float(high)
+
+
 def viscosity_transients(stress_runs: pd.DataFrame, eta_ss, window: float, level: float = LEVEL,
                          tolerance: float = TOLERANCE, smoothing_strain: float = 0.1) -> pd.DataFrame:
     """Per angle, the integrated viscosity deficit with its t-interval over seeds (the deciding
@@ -319,25 +328,25 @@ def viscosity_transients(stress_runs: pd.DataFrame, eta_ss, window: float, level
         eta = {seed: rows_["eta_r"].to_numpy(dtype=float) for seed, rows_ in curves.items()}
         steady = _seed_eta_ss(eta_ss, curves)
 
-        @functools.lru_cache(maxsize=None)
-        def smoothed(sample: tuple) -> np.ndarray:
-            ratio = np.mean([eta[s] for s in sample], axis=0) / np.mean([steady[s] for s in sample])
-            return moving_average(strain, ratio, smoothing_strain)
-
-        def mean_curve(seeds) -> np.ndarray:
-            return smoothed(tuple(sorted(seeds)))  # the mean does not depend on the order
-
+        # per seed its eta_r curve and its steady value: a resample's curve is the ratio of their means
         seeds = list(curves)
-        minimum = seed_bootstrap(lambda s: float(mean_curve(s).min()), seeds, level)
-        at = seed_bootstrap(lambda s: float(strain[np.argmin(mean_curve(s))]), seeds, level)
-        recovery = seed_bootstrap(lambda s: settle_strain(strain, mean_curve(s) - 1.0, tolerance)[0], seeds, level)
+        per_seed = np.column_stack([np.stack([eta[s] for s in seeds]), [steady[s] for s in seeds]])
+
+        def smoothed(means: np.ndarray) -> np.ndarray:
+            return moving_average(strain, means[..., :-1] / means[..., -1:], smoothing_strain)
+
+        whole = smoothed(per_seed.mean(axis=0))
+        resampled = smoothed(bootstrap_means(per_seed)) if len(seeds) > 1 else None
+        minimum = _with_interval(lambda c: float(c.min()), whole, resampled, level)
+        at = _with_interval(lambda c: float(strain[np.argmin(c)]), whole, resampled, level)
+        recovery = _with_interval(lambda c: settle_strain(strain, c - 1.0, tolerance)[0], whole, resampled, level)
         interval = t_interval(deficits.loc[deficits["theta"] == theta, "deficit"], level)
         row = {"theta": float(theta), "window": float(window), "deficit": interval.mean, "deficit_se": interval.se,
                "deficit_low": interval.low, "deficit_high": interval.high, "n_seeds": interval.n,
                "level": level}
         for name, (value, low, high) in (("minimum", minimum), ("strain_at_min", at), ("recovery_strain", recovery)):
             row.update({name: value, f"{name}_low": low, f"{name}_high": high})
-        row["recovery_settled"] = settle_strain(strain, mean_curve(seeds) - 1.0, tolerance)[1]
+        row["recovery_settled"] = settle_strain(strain, whole - 1.0, tolerance)[1]
         row["smoothing_strain"] = float(smoothing_strain)
         rows.append(row)
     return pd.DataFrame(rows)

@@ -9,7 +9,7 @@ The shear-rotation claims are decided per seed in :mod:`suspension_fabric.claims
 - description, on which no verdict rests: per angle, the recovery strain (first strain after
   which a seed-mean curve stays inside a 10% band), the rms errors of the models and their ratio,
   and the modified model's overshoot with the simulation around it, each with a seed-bootstrap
-  percentile interval (:func:`suspension_fabric.seed_statistics.seed_bootstrap`).
+  percentile interval (:func:`suspension_fabric.seed_statistics.seed_bootstrap_of_mean`).
 
 Inputs: the per-seed rotation table (``rotation_runs.csv``: one row per seed, angle and strain,
 components in the rotated paper frame) and the model predictions (``predictions.csv``, pooled
@@ -32,7 +32,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from .seed_statistics import CONFIRMED, LEVEL, REFUTED, UNDECIDED, seed_bootstrap
+from .seed_statistics import CONFIRMED, LEVEL, REFUTED, UNDECIDED, seed_bootstrap_of_mean
 
 __all__ = ["TOLERANCE", "PAPER", "settle_strain", "recovery_table", "rms_error_table", "overshoot_table",
            "steady_state_verdicts", "verdict_table", "descriptive_tables"]
@@ -69,9 +69,13 @@ def _verdict(value: float, error: float, paper_sign: int) -> str:
     return UNDECIDED
 
 
-def _bootstrap(row: dict, key: str, statistic, seeds, level: float) -> None:
-    """row[key], row[key_low], row[key_high]: the value over all seeds and its seed-bootstrap interval."""
-    row[key], row[f"{key}_low"], row[f"{key}_high"] = seed_bootstrap(statistic, seeds, level)
+def _bootstrap(row: dict, key: str, statistic, per_seed: dict, level: float, vectorized: bool = False) -> None:
+    """row[key], row[key_low], row[key_high]: statistic of the seed-mean curve over all seeds and
+    its seed-bootstrap interval (``per_seed``: seed -> curve; ``vectorized``: the statistic takes
+    the resampled curves stacked, resamples first)."""
+    curves = np.stack([per_seed[s] for s in sorted(per_seed)])
+    row[key], row[f"{key}_low"], row[f"{key}_high"] = seed_bootstrap_of_mean(statistic, curves, level,
+                                                                             vectorized=vectorized)
 
 
 def _curves(runs: pd.DataFrame, theta: float, column: str) -> tuple[np.ndarray, dict]:
@@ -119,10 +123,7 @@ def recovery_table(runs: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float,
         strain, deviations = _ratio_curves(runs, theta, n12_ss)
         row = {"theta": theta}
         for key, per_seed in deviations.items():
-            def statistic(subset, per_seed=per_seed):
-                return settle_strain(strain, np.mean([per_seed[s] for s in subset], axis=0), tolerance)[0]
-
-            _bootstrap(row, f"sim_{key}", statistic, sorted(per_seed), level)
+            _bootstrap(row, f"sim_{key}", lambda mean: settle_strain(strain, mean, tolerance)[0], per_seed, level)
             row[f"sim_{key}_settled"] = settle_strain(strain, np.mean(list(per_seed.values()), axis=0), tolerance)[1]
         for model in MODELS:
             series = _model_series(predictions, model, theta)
@@ -144,16 +145,15 @@ def rms_error_table(runs: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float
             strain, curves = _curves(runs, theta, column)
             models = {model: _model_on(strain, predictions, model, theta, column) for model in MODELS}
 
-            def rms(model, subset):
-                mean = np.mean([curves[s] for s in subset], axis=0)
-                return float(np.sqrt(np.mean((models[model] - mean) ** 2)) / abs(n12_ss))
+            def rms(model, means):  # one value per resampled seed-mean curve (rows of means)
+                return np.sqrt(np.mean((models[model] - means) ** 2, axis=-1)) / abs(n12_ss)
 
             row = {"theta": theta, "component": column}
             for model in MODELS:
-                _bootstrap(row, f"{model}_rms", lambda subset, m=model: rms(m, subset), sorted(curves), level)
+                _bootstrap(row, f"{model}_rms", lambda means, m=model: rms(m, means), curves, level, vectorized=True)
             with np.errstate(divide="ignore", invalid="ignore"):  # both models exact: no ratio (nan)
-                _bootstrap(row, "ratio", lambda subset: np.float64(rms("gw", subset)) / rms("modified", subset),
-                           sorted(curves), level)
+                _bootstrap(row, "ratio", lambda means: rms("gw", means) / rms("modified", means), curves, level,
+                           vectorized=True)
             rows.append(row)
     return pd.DataFrame(rows)
 
@@ -175,8 +175,7 @@ def overshoot_table(runs: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float
         window = (strain >= peak - half_window) & (strain <= peak + half_window)
         for key in ("steady", "continuation"):
             per_seed = deviations[key]
-            _bootstrap(row, f"sim_{key}", lambda subset, p=per_seed: float(np.mean([p[s][window] for s in subset])),
-                       sorted(per_seed), level)
+            _bootstrap(row, f"sim_{key}", lambda means: means[:, window].mean(axis=1), per_seed, level, vectorized=True)
         rows.append(row)
     return pd.DataFrame(rows)
 
