@@ -1,5 +1,5 @@
-"""The committed reference dataset v2 (data/reference, exported from config/paper.yaml) and the
-study that rebuilds the paper's figures and the stress figures from it (config/reference.yaml):
+"""The committed reference dataset v2 (data/reference, exported from config/paper.yaml; its N = 2000
+companion data/reference_n2000 from config/paper_n2000.yaml) and the study that rebuilds the paper's figures and the stress figures from it (config/reference.yaml):
 no simulation job in its plan, every run's files present with their recorded checksums, its fits
 equal to the ones recorded with the data, and a polar figure whose every cell is resolved by the
 seeds."""
@@ -22,7 +22,8 @@ pytestmark = pytest.mark.workflow
 DATASET = REPO / "data" / "reference"
 
 
-@pytest.mark.parametrize("folder, config_file, megabytes", [("reference", "reference.yaml", 30)])
+@pytest.mark.parametrize("folder, config_file, megabytes", [("reference", "reference.yaml", 30),
+                                                          ("reference_n2000", "paper_n2000.yaml", 5)])
 def test_the_datasets_are_complete_and_small(folder, config_file, megabytes):
     """Every run's fabric table, per-frame stress table and run record, nothing else (no
     trajectories, no raw stress), within the size budget."""
