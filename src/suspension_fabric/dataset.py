@@ -207,6 +207,16 @@ def _checked_file(folder: Path, record: dict, key: str) -> Path:
     return source
 
 
+def _concatenated_runs(folder: Path, record: dict, table: str, reader) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """(startup runs, rotation runs): every run's ``table`` read with ``reader`` after checking its
+    SHA-256, concatenated."""
+    startup, rotation = [], []
+    for name in run_names(record["config"]):
+        frame = reader(_checked_file(folder, record, f"{name}/{table}"))
+        (startup if name.endswith("/startup") else rotation).append(frame)
+    return pd.concat(startup, ignore_index=True), pd.concat(rotation, ignore_index=True)
+
+
 def read_fabric_runs(folder: Path) -> tuple[dict, pd.DataFrame, pd.DataFrame]:
     """A dataset's record and its fabric tables, concatenated: (record, startup runs, rotation runs),
     every file's SHA-256 checked (the run tables of the workflow's ``aggregate_*`` rules)."""
@@ -214,24 +224,17 @@ def read_fabric_runs(folder: Path) -> tuple[dict, pd.DataFrame, pd.DataFrame]:
     if record["runs_missing"]:
         raise ValueError(f"the dataset {folder} lacks {len(record['runs_missing'])} run(s), e.g. "
                          f"{record['runs_missing'][0]}")
-    startup, rotation = [], []
-    for name in run_names(record["config"]):
-        table = read_fabric_table(_checked_file(folder, record, f"{name}/fabric.csv"))
-        (startup if name.endswith("/startup") else rotation).append(table)
-    return record, pd.concat(startup, ignore_index=True), pd.concat(rotation, ignore_index=True)
+    return (record, *_concatenated_runs(folder, record, "fabric.csv", read_fabric_table))
 
 
-def read_stress_runs(folder: Path) -> tuple[pd.DataFrame, pd.DataFrame] | None:
+def read_stress_runs(folder: Path, record: dict | None = None) -> tuple[pd.DataFrame, pd.DataFrame] | None:
     """A dataset's per-frame stress tables, concatenated: (startup runs, rotation runs), every
-    file's SHA-256 checked; None for a dataset exported before the stress parts were recorded."""
-    record = read_dataset(folder)
+    file's SHA-256 checked; None for a dataset exported before the stress parts were recorded.
+    ``record``: the dataset's record if already read."""
+    record = record or read_dataset(folder)
     if not has_run_tables(record, "stress.csv"):
         return None
-    startup, rotation = [], []
-    for name in run_names(record["config"]):
-        table = read_stress_csv(_checked_file(folder, record, f"{name}/stress.csv"))
-        (startup if name.endswith("/startup") else rotation).append(table)
-    return pd.concat(startup, ignore_index=True), pd.concat(rotation, ignore_index=True)
+    return _concatenated_runs(folder, record, "stress.csv", read_stress_csv)
 
 
 def main(argv: list[str] | None = None) -> None:

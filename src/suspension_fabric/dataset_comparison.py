@@ -15,12 +15,13 @@ from __future__ import annotations
 import pandas as pd
 
 from .seed_statistics import LEVEL, t_interval, welch_interval
+from .stress import DERIVED_COLUMNS
 from .stress_model import seed_steady_viscosity, viscosity_deficits
 
 __all__ = ["FABRIC_QUANTITIES", "STRESS_QUANTITIES", "per_seed_statistics", "comparison_table"]
 
 FABRIC_QUANTITIES = ("n11", "n22", "n33", "n12", "Z")
-STRESS_QUANTITIES = ("eta_r", "N1", "N2", "Pi")
+STRESS_QUANTITIES = DERIVED_COLUMNS  # eta_r, N1, N2, Pi
 DEFICIT = "viscosity_deficit"
 
 

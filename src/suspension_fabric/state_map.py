@@ -24,6 +24,7 @@ import numpy as np
 import pandas as pd
 
 from .seed_statistics import LEVEL, t_interval
+from .stress import DERIVED_COLUMNS
 
 __all__ = ["BGP_PARAMETERS", "bgp_viscosities", "DRIFT_MARGIN", "steady_state_drift", "point_row", "map_table",
            "MAP_QUANTITIES"]
@@ -34,7 +35,7 @@ BGP_PARAMETERS = {"mu1": 0.32, "mu2": 0.7, "J0": 0.005, "phi_m": 0.585}
 DRIFT_MARGIN = 0.1
 #: Steady-state quantities of the map: fabric table and stress table columns
 FABRIC_QUANTITIES = ("n11", "n22", "n33", "n12", "n13", "n23", "Z")
-STRESS_QUANTITIES = ("eta_r", "N1", "N2", "Pi")
+STRESS_QUANTITIES = DERIVED_COLUMNS  # eta_r, N1, N2, Pi
 MAP_QUANTITIES = FABRIC_QUANTITIES + STRESS_QUANTITIES
 
 

@@ -1,7 +1,7 @@
 """Snakemake: the study against its comparison datasets, quantity by quantity (rule compare_datasets)."""
 import pandas as pd
 
-from suspension_fabric.dataset import read_dataset, read_fabric_runs, read_stress_runs
+from suspension_fabric.dataset import read_fabric_runs, read_stress_runs
 from suspension_fabric.dataset_comparison import comparison_table, per_seed_statistics
 from suspension_fabric.workflow_io import logged
 
@@ -13,10 +13,10 @@ with logged(sm.log[0]):
         pd.read_csv(sm.input.startup), pd.read_csv(sm.input.stress_startup), pd.read_csv(sm.input.stress_rotation),
         steady_window, window))}
     for label, folder in sm.params.comparisons.items():
-        _, startup, _ = read_fabric_runs(folder)
-        stress = read_stress_runs(folder) or (None, None)
-        n_particles = read_dataset(folder)["config"]["particles"]["n"]
-        per_seed[label] = (n_particles, per_seed_statistics(startup, *stress, steady_window, window))
+        record, startup, _ = read_fabric_runs(folder)
+        stress = read_stress_runs(folder, record) or (None, None)
+        per_seed[label] = (record["config"]["particles"]["n"],
+                           per_seed_statistics(startup, *stress, steady_window, window))
     table = comparison_table(per_seed, study, sm.params.level)
     table.to_csv(sm.output[0], index=False)
     print(table.to_string())
