@@ -1,0 +1,359 @@
+"""Fabric models as plug-ins: any model of d<nn>/dgamma runs through the same integration, steady
+state and fits.
+
+A fabric model is a :class:`FabricModel`: a key (its name in tables), a display label, its
+parameters with bounds (:class:`Parameter`), the components of the steady simple-shear fabric
+that the paper-style fit matches (one per parameter), and the right-hand side
+
+    d<nn>/dgamma = rhs(<nn>, flow, params, phi)
+
+in the paper frame, where ``flow`` is the normalised kinematics of the velocity gradient
+(:class:`Flow`: Lh = L/gammadot, Eh, its extensional part Eh_e and compressional part Eh_c, as in
+:func:`suspension_fabric.model.split_strain_rate`) and ``params`` maps parameter names to values.
+A model may also give a closed-form steady state in simple shear and its own exact steady fit.
+
+Integration (:func:`integrate`): if the model declares itself ``affine`` (its right-hand side is
+affine in <nn> for a fixed flow, as G-W and the modified model are), the 6-vector system
+dv/dgamma = M v + b is built from the right-hand side itself (b = rhs(0), column k of M =
+rhs(basis_k) - b), checked once on a random fabric, and propagated exactly,
+v(gamma) = v_ss + expm(M gamma)(v0 - v_ss); otherwise scipy's ``solve_ivp`` integrates it.
+
+G-W (Eq. 1), the modified model (Eq. 2) and the separate-rates refinement are the built-in
+instances (:data:`BUILT_IN`); a user's model is named in the config as ``module:attribute`` or
+``path/to/file.py:attribute`` (:func:`load_model`).
+"""
+
+from __future__ import annotations
+
+import importlib
+import importlib.util
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable, Mapping, NamedTuple
+
+import numpy as np
+import scipy.linalg
+from scipy.integrate import solve_ivp
+from scipy.optimize import least_squares
+
+from . import model as paper_models
+from .frames import rotation_about_gradient, simple_shear_gradient, to_basis
+from .model import VECTOR_ORDER, contract_closure, split_strain_rate, sym_to_vec, vec_to_sym
+
+__all__ = ["Parameter", "Flow", "flow_of", "FabricModel", "GW", "MODIFIED", "SEPARATE_RATES", "BUILT_IN",
+           "load_model", "resolve_models", "affine_system", "integrate", "steady_state", "fit_steady",
+           "startup_shear", "shear_rotation", "ModelError"]
+
+#: Strain to which a model that is not affine is integrated in search of its steady state.
+STEADY_STRAIN = 200.0
+
+
+class ModelError(ValueError):
+    """A fabric model that cannot be used as declared (bad parameters, not affine, no steady state)."""
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A model parameter: its name, bounds (inclusive) and the start of the fits' search."""
+
+    name: str
+    lower: float
+    upper: float
+    start: float
+
+    def __post_init__(self):
+        if not self.name.isidentifier():
+            raise ModelError(f"parameter name {self.name!r} must be an identifier")
+        if not (self.lower <= self.start <= self.upper):
+            raise ModelError(f"parameter {self.name}: start {self.start} outside its bounds "
+                             f"[{self.lower}, {self.upper}]")
+
+
+class Flow(NamedTuple):
+    """Normalised kinematics of a velocity gradient L (paper frame): Lh = L/gammadot, Eh = sym(Lh),
+    Eh_e and Eh_c its parts with positive and negative eigenvalues (shapes (..., 3, 3))."""
+
+    grad_hat: np.ndarray
+    e_hat: np.ndarray
+    e_ext: np.ndarray
+    e_comp: np.ndarray
+
+
+def flow_of(velocity_gradient) -> Flow:
+    """:class:`Flow` of a velocity gradient (only its direction matters)."""
+    grad_hat, e_hat, e_ext, e_comp, _ = split_strain_rate(velocity_gradient)
+    return Flow(grad_hat, e_hat, e_ext, e_comp)
+
+
+@dataclass(frozen=True)
+class FabricModel:
+    """A fabric model (see the module docstring). ``rhs(fabric, flow, params, phi)`` broadcasts over
+    leading axes of ``fabric`` and of the flow's tensors; ``steady`` (optional) returns the closed
+    steady fabric in simple shear L = e1 e2 from (params, phi); ``fit`` (optional) returns the
+    parameters whose steady state matches ``targets`` ({component: value}) exactly."""
+
+    key: str
+    label: str
+    parameters: tuple[Parameter, ...]
+    steady_targets: tuple[str, ...]
+    rhs: Callable
+    affine: bool = False
+    steady: Callable | None = None
+    fit: Callable | None = None
+    description: str = field(default="", compare=False)
+
+    def __post_init__(self):
+        if not self.key.isidentifier():
+            raise ModelError(f"model key {self.key!r} must be an identifier (it names table columns)")
+        names = [p.name for p in self.parameters]
+        if not names or len(set(names)) != len(names):
+            raise ModelError(f"model {self.key}: parameter names {names} must be distinct and at least one")
+        unknown = set(self.steady_targets) - set(VECTOR_ORDER)
+        if unknown or len(self.steady_targets) != len(names):
+            raise ModelError(f"model {self.key}: steady_targets {self.steady_targets} must be {len(names)} "
+                             f"fabric components among {VECTOR_ORDER} (one per parameter)")
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(p.name for p in self.parameters)
+
+    def check(self, params: Mapping[str, float]) -> dict[str, float]:
+        """``params`` as a {name: float} dict with every parameter, finite and within its bounds."""
+        missing, unknown = set(self.names) - set(params), set(params) - set(self.names)
+        if missing or unknown:
+            raise ModelError(f"model {self.key}: parameters {sorted(params)} given, expected {list(self.names)}")
+        checked = {}
+        for p in self.parameters:
+            value = float(params[p.name])
+            if not (math.isfinite(value) and p.lower <= value <= p.upper):
+                raise ModelError(f"model {self.key}: {p.name} = {value} outside [{p.lower}, {p.upper}]")
+            checked[p.name] = value
+        return checked
+
+
+# --------------------------------------------------------------------------- built-in models
+def _closure_model_rhs(fabric, flow: Flow, rate_break: float, rate_form: float, rate_iso: float, phi: float):
+    """Lh.X + X.Lh^T - 2 Lh:<nnnn> - b_e Eh_e:<nnnn> - b_c (phi/15) 2 Eh_c - A (phi/15) Tr(Eh_c) delta,
+    with the paper's closure: breaking, formation and isotropic rates b_e, b_c, A (paper Eq. 2 has
+    b_e = b_c = beta)."""
+    fabric = np.asarray(fabric, dtype=float)
+    convective = flow.grad_hat @ fabric + fabric @ np.swapaxes(flow.grad_hat, -1, -2)
+    linear = convective - contract_closure(2.0 * flow.grad_hat + rate_break * flow.e_ext, fabric)
+    tr_c = np.trace(flow.e_comp, axis1=-2, axis2=-1)[..., None, None]
+    return linear - (phi / 15.0) * (2.0 * rate_form * flow.e_comp + rate_iso * tr_c * np.eye(3))
+
+
+_BETA = Parameter("beta", 1e-3, 1e4, 10.0)
+
+
+def _gw_fit(targets, phi):
+    return {"beta": paper_models.fit_gw(targets["12"], phi)}
+
+
+def _modified_fit(targets, phi):
+    beta, A = paper_models.fit_modified(targets["11"], targets["12"], phi)
+    return {"beta": beta, "A": A}
+
+
+#: Gillissen-Wilson (paper Eq. 1): one rate beta for breaking, formation and the isotropic term.
+GW = FabricModel(
+    key="gw", label="G-W (Eq. 1)", parameters=(_BETA,), steady_targets=("12",), affine=True,
+    rhs=lambda fabric, flow, p, phi: _closure_model_rhs(fabric, flow, p["beta"], p["beta"], p["beta"], phi),
+    steady=lambda p, phi: paper_models.steady_state(p["beta"], None, phi),
+    fit=_gw_fit,
+    description="d<nn>/dgamma = Lh.<nn> + <nn>.Lh^T - 2 Lh:<nnnn> - beta (Eh_e:<nnnn> + (phi/15)(2 Eh_c + Tr(Eh_c) I))",
+)
+
+#: The paper's modified model (Eq. 2): the isotropic creation term has its own rate A.
+MODIFIED = FabricModel(
+    key="modified", label="modified G-W (Eq. 2)", parameters=(_BETA, Parameter("A", 0.0, 1e5, 40.0)),
+    steady_targets=("11", "12"), affine=True,
+    rhs=lambda fabric, flow, p, phi: _closure_model_rhs(fabric, flow, p["beta"], p["beta"], p["A"], phi),
+    steady=lambda p, phi: paper_models.steady_state(p["beta"], p["A"], phi),
+    fit=_modified_fit,
+    description="Eq. 1 with the isotropic term's rate A: ... - A (phi/15) Tr(Eh_c) I",
+)
+
+#: Refinement aimed at the modified model's overshoot: breaking in extension (beta_e), directed
+#: formation in compression (beta_c) and isotropic formation (A) at separate rates.
+SEPARATE_RATES = FabricModel(
+    key="separate_rates", label="separate rates",
+    parameters=(Parameter("beta_e", 1e-3, 1e4, 10.0), Parameter("beta_c", 0.0, 1e4, 10.0),
+                Parameter("A", 0.0, 1e5, 40.0)),
+    steady_targets=("11", "22", "12"), affine=True,
+    rhs=lambda fabric, flow, p, phi: _closure_model_rhs(fabric, flow, p["beta_e"], p["beta_c"], p["A"], phi),
+    description=("d<nn>/dgamma = Lh.<nn> + <nn>.Lh^T - 2 Lh:<nnnn> - beta_e Eh_e:<nnnn> - beta_c (phi/15) 2 Eh_c"
+                 " - A (phi/15) Tr(Eh_c) I"),
+)
+
+#: Built-in models by key.
+BUILT_IN = {m.key: m for m in (GW, MODIFIED, SEPARATE_RATES)}
+
+
+# --------------------------------------------------------------------------- loading
+def load_model(spec: str) -> FabricModel:
+    """A model from its config entry: a built-in key, ``package.module:attribute`` or
+    ``path/to/file.py:attribute`` (the attribute a :class:`FabricModel`)."""
+    if spec in BUILT_IN:
+        return BUILT_IN[spec]
+    location, sep, attribute = spec.rpartition(":")
+    if not sep or not location or not attribute:
+        raise ModelError(f"model {spec!r}: expected a built-in key {sorted(BUILT_IN)}, 'module:attribute' or "
+                         f"'file.py:attribute'")
+    if location.endswith(".py"):
+        path = Path(location)
+        if not path.is_file():
+            raise ModelError(f"model {spec!r}: file {path} not found")
+        module_spec = importlib.util.spec_from_file_location(f"fabric_model_{path.stem}", path)
+        module = importlib.util.module_from_spec(module_spec)
+        try:
+            module_spec.loader.exec_module(module)
+        except Exception as error:  # the user's file: report any failure with its name
+            raise ModelError(f"model {spec!r}: importing {path} failed: {error!r}") from error
+    else:
+        try:
+            module = importlib.import_module(location)
+        except ImportError as error:
+            raise ModelError(f"model {spec!r}: cannot import {location} ({error})") from error
+    found = getattr(module, attribute, None)
+    if not isinstance(found, FabricModel):
+        raise ModelError(f"model {spec!r}: {attribute} in {location} is {type(found).__name__}, "
+                         f"expected a suspension_fabric.fabric_models.FabricModel")
+    return found
+
+
+def resolve_models(specs) -> dict[str, FabricModel]:
+    """Models of a config's list of entries, by key (keys must be distinct)."""
+    models = {}
+    for spec in specs:
+        found = load_model(spec)
+        if found.key in models:
+            raise ModelError(f"models: two entries have the key {found.key!r}")
+        models[found.key] = found
+    return models
+
+
+# --------------------------------------------------------------------------- dynamics
+def _rhs_vec(fabric_model: FabricModel, vectors, flow: Flow, params, phi):
+    return sym_to_vec(fabric_model.rhs(vec_to_sym(vectors), flow, params, phi))
+
+
+def affine_system(fabric_model: FabricModel, flow: Flow, params, phi):
+    """(M, b) of dv/dgamma = M v + b for an affine model, from its right-hand side; raises
+    :class:`ModelError` if the model is not affine in <nn> (checked on a random fabric)."""
+    if not fabric_model.affine:
+        raise ModelError(f"model {fabric_model.key} is not declared affine")
+    lead = flow.grad_hat.shape[:-2]
+    expand = Flow(*(t[..., None, :, :] for t in flow))
+    b = _rhs_vec(fabric_model, np.zeros(lead + (6,)), flow, params, phi)
+    columns = _rhs_vec(fabric_model, np.broadcast_to(np.eye(6), lead + (6, 6)), expand, params, phi)
+    M = np.swapaxes(columns - b[..., None, :], -1, -2)
+    probe = np.random.default_rng(0).normal(size=6) * 0.1
+    direct = _rhs_vec(fabric_model, np.broadcast_to(probe, lead + (6,)), flow, params, phi)
+    if not np.allclose(direct, M @ probe + b, rtol=1e-8, atol=1e-10):
+        raise ModelError(f"model {fabric_model.key} is declared affine but its right-hand side is not affine in <nn>")
+    return M, b
+
+
+def _strains(strains) -> np.ndarray:
+    strains = np.asarray(strains, dtype=float)
+    if strains.ndim != 1 or not np.all(np.isfinite(strains)) or np.any(strains < 0):
+        raise ValueError("strains must be a 1-D array of finite, non-negative strains")
+    return strains
+
+
+def integrate(fabric_model: FabricModel, fabric0, velocity_gradient, strains, params, phi,
+              rtol=1e-10, atol=1e-12) -> np.ndarray:
+    """<nn>(gamma) from ``fabric0`` under a constant velocity gradient, shape
+    ``batch + (len(strains), 3, 3)`` (``fabric0`` and the gradient broadcast): exact propagation
+    for an affine model, ``solve_ivp`` (DOP853) per fabric otherwise."""
+    params = fabric_model.check(params)
+    strains = _strains(strains)
+    flow = flow_of(velocity_gradient)
+    fabric0 = np.asarray(fabric0, dtype=float)
+    if fabric_model.affine:
+        M, b = affine_system(fabric_model, flow, params, phi)
+        v_ss = -np.linalg.solve(M, b[..., None])[..., 0]
+        propagators = scipy.linalg.expm(M[..., None, :, :] * strains[:, None, None])
+        deviation = sym_to_vec(fabric0) - v_ss
+        return vec_to_sym(v_ss[..., None, :] + np.einsum("...sij,...j->...si", propagators, deviation))
+    batch = np.broadcast_shapes(fabric0.shape[:-2], flow.grad_hat.shape[:-2])
+    starts = np.broadcast_to(fabric0, batch + (3, 3)).reshape(-1, 3, 3)
+    flows = [np.broadcast_to(t, batch + (3, 3)).reshape(-1, 3, 3) for t in flow]
+    out = np.empty((len(starts), len(strains), 3, 3))
+    for k, start in enumerate(starts):
+        one = Flow(*(t[k] for t in flows))
+        solution = solve_ivp(lambda _g, v: _rhs_vec(fabric_model, v, one, params, phi),
+                             (0.0, float(strains.max(initial=0.0))), sym_to_vec(start), t_eval=strains,
+                             method="DOP853", rtol=rtol, atol=atol)
+        if not solution.success:
+            raise ModelError(f"model {fabric_model.key}: integration failed ({solution.message})")
+        out[k] = vec_to_sym(solution.y.T)
+    return out.reshape(batch + (len(strains), 3, 3))
+
+
+def steady_state(fabric_model: FabricModel, params, phi) -> np.ndarray:
+    """Steady fabric in simple shear L = e1 e2: the model's closed form if it has one, the fixed
+    point -M^-1 b if affine (and attracting), else the fabric after :data:`STEADY_STRAIN` strain
+    from no contacts, if it has stopped changing there."""
+    params = fabric_model.check(params)
+    if fabric_model.steady is not None:
+        return np.asarray(fabric_model.steady(params, phi), dtype=float)
+    flow = flow_of(simple_shear_gradient())
+    if fabric_model.affine:
+        M, b = affine_system(fabric_model, flow, params, phi)
+        if not np.all(np.linalg.eigvals(M).real < 0):
+            raise ModelError(f"model {fabric_model.key}: the steady state at {params} does not attract")
+        return vec_to_sym(-np.linalg.solve(M, b))
+    end = integrate(fabric_model, np.zeros((3, 3)), simple_shear_gradient(), [STEADY_STRAIN], params, phi)[0]
+    drift = _rhs_vec(fabric_model, sym_to_vec(end), flow, params, phi)
+    if np.abs(drift).max() > 1e-8 * max(1.0, np.abs(end).max()):
+        raise ModelError(f"model {fabric_model.key}: no steady state by strain {STEADY_STRAIN} at {params}")
+    return end
+
+
+def fit_steady(fabric_model: FabricModel, targets: Mapping[str, float], phi) -> dict[str, float]:
+    """Parameters whose steady simple-shear fabric matches ``targets`` (a value for each of the
+    model's ``steady_targets``): the model's own exact fit if it has one, else bounded least
+    squares from the parameters' starts, accepted only if it matches to 1e-8 relative."""
+    missing = set(fabric_model.steady_targets) - set(targets)
+    if missing:
+        raise ModelError(f"model {fabric_model.key}: steady targets {sorted(missing)} not given")
+    if fabric_model.fit is not None:
+        return fabric_model.check(fabric_model.fit(targets, phi))
+    index = [VECTOR_ORDER.index(c) for c in fabric_model.steady_targets]
+    wanted = np.array([targets[c] for c in fabric_model.steady_targets], dtype=float)
+    scale = np.abs(wanted).max()
+
+    def residual(x):
+        try:
+            fabric = steady_state(fabric_model, dict(zip(fabric_model.names, x)), phi)
+        except ModelError:
+            return np.full(len(x), 1e3)
+        return (sym_to_vec(fabric)[index] - wanted) / scale
+
+    start = [p.start for p in fabric_model.parameters]
+    bounds = ([p.lower for p in fabric_model.parameters], [p.upper for p in fabric_model.parameters])
+    result = least_squares(residual, start, bounds=bounds, x_scale="jac", xtol=1e-14, ftol=1e-14, gtol=1e-14)
+    if np.abs(result.fun).max() > 1e-8:
+        raise ModelError(f"model {fabric_model.key}: no parameters reproduce the steady "
+                         f"{dict(zip(fabric_model.steady_targets, wanted))} at phi = {phi} "
+                         f"(best relative residual {np.abs(result.fun).max():.2g})")
+    return fabric_model.check(dict(zip(fabric_model.names, result.x)))
+
+
+def startup_shear(fabric_model: FabricModel, strains, params, phi, fabric0=None) -> np.ndarray:
+    """Fabric in startup simple shear L = e1 e2 from ``fabric0`` (default none), (len(strains), 3, 3)."""
+    fabric0 = np.zeros((3, 3)) if fabric0 is None else fabric0
+    return integrate(fabric_model, fabric0, simple_shear_gradient(), strains, params, phi)
+
+
+def shear_rotation(fabric_model: FabricModel, theta, strains, params, phi, startup_strain=5.0,
+                   fabric0=None) -> np.ndarray:
+    """Startup shear to ``startup_strain``, then the shear turned by ``theta`` (radians, scalar or
+    1-D) about e2: <nn> in the rotated frame at the post-rotation ``strains``, shape
+    theta.shape + (len(strains), 3, 3) (as :func:`suspension_fabric.model.shear_rotation`)."""
+    before = startup_shear(fabric_model, [startup_strain], params, phi, fabric0)[0]
+    rotated = to_basis(before, rotation_about_gradient(np.asarray(theta, dtype=float)))
+    return integrate(fabric_model, rotated, simple_shear_gradient(), strains, params, phi)

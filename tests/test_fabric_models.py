@@ -1,0 +1,120 @@
+"""The fabric-model interface (suspension_fabric.fabric_models): the built-in models through the
+interface equal the paper's equations (suspension_fabric.model), the general ODE path equals the
+exact affine propagation and a relaxation law's analytic solution, the generic steady fit recovers
+known parameters, and bad models or entries stop with an error naming them."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from suspension_fabric import fabric_models as fm
+from suspension_fabric import model
+from suspension_fabric.frames import simple_shear_gradient
+
+PHI = 0.45
+STRAINS = np.linspace(0.0, 3.0, 7)
+THETAS = np.radians([0.0, 45.0, 90.0, 135.0])
+SHEAR = simple_shear_gradient()
+FABRIC0 = model.vec_to_sym([0.03, 0.025, 0.028, -0.004, 0.001, 0.0])
+
+
+def relaxation(target):
+    """d<nn>/dgamma = -rate (<nn> - target): <nn>(gamma) = target + (<nn>(0) - target) exp(-rate gamma)."""
+    return lambda fabric, flow, p, phi: -p["k"] * (np.asarray(fabric) - target) + 0.0 * flow.grad_hat
+
+
+def relaxation_model(affine, **changes):
+    target = model.vec_to_sym([0.05, 0.03, 0.04, -0.02, 0.0, 0.0])
+    return fm.FabricModel(key="relax", label="relaxation", parameters=(fm.Parameter("k", 0.0, 10.0, 1.0),),
+                          steady_targets=("12",), rhs=relaxation(target), affine=affine, **changes), target
+
+
+@pytest.mark.parametrize("affine", [True, False])
+def test_a_relaxation_law_integrates_to_its_exponential(affine):
+    relax, target = relaxation_model(affine)
+    got = fm.integrate(relax, FABRIC0, SHEAR, STRAINS, {"k": 1.7}, PHI)
+    exact = target + (FABRIC0 - target) * np.exp(-1.7 * STRAINS)[:, None, None]
+    np.testing.assert_allclose(got, exact, rtol=1e-8, atol=1e-11)
+    np.testing.assert_allclose(fm.steady_state(relax, {"k": 1.7}, PHI), target, atol=1e-9)
+
+
+@pytest.mark.parametrize("fabric_model, beta, A", [(fm.GW, 10.9, None), (fm.MODIFIED, 9.4, 42.4)])
+def test_the_paper_models_through_the_interface_equal_its_equations(fabric_model, beta, A):
+    params = {"beta": beta} if A is None else {"beta": beta, "A": A}
+    M, b = fm.affine_system(fabric_model, fm.flow_of(SHEAR), params, PHI)
+    M_paper, b_paper = model.affine_rhs(SHEAR, beta, A, PHI)
+    np.testing.assert_allclose(M, M_paper, atol=1e-14)
+    np.testing.assert_allclose(b, b_paper, atol=1e-14)
+    np.testing.assert_allclose(fm.shear_rotation(fabric_model, THETAS, STRAINS, params, PHI, 5.0, FABRIC0),
+                               model.shear_rotation(THETAS, STRAINS, beta, A, PHI, 5.0, FABRIC0), atol=1e-13)
+    np.testing.assert_allclose(fm.steady_state(fabric_model, params, PHI), model.steady_state_ode(beta, A, PHI),
+                               atol=1e-12)
+
+
+def test_the_ode_path_equals_the_exact_propagation_for_the_modified_model():
+    params = {"beta": 9.4, "A": 42.4}
+    as_ode = dataclasses.replace(fm.MODIFIED, affine=False, steady=None, fit=None)
+    np.testing.assert_allclose(fm.shear_rotation(as_ode, THETAS, STRAINS, params, PHI, 5.0, FABRIC0),
+                               fm.shear_rotation(fm.MODIFIED, THETAS, STRAINS, params, PHI, 5.0, FABRIC0),
+                               atol=1e-9)
+    np.testing.assert_allclose(fm.steady_state(as_ode, params, PHI), model.steady_state_ode(9.4, 42.4, PHI),
+                               atol=1e-9)
+
+
+def test_the_generic_steady_fit_recovers_the_exact_fit():
+    target = model.steady_state_ode(9.4, 42.4, PHI)
+    generic = dataclasses.replace(fm.MODIFIED, steady=None, fit=None)
+    fitted = fm.fit_steady(generic, {"11": target[0, 0], "12": target[0, 1]}, PHI)
+    assert fitted["beta"] == pytest.approx(9.4, rel=1e-6) and fitted["A"] == pytest.approx(42.4, rel=1e-6)
+    exact = fm.fit_steady(fm.MODIFIED, {"11": target[0, 0], "12": target[0, 1]}, PHI)
+    assert exact == pytest.approx({"beta": 9.4, "A": 42.4}, rel=1e-9)
+
+
+def test_separate_rates_reduce_to_the_modified_model_and_fit_three_components():
+    """beta_e = beta_c = beta is the modified model; its steady 11, 22, 12 give back the three rates."""
+    same = {"beta_e": 9.4, "beta_c": 9.4, "A": 42.4}
+    np.testing.assert_allclose(fm.shear_rotation(fm.SEPARATE_RATES, THETAS, STRAINS, same, PHI, 5.0, FABRIC0),
+                               model.shear_rotation(THETAS, STRAINS, 9.4, 42.4, PHI, 5.0, FABRIC0), atol=1e-13)
+    rates = {"beta_e": 12.0, "beta_c": 7.0, "A": 30.0}
+    steady = fm.steady_state(fm.SEPARATE_RATES, rates, PHI)
+    fitted = fm.fit_steady(fm.SEPARATE_RATES, {"11": steady[0, 0], "22": steady[1, 1], "12": steady[0, 1]}, PHI)
+    assert fitted == pytest.approx(rates, rel=1e-6)
+
+
+def test_a_model_declared_affine_that_is_not_is_refused():
+    quadratic = fm.FabricModel(key="quad", label="q", parameters=(fm.Parameter("k", 0.0, 1.0, 0.5),),
+                               steady_targets=("12",), affine=True,
+                               rhs=lambda x, flow, p, phi: -p["k"] * np.asarray(x) @ np.asarray(x))
+    with pytest.raises(fm.ModelError, match="quad is declared affine but"):
+        fm.integrate(quadratic, FABRIC0, SHEAR, STRAINS, {"k": 0.5}, PHI)
+
+
+def test_parameters_are_checked_by_name_and_bounds():
+    with pytest.raises(fm.ModelError, match=r"modified: parameters \['beta'\] given, expected \['beta', 'A'\]"):
+        fm.steady_state(fm.MODIFIED, {"beta": 9.4}, PHI)
+    with pytest.raises(fm.ModelError, match=r"gw: beta = -1.0 outside \[0.001, 10000.0\]"):
+        fm.steady_state(fm.GW, {"beta": -1.0}, PHI)
+    with pytest.raises(fm.ModelError, match="steady_targets"):
+        fm.FabricModel(key="bad", label="b", parameters=(fm.Parameter("k", 0, 1, 0.5),), steady_targets=("12", "11"),
+                       rhs=lambda *a: 0)
+
+
+def test_models_load_from_a_key_a_module_or_a_file(tmp_path):
+    assert fm.load_model("gw") is fm.GW
+    assert fm.load_model("suspension_fabric.fabric_models:SEPARATE_RATES") is fm.SEPARATE_RATES
+    (tmp_path / "mine.py").write_text(
+        "import dataclasses\nfrom suspension_fabric import fabric_models as fm\n"
+        "MINE = dataclasses.replace(fm.GW, key='mine', label='my G-W copy')\nNOT_A_MODEL = 3\n")
+    mine = fm.load_model(f"{tmp_path}/mine.py:MINE")
+    assert mine.key == "mine" and mine.rhs is fm.GW.rhs
+    assert list(fm.resolve_models(["gw", f"{tmp_path}/mine.py:MINE"])) == ["gw", "mine"]
+    for spec, message in [("nonsense", "expected a built-in key"), (f"{tmp_path}/none.py:X", "not found"),
+                          (f"{tmp_path}/mine.py:NOT_A_MODEL", "is int, expected"),
+                          ("no_such_module_xyz:M", "cannot import no_such_module_xyz")]:
+        with pytest.raises(fm.ModelError, match=message):
+            fm.load_model(spec)
+    with pytest.raises(fm.ModelError, match="two entries have the key 'gw'"):
+        fm.resolve_models(["gw", "suspension_fabric.fabric_models:GW"])
