@@ -18,6 +18,7 @@ PHI = 0.45
 STRAINS = np.linspace(0.0, 3.0, 7)
 THETAS = np.radians([0.0, 45.0, 90.0, 135.0])
 SHEAR = simple_shear_gradient()
+STUDY = {"study": "s", "seeds": [1], "angles_deg": [0]}
 FABRIC0 = model.vec_to_sym([0.03, 0.025, 0.028, -0.004, 0.001, 0.0])
 
 
@@ -118,3 +119,12 @@ def test_models_load_from_a_key_a_module_or_a_file(tmp_path):
             fm.load_model(spec)
     with pytest.raises(fm.ModelError, match="two entries have the key 'gw'"):
         fm.resolve_models(["gw", "suspension_fabric.fabric_models:GW"])
+
+
+def test_the_config_names_a_bad_model_entry_before_anything_runs(tmp_path):
+    from suspension_fabric.config import ConfigError, validate_config
+    assert validate_config({**STUDY})["models"]["fabric"] == ["gw", "modified", "separate_rates"]
+    with pytest.raises(ConfigError, match=r"config key 'models.fabric': model 'gw_typo': expected a built-in key"):
+        validate_config({**STUDY, "models": {"fabric": ["gw", "gw_typo"]}})
+    with pytest.raises(ConfigError, match=r"config key 'models.fabric'"):
+        validate_config({**STUDY, "models": {"fabric": []}})

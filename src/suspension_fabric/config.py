@@ -13,6 +13,7 @@ from pathlib import Path
 
 import yaml
 
+from .fabric_models import ModelError, resolve_models
 from .resources import SCHEMA_PATH
 from .scales import (
     contact_period, contact_relaxation_time, max_dt_explicit, max_dt_implicit,
@@ -128,6 +129,10 @@ def validate_config(config: dict, schema_path: str | os.PathLike = SCHEMA_PATH) 
     if window > run["rotation_strain"]:
         raise ConfigError(f"config key 'verdicts.window' ({window}) exceeds run.rotation_strain "
                           f"({run['rotation_strain']}): the claims integrate over the strain after a rotation")
+    try:
+        resolve_models(config["models"]["fabric"])
+    except ModelError as error:
+        raise ConfigError(f"config key 'models.fabric': {error}") from None
     labels = [angle_label(a) for a in config["angles_deg"]]
     if len(set(labels)) != len(labels):
         raise ConfigError(f"config key 'angles_deg': angles collide after formatting: {labels}")
