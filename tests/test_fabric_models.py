@@ -75,13 +75,13 @@ def test_the_generic_steady_fit_recovers_the_exact_fit():
 
 
 def test_separate_rates_reduce_to_the_modified_model_and_fit_three_components():
-    """beta_e = beta_c = beta is the modified model; its steady 11, 22, 12 give back the three rates."""
+    """beta_e = beta_c = beta is the modified model; its steady 11, 33, 12 give back the three rates."""
     same = {"beta_e": 9.4, "beta_c": 9.4, "A": 42.4}
     np.testing.assert_allclose(fm.shear_rotation(fm.SEPARATE_RATES, THETAS, STRAINS, same, PHI, 5.0, FABRIC0),
                                model.shear_rotation(THETAS, STRAINS, 9.4, 42.4, PHI, 5.0, FABRIC0), atol=1e-13)
     rates = {"beta_e": 12.0, "beta_c": 7.0, "A": 30.0}
     steady = fm.steady_state(fm.SEPARATE_RATES, rates, PHI)
-    fitted = fm.fit_steady(fm.SEPARATE_RATES, {"11": steady[0, 0], "22": steady[1, 1], "12": steady[0, 1]}, PHI)
+    fitted = fm.fit_steady(fm.SEPARATE_RATES, {"11": steady[0, 0], "33": steady[2, 2], "12": steady[0, 1]}, PHI)
     assert fitted == pytest.approx(rates, rel=1e-6)
 
 

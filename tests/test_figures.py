@@ -20,6 +20,8 @@ FITS = {
     "gw": {"beta": 12.3456},
     "modified": {"beta": 7.891, "A": 43.21},
     "targets": {"n12": {"mean": -0.1, "sem": 0.001}},
+    "models": {"gw": {"label": "G-W (Eq. 1)", "parameters": {"beta": 12.3456}},
+               "modified": {"label": "modified G-W (Eq. 2)", "parameters": {"beta": 7.891, "A": 43.21}}},
 }
 STARTUP_COMPONENTS = ("n11", "n22", "n33", "n12")
 OFFSETS = {"n11": 0.3, "n22": 0.2, "n33": 0.1, "n12": -0.05}  # distinct per component
@@ -116,7 +118,7 @@ def test_startup_figure_draws_each_models_startup_prediction_in_its_panel():
     A = 43.2); the titles name the models and the suptitle N, phi and the number of seeds."""
     aggregate, predictions = startup_tables()
     fig = figures.figure_startup(aggregate, predictions, FITS)
-    labels = {"gw": r"G-W, $\beta$ = 12.3", "modified": r"modified, $\beta$ = 7.89, $A$ = 43.2"}
+    labels = {"gw": r"G-W (Eq. 1), $\beta$ = 12.3", "modified": r"modified G-W (Eq. 2), $\beta$ = 7.89, $A$ = 43.2"}
     titles = {"gw": "(a) G-W (Eq. 1)", "modified": "(b) modified G-W (Eq. 2)"}
     for ax, key in zip(fig.axes[:2], ("gw", "modified")):
         marker_lines = [container.lines[0] for container in ax.containers]

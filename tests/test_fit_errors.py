@@ -195,7 +195,7 @@ def test_fits_json_keys(five_seeds):
     """Every key other code reads is there, the errors once each under their names."""
     fits = five_seeds[1]
     assert list(fits) == ["phi", "steady_window", "n_seeds", "fit_errors", "targets", "gw", "modified",
-                          "model_steady_state"]
+                          "model_steady_state", "models"]
     assert list(fits["gw"]) == ["beta", "beta_err", "beta_err_propagated", "fitted_to"]
     assert list(fits["modified"]) == ["beta", "beta_err", "beta_err_propagated", "A", "A_err", "A_err_propagated",
                                       "beta_A_correlation", "fitted_to"]
@@ -213,3 +213,21 @@ def test_steady_table_must_be_that_of_the_runs():
     other = noisy_runs(3, seed=12)
     with pytest.raises(ValueError, match="is not that of the run table"):
         model_vs_simulation.fit_steady_state(steady, PHI, other, *WINDOW)
+
+
+def test_the_listed_models_section_repeats_the_paper_fits_and_fits_any_model(five_seeds):
+    """fits.json's ``models`` (the plug-in interface, suspension_fabric.fabric_models) gives G-W and
+    the modified model the same parameters and jackknife errors as the paper's entries; a model
+    with three parameters (separate rates) reproduces its three steady targets."""
+    from suspension_fabric import fabric_models
+    runs, fits = noisy_runs(5), five_seeds[1]
+    for key, name in PARAMETERS:
+        assert fits["models"][key]["parameters"][name] == pytest.approx(fits[key][name], rel=1e-9)
+        assert fits["models"][key]["errors"][name] == pytest.approx(fits[key][f"{name}_err"], rel=1e-6)
+    listed = model_vs_simulation.fit_steady_state(tables.steady_state(runs, *WINDOW), PHI, runs, *WINDOW,
+                                                  models=fabric_models.resolve_models(["separate_rates"]))
+    entry = listed["models"]["separate_rates"]
+    assert list(listed["models"]) == ["separate_rates"] and entry["fitted_to"] == ["n11", "n22", "n12"]
+    for component in ("n11", "n22", "n12"):
+        assert entry["steady_state"][component] == pytest.approx(listed["targets"][component]["mean"], rel=1e-7)
+    assert all(np.isfinite(error) and error > 0 for error in entry["errors"].values())

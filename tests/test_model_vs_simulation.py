@@ -15,6 +15,7 @@ import pytest
 
 from suspension_fabric import figures, model, model_vs_simulation, tables
 from suspension_fabric.fabric import COMPONENTS
+from suspension_fabric.model_vs_simulation import PAPER_MODELS
 
 BETA, A, PHI = 9.4, 42.4, 0.45
 STARTUP = np.linspace(0.0, 20.0, 201)  # long enough that the window below is steady (slowest rate 0.64)
@@ -48,7 +49,7 @@ def synthetic():
     steady = tables.steady_state(startup, 10.0, 20.0)
     fits = model_vs_simulation.fit_steady_state(steady, PHI, startup, 10.0, 20.0)
     startup_agg, rotation_agg = tables.aggregate_seeds(startup), tables.aggregate_seeds(rotation)
-    predictions = model_vs_simulation.predict(fits, model_vs_simulation.initial_fabric(startup_agg), STARTUP,
+    predictions = model_vs_simulation.predict(fits, PAPER_MODELS, model_vs_simulation.initial_fabric(startup_agg), STARTUP,
                                               STARTUP[-1], THETAS, ROTATION, extra_thetas_deg=np.arange(0, 181, 15))
     return fits, startup_agg, rotation_agg, predictions
 
@@ -116,7 +117,7 @@ def test_predictions_on_simulation_grids_match_predict_at_the_simulated_points(s
     """The workflow's predictions (rule predict) are predict() at the simulated strains and angles
     plus the polar grid, from the simulated initial fabric."""
     fits, startup_agg, rotation_agg, predictions = synthetic
-    on_grids = model_vs_simulation.predict_on_simulation_grids(fits, startup_agg, rotation_agg, STARTUP[-1], 15.0)
+    on_grids = model_vs_simulation.predict_on_simulation_grids(fits, PAPER_MODELS, startup_agg, rotation_agg, STARTUP[-1], 15.0)
     pd.testing.assert_frame_equal(on_grids, predictions)
 
 

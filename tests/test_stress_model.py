@@ -315,7 +315,8 @@ def fits_dict() -> dict:
     targets = {name: {"mean": value, "sem": 0.01} for name, value in STEADY["simulation"].items()}
     targets["Z"] = {"mean": 1.275, "sem": 0.14}
     return {"phi": PHI, "targets": targets,
-            "model_steady_state": {key: dict(STEADY[key]) for key in ("gw", "modified")}}
+            "model_steady_state": {key: dict(STEADY[key]) for key in ("gw", "modified")},
+            "models": {key: {"label": key, "steady_state": dict(STEADY[key])} for key in ("gw", "modified")}}
 
 
 def test_relation_fits():

@@ -40,6 +40,7 @@ CASES = {
     "analysis.steady_window": (["analysis={steady_window: [0.15, 0.3]}"],
                                {("aggregate_startup", ""), ("aggregate_stress_startup", "")}, set()),
     "models.polar_angle_step_deg": (["models={polar_angle_step_deg: 10}"], {("predict", "")}, set()),
+    "models.fabric": (["models={fabric: [gw, modified]}"], {("fit_models", ""), ("predict", "")}, set()),
     "angles_deg (one added)": (
         ["angles_deg=[0, 90, 45]"],
         {("rotate", f"seed={s}, angle=45") for s in SEEDS}

@@ -181,7 +181,7 @@ SEPARATE_RATES = FabricModel(
     key="separate_rates", label="separate rates",
     parameters=(Parameter("beta_e", 1e-3, 1e4, 10.0), Parameter("beta_c", 0.0, 1e4, 10.0),
                 Parameter("A", 0.0, 1e5, 40.0)),
-    steady_targets=("11", "22", "12"), affine=True,
+    steady_targets=("11", "33", "12"), affine=True,
     rhs=lambda fabric, flow, p, phi: _closure_model_rhs(fabric, flow, p["beta_e"], p["beta_c"], p["A"], phi),
     description=("d<nn>/dgamma = Lh.<nn> + <nn>.Lh^T - 2 Lh:<nnnn> - beta_e Eh_e:<nnnn> - beta_c (phi/15) 2 Eh_c"
                  " - A (phi/15) Tr(Eh_c) I"),
@@ -263,6 +263,19 @@ def _strains(strains) -> np.ndarray:
     return strains
 
 
+def _propagate(M, deviation, strains) -> np.ndarray:
+    """expm(M gamma) deviation at every strain, shape batch + (strains, 6): by the eigenvectors of M,
+    V exp(Lambda gamma) V^-1, when they are well conditioned (one decomposition for all strains),
+    else by scipy's expm per strain."""
+    eigenvalues, vectors = np.linalg.eig(M)
+    if np.all(np.linalg.cond(vectors) < 1e8):
+        coefficients = np.linalg.solve(vectors, np.asarray(deviation, dtype=complex)[..., None])[..., 0]
+        growth = np.exp(eigenvalues[..., None, :] * strains[:, None])  # flow batch + (strains, 6)
+        return np.einsum("...ij,...sj->...si", vectors, growth * coefficients[..., None, :]).real
+    propagators = scipy.linalg.expm(M[..., None, :, :] * strains[:, None, None])
+    return np.einsum("...sij,...j->...si", propagators, deviation)
+
+
 def integrate(fabric_model: FabricModel, fabric0, velocity_gradient, strains, params, phi,
               rtol=1e-10, atol=1e-12) -> np.ndarray:
     """<nn>(gamma) from ``fabric0`` under a constant velocity gradient, shape
@@ -275,9 +288,8 @@ def integrate(fabric_model: FabricModel, fabric0, velocity_gradient, strains, pa
     if fabric_model.affine:
         M, b = affine_system(fabric_model, flow, params, phi)
         v_ss = -np.linalg.solve(M, b[..., None])[..., 0]
-        propagators = scipy.linalg.expm(M[..., None, :, :] * strains[:, None, None])
         deviation = sym_to_vec(fabric0) - v_ss
-        return vec_to_sym(v_ss[..., None, :] + np.einsum("...sij,...j->...si", propagators, deviation))
+        return vec_to_sym(v_ss[..., None, :] + _propagate(M, deviation, strains))
     batch = np.broadcast_shapes(fabric0.shape[:-2], flow.grad_hat.shape[:-2])
     starts = np.broadcast_to(fabric0, batch + (3, 3)).reshape(-1, 3, 3)
     flows = [np.broadcast_to(t, batch + (3, 3)).reshape(-1, 3, 3) for t in flow]

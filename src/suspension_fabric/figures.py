@@ -55,10 +55,26 @@ def save_figure(fig, stem: str | os.PathLike) -> list[Path]:
     return paths
 
 
+_GREEK = {"alpha", "beta", "gamma", "delta", "kappa", "lambda", "mu", "nu", "tau", "xi", "zeta", "eta"}
+
+
+def _parameter_text(name: str) -> str:
+    """A parameter name as TeX: a Greek head gets its backslash, the rest is a subscript (beta_e -> β_e)."""
+    head, _, tail = name.partition("_")
+    head = f"\\{head}" if head in _GREEK else head
+    return f"${head}_{{{tail}}}$" if tail else f"${head}$"
+
+
+def _model_labels(fits: dict, keys) -> dict[str, str]:
+    """{key: display name} for ``keys``: the label fits.json's ``models`` records, else the key."""
+    return {key: fits.get("models", {}).get(key, {}).get("label", MODEL_NAMES.get(key, key)) for key in keys}
+
+
 def _legend_label(key: str, fits: dict) -> str:
-    if key == "gw":
-        return rf"G-W, $\beta$ = {fits['gw']['beta']:.3g}"
-    return rf"modified, $\beta$ = {fits['modified']['beta']:.3g}, $A$ = {fits['modified']['A']:.3g}"
+    """The model's short name and its fitted parameters (fits.json's ``models``)."""
+    entry = fits["models"][key]
+    values = ", ".join(f"{_parameter_text(name)} = {value:.3g}" for name, value in entry["parameters"].items())
+    return f"{entry['label']}, {values}"
 
 
 def figure_startup(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: dict, max_markers: int = 40):
@@ -66,8 +82,11 @@ def figure_startup(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: di
     sim = simulation[np.isclose(simulation["theta"], 0.0)].sort_values("strain")
     stride = max(1, -(-len(sim) // max_markers))  # ceil: at most max_markers markers
     shown = sim.iloc[::stride]
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True, constrained_layout=True)
-    for ax, (key, title) in zip(axes, MODEL_NAMES.items()):
+    keys = list(dict.fromkeys(predictions["model"]))
+    fig, axes = plt.subplots(1, len(keys), figsize=(5 * len(keys), 4), sharey=True, constrained_layout=True,
+                             squeeze=False)
+    axes = axes[0]
+    for ax, (key, title) in zip(axes, _model_labels(fits, keys).items()):
         pred = predictions[(predictions["model"] == key) & (predictions["protocol"] == "startup")]
         for name, colour in _STARTUP_COMPONENTS.items():
             ax.errorbar(shown["strain"], shown[f"{name}_mean"], yerr=shown[f"{name}_sem"].fillna(0.0),
@@ -76,7 +95,7 @@ def figure_startup(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: di
         ax.plot([], [], "k-", label=_legend_label(key, fits))
         ax.axhline(0.0, color="0.7", lw=0.5)
         ax.set_xlabel(r"strain $\gamma$")
-        ax.set_title(f"({'ab'[list(MODEL_NAMES).index(key)]}) {title}")
+        ax.set_title(f"({'abcdefgh'[keys.index(key)]}) {title}")
         ax.legend(fontsize=7, loc="best")
     axes[0].set_ylabel(r"$\langle nn\rangle_{ij}$")
     n_seeds = int(sim["n_seeds"].iloc[0]) if "n_seeds" in sim else 0
@@ -152,7 +171,7 @@ def figure_rotation(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: d
     n12_ss = fits["targets"]["n12"]["mean"]
     sim, mirrored = mirror_negative_angles(simulation, ["n12_mean", "n23_mean"])
     rows = [("simulation", sim.rename(columns={"n12_mean": "n12", "n23_mean": "n23"}))]
-    for key, name in MODEL_NAMES.items():
+    for key, name in _model_labels(fits, dict.fromkeys(predictions["model"])).items():
         pred = predictions[(predictions["model"] == key) & (predictions["protocol"] == "rotation")]
         pred, _ = mirror_negative_angles(pred, ["n12", "n23"])
         rows.append((name, pred))
@@ -160,8 +179,8 @@ def figure_rotation(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: d
                "n23": r"$\langle nn\rangle'_{23}/\langle nn\rangle_{12}^{ss}$"}
     grids = {(r, c): _polar_grid(table, c) for r, (_, table) in enumerate(rows) for c in columns}
     limits = {c: np.nanmax([np.nanmax(np.abs(grids[(r, c)][2] / n12_ss)) for r in range(len(rows))]) for c in columns}
-    fig, axes = plt.subplots(len(rows), 2, subplot_kw={"projection": "polar"}, figsize=(8.5, 12),
-                             constrained_layout=True)
+    fig, axes = plt.subplots(len(rows), 2, subplot_kw={"projection": "polar"}, figsize=(8.5, 4 * len(rows)),
+                             constrained_layout=True, squeeze=False)
     for r, (row_name, _) in enumerate(rows):
         for c, (column, label) in enumerate(columns.items()):
             ax = axes[r, c]
@@ -170,7 +189,7 @@ def figure_rotation(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: d
                                  vmin=-limits[column], vmax=limits[column], shading="flat")
             ax.set_thetamin(-180)
             ax.set_thetamax(180)
-            ax.set_title(f"({'abcdef'[2 * r + c]}) {row_name}", fontsize=9)
+            ax.set_title(f"({'abcdefghijklmnop'[2 * r + c]}) {row_name}", fontsize=9)
             ax.tick_params(labelsize=7)
             if r == len(rows) - 1:
                 fig.colorbar(mesh, ax=axes[:, c], orientation="horizontal", shrink=0.8, label=label)
@@ -184,7 +203,12 @@ def figure_rotation(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: d
     return fig
 
 
-_SOURCE_STYLES = {"simulation": "-", "gw": "--", "modified": ":"}
+_LINE_STYLES = ("-", "--", ":", "-.", (0, (5, 1, 1, 1, 1, 1)), (0, (1, 3)))
+
+
+def _source_styles(sources) -> dict:
+    """A line style per fabric source of the stress relation, in order (simulation first: solid)."""
+    return {source: _LINE_STYLES[k % len(_LINE_STYLES)] for k, source in enumerate(dict.fromkeys(sources))}
 
 
 def _band(ax, frame: pd.DataFrame, column: str, color: str, label: str, max_markers: int = 60):
@@ -202,10 +226,10 @@ def figure_stress_startup(simulation: pd.DataFrame, relation_predictions: pd.Dat
     for column, color, label in (("eta_r", "k", r"$\eta_r$ total"), ("contact_12", "C3", "contact"),
                                  ("lubrication_12", "C0", "lubrication")):
         _band(ax_eta, sim, column, color, label)
-        for source, style in _SOURCE_STYLES.items():
+        for source, style in _source_styles(relation["source"]).items():
             rows = predicted[predicted["source"] == source].sort_values("strain")
-            ax_eta.plot(rows["strain"], rows[column], style, color=color, lw=1,
-                        label=f"relation, {SOURCES[source]}" if column == "eta_r" else None)
+            ax_eta.plot(rows["strain"], rows[column], linestyle=style, color=color, lw=1,
+                        label=f"relation, {SOURCES.get(source, source)}" if column == "eta_r" else None)
     solvent = sim["solvent_12_mean"] + sim["einstein_12_mean"]
     ax_eta.plot(sim["strain"], solvent, color="0.5", lw=1, label=r"solvent + Einstein $1 + 2.5\phi$")
     ax_eta.set_xlabel(r"strain $\gamma$")
@@ -214,9 +238,9 @@ def figure_stress_startup(simulation: pd.DataFrame, relation_predictions: pd.Dat
     ax_eta.legend(fontsize=6)
     for column, color, label in (("N1", "C2", "$N_1$"), ("N2", "C4", "$N_2$")):
         _band(ax_normal, sim, column, color, label)
-        for source, style in _SOURCE_STYLES.items():
+        for source, style in _source_styles(relation["source"]).items():
             rows = predicted[predicted["source"] == source].sort_values("strain")
-            ax_normal.plot(rows["strain"], rows[column], style, color=color, lw=1)
+            ax_normal.plot(rows["strain"], rows[column], linestyle=style, color=color, lw=1)
     ax_normal.axhline(0.0, color="0.7", lw=0.5)
     ax_normal.set_xlabel(r"strain $\gamma$")
     ax_normal.set_ylabel(r"$N / \eta_f\dot\gamma$")

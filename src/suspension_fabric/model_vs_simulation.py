@@ -37,13 +37,14 @@ import warnings
 import numpy as np
 import pandas as pd
 
-from . import model, tables
+from . import fabric_models, model, tables
 from .fabric import COMPONENTS
 from .seed_statistics import jackknife
 
 __all__ = [
     "fit_steady_state",
     "fit_both_models",
+    "fit_listed_models",
     "propagated_fit_errors",
     "FittedParameters",
     "FIT_ERRORS",
@@ -54,11 +55,16 @@ __all__ = [
     "PredictionGrids",
     "prediction_grids",
     "predict_on_simulation_grids",
+    "fitted_models",
+    "PAPER_MODELS",
     "model_errors",
     "summarise_errors",
     "error_tables",
     "MODEL_NAMES",
 ]
+
+#: The paper's two models (its claims compare them), by key.
+PAPER_MODELS = {"gw": fabric_models.GW, "modified": fabric_models.MODIFIED}
 
 #: Model keys used in tables and fits.json, with their display names.
 MODEL_NAMES = {"gw": "G-W (Eq. 1)", "modified": "modified G-W (Eq. 2)"}
@@ -177,8 +183,48 @@ def _jackknife_errors(startup: pd.DataFrame, seeds, strain_min, strain_max, phi)
     return errors, correlation
 
 
+def _steady_targets(steady: pd.DataFrame, fabric_model) -> dict[str, float]:
+    return {c: _steady_value(steady, f"n{c}")[0] for c in fabric_model.steady_targets}
+
+
+def fit_listed_models(steady: pd.DataFrame, startup: pd.DataFrame, seeds, strain_min: float, strain_max: float,
+                      phi: float, models: dict) -> dict:
+    """Every model of ``models`` ({key: FabricModel}) fitted to the steady components it names
+    (``steady_targets``; :func:`suspension_fabric.fabric_models.fit_steady`), with jackknife
+    standard errors over seeds of the whole fit (NaN, with a warning naming the seed, where a
+    leave-one-out fit fails); a failing fit to all seeds raises ``ValueError`` naming the model."""
+    entries = {}
+    for key, fabric_model in models.items():
+        try:
+            fitted = fabric_models.fit_steady(fabric_model, _steady_targets(steady, fabric_model), phi)
+        except ValueError as error:
+            raise ValueError(f"model {key}: the fit to the steady state failed: {error}") from error
+        subsets = {}
+
+        def parameter(subset, name, fabric_model=fabric_model, subsets=subsets):
+            key_ = tuple(subset)
+            if key_ not in subsets:
+                part = tables.steady_state(startup[startup["seed"].isin(key_)], strain_min, strain_max)
+                try:
+                    subsets[key_] = fabric_models.fit_steady(fabric_model, _steady_targets(part, fabric_model), phi)
+                except ValueError as error:
+                    warnings.warn(f"model {fabric_model.key}: fit without seed(s) {sorted(set(seeds) - set(key_))} "
+                                  f"failed ({error}); its jackknife errors are NaN", stacklevel=2)
+                    subsets[key_] = dict.fromkeys(fabric_model.names, np.nan)
+            return subsets[key_][name]
+
+        errors = {name: jackknife(lambda subset, name=name: parameter(subset, name), seeds)[1]
+                  for name in fabric_model.names}
+        entries[key] = {
+            "label": fabric_model.label, "fitted_to": [f"n{c}" for c in fabric_model.steady_targets],
+            "parameters": fitted, "errors": errors,
+            "steady_state": _as_components(fabric_models.steady_state(fabric_model, fitted, phi)),
+        }
+    return entries
+
+
 def fit_steady_state(steady: pd.DataFrame, phi: float, runs: pd.DataFrame, strain_min: float,
-                     strain_max: float) -> dict:
+                     strain_max: float, models: dict | None = None) -> dict:
     """Fit both models to the startup (theta = 0) steady state; returns the fits.json content.
 
     ``steady`` is :func:`suspension_fabric.tables.steady_state` of the per-seed startup run
@@ -190,6 +236,9 @@ def fit_steady_state(steady: pd.DataFrame, phi: float, runs: pd.DataFrame, strai
     targets' standard errors (:func:`propagated_fit_errors`), and ``modified.beta_A_correlation``
     the correlation of the leave-one-out beta and A (null for fewer than 3 seeds). ``targets``
     holds every steady component with its error; ``fit_errors`` says what the errors are.
+    ``models`` holds the same steady fit of every model of ``models`` ({key: FabricModel}; default
+    the paper's two) by the generic interface (:func:`fit_listed_models`): the predictions and
+    model errors read it, the paper's claims the ``gw`` and ``modified`` entries above.
     """
     startup, seeds = _startup_seeds(runs)
     _check_steady_matches_runs(steady, startup, seeds, strain_min, strain_max)
@@ -218,6 +267,8 @@ def fit_steady_state(steady: pd.DataFrame, phi: float, runs: pd.DataFrame, strai
             "gw": _as_components(model.steady_state_ode(fitted.gw_beta, None, phi)),
             "modified": _as_components(model.steady_state_ode(fitted.beta, fitted.A, phi)),
         },
+        "models": fit_listed_models(steady, startup, seeds, strain_min, strain_max, phi,
+                                    models if models is not None else PAPER_MODELS),
     }
 
 
@@ -256,10 +307,16 @@ def initial_fabric(startup_aggregate: pd.DataFrame) -> np.ndarray:
     return tensor
 
 
-def _parameters(fits: dict, key: str):
-    if key == "gw":
-        return fits["gw"]["beta"], None
-    return fits["modified"]["beta"], fits["modified"]["A"]
+def fitted_models(fits: dict, models: dict) -> dict:
+    """{key: (FabricModel, parameters)} of ``models`` ({key: FabricModel}) with the parameters that
+    fits.json's ``models`` section holds for each; a model missing there is an error naming it."""
+    fitted = {}
+    for key, fabric_model in models.items():
+        if key not in fits.get("models", {}):
+            raise ValueError(f"fits have no entry for model {key!r} (fitted: {sorted(fits.get('models', {}))}); "
+                             "rerun the fit_models rule with this model in models.fabric")
+        fitted[key] = (fabric_model, fits["models"][key]["parameters"])
+    return fitted
 
 
 def _tidy(key, protocol, theta_deg, strains, tensors) -> pd.DataFrame:
@@ -270,26 +327,26 @@ def _tidy(key, protocol, theta_deg, strains, tensors) -> pd.DataFrame:
     return frame
 
 
-def predict(fits: dict, fabric0, startup_strains, startup_strain: float, thetas_deg, rotation_strains,
+def predict(fits: dict, models: dict, fabric0, startup_strains, startup_strain: float, thetas_deg, rotation_strains,
             extra_thetas_deg=()) -> pd.DataFrame:
-    """Tidy predictions of both models: startup shear and shear rotations.
+    """Tidy predictions of every model of ``models`` ({key: FabricModel}, parameters from fits.json's
+    ``models``): startup shear and shear rotations.
 
     Rotations are predicted at ``thetas_deg`` (the simulated angles) and at
-    ``extra_thetas_deg`` (e.g. a fine grid for the polar maps). Columns: model
-    (gw | modified), protocol (startup | rotation), theta (degrees; 0 for startup),
-    strain (since the start of the current shear), n11 ... n23, Z.
+    ``extra_thetas_deg`` (e.g. a fine grid for the polar maps). Columns: model (its key),
+    protocol (startup | rotation), theta (degrees; 0 for startup), strain (since the start of
+    the current shear), n11 ... n23, Z.
     """
     phi = fits["phi"]
     startup_strains = np.asarray(startup_strains, dtype=float)
     rotation_strains = np.asarray(rotation_strains, dtype=float)
     thetas_deg = np.union1d(np.asarray(thetas_deg, dtype=float), np.asarray(extra_thetas_deg, dtype=float))
     blocks = []
-    for key in MODEL_NAMES:
-        beta, A = _parameters(fits, key)
+    for key, (fabric_model, params) in fitted_models(fits, models).items():
         blocks.append(_tidy(key, "startup", 0.0, startup_strains,
-                            model.startup_shear(startup_strains, beta, A, phi, fabric0)))
-        rotated = model.shear_rotation(np.radians(thetas_deg), rotation_strains, beta, A, phi,
-                                       startup_strain=startup_strain, fabric0=fabric0)
+                            fabric_models.startup_shear(fabric_model, startup_strains, params, phi, fabric0)))
+        rotated = fabric_models.shear_rotation(fabric_model, np.radians(thetas_deg), rotation_strains, params, phi,
+                                               startup_strain=startup_strain, fabric0=fabric0)
         for theta, tensors in zip(thetas_deg, rotated):
             blocks.append(_tidy(key, "rotation", theta, rotation_strains, tensors))
     return pd.concat(blocks, ignore_index=True)
@@ -335,13 +392,14 @@ def prediction_grids(startup_aggregate: pd.DataFrame, rotation_aggregate: pd.Dat
     )
 
 
-def predict_on_simulation_grids(fits: dict, startup_aggregate: pd.DataFrame, rotation_aggregate: pd.DataFrame,
-                                startup_strain: float, polar_step_deg: float) -> pd.DataFrame:
+def predict_on_simulation_grids(fits: dict, models: dict, startup_aggregate: pd.DataFrame,
+                                rotation_aggregate: pd.DataFrame, startup_strain: float,
+                                polar_step_deg: float) -> pd.DataFrame:
     """:func:`predict` from the simulated initial fabric (:func:`initial_fabric`) on the
     :func:`prediction_grids` of the seed aggregates: at every simulated strain and angle,
     and at the polar grid of angles (rotation after ``startup_strain`` of startup shear)."""
     grids = prediction_grids(startup_aggregate, rotation_aggregate, polar_step_deg)
-    return predict(fits, initial_fabric(startup_aggregate), grids.startup_strains, startup_strain, grids.thetas_deg,
+    return predict(fits, models, initial_fabric(startup_aggregate), grids.startup_strains, startup_strain, grids.thetas_deg,
                    grids.rotation_strains, extra_thetas_deg=grids.polar_thetas_deg)
 
 
@@ -357,7 +415,7 @@ def model_errors(simulation: pd.DataFrame, predictions: pd.DataFrame, n12_ss: fl
     """
     rows = []
     preds = predictions[predictions["protocol"] == protocol]
-    for key in MODEL_NAMES:
+    for key in predictions["model"].unique():
         mine = preds[preds["model"] == key]
         for theta, sim in simulation.groupby("theta", sort=True):
             pred = mine[np.isclose(mine["theta"], theta)].sort_values("strain")
@@ -376,18 +434,18 @@ def model_errors(simulation: pd.DataFrame, predictions: pd.DataFrame, n12_ss: fl
 
 
 def summarise_errors(errors: pd.DataFrame) -> pd.DataFrame:
-    """Angle-averaged rms error per protocol and component for both models, and their ratio.
+    """Angle-averaged rms error per protocol and component for every model, and the paper's ratio.
 
-    One row per (protocol, component): rms_gw, rms_modified (means over angles of
-    :func:`model_errors`' rms_error) and gw_over_modified (> 1: the modified model is
-    closer to the simulation).
+    One row per (protocol, component): rms_<model> (means over angles of :func:`model_errors`'
+    rms_error) for each model, and gw_over_modified (> 1: the modified model is closer to the
+    simulation) when both of the paper's models are present.
     """
     mean = errors.groupby(["protocol", "component", "model"], sort=False)["rms_error"].mean().unstack("model")
-    summary = pd.DataFrame({
-        "rms_gw": mean["gw"], "rms_modified": mean["modified"],
-        "gw_over_modified": mean["gw"] / mean["modified"],
-    }).reset_index()
-    return summary
+    keys = list(dict.fromkeys(errors["model"]))
+    summary = pd.DataFrame({f"rms_{key}": mean[key] for key in keys})
+    if {"gw", "modified"} <= set(keys):
+        summary["gw_over_modified"] = mean["gw"] / mean["modified"]
+    return summary.reset_index()
 
 
 def error_tables(fits: dict, predictions: pd.DataFrame, startup_aggregate: pd.DataFrame,

@@ -47,6 +47,8 @@ __all__ = [
     "write_fits_page",
     "write_steady_state_page",
     "write_error_summary_page",
+    "listed_models_table",
+    "model_labels",
     "format_interval",
     "viscosity_transient_table",
     "map_display_table",
@@ -218,17 +220,22 @@ def steady_state_table(steady: pd.DataFrame) -> pd.DataFrame:
     return frame.reset_index(drop=True)
 
 
-def error_summary_table(summary: pd.DataFrame, significant: int = 3) -> pd.DataFrame:
+def error_summary_table(summary: pd.DataFrame, significant: int = 3, labels: dict | None = None) -> pd.DataFrame:
     """The angle-averaged rms errors of :func:`suspension_fabric.model_vs_simulation.summarise_errors`
-    (in units of |⟨nn⟩₁₂ˢˢ|) per protocol and quantity, and the ratio G-W / modified."""
-    gw, modified = MODEL_NAMES["gw"], MODEL_NAMES["modified"]
-    return pd.DataFrame({
+    (in units of |⟨nn⟩₁₂ˢˢ|) per protocol and quantity for every model (``labels``: {key: display
+    name}, default the paper's names, else the key), and the ratio G-W / modified when present."""
+    labels = {**MODEL_NAMES, **(labels or {})}
+    frame = pd.DataFrame({
         "Protocol": [_PROTOCOL_LABELS.get(p, p) for p in summary["protocol"]],
         "Quantity": [component_label(c) for c in summary["component"]],
-        f"rms error, {gw}": [format_number(x, significant) for x in summary["rms_gw"]],
-        f"rms error, {modified}": [format_number(x, significant) for x in summary["rms_modified"]],
-        "Ratio G-W / modified": [format_number(x, significant) for x in summary["gw_over_modified"]],
     })
+    for column in summary.columns:
+        if column.startswith("rms_"):
+            key = column[len("rms_"):]
+            frame[f"rms error, {labels.get(key, key)}"] = [format_number(x, significant) for x in summary[column]]
+    if "gw_over_modified" in summary:
+        frame["Ratio G-W / modified"] = [format_number(x, significant) for x in summary["gw_over_modified"]]
+    return frame
 
 
 _STYLE = """
@@ -294,10 +301,31 @@ def _fit_errors_note(fits: dict) -> str:
     return note + f" Correlation of the modified model's β and A over the leave-one-out fits: {shown}."
 
 
+def listed_models_table(fits: dict, significant: int = 4) -> pd.DataFrame:
+    """Every model of fits.json's ``models`` (models.fabric): its parameters with their jackknife
+    errors over seeds and the steady components it is fitted to."""
+    rows = []
+    for key, entry in fits.get("models", {}).items():
+        for name, value in entry["parameters"].items():
+            rows.append({"Model": entry["label"], "Key": key, "Parameter": name,
+                         "Value": format_number(value, significant),
+                         "s.e. (jackknife)": format_number(entry["errors"][name], 2),
+                         "Fitted to": ", ".join(component_label(c) for c in entry["fitted_to"])})
+    return pd.DataFrame(rows, columns=["Model", "Key", "Parameter", "Value", "s.e. (jackknife)", "Fitted to"])
+
+
+def model_labels(fits: dict) -> dict[str, str]:
+    """{key: display name} of the models of fits.json's ``models`` section."""
+    return {key: entry["label"] for key, entry in fits.get("models", {}).items()}
+
+
 def write_fits_page(fits: dict, path: str | os.PathLike) -> Path:
     """The report page of fits.json: fitted parameters, fit targets vs model steady states, settings."""
     return write_html_tables(path, "Model fits (fits.json)", [
         ("Fitted model parameters", fit_parameters_table(fits), _fit_errors_note(fits)),
+        ("Every model of models.fabric fitted to the steady state", listed_models_table(fits),
+         "Each model's parameters reproduce the simulated steady components it is fitted to; s.e.: "
+         "jackknife over seeds of the whole fit."),
         ("Steady state of startup shear: simulation (fit targets) and the fitted models",
          fit_targets_table(fits),
          "Simulation: seed mean over the steady-state strain window with its correlation-aware "
@@ -320,10 +348,11 @@ def write_steady_state_page(steady: pd.DataFrame, path: str | os.PathLike) -> Pa
     ])
 
 
-def write_error_summary_page(summary: pd.DataFrame, path: str | os.PathLike) -> Path:
+def write_error_summary_page(summary: pd.DataFrame, path: str | os.PathLike, labels: dict | None = None) -> Path:
     """The report page of the model-error summary of :func:`suspension_fabric.model_vs_simulation.summarise_errors`."""
     return write_html_tables(path, "Model versus simulation (model_errors_summary.csv)", [
-        ("Angle-averaged rms error of the models, in units of |⟨nn⟩₁₂ˢˢ|", error_summary_table(summary),
+        ("Angle-averaged rms error of the models, in units of |⟨nn⟩₁₂ˢˢ|",
+         error_summary_table(summary, labels=labels),
          "rms over the simulated strains of (model − simulation seed mean) / |⟨nn⟩₁₂ˢˢ|, averaged over "
          "the simulated angles; ratio > 1: the modified model is closer to the simulation."),
     ])
@@ -444,9 +473,11 @@ def stress_error_table(summary: pd.DataFrame, significant: int = 3) -> pd.DataFr
         "Protocol": [_PROTOCOL_LABELS.get(p, p) for p in summary["protocol"]],
         "Quantity": [_STRESS_QUANTITY_LABELS.get(q, q) for q in summary["quantity"]],
     })
-    for source, name in SOURCES.items():
-        if f"rms_{source}" in summary:
-            frame[f"rms error, {name}"] = [format_number(x, significant) for x in summary[f"rms_{source}"]]
+    for column in summary.columns:
+        if column.startswith("rms_"):
+            source = column[len("rms_"):]
+            frame[f"rms error, {SOURCES.get(source, source)}"] = [format_number(x, significant)
+                                                                   for x in summary[column]]
     return frame
 
 

@@ -52,6 +52,7 @@ from .verdicts import TOLERANCE, settle_strain
 
 __all__ = [
     "SOURCES",
+    "source_labels",
     "PREDICTED_COLUMNS",
     "relation_terms",
     "steady_value",
@@ -105,9 +106,16 @@ def steady_value(stress_steady: pd.DataFrame, quantity: str) -> tuple[float, flo
 
 
 def source_steady_fabrics(fits: dict) -> dict[str, np.ndarray]:
-    """The steady fabric of each source: the simulated targets and each model's own steady state."""
+    """The steady fabric of each source: the simulated targets and the own steady state of each
+    model of fits.json's ``models`` (models.fabric)."""
     simulated = fabric_tensors({name: value["mean"] for name, value in fits["targets"].items() if name in COMPONENTS})
-    return {"simulation": simulated, **{key: fabric_tensors(fits["model_steady_state"][key]) for key in ("gw", "modified")}}
+    return {"simulation": simulated,
+            **{key: fabric_tensors(entry["steady_state"]) for key, entry in fits["models"].items()}}
+
+
+def source_labels(fits: dict) -> dict[str, str]:
+    """{source: display name}: :data:`SOURCES` and the label of every model of fits.json's ``models``."""
+    return {**{key: f"{entry['label']} fabric" for key, entry in fits.get("models", {}).items()}, **SOURCES}
 
 
 def relation_stress(fabric, coefficients: dict, phi: float) -> pd.DataFrame:
@@ -172,7 +180,7 @@ def stress_predictions(relation: pd.DataFrame, startup_aggregate: pd.DataFrame, 
 
     for protocol, aggregate in (("startup", startup_aggregate), ("rotation", rotation_aggregate)):
         add("simulation", protocol, aggregate, fabric_tensors(aggregate, "_mean"))
-        for key in ("gw", "modified"):
+        for key in coefficients.index.drop("simulation"):
             rows = predictions[(predictions["model"] == key) & (predictions["protocol"] == protocol)]
             add(key, protocol, rows, fabric_tensors(rows))
     return pd.concat(blocks, ignore_index=True)
@@ -185,7 +193,7 @@ def relation_errors(stress_startup: pd.DataFrame, stress_rotation: pd.DataFrame,
     the relation is evaluated at the same strains, matched to 1e-9)."""
     rows = []
     for protocol, simulation in (("startup", stress_startup), ("rotation", stress_rotation)):
-        for source in SOURCES:
+        for source in dict.fromkeys(predicted["source"]):
             mine = predicted[(predicted["source"] == source) & (predicted["protocol"] == protocol)]
             for theta, sim in simulation.groupby("theta", sort=True):
                 sim = sim.sort_values("strain")
@@ -207,7 +215,7 @@ def relation_errors(stress_startup: pd.DataFrame, stress_rotation: pd.DataFrame,
 def summarise_relation_errors(errors: pd.DataFrame) -> pd.DataFrame:
     """Angle-averaged rms error per protocol, quantity and source (columns rms_<source>)."""
     mean = errors.groupby(["protocol", "quantity", "source"], sort=False)["rms_error"].mean().unstack("source")
-    return mean[[source for source in SOURCES if source in mean.columns]].add_prefix("rms_").reset_index()
+    return mean[list(dict.fromkeys(errors["source"]))].add_prefix("rms_").reset_index()
 
 
 def moving_average(strain, values, width: float) -> np.ndarray:

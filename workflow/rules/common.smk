@@ -44,6 +44,12 @@ def setting(*keys):
     return value
 
 
+def model_files(wildcards):
+    """The Python files of the study's user-defined fabric models (models.fabric entries 'file.py:NAME')."""
+    specs = STUDIES[wildcards.study]["models"]["fabric"]
+    return [spec.rpartition(":")[0] for spec in specs if spec.rpartition(":")[0].endswith(".py")]
+
+
 def seed_runs(path):
     """An input function: path (with {seed} and, for rotations, {angle}) for every seed and angle of the study."""
 

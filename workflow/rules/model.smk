@@ -1,13 +1,16 @@
 rule fit_models:
-    """G-W beta from steady <nn>_12; modified (beta, A) from <nn>_11 and <nn>_12; errors: jackknife over seeds."""
+    """G-W beta from steady <nn>_12; modified (beta, A) from <nn>_11 and <nn>_12; every model of models.fabric
+    to its steady targets; errors: jackknife over seeds."""
     input:
         steady=rules.aggregate_startup.output.steady,
         runs=rules.aggregate_startup.output.runs,
+        model_files=model_files,
     output:
         f"{RESULTS}/fits.json",
     params:
         phi=setting("particles", "phi"),
         steady_window=setting("analysis", "steady_window"),
+        models=setting("models", "fabric"),
     conda:
         CONDA_ENV
     log:
@@ -17,14 +20,16 @@ rule fit_models:
 
 
 rule predict:
-    """Both models: startup from the simulated initial fabric, then every rotation angle."""
+    """Every model of models.fabric: startup from the simulated initial fabric, then every rotation angle."""
     input:
         fits=rules.fit_models.output[0],
         startup=rules.aggregate_startup.output.aggregate,
         rotation=rules.aggregate_rotation.output.aggregate,
+        model_files=model_files,
     output:
         f"{RESULTS}/tables/predictions.csv",
     params:
+        models=setting("models", "fabric"),
         startup_strain=setting("run", "startup_strain"),
         polar_step=setting("models", "polar_angle_step_deg"),
     conda:

@@ -2,12 +2,14 @@
 import pandas as pd
 
 from suspension_fabric import model_vs_simulation
+from suspension_fabric.fabric_models import resolve_models
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
     predictions = model_vs_simulation.predict_on_simulation_grids(
-        model_vs_simulation.read_fits(sm.input.fits), pd.read_csv(sm.input.startup), pd.read_csv(sm.input.rotation),
+        model_vs_simulation.read_fits(sm.input.fits), resolve_models(sm.params.models),
+        pd.read_csv(sm.input.startup), pd.read_csv(sm.input.rotation),
         sm.params.startup_strain, sm.params.polar_step,
     )
     predictions.to_csv(sm.output[0], index=False)

@@ -6,6 +6,8 @@ from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
-    print(report_tables.write_fits_page(model_vs_simulation.read_fits(sm.input.fits), sm.output.fits))
+    fits = model_vs_simulation.read_fits(sm.input.fits)
+    print(report_tables.write_fits_page(fits, sm.output.fits))
     print(report_tables.write_steady_state_page(pd.read_csv(sm.input.steady), sm.output.steady))
-    print(report_tables.write_error_summary_page(pd.read_csv(sm.input.errors), sm.output.errors))
+    print(report_tables.write_error_summary_page(pd.read_csv(sm.input.errors), sm.output.errors,
+                                                 report_tables.model_labels(fits)))
