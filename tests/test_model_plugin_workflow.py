@@ -48,7 +48,7 @@ def with_toy(study, tmp_path_factory):
 
 def test_a_model_in_the_config_reruns_the_model_rules_only(with_toy):
     _, rules = with_toy
-    assert {"fit_models", "predict", "model_errors", "stress_relation"} <= rules
+    assert {"fit_models", "predict", "model_errors", "stress_relation", "benchmark_models"} <= rules
     assert not rules & {"build_plugin", "pack", "startup", "rotate", "fabric_table", "stress_table"}
 
 
@@ -70,3 +70,7 @@ def test_the_toy_model_flows_through_fits_predictions_errors_and_stress(with_toy
     assert set(pd.read_csv(results / "tables/stress_relation_fits.csv")["source"]) == {
         "simulation", "gw", "modified", "toy"}
     assert "toy relaxation" in (results / "tables/fits.html").read_text()
+    board = pd.read_csv(results / "tables/leaderboard.csv")
+    assert set(zip(board["model"], board["mode"])) == {(m, f) for m in ("gw", "modified", "toy")
+                                                       for f in ("steady", "global")}
+    assert "toy relaxation" in (results / "tables/leaderboard.html").read_text()

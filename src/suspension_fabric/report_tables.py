@@ -48,6 +48,8 @@ __all__ = [
     "write_steady_state_page",
     "write_error_summary_page",
     "listed_models_table",
+    "leaderboard_tables",
+    "write_leaderboard_page",
     "model_labels",
     "format_interval",
     "viscosity_transient_table",
@@ -345,6 +347,50 @@ def write_steady_state_page(steady: pd.DataFrame, path: str | os.PathLike) -> Pa
          "from its integrated autocorrelation time); s.e. between seeds: from the scatter of the seed "
          "means, an assumption-free check; autocorrelation strain: the integrated autocorrelation time "
          "in units of strain (mean over seeds); frames per seed: the fewest of any seed."),
+    ])
+
+
+def leaderboard_tables(board: pd.DataFrame, parameters: pd.DataFrame) -> tuple[pd.DataFrame, ...]:
+    """The leaderboard of :func:`suspension_fabric.model_benchmark.leaderboard` as three display
+    tables: held-out mean square errors per component, their paired differences from G-W, and the
+    in-sample errors with the fitted parameters, k and AIC; one row per model and fitting mode."""
+    keys = list(dict.fromkeys(zip(board["model"], board["mode"])))
+    reference = [c for c in board.columns if c.startswith("held_out_difference_vs_")]
+    held, paired, inside = [], [], []
+    for model_key, mode in keys:
+        rows = board[(board["model"] == model_key) & (board["mode"] == mode)].set_index("component")
+        head = {"Model": rows["label"].iloc[0], "Fit": mode}
+        held.append({**head, **{component_label(c): format_interval(r.held_out_mse, r.held_out_low, r.held_out_high)
+                                for c, r in rows.iterrows()}})
+        if reference:
+            suffix = reference[0][len("held_out_difference"):]
+            paired.append({**head, **{component_label(c): format_interval(
+                r[f"held_out_difference{suffix}"], r[f"held_out_difference_low{suffix}"],
+                r[f"held_out_difference_high{suffix}"]) for c, r in rows.iterrows()}})
+        mine = parameters[(parameters["model"] == model_key) & (parameters["mode"] == mode)]
+        inside.append({**head, "Parameters": ", ".join(f"{p.parameter} = {format_value_error(p.value, p.error)}"
+                                                        for p in mine.itertuples()),
+                       "k": int(rows["n_parameters"].iloc[0]),
+                       **{component_label(c): format_interval(r.in_sample_mse, r.in_sample_low, r.in_sample_high)
+                          for c, r in rows.iterrows()},
+                       "AIC": format_number(rows["aic"].iloc[0], 4)})
+    return pd.DataFrame(held), pd.DataFrame(paired), pd.DataFrame(inside)
+
+
+def write_leaderboard_page(board: pd.DataFrame, parameters: pd.DataFrame, path: str | os.PathLike,
+                           level: float) -> Path:
+    """The report page of the fabric-model leaderboard (leaderboard.csv, model_parameters.csv)."""
+    held, paired, inside = leaderboard_tables(board, parameters)
+    unit = "mean square of (model − seed curve) / ⟨nn⟩₁₂ˢˢ over the strains after the rotation and the angles"
+    return write_html_tables(path, "Fabric models on held-out rotation angles (leaderboard.csv)", [
+        (f"Held-out error per component, seed mean [{level:.0%} t-interval over seeds]", held,
+         f"{unit}. Fit 'steady': fitted to the steady state only, every angle is held out; 'global': "
+         "weighted least squares on the startup curve and the other folds of angles."),
+        (f"Held-out error minus that of G-W fitted to the steady state, per seed [{level:.0%} t-interval]", paired,
+         "< 0: the model predicts the unseen rotations better than the paper's G-W fit (paired per seed)."),
+        (f"In-sample error, parameters (± jackknife over seeds), k and AIC [{level:.0%} t-interval]", inside,
+         "AIC = χ² + 2k of the global fit (frames along a curve are correlated: it ranks, it does not weigh "
+         "evidence); — for the steady fits, which minimise no curve."),
     ])
 
 

@@ -73,6 +73,7 @@ def study_targets(study):
         *rules.figure_rotation.output,
         *rules.fit_models.output,
         rules.model_errors.output.table,
+        *rules.benchmark_models.output,
         *rules.report_tables.output,
         *rules.verdicts.output,
         *rules.figure_claims.output,

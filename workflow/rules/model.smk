@@ -89,3 +89,30 @@ rule stress_relation:
         f"{RESULTS}/logs/stress_relation.log",
     script:
         "../scripts/stress_relation.py"
+
+
+rule benchmark_models:
+    """Every model of models.fabric scored on held-out rotation angles: steady and global fits, in-sample and
+    held-out mean square errors per seed with t-intervals, the paired difference from G-W, AIC."""
+    input:
+        fits=rules.fit_models.output[0],
+        startup_runs=rules.aggregate_startup.output.runs,
+        rotation_runs=rules.aggregate_rotation.output.runs,
+        model_files=model_files,
+    output:
+        leaderboard=f"{RESULTS}/tables/leaderboard.csv",
+        parameters=f"{RESULTS}/tables/model_parameters.csv",
+        page=report(f"{RESULTS}/tables/leaderboard.html", caption="../report/table_leaderboard.rst", category="Tables"),
+    params:
+        models=setting("models", "fabric"),
+        folds=setting("models", "held_out_folds"),
+        startup_strain=setting("run", "startup_strain"),
+        steady_window=setting("analysis", "steady_window"),
+        window=setting("verdicts", "window"),
+        level=setting("verdicts", "level"),
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/benchmark_models.log",
+    script:
+        "../scripts/benchmark_models.py"
