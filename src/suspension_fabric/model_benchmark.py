@@ -154,8 +154,12 @@ def fit_global(fabric_model, curves: SeedCurves, phi: float, startup_strain: flo
 
 def global_fit_with_errors(fabric_model, curves: SeedCurves, phi: float, startup_strain: float,
                            start: dict) -> dict:
-    """:func:`fit_global` on every angle with jackknife errors over seeds of the whole fit."""
+    """:func:`fit_global` on every angle with jackknife errors over seeds of the whole fit (NaN for
+    fewer than 3 seeds: a leave-one-out fit needs two seeds for its weights)."""
     fitted = fit_global(fabric_model, curves, phi, startup_strain, start)
+    if len(curves.seeds) < 3:
+        fitted["errors"] = dict.fromkeys(fabric_model.names, np.nan)
+        return fitted
     cache = {}
 
     def parameter(subset, name):
