@@ -34,6 +34,7 @@ from typing import Callable, Mapping, NamedTuple
 
 import numpy as np
 import scipy.linalg
+import scipy.optimize
 from scipy.integrate import solve_ivp
 from scipy.optimize import least_squares
 
@@ -175,6 +176,54 @@ MODIFIED = FabricModel(
     description="Eq. 1 with the isotropic term's rate A: ... - A (phi/15) Tr(Eh_c) I",
 )
 
+def _shear_system(rate_break, rate_form, rate_iso, phi=1.0):
+    """(M, b) of the closure models in simple shear e1 e2 for the given rates (no checks)."""
+    flow = flow_of(simple_shear_gradient())
+    rhs = lambda vectors: sym_to_vec(_closure_model_rhs(vec_to_sym(vectors), flow, rate_break, rate_form,  # noqa: E731
+                                                          rate_iso, phi))
+    b = rhs(np.zeros(6))
+    return (rhs(np.eye(6)) - b).T, b
+
+
+def _separate_rates_fit(targets, phi):
+    """Exact steady fit of the separate-rates model to <nn>_11, <nn>_33, <nn>_12.
+
+    M depends on beta_e only (M = M0 + beta_e M1) and b is linear in (beta_c, A), so for fixed
+    beta_e the steady fabric is phi (beta_c x_c + A x_A) with x = -M^-1 b per unit rate: <nn>_11
+    and <nn>_12 give (beta_c, A) and <nn>_33 leaves one equation in beta_e, whose roots on a
+    fine grid of [1e-3, 1e4] are refined; roots with a negative rate, an unstable fixed point or
+    a fabric that is not positive semi-definite are dropped, and exactly one must remain."""
+    M0, _ = _shear_system(0.0, 0.0, 0.0)
+    M1 = _shear_system(1.0, 0.0, 0.0)[0] - M0
+    b_form, b_iso = _shear_system(0.0, 1.0, 0.0)[1], _shear_system(0.0, 0.0, 1.0)[1]
+    wanted = np.array([targets["11"], targets["12"], targets["33"]], dtype=float) / phi
+
+    def rates(beta_e):
+        beta_e = np.asarray(beta_e, dtype=float)
+        parts = -np.linalg.solve(M0 + beta_e[..., None, None] * M1, np.stack([b_form, b_iso], axis=-1))
+        coefficients = np.linalg.solve(parts[..., [0, 3], :],
+                                       np.broadcast_to(wanted[:2], beta_e.shape + (2,))[..., None])[..., 0]
+        return coefficients, np.einsum("...k,...k->...", parts[..., 2, :], coefficients) - wanted[2]
+
+    grid = np.geomspace(1e-3, 1e4, 4000)
+    residual = rates(grid)[1]
+    found = []
+    for i in np.flatnonzero(np.sign(residual[:-1]) != np.sign(residual[1:])):
+        beta_e = scipy.optimize.brentq(lambda x: float(rates(np.array(x))[1]), grid[i], grid[i + 1], xtol=1e-14,
+                                       rtol=1e-14)
+        (beta_c, A), miss = rates(np.array(beta_e))
+        M = M0 + beta_e * M1
+        steady = vec_to_sym(phi * (beta_c * -np.linalg.solve(M, b_form) + A * -np.linalg.solve(M, b_iso)))
+        if (beta_c >= 0 and A >= 0 and abs(miss) < 1e-8 * max(1.0, abs(wanted[2]))
+                and np.all(np.linalg.eigvals(M).real < 0) and np.linalg.eigvalsh(steady).min() >= -1e-12):
+            found.append({"beta_e": float(beta_e), "beta_c": float(beta_c), "A": float(A)})
+    if len(found) != 1:
+        raise ModelError(f"separate_rates: {len(found)} stable, physical solutions (rates >= 0) reproduce the steady "
+                         f"<nn>_11, <nn>_33, <nn>_12 = {targets['11']:.6g}, {targets['33']:.6g}, {targets['12']:.6g} "
+                         f"at phi = {phi}: {found}")
+    return found[0]
+
+
 #: Refinement aimed at the modified model's overshoot: breaking in extension (beta_e), directed
 #: formation in compression (beta_c) and isotropic formation (A) at separate rates.
 SEPARATE_RATES = FabricModel(
@@ -183,6 +232,7 @@ SEPARATE_RATES = FabricModel(
                 Parameter("A", 0.0, 1e5, 40.0)),
     steady_targets=("11", "33", "12"), affine=True,
     rhs=lambda fabric, flow, p, phi: _closure_model_rhs(fabric, flow, p["beta_e"], p["beta_c"], p["A"], phi),
+    fit=_separate_rates_fit,
     description=("d<nn>/dgamma = Lh.<nn> + <nn>.Lh^T - 2 Lh:<nnnn> - beta_e Eh_e:<nnnn> - beta_c (phi/15) 2 Eh_c"
                  " - A (phi/15) Tr(Eh_c) I"),
 )
