@@ -33,14 +33,13 @@ from pathlib import Path
 from typing import Callable, Mapping, NamedTuple
 
 import numpy as np
-import scipy.linalg
 import scipy.optimize
 from scipy.integrate import solve_ivp
 from scipy.optimize import least_squares
 
 from . import model as paper_models
 from .frames import rotation_about_gradient, simple_shear_gradient, to_basis
-from .model import VECTOR_ORDER, contract_closure, split_strain_rate, sym_to_vec, vec_to_sym
+from .model import VECTOR_ORDER, contract_closure, propagate_affine, split_strain_rate, sym_to_vec, vec_to_sym
 
 __all__ = ["Parameter", "Flow", "flow_of", "FabricModel", "GW", "MODIFIED", "SEPARATE_RATES", "BUILT_IN",
            "load_model", "resolve_models", "affine_system", "integrate", "steady_state", "fit_steady",
@@ -313,19 +312,6 @@ def _strains(strains) -> np.ndarray:
     return strains
 
 
-def _propagate(M, deviation, strains) -> np.ndarray:
-    """expm(M gamma) deviation at every strain, shape batch + (strains, 6): by the eigenvectors of M,
-    V exp(Lambda gamma) V^-1, when they are well conditioned (one decomposition for all strains),
-    else by scipy's expm per strain."""
-    eigenvalues, vectors = np.linalg.eig(M)
-    if np.all(np.linalg.cond(vectors) < 1e8):
-        coefficients = np.linalg.solve(vectors, np.asarray(deviation, dtype=complex)[..., None])[..., 0]
-        growth = np.exp(eigenvalues[..., None, :] * strains[:, None])  # flow batch + (strains, 6)
-        return np.einsum("...ij,...sj->...si", vectors, growth * coefficients[..., None, :]).real
-    propagators = scipy.linalg.expm(M[..., None, :, :] * strains[:, None, None])
-    return np.einsum("...sij,...j->...si", propagators, deviation)
-
-
 def integrate(fabric_model: FabricModel, fabric0, velocity_gradient, strains, params, phi,
               rtol=1e-10, atol=1e-12) -> np.ndarray:
     """<nn>(gamma) from ``fabric0`` under a constant velocity gradient, shape
@@ -339,7 +325,7 @@ def integrate(fabric_model: FabricModel, fabric0, velocity_gradient, strains, pa
         M, b = affine_system(fabric_model, flow, params, phi)
         v_ss = -np.linalg.solve(M, b[..., None])[..., 0]
         deviation = sym_to_vec(fabric0) - v_ss
-        return vec_to_sym(v_ss[..., None, :] + _propagate(M, deviation, strains))
+        return vec_to_sym(v_ss[..., None, :] + propagate_affine(M, deviation, strains))
     batch = np.broadcast_shapes(fabric0.shape[:-2], flow.grad_hat.shape[:-2])
     starts = np.broadcast_to(fabric0, batch + (3, 3)).reshape(-1, 3, 3)
     flows = [np.broadcast_to(t, batch + (3, 3)).reshape(-1, 3, 3) for t in flow]

@@ -22,7 +22,7 @@ after it are reported in the rotated frame (e1', e2, e3').
 Because the right-hand side is affine in <nn> for a fixed flow, a constant-L
 interval is integrated exactly: with the 6-vector v of independent components,
 dv/dgamma = M v + b, so v(gamma) = v_ss + expm(M gamma) (v0 - v_ss) with
-v_ss = -M^{-1} b. :func:`integrate_fabric_ode` integrates the same
+v_ss = -M^{-1} b, evaluated as V exp(Lambda gamma) V^-1 (:func:`propagate_affine`). :func:`integrate_fabric_ode` integrates the same
 right-hand side numerically (scipy ``solve_ivp``) as an independent reference.
 
 Symmetric tensors are stored as 6-vectors in the order (11, 22, 33, 12, 13, 23)
@@ -48,6 +48,7 @@ __all__ = [
     "fabric_rhs",
     "affine_rhs",
     "integrate_fabric",
+    "propagate_affine",
     "integrate_fabric_ode",
     "steady_state",
     "steady_state_ode",
@@ -266,6 +267,19 @@ def _as_strains(strains) -> np.ndarray:
     return strains
 
 
+def propagate_affine(M, deviation, strains) -> np.ndarray:
+    """expm(M gamma) deviation at every strain, shape batch + (strains, 6): by the eigenvectors of M,
+    V exp(Lambda gamma) V^-1, when they are well conditioned (one decomposition for all strains),
+    else by scipy's expm per strain."""
+    eigenvalues, vectors = np.linalg.eig(M)
+    if np.all(np.linalg.cond(vectors) < 1e8):
+        coefficients = np.linalg.solve(vectors, np.asarray(deviation, dtype=complex)[..., None])[..., 0]
+        growth = np.exp(eigenvalues[..., None, :] * strains[:, None])  # flow batch + (strains, 6)
+        return np.einsum("...ij,...sj->...si", vectors, growth * coefficients[..., None, :]).real
+    propagators = scipy.linalg.expm(M[..., None, :, :] * strains[:, None, None])
+    return np.einsum("...sij,...j->...si", propagators, deviation)
+
+
 def integrate_fabric(fabric0, velocity_gradient, strains, beta, A=None, phi=0.45) -> np.ndarray:
     """Exact fabric <nn>(gamma) under a constant velocity gradient.
 
@@ -278,11 +292,8 @@ def integrate_fabric(fabric0, velocity_gradient, strains, beta, A=None, phi=0.45
     strains = _as_strains(strains)
     M, b = affine_rhs(velocity_gradient, beta, A, phi)
     v_ss = -np.linalg.solve(M, b[..., None])[..., 0]
-    # One propagator per (flow, strain); fabrics sharing a flow share them (cheap angle grids).
-    propagators = scipy.linalg.expm(M[..., None, :, :] * strains[:, None, None])
-    deviation = sym_to_vec(fabric0) - v_ss
-    v = v_ss[..., None, :] + np.einsum("...sij,...j->...si", propagators, deviation)
-    return vec_to_sym(v)
+    # One decomposition per flow; fabrics sharing a flow share it (cheap angle grids).
+    return vec_to_sym(v_ss[..., None, :] + propagate_affine(M, sym_to_vec(fabric0) - v_ss, strains))
 
 
 def integrate_fabric_ode(fabric0, velocity_gradient, strains, beta, A=None, phi=0.45, rtol=1e-10, atol=1e-12):
