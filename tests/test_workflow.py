@@ -224,7 +224,7 @@ def test_report_shows_the_tables(study):
     pages = {name: base64.b64decode(data).decode("utf-8") for name, data in re.findall(
         r"data:text/html;charset=utf-?8;filename=([\w.]+);base64,([A-Za-z0-9+/=]+)", html)}
     assert set(pages) == {"fits.html", "steady_state.html", "model_errors_summary.html", "verdicts.html",
-                          "stress.html"}, set(pages)
+                          "stress.html", "leaderboard.html"}, set(pages)
     for caption in ("Fitted model parameters (fits.json)", "Steady state of startup shear",
                     "Model versus simulation (tables/model_errors_summary.csv)"):
         assert caption in html  # the report captions (workflow/report/table_*.rst)

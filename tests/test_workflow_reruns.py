@@ -58,8 +58,11 @@ CASES = {
         {("pack", "seed=3"), ("startup", "seed=3"), ("rotate", "seed=3, angle=0"), ("rotate", "seed=3, angle=90")},
     ),
     "verdicts.level": (["verdicts={level: 0.9}"],
-                       {("verdicts", ""), ("figure_claims", ""), ("stress_relation", "")}, set()),
-    "verdicts.window": (["verdicts={window: 0.05}"], {("claims", ""), ("stress_relation", "")}, set()),
+                       {("verdicts", ""), ("figure_claims", ""), ("stress_relation", ""), ("benchmark_models", "")},
+                       set()),
+    "verdicts.window": (["verdicts={window: 0.05}"],
+                        {("claims", ""), ("stress_relation", ""), ("benchmark_models", "")}, set()),
+    "models.held_out_folds": (["models={held_out_folds: 3}"], {("benchmark_models", "")}, set()),
     "checks, thermo and restart intervals": (
         ["run={thermo_strain: 0.02, restart_strain: 0.05, max_overlap: 0.02, max_stress_jitter: 0.6, "
          "max_contact_relaxation_strain: 0.02}"], set(), set()),
@@ -88,12 +91,13 @@ def test_a_config_change_reruns_exactly_the_jobs_that_depend_on_it(study, case):
 
 @pytest.mark.parametrize("rule, override", [
     ("predict", "run={startup_strain: 0.4}"), ("fit_models", "particles={phi: 0.44}"),
+    ("benchmark_models", "run={startup_strain: 0.4}"), ("benchmark_models", "analysis={steady_window: [0.15, 0.3]}"),
     ("rotate", "forces={kn: 5.0e+5}"), ("rotate", "run={dt: 5.0e-5}"), ("rotate", "run={table_strain: 0.005}"),
 ])
 def test_params_of_downstream_rules(study, rule, override):
     """A key read by a rule downstream of another that reads it too: planning one output of
     that rule alone with the changed key shows 'Params have changed' for it."""
-    target = {"predict": "tables/predictions.csv", "fit_models": "fits.json",
+    target = {"predict": "tables/predictions.csv", "fit_models": "fits.json", "benchmark_models": "tables/leaderboard.csv",
               "rotate": "seed1/rotation_theta90/trajectory.dump"}[rule]
     result = snakemake(study, *TEST_CONFIG, "--config", override, "-n", "--allowed-rules", rule,
                        "--", f"{RESULTS}/{target}")
