@@ -130,3 +130,15 @@ def test_the_config_names_a_bad_model_entry_before_anything_runs(tmp_path):
         validate_config({**STUDY, "models": {"fabric": ["gw", "gw_typo"]}})
     with pytest.raises(ConfigError, match=r"config key 'models.fabric'"):
         validate_config({**STUDY, "models": {"fabric": []}})
+
+
+def test_two_exact_separate_rates_solutions_are_told_apart_by_the_unfitted_component():
+    """Steady <nn>_11, _33, _12 reached by two rate sets (the test study's); <nn>_22 picks one."""
+    targets = {"11": 0.223325, "33": 0.173348, "12": -0.141949}
+    with pytest.raises(fm.ModelError, match="2 stable, physical solutions"):
+        fm.fit_steady(fm.SEPARATE_RATES, targets, PHI)
+    for beta_e in (8.5459, 115.727):
+        near = {"beta_e": beta_e, "beta_c": 15.868 if beta_e < 50 else 61.154, "A": 4.5087 if beta_e < 50 else 71.229}
+        n22 = fm.steady_state(fm.SEPARATE_RATES, near, PHI)[1, 1]
+        fitted = fm.fit_steady(fm.SEPARATE_RATES, {**targets, "22": n22}, PHI)
+        assert fitted["beta_e"] == pytest.approx(beta_e, rel=1e-3)

@@ -191,7 +191,8 @@ def _separate_rates_fit(targets, phi):
     beta_e the steady fabric is phi (beta_c x_c + A x_A) with x = -M^-1 b per unit rate: <nn>_11
     and <nn>_12 give (beta_c, A) and <nn>_33 leaves one equation in beta_e, whose roots on a
     fine grid of [1e-3, 1e4] are refined; roots with a negative rate, an unstable fixed point or
-    a fabric that is not positive semi-definite are dropped, and exactly one must remain."""
+    a fabric that is not positive semi-definite are dropped; of several, the one whose <nn>_22 is
+    closest to ``targets["22"]`` (when given) is kept; exactly one must remain."""
     M0, _ = _shear_system(0.0, 0.0, 0.0)
     M1 = _shear_system(1.0, 0.0, 0.0)[0] - M0
     b_form, b_iso = _shear_system(0.0, 1.0, 0.0)[1], _shear_system(0.0, 0.0, 1.0)[1]
@@ -215,12 +216,15 @@ def _separate_rates_fit(targets, phi):
         steady = vec_to_sym(phi * (beta_c * -np.linalg.solve(M, b_form) + A * -np.linalg.solve(M, b_iso)))
         if (beta_c >= 0 and A >= 0 and abs(miss) < 1e-8 * max(1.0, abs(wanted[2]))
                 and np.all(np.linalg.eigvals(M).real < 0) and np.linalg.eigvalsh(steady).min() >= -1e-12):
-            found.append({"beta_e": float(beta_e), "beta_c": float(beta_c), "A": float(A)})
+            found.append(({"beta_e": float(beta_e), "beta_c": float(beta_c), "A": float(A)}, steady[1, 1]))
+    if len(found) > 1 and "22" in targets:
+        # several exact solutions: the steady component not fitted, <nn>_22, decides
+        found = [min(found, key=lambda solution: abs(solution[1] - targets["22"]))]
     if len(found) != 1:
         raise ModelError(f"separate_rates: {len(found)} stable, physical solutions (rates >= 0) reproduce the steady "
                          f"<nn>_11, <nn>_33, <nn>_12 = {targets['11']:.6g}, {targets['33']:.6g}, {targets['12']:.6g} "
-                         f"at phi = {phi}: {found}")
-    return found[0]
+                         f"at phi = {phi}: {[solution for solution, _ in found]}")
+    return found[0][0]
 
 
 #: Refinement aimed at the modified model's overshoot: breaking in extension (beta_e), directed

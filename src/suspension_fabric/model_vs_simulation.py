@@ -184,7 +184,8 @@ def _jackknife_errors(startup: pd.DataFrame, seeds, strain_min, strain_max, phi)
 
 
 def _steady_targets(steady: pd.DataFrame, fabric_model) -> dict[str, float]:
-    return {c: _steady_value(steady, f"n{c}")[0] for c in fabric_model.steady_targets}
+    """Every steady component (a model fits its ``steady_targets``; the others may break ties)."""
+    return {name[1:]: _steady_value(steady, name)[0] for name in COMPONENTS}
 
 
 def fit_listed_models(steady: pd.DataFrame, startup: pd.DataFrame, seeds, strain_min: float, strain_max: float,
