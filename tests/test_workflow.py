@@ -31,7 +31,7 @@ def test_study_produces_figures_fits_and_error_table(study):
     errors = pd.read_csv(results / "tables" / "model_errors.csv")
     rotation = errors[errors["protocol"] == "rotation"]
     assert sorted(rotation["theta"].unique()) == [0.0, 90.0]
-    assert set(rotation["model"]) == {"gw", "modified"}
+    assert set(rotation["model"]) == {"gw", "modified", "separate_rates"}  # models.fabric (default list)
     runs = pd.read_csv(results / "tables" / "rotation_runs.csv")
     assert sorted(runs["seed"].unique()) == [1, 2]
 
