@@ -62,14 +62,14 @@ def test_study_produces_the_stress_tables_figures_and_relation(study):
     aggregate = pd.read_csv(results / "tables/stress_rotation_aggregate.csv")
     assert sorted(aggregate["theta"].unique()) == [0.0, 90.0] and (aggregate["n_seeds"] == 2).all()
     relation = pd.read_csv(results / "tables/stress_relation_fits.csv")
-    assert relation["source"].tolist() == ["simulation", "gw", "modified"]
+    assert relation["source"].tolist() == ["simulation", "gw", "modified", "separate_rates"]
     assert (relation["a_H"] > 0).all() and (relation["a_C"] > 0).all()
     # the relation reproduces the steady contact and lubrication sigma_12 it was fitted to; it
     # has no kinetic part (O(1/eta_f), larger in this study's eta_f = 1)
     np.testing.assert_allclose(relation["eta_r_predicted"],
                                steady.loc["eta_r", "mean"] - steady.loc["kinetic_12", "mean"], rtol=1e-6)
     errors = pd.read_csv(results / "tables/stress_model_errors.csv")
-    assert set(errors["source"]) == {"simulation", "gw", "modified"}
+    assert set(errors["source"]) == {"simulation", "gw", "modified", "separate_rates"}
     assert sorted(errors[errors["protocol"] == "rotation"]["theta"].unique()) == [0.0, 90.0]
     transients = pd.read_csv(results / "tables/stress_viscosity_transients.csv")
     assert transients["theta"].tolist() == [0.0, 90.0]
