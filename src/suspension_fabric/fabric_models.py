@@ -33,13 +33,13 @@ from pathlib import Path
 from typing import Callable, Mapping, NamedTuple
 
 import numpy as np
-import scipy.optimize
 from scipy.integrate import solve_ivp
 from scipy.optimize import least_squares
 
 from . import model as paper_models
 from .frames import rotation_about_gradient, simple_shear_gradient, to_basis
-from .model import VECTOR_ORDER, contract_closure, propagate_affine, split_strain_rate, sym_to_vec, vec_to_sym
+from .model import (VECTOR_ORDER, as_strains, closure_model_rhs, propagate_affine, split_strain_rate, sym_to_vec,
+                    vec_to_sym)
 
 __all__ = ["Parameter", "Flow", "flow_of", "FabricModel", "GW", "MODIFIED", "SEPARATE_RATES", "BUILT_IN",
            "load_model", "resolve_models", "affine_system", "integrate", "steady_state", "fit_steady",
@@ -134,14 +134,9 @@ class FabricModel:
 
 # --------------------------------------------------------------------------- built-in models
 def _closure_model_rhs(fabric, flow: Flow, rate_break: float, rate_form: float, rate_iso: float, phi: float):
-    """Lh.X + X.Lh^T - 2 Lh:<nnnn> - b_e Eh_e:<nnnn> - b_c (phi/15) 2 Eh_c - A (phi/15) Tr(Eh_c) delta,
-    with the paper's closure: breaking, formation and isotropic rates b_e, b_c, A (paper Eq. 2 has
-    b_e = b_c = beta)."""
-    fabric = np.asarray(fabric, dtype=float)
-    convective = flow.grad_hat @ fabric + fabric @ np.swapaxes(flow.grad_hat, -1, -2)
-    linear = convective - contract_closure(2.0 * flow.grad_hat + rate_break * flow.e_ext, fabric)
-    tr_c = np.trace(flow.e_comp, axis1=-2, axis2=-1)[..., None, None]
-    return linear - (phi / 15.0) * (2.0 * rate_form * flow.e_comp + rate_iso * tr_c * np.eye(3))
+    """:func:`suspension_fabric.model.closure_model_rhs` on a :class:`Flow`."""
+    return closure_model_rhs(np.asarray(fabric, dtype=float), flow.grad_hat, flow.e_ext, flow.e_comp, rate_break,
+                             rate_form, rate_iso, phi)
 
 
 _BETA = Parameter("beta", 1e-3, 1e4, 10.0)
@@ -175,47 +170,31 @@ MODIFIED = FabricModel(
     description="Eq. 1 with the isotropic term's rate A: ... - A (phi/15) Tr(Eh_c) I",
 )
 
-def _shear_system(rate_break, rate_form, rate_iso, phi=1.0):
-    """(M, b) of the closure models in simple shear e1 e2 for the given rates (no checks)."""
-    flow = flow_of(simple_shear_gradient())
-    rhs = lambda vectors: sym_to_vec(_closure_model_rhs(vec_to_sym(vectors), flow, rate_break, rate_form,  # noqa: E731
-                                                          rate_iso, phi))
-    b = rhs(np.zeros(6))
-    return (rhs(np.eye(6)) - b).T, b
-
-
 def _separate_rates_fit(targets, phi):
     """Exact steady fit of the separate-rates model to <nn>_11, <nn>_33, <nn>_12.
 
-    M depends on beta_e only (M = M0 + beta_e M1) and b is linear in (beta_c, A), so for fixed
-    beta_e the steady fabric is phi (beta_c x_c + A x_A) with x = -M^-1 b per unit rate: <nn>_11
+    M depends on beta_e only and b is linear in (beta_c, A), so for fixed beta_e the steady
+    fabric is phi (beta_c x_form + A x_iso) (:func:`suspension_fabric.model.shear_steady_parts`): <nn>_11
     and <nn>_12 give (beta_c, A) and <nn>_33 leaves one equation in beta_e, whose roots on a
     fine grid of [1e-3, 1e4] are refined; roots with a negative rate, an unstable fixed point or
     a fabric that is not positive semi-definite are dropped; of several, the one whose <nn>_22 is
     closest to ``targets["22"]`` (when given) is kept; exactly one must remain."""
-    M0, _ = _shear_system(0.0, 0.0, 0.0)
-    M1 = _shear_system(1.0, 0.0, 0.0)[0] - M0
-    b_form, b_iso = _shear_system(0.0, 1.0, 0.0)[1], _shear_system(0.0, 0.0, 1.0)[1]
     wanted = np.array([targets["11"], targets["12"], targets["33"]], dtype=float) / phi
 
     def rates(beta_e):
         beta_e = np.asarray(beta_e, dtype=float)
-        parts = -np.linalg.solve(M0 + beta_e[..., None, None] * M1, np.stack([b_form, b_iso], axis=-1))
+        parts = np.stack(paper_models.shear_steady_parts(beta_e), axis=-1)  # (..., 6, 2): x_form, x_iso
         coefficients = np.linalg.solve(parts[..., [0, 3], :],
                                        np.broadcast_to(wanted[:2], beta_e.shape + (2,))[..., None])[..., 0]
         return coefficients, np.einsum("...k,...k->...", parts[..., 2, :], coefficients) - wanted[2]
 
-    grid = np.geomspace(1e-3, 1e4, 4000)
-    residual = rates(grid)[1]
     found = []
-    for i in np.flatnonzero(np.sign(residual[:-1]) != np.sign(residual[1:])):
-        beta_e = scipy.optimize.brentq(lambda x: float(rates(np.array(x))[1]), grid[i], grid[i + 1], xtol=1e-14,
-                                       rtol=1e-14)
+    for beta_e in paper_models.roots_on_grid(lambda x: rates(x)[1], paper_models.RATE_GRID):
         (beta_c, A), miss = rates(np.array(beta_e))
-        M = M0 + beta_e * M1
-        steady = vec_to_sym(phi * (beta_c * -np.linalg.solve(M, b_form) + A * -np.linalg.solve(M, b_iso)))
+        x_form, x_iso = paper_models.shear_steady_parts(beta_e)
+        steady = vec_to_sym(phi * (beta_c * x_form + A * x_iso))
         if (beta_c >= 0 and A >= 0 and abs(miss) < 1e-8 * max(1.0, abs(wanted[2]))
-                and np.all(np.linalg.eigvals(M).real < 0) and np.linalg.eigvalsh(steady).min() >= -1e-12):
+                and paper_models.is_stable(beta_e) and np.linalg.eigvalsh(steady).min() >= -1e-12):
             found.append(({"beta_e": float(beta_e), "beta_c": float(beta_c), "A": float(A)}, steady[1, 1]))
     if len(found) > 1 and "22" in targets:
         # several exact solutions: the steady component not fitted, <nn>_22, decides
@@ -309,20 +288,13 @@ def affine_system(fabric_model: FabricModel, flow: Flow, params, phi):
     return M, b
 
 
-def _strains(strains) -> np.ndarray:
-    strains = np.asarray(strains, dtype=float)
-    if strains.ndim != 1 or not np.all(np.isfinite(strains)) or np.any(strains < 0):
-        raise ValueError("strains must be a 1-D array of finite, non-negative strains")
-    return strains
-
-
 def integrate(fabric_model: FabricModel, fabric0, velocity_gradient, strains, params, phi,
               rtol=1e-10, atol=1e-12) -> np.ndarray:
     """<nn>(gamma) from ``fabric0`` under a constant velocity gradient, shape
     ``batch + (len(strains), 3, 3)`` (``fabric0`` and the gradient broadcast): exact propagation
     for an affine model, ``solve_ivp`` (DOP853) per fabric otherwise."""
     params = fabric_model.check(params)
-    strains = _strains(strains)
+    strains = as_strains(strains)
     flow = flow_of(velocity_gradient)
     fabric0 = np.asarray(fabric0, dtype=float)
     if fabric_model.affine:

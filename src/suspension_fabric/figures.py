@@ -31,7 +31,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from .model_vs_simulation import MODEL_NAMES  # noqa: E402
+from .model_vs_simulation import MODEL_NAMES, model_labels  # noqa: E402
 from .stress_model import SOURCES  # noqa: E402
 
 __all__ = ["figure_startup", "figure_rotation", "polar_cell_errors", "figure_stress_startup", "figure_stress_rotation",
@@ -65,11 +65,6 @@ def _parameter_text(name: str) -> str:
     return f"${head}_{{{tail}}}$" if tail else f"${head}$"
 
 
-def _model_labels(fits: dict, keys) -> dict[str, str]:
-    """{key: display name} for ``keys``: the label fits.json's ``models`` records, else the key."""
-    return {key: fits.get("models", {}).get(key, {}).get("label", MODEL_NAMES.get(key, key)) for key in keys}
-
-
 def _legend_label(key: str, fits: dict) -> str:
     """The model's short name and its fitted parameters (fits.json's ``models``)."""
     entry = fits["models"][key]
@@ -86,7 +81,7 @@ def figure_startup(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: di
     fig, axes = plt.subplots(1, len(keys), figsize=(5 * len(keys), 4), sharey=True, constrained_layout=True,
                              squeeze=False)
     axes = axes[0]
-    for ax, (key, title) in zip(axes, _model_labels(fits, keys).items()):
+    for ax, (key, title) in zip(axes, model_labels(fits, keys).items()):
         pred = predictions[(predictions["model"] == key) & (predictions["protocol"] == "startup")]
         for name, colour in _STARTUP_COMPONENTS.items():
             ax.errorbar(shown["strain"], shown[f"{name}_mean"], yerr=shown[f"{name}_sem"].fillna(0.0),
@@ -171,7 +166,7 @@ def figure_rotation(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: d
     n12_ss = fits["targets"]["n12"]["mean"]
     sim, mirrored = mirror_negative_angles(simulation, ["n12_mean", "n23_mean"])
     rows = [("simulation", sim.rename(columns={"n12_mean": "n12", "n23_mean": "n23"}))]
-    for key, name in _model_labels(fits, dict.fromkeys(predictions["model"])).items():
+    for key, name in model_labels(fits, dict.fromkeys(predictions["model"])).items():
         pred = predictions[(predictions["model"] == key) & (predictions["protocol"] == "rotation")]
         pred, _ = mirror_negative_angles(pred, ["n12", "n23"])
         rows.append((name, pred))

@@ -49,6 +49,10 @@ __all__ = [
     "affine_rhs",
     "integrate_fabric",
     "propagate_affine",
+    "closure_model_rhs",
+    "shear_steady_parts",
+    "roots_on_grid",
+    "RATE_GRID",
     "integrate_fabric_ode",
     "steady_state",
     "steady_state_ode",
@@ -70,10 +74,10 @@ VECTOR_ORDER = ("11", "22", "33", "12", "13", "23")
 _ROWS = np.array([0, 1, 2, 0, 0, 1])
 _COLS = np.array([0, 1, 2, 1, 2, 2])
 
-# Bracket for the beta root search of the fits (beta is a strain-scale ratio of
+# Bracket (and grid) for the rate root searches of the fits (beta is a strain-scale ratio of
 # order 1-100 in the literature; outside this range the fabric is degenerate).
 _BETA_SEARCH = (1e-3, 1e4)
-_BETA_GRID = np.geomspace(*_BETA_SEARCH, 4000)
+RATE_GRID = np.geomspace(*_BETA_SEARCH, 4000)
 
 
 # --------------------------------------------------------------------------- utils
@@ -215,6 +219,13 @@ def _source_part(e_comp, beta, A, phi):
     return -(phi / 15.0) * (2.0 * beta * e_comp + A * tr_c * np.eye(3))
 
 
+def closure_model_rhs(fabric, grad_hat, e_ext, e_comp, rate_break, rate_form, rate_iso, phi) -> np.ndarray:
+    """Lh.X + X.Lh^T - 2 Lh:<nnnn> - b_e Eh_e:<nnnn> - b_c (phi/15) 2 Eh_c - a (phi/15) Tr(Eh_c) delta
+    with the paper's closure, for breaking, directed-formation and isotropic rates (b_e, b_c, a);
+    paper Eq. 2 is (beta, beta, A). No argument checks (the kinematics of :func:`split_strain_rate`)."""
+    return _linear_part(fabric, grad_hat, e_ext, rate_break) + _source_part(e_comp, rate_form, rate_iso, phi)
+
+
 def fabric_rhs(fabric, velocity_gradient, beta, A=None, phi=0.45) -> np.ndarray:
     """Right-hand side d<nn>/dgamma of paper Eq. 2 (Eq. 1 when ``A`` is None or beta).
 
@@ -224,7 +235,7 @@ def fabric_rhs(fabric, velocity_gradient, beta, A=None, phi=0.45) -> np.ndarray:
     beta, A, phi = _check_params(beta, A, phi)
     fabric = _check_fabric("fabric", fabric)
     grad_hat, _, e_ext, e_comp, _ = split_strain_rate(velocity_gradient)
-    return _linear_part(fabric, grad_hat, e_ext, beta) + _source_part(e_comp, beta, A, phi)
+    return closure_model_rhs(fabric, grad_hat, e_ext, e_comp, beta, beta, A, phi)
 
 
 def _affine_system(velocity_gradient, beta, A, phi):
@@ -258,7 +269,7 @@ def is_stable(beta, velocity_gradient=None) -> bool:
 
 
 # ------------------------------------------------------------------ integration
-def _as_strains(strains) -> np.ndarray:
+def as_strains(strains) -> np.ndarray:
     strains = _check_finite("strains", strains)
     if strains.ndim != 1:
         raise ValueError(f"strains must be a 1-D array, got shape {strains.shape}")
@@ -289,7 +300,7 @@ def integrate_fabric(fabric0, velocity_gradient, strains, beta, A=None, phi=0.45
     array of shape ``batch + (len(strains), 3, 3)``.
     """
     fabric0 = _check_fabric("fabric0", fabric0)
-    strains = _as_strains(strains)
+    strains = as_strains(strains)
     M, b = affine_rhs(velocity_gradient, beta, A, phi)
     v_ss = -np.linalg.solve(M, b[..., None])[..., 0]
     # One decomposition per flow; fabrics sharing a flow share it (cheap angle grids).
@@ -303,7 +314,7 @@ def integrate_fabric_ode(fabric0, velocity_gradient, strains, beta, A=None, phi=
     ``gamma -> (3, 3)`` for a time-dependent flow. Returns (len(strains), 3, 3).
     """
     fabric0 = _check_fabric("fabric0", fabric0)
-    strains = _as_strains(strains)
+    strains = as_strains(strains)
     gradient_at = velocity_gradient if callable(velocity_gradient) else (lambda _g: velocity_gradient)
 
     def rhs(gamma, v):
@@ -369,16 +380,24 @@ def _simple_shear_pieces():
 _SHEAR_M0, _SHEAR_M1, _SHEAR_B1, _SHEAR_B2 = _simple_shear_pieces()
 
 
+def shear_steady_parts(rate_break):
+    """Steady simple-shear 6-vectors per unit phi of unit directed formation and of unit isotropic
+    formation, for the breaking rate ``rate_break`` (may be an array): the fixed point of
+    :func:`closure_model_rhs` is rate_form x_form + rate_iso x_iso, since M depends on the breaking
+    rate only (M = M0 + b_e M1) and the source is linear in the two formation rates."""
+    rate = np.asarray(rate_break, dtype=float)
+    M = _SHEAR_M0 + rate[..., None, None] * _SHEAR_M1
+    sol = np.linalg.solve(M, -np.stack([_SHEAR_B1, _SHEAR_B2], axis=-1))
+    return sol[..., 0], sol[..., 1]
+
+
 def _steady_parts(beta):
     """Steady simple-shear fabric per unit phi split as v = v_beta + A v_A (beta may be an array).
 
     The source is linear in A for fixed beta, so the fixed point is affine in A.
     """
-    beta = np.asarray(beta, dtype=float)
-    M = _SHEAR_M0 + beta[..., None, None] * _SHEAR_M1
-    rhs = np.stack([-beta[..., None] * _SHEAR_B1, -np.broadcast_to(_SHEAR_B2, beta.shape + (6,))], axis=-1)
-    sol = np.linalg.solve(M, rhs)
-    return sol[..., 0], sol[..., 1]
+    x_form, x_iso = shear_steady_parts(beta)
+    return np.asarray(beta, dtype=float)[..., None] * x_form, x_iso
 
 
 def _is_physical(beta, A, phi) -> bool:
@@ -395,7 +414,7 @@ def _reproduces(beta, A, phi, targets, tol=1e-9) -> bool:
     return all(abs(fabric[ij] - value) <= tol * max(1.0, abs(value)) for ij, value in targets.items())
 
 
-def _roots_on_grid(func, grid):
+def roots_on_grid(func, grid):
     """All sign changes of a vectorised ``func`` on ``grid``, refined with brentq."""
     values = func(grid)
     roots = []  # may include poles (sign change through infinity); callers verify
@@ -455,7 +474,7 @@ def fit_gw(n12, phi) -> float:
         return (x_beta[..., 3] + beta * x_A[..., 3]) * phi - n12
 
     roots = [
-        b for b in _roots_on_grid(residual, _BETA_GRID)
+        b for b in roots_on_grid(residual, RATE_GRID)
         if _reproduces(b, b, phi, {(0, 1): n12}) and _is_physical(b, b, phi)
     ]
     return float(_pick_unique(roots, "fit_gw", f"<nn>_12 = {n12} at phi = {phi}"))
@@ -493,7 +512,7 @@ def fit_modified(n11, n12, phi) -> ModifiedFit:
         return (x_beta[..., 0] + A_of(beta) * x_A[..., 0]) * phi - n11
 
     candidates = []
-    for beta in _roots_on_grid(residual, _BETA_GRID):
+    for beta in roots_on_grid(residual, RATE_GRID):
         A = A_of(beta)
         if (np.isfinite(A) and A >= 0.0 and _reproduces(beta, A, phi, {(0, 0): n11, (0, 1): n12})
                 and _is_physical(beta, A, phi)):
@@ -511,7 +530,7 @@ def fit_startup_curve(strains, observed: dict, phi, fabric0=None, *, free_A: boo
     is the initial (beta, A) (e.g. the steady-state fit). Bounds: beta in the fits' search range,
     A >= 0. Raises ValueError if the least-squares solver fails.
     """
-    strains = _as_strains(strains)
+    strains = as_strains(strains)
     phi = _check_phi(phi)
     unknown = set(observed) - set(VECTOR_ORDER)
     if not observed or unknown:

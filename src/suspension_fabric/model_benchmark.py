@@ -34,6 +34,7 @@ import pandas as pd
 from scipy.optimize import least_squares
 
 from . import fabric_models
+from .claims import mean_square
 from .fabric import COMPONENTS
 from .seed_statistics import LEVEL, jackknife, t_interval
 from .tables import fabric_tensors
@@ -112,6 +113,13 @@ def _components(tensors) -> np.ndarray:
     return tensors[..., _ROWS, _COLS]
 
 
+def _angle_mask(curves: SeedCurves, thetas=None) -> np.ndarray:
+    """Which of the curves' angles are among ``thetas`` (degrees; default all)."""
+    if thetas is None:
+        return np.ones(len(curves.thetas), dtype=bool)
+    return np.array([np.any(np.isclose(t, np.asarray(thetas, dtype=float))) for t in curves.thetas])
+
+
 def _weights(values) -> np.ndarray:
     """1 / s.e. of the seed mean over the first axis, floored at a tenth of the median s.e."""
     sem = values.std(axis=0, ddof=1) / np.sqrt(values.shape[0])
@@ -127,8 +135,7 @@ def fit_global(fabric_model, curves: SeedCurves, phi: float, startup_strain: flo
     select = np.isin(curves.seeds, curves.seeds if seeds is None else seeds)
     if select.sum() < 2:
         raise ValueError("a global fit needs at least two seeds (the weights are their standard errors)")
-    thetas = curves.thetas if train_thetas is None else np.asarray(train_thetas, dtype=float)
-    angle = np.array([np.any(np.isclose(t, thetas)) for t in curves.thetas])
+    angle = _angle_mask(curves, train_thetas)
     startup = _components(curves.startup[select])
     rotation = _components(curves.rotation[select][:, angle])
     targets = (startup.mean(axis=0), rotation.mean(axis=0))
@@ -178,11 +185,11 @@ def seed_errors(predicted_rotation, curves: SeedCurves, thetas=None) -> np.ndarr
     """Per seed and component (seeds, 6): mean over the angles ``thetas`` (default all) and the
     strains of (0, W] of (model - seed curve)^2 / (<nn>_12^ss)^2; ``predicted_rotation`` is
     (angles, R, 3, 3) at those angles."""
-    thetas = curves.thetas if thetas is None else np.asarray(thetas, dtype=float)
-    angle = np.array([np.any(np.isclose(t, thetas)) for t in curves.thetas])
-    after = curves.rotation_strains > 0.0
-    difference = (_components(predicted_rotation)[None] - _components(curves.rotation[:, angle]))[:, :, after]
-    return np.mean(difference ** 2, axis=(1, 2)) / curves.n12_ss ** 2
+    observed = _components(curves.rotation[:, _angle_mask(curves, thetas)])  # (seeds, angles, R, 6)
+    predicted = _components(predicted_rotation)[None]
+    # claims.mean_square averages over the strains on the last axis: put the components before them
+    per_angle = mean_square(np.moveaxis(predicted, -1, -2), np.moveaxis(observed, -1, -2), curves.rotation_strains)
+    return per_angle.mean(axis=1) / curves.n12_ss ** 2
 
 
 def angle_folds(thetas, k: int) -> list[np.ndarray]:

@@ -56,6 +56,7 @@ __all__ = [
     "prediction_grids",
     "predict_on_simulation_grids",
     "fitted_models",
+    "model_labels",
     "PAPER_MODELS",
     "model_errors",
     "summarise_errors",
@@ -154,7 +155,21 @@ def _check_steady_matches_runs(steady: pd.DataFrame, startup: pd.DataFrame, seed
                              f"({again!r}) over [{strain_min}, {strain_max}]")
 
 
-def _jackknife_errors(startup: pd.DataFrame, seeds, strain_min, strain_max, phi):
+def _subset_steady(startup: pd.DataFrame, strain_min, strain_max):
+    """subset of seeds -> the steady-state table of those seeds' startup runs, each computed once
+    (the jackknifes of every model share the leave-one-out tables)."""
+    computed = {}
+
+    def steady_of(subset) -> pd.DataFrame:
+        key = tuple(subset)
+        if key not in computed:
+            computed[key] = tables.steady_state(startup[startup["seed"].isin(key)], strain_min, strain_max)
+        return computed[key]
+
+    return steady_of
+
+
+def _jackknife_errors(steady_of, seeds, phi):
     """Jackknife standard errors of :func:`fit_both_models` over seeds and the correlation of the
     leave-one-out modified beta and A (NaN for fewer than 3 seeds). A leave-one-out fit that fails
     (a target outside the fittable range) gives NaN errors, with a warning naming the seed."""
@@ -163,7 +178,7 @@ def _jackknife_errors(startup: pd.DataFrame, seeds, strain_min, strain_max, phi)
     def parameters(subset) -> np.ndarray:
         key = tuple(subset)
         if key not in fitted:
-            steady = tables.steady_state(startup[startup["seed"].isin(key)], strain_min, strain_max)
+            steady = steady_of(key)
             try:
                 fitted[key] = np.array(fit_both_models(steady, phi), dtype=float)
             except ValueError as error:
@@ -183,21 +198,23 @@ def _jackknife_errors(startup: pd.DataFrame, seeds, strain_min, strain_max, phi)
     return errors, correlation
 
 
-def _steady_targets(steady: pd.DataFrame, fabric_model) -> dict[str, float]:
+def _steady_targets(steady: pd.DataFrame) -> dict[str, float]:
     """Every steady component (a model fits its ``steady_targets``; the others may break ties)."""
     return {name[1:]: _steady_value(steady, name)[0] for name in COMPONENTS}
 
 
 def fit_listed_models(steady: pd.DataFrame, startup: pd.DataFrame, seeds, strain_min: float, strain_max: float,
-                      phi: float, models: dict) -> dict:
+                      phi: float, models: dict, steady_of=None) -> dict:
     """Every model of ``models`` ({key: FabricModel}) fitted to the steady components it names
     (``steady_targets``; :func:`suspension_fabric.fabric_models.fit_steady`), with jackknife
     standard errors over seeds of the whole fit (NaN, with a warning naming the seed, where a
-    leave-one-out fit fails); a failing fit to all seeds raises ``ValueError`` naming the model."""
+    leave-one-out fit fails); a failing fit to all seeds raises ``ValueError`` naming the model.
+    ``steady_of`` (subset of seeds -> steady table) shares leave-one-out tables with other fits."""
+    steady_of = steady_of or _subset_steady(startup, strain_min, strain_max)
     entries = {}
     for key, fabric_model in models.items():
         try:
-            fitted = fabric_models.fit_steady(fabric_model, _steady_targets(steady, fabric_model), phi)
+            fitted = fabric_models.fit_steady(fabric_model, _steady_targets(steady), phi)
         except ValueError as error:
             raise ValueError(f"model {key}: the fit to the steady state failed: {error}") from error
         subsets = {}
@@ -205,9 +222,8 @@ def fit_listed_models(steady: pd.DataFrame, startup: pd.DataFrame, seeds, strain
         def parameter(subset, name, fabric_model=fabric_model, subsets=subsets):
             key_ = tuple(subset)
             if key_ not in subsets:
-                part = tables.steady_state(startup[startup["seed"].isin(key_)], strain_min, strain_max)
                 try:
-                    subsets[key_] = fabric_models.fit_steady(fabric_model, _steady_targets(part, fabric_model), phi)
+                    subsets[key_] = fabric_models.fit_steady(fabric_model, _steady_targets(steady_of(key_)), phi)
                 except ValueError as error:
                     warnings.warn(f"model {fabric_model.key}: fit without seed(s) {sorted(set(seeds) - set(key_))} "
                                   f"failed ({error}); its jackknife errors are NaN", stacklevel=2)
@@ -245,7 +261,8 @@ def fit_steady_state(steady: pd.DataFrame, phi: float, runs: pd.DataFrame, strai
     _check_steady_matches_runs(steady, startup, seeds, strain_min, strain_max)
     fitted = fit_both_models(steady, phi)
     propagated = propagated_fit_errors(steady, phi)
-    jackknifed, correlation = _jackknife_errors(startup, seeds, strain_min, strain_max, phi)
+    steady_of = _subset_steady(startup, strain_min, strain_max)
+    jackknifed, correlation = _jackknife_errors(steady_of, seeds, phi)
     targets = {}
     for quantity in (*COMPONENTS, "Z"):
         mean, sem = _steady_value(steady, quantity)
@@ -269,7 +286,7 @@ def fit_steady_state(steady: pd.DataFrame, phi: float, runs: pd.DataFrame, strai
             "modified": _as_components(model.steady_state_ode(fitted.beta, fitted.A, phi)),
         },
         "models": fit_listed_models(steady, startup, seeds, strain_min, strain_max, phi,
-                                    models if models is not None else PAPER_MODELS),
+                                    models if models is not None else PAPER_MODELS, steady_of),
     }
 
 
@@ -306,6 +323,13 @@ def initial_fabric(startup_aggregate: pd.DataFrame) -> np.ndarray:
     for name, (i, j) in COMPONENTS.items():
         tensor[i, j] = tensor[j, i] = first[f"{name}_mean"]
     return tensor
+
+
+def model_labels(fits: dict, keys=None) -> dict[str, str]:
+    """{key: display name} for ``keys`` (default every model of fits.json's ``models``): the label
+    fits.json records, else the paper's name (:data:`MODEL_NAMES`), else the key."""
+    keys = fits.get("models", {}) if keys is None else keys
+    return {key: fits.get("models", {}).get(key, {}).get("label", MODEL_NAMES.get(key, key)) for key in keys}
 
 
 def fitted_models(fits: dict, models: dict) -> dict:

@@ -50,7 +50,6 @@ __all__ = [
     "listed_models_table",
     "leaderboard_tables",
     "write_leaderboard_page",
-    "model_labels",
     "format_interval",
     "viscosity_transient_table",
     "map_display_table",
@@ -314,11 +313,6 @@ def listed_models_table(fits: dict, significant: int = 4) -> pd.DataFrame:
                          "s.e. (jackknife)": format_number(entry["errors"][name], 2),
                          "Fitted to": ", ".join(component_label(c) for c in entry["fitted_to"])})
     return pd.DataFrame(rows, columns=["Model", "Key", "Parameter", "Value", "s.e. (jackknife)", "Fitted to"])
-
-
-def model_labels(fits: dict) -> dict[str, str]:
-    """{key: display name} of the models of fits.json's ``models`` section."""
-    return {key: entry["label"] for key, entry in fits.get("models", {}).items()}
 
 
 def write_fits_page(fits: dict, path: str | os.PathLike) -> Path:

@@ -52,7 +52,6 @@ from .verdicts import TOLERANCE, settle_strain
 
 __all__ = [
     "SOURCES",
-    "source_labels",
     "PREDICTED_COLUMNS",
     "relation_terms",
     "steady_value",
@@ -112,10 +111,6 @@ def source_steady_fabrics(fits: dict) -> dict[str, np.ndarray]:
     return {"simulation": simulated,
             **{key: fabric_tensors(entry["steady_state"]) for key, entry in fits["models"].items()}}
 
-
-def source_labels(fits: dict) -> dict[str, str]:
-    """{source: display name}: :data:`SOURCES` and the label of every model of fits.json's ``models``."""
-    return {**{key: f"{entry['label']} fabric" for key, entry in fits.get("models", {}).items()}, **SOURCES}
 
 
 def relation_stress(fabric, coefficients: dict, phi: float) -> pd.DataFrame:

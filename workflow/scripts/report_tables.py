@@ -10,4 +10,4 @@ with logged(sm.log[0]):
     print(report_tables.write_fits_page(fits, sm.output.fits))
     print(report_tables.write_steady_state_page(pd.read_csv(sm.input.steady), sm.output.steady))
     print(report_tables.write_error_summary_page(pd.read_csv(sm.input.errors), sm.output.errors,
-                                                 report_tables.model_labels(fits)))
+                                                 model_vs_simulation.model_labels(fits)))
