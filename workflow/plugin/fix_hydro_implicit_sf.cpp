@@ -42,7 +42,8 @@
    Virial: the symmetrised lubrication virial sum (x_i - x_j) F_ij of the solved velocities,
    plus with `contacts` the contact virial in LAMMPS's convention (sum (x_i - x_j)_a F_b, as
    pair granular tallies it), is the fix's virial (compute pressure ... fix, and the total
-   pressure); the drag adds none (see README.md).  The parts are in the fix's vector.
+   pressure); the drag adds none (see README.md).  The parts are in the fix's vector, with
+   the pairs' lubrication stresslets (lubrication.h), which the virial does not include.
    The springs are written to restart files (global fix state) and read back when a fix with
    the same ID and style is defined after read_restart.
    One MPI rank only: parallelism comes from running seeds and angles side by side. */
@@ -180,13 +181,14 @@ FixHydroImplicitSF::FixHydroImplicitSF(LAMMPS *lmp, int narg, char **arg) :
   thermo_virial = 1;
   restart_global = 1;
   vector_flag = 1;
-  size_vector = 23;
+  size_vector = 29;
   global_freq = 1;
   extvector = 0;
   for (double &v : virial) v = 0.0;
   for (double &v : contact_virial) v = 0.0;
   for (double &v : contact_torque) v = 0.0;
   for (double &v : lubrication_virial) v = 0.0;
+  for (double &v : stresslet_virial) v = 0.0;
 }
 
 int FixHydroImplicitSF::setmask()
@@ -903,11 +905,14 @@ void FixHydroImplicitSF::final_integrate()
 /* Virial of the lubrication forces at the velocities in `solution`: sum over pairs of
    (x_i - x_j) F_ij, symmetrised (the tangential forces make it asymmetric), in LAMMPS order
    xx yy zz xy xz yz, half of it for a pair seen from both sides (newton off across a
-   periodic boundary).  The fix's virial adds the contact virial of finish_contacts. */
+   periodic boundary).  The fix's virial adds the contact virial of finish_contacts.  Beside
+   it, minus the summed pair stresslets (stresslet_virial: divided by the volume, a pressure
+   tensor like the virial's). */
 void FixHydroImplicitSF::tally_virial(const double E[3][3])
 {
   for (double &value : lubrication_virial) value = 0.0;
-  double fi[3], ti[3], tj[3];
+  for (double &value : stresslet_virial) value = 0.0;
+  double fi[3], ti[3], tj[3], S[6];
   for (const LubricatedPair &p : pairs) {
     const double *ui = &solution[6 * p.i], *uj = &solution[6 * p.j];
     double du[3];
@@ -921,6 +926,13 @@ void FixHydroImplicitSF::tally_virial(const double E[3][3])
     lubrication_virial[3] += weight * 0.5 * (p.del[0] * fi[1] + p.del[1] * fi[0]);
     lubrication_virial[4] += weight * 0.5 * (p.del[0] * fi[2] + p.del[2] * fi[0]);
     lubrication_virial[5] += weight * 0.5 * (p.del[1] * fi[2] + p.del[2] * fi[1]);
+    // the stresslet's relative velocity: the strain velocity at contact distance (lubrication.h)
+    const double contact = p.R.ai + p.R.aj;
+    double du_s[3];
+    for (int a = 0; a < 3; a++)
+      du_s[a] = ui[a] - uj[a] - contact * (E[a][0] * p.R.n[0] + E[a][1] * p.R.n[1] + E[a][2] * p.R.n[2]);
+    SuspensionFabric::lubrication_stresslet(p.R, lubrication->eta_f, du_s, ui + 3, uj + 3, S);
+    for (int k = 0; k < 6; k++) stresslet_virial[k] -= weight * S[k];
   }
   for (int k = 0; k < 6; k++) virial[k] = lubrication_virial[k] + (own_contacts ? contact_virial[k] : 0.0);
 }
@@ -930,7 +942,8 @@ void FixHydroImplicitSF::tally_virial(const double E[3][3])
    virial (LAMMPS order xx yy zz xy xz yz, sum (x_i - x_j)_a F_b), 10-12: summed contact torque,
    13-18: lubrication virial (symmetrised), 19: mean solves per step, 20: contacts, 21: sliding
    contacts, 22: springs released to sliding per step (mean), 23: dilu rebuilds that fell back
-   to block Jacobi (not positive definite).  4-12 and 20-22 are zero without `contacts`. */
+   to block Jacobi (not positive definite), 24-29: minus the summed pair stresslets (LAMMPS order;
+   /vol is their pressure tensor).  4-12 and 20-22 are zero without `contacts`. */
 double FixHydroImplicitSF::compute_vector(int n)
 {
   if (n == 0) return last_iterations;
@@ -943,7 +956,8 @@ double FixHydroImplicitSF::compute_vector(int n)
   if (n == 19) return static_cast<double>(contacts.size());
   if (n == 20) return sliding_contacts;
   if (n == 21) return steps > 0 ? static_cast<double>(total_released) / steps : 0.0;
-  return static_cast<double>(dilu_fallbacks);
+  if (n == 22) return static_cast<double>(dilu_fallbacks);
+  return stresslet_virial[n - 23];
 }
 
 /* Global restart state: the springs, as (smaller tag, larger tag, xi) records. */

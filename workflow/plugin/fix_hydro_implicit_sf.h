@@ -61,6 +61,7 @@ class FixHydroImplicitSF : public Fix {
   double contact_virial[6];       // sum (x_i - x_j)_a F_b, LAMMPS order xx yy zz xy xz yz
   double contact_torque[3];       // summed contact torques: -sum (x_i - x_j) x F
   double lubrication_virial[6];   // symmetrised lubrication virial
+  double stresslet_virial[6];     // -sum of the pair stresslets (same sign as a virial)
   std::vector<double> block_factor;     // 36 per atom: the 6x6 diagonal block, then its Cholesky factor
   std::vector<double> block_inverse;    // 36 per atom: inverse of the 6x6 diagonal block
   std::vector<double> rhs, old_velocity, solution, residual, precond, direction, product;

@@ -51,8 +51,9 @@ PairLubricateSF::PairLubricateSF(LAMMPS *lmp) :
   single_enable = 1;
   single_extra = 3;
   svector = new double[single_extra];
-  // compute pair lubricate/sf: the summed torque of the contacts (see compute())
-  nextra = 3;
+  // compute pair lubricate/sf: the summed torque of the contacts (see compute()), then minus
+  // the summed pair stresslets (explicit forces only; the implicit fix reports its own)
+  nextra = 9;
   pvector = new double[nextra];
   for (int k = 0; k < nextra; k++) pvector[k] = 0.0;
   restartinfo = 0;    // re-issue pair_style/pair_coeff after read_restart
@@ -159,8 +160,8 @@ double PairLubricateSF::init_one(int i, int j)
 
 /* Lubrication force on i (fi, with -fi on j) and torques on i and j for the pair (i, j).
    Returns false if the pair is beyond the outer cutoff. */
-bool PairLubricateSF::pair_interaction(int i, int j, const double *W, double *fi, double *ti,
-                                       double *tj) const
+bool PairLubricateSF::pair_interaction(int i, int j, const SuspensionFabric::ImposedFlow &flow,
+                                       double *fi, double *ti, double *tj, double *S) const
 {
   double **x = atom->x;
   double **v = atom->v;
@@ -170,12 +171,26 @@ bool PairLubricateSF::pair_interaction(int i, int j, const double *W, double *fi
   if (!resistance(i, j, del, R)) return false;
 
   // relative velocity without the rigid rotation of the imposed flow
+  const double *W = flow.omega;
   const double du[3] = {v[i][0] - v[j][0] - (W[1] * del[2] - W[2] * del[1]),
                         v[i][1] - v[j][1] - (W[2] * del[0] - W[0] * del[2]),
                         v[i][2] - v[j][2] - (W[0] * del[1] - W[1] * del[0])};
   const double wi[3] = {omega[i][0] - W[0], omega[i][1] - W[1], omega[i][2] - W[2]};
   const double wj[3] = {omega[j][0] - W[0], omega[j][1] - W[1], omega[j][2] - W[2]};
   SuspensionFabric::lubrication_forces(R, du, wi, wj, fi, ti, tj);
+  if (S) {
+    // the stresslet takes the strain velocity at contact distance, not at |del| (lubrication.h):
+    // du_S = du - E.del - (a_i + a_j) E.n = du + (|del| - a_i - a_j) E.n, with del = -|del| n
+    const double r = std::sqrt(del[0] * del[0] + del[1] * del[1] + del[2] * del[2]);
+    const double shift = r - R.ai - R.aj;
+    double du_s[3];
+    for (int a = 0; a < 3; a++) {
+      double En = 0.0;
+      for (int b = 0; b < 3; b++) En += 0.5 * (flow.grad[a][b] + flow.grad[b][a]) * R.n[b];
+      du_s[a] = du[a] + shift * En;
+    }
+    SuspensionFabric::lubrication_stresslet(R, eta_f, du_s, wi, wj, S);
+  }
   return true;
 }
 
@@ -199,7 +214,7 @@ void PairLubricateSF::compute(int eflag, int vflag)
   // gives the antisymmetric part of the contact virial, which LAMMPS tallies unsymmetrised
   // (dx F_z, not (dx F_z + dz F_x)/2).  With newton on, ghost atoms still hold their share.
   const int counted = newton_pair ? nlocal + atom->nghost : nlocal;
-  for (int k = 0; k < 3; k++) pvector[k] = 0.0;
+  for (int k = 0; k < nextra; k++) pvector[k] = 0.0;
   for (int i = 0; i < counted; i++)
     for (int k = 0; k < 3; k++) pvector[k] += torque[i][k];
 
@@ -215,7 +230,7 @@ void PairLubricateSF::compute(int eflag, int vflag)
   const int *ilist = list->ilist;
   const int *numneigh = list->numneigh;
   int **firstneigh = list->firstneigh;
-  double fi[3], ti[3], tj[3];
+  double fi[3], ti[3], tj[3], S[6];
 
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
@@ -224,7 +239,7 @@ void PairLubricateSF::compute(int eflag, int vflag)
 
     for (int jj = 0; jj < jnum; jj++) {
       const int j = jlist[jj] & NEIGHMASK;
-      if (!pair_interaction(i, j, flow.omega, fi, ti, tj)) continue;
+      if (!pair_interaction(i, j, flow, fi, ti, tj, S)) continue;
 
       f[i][0] += fi[0];
       f[i][1] += fi[1];
@@ -240,6 +255,10 @@ void PairLubricateSF::compute(int eflag, int vflag)
         torque[j][1] += tj[1];
         torque[j][2] += tj[2];
       }
+
+      // a pair with a ghost partner is seen from both sides when newton is off: half each time
+      const double weight = (newton_pair || j < nlocal) ? 1.0 : 0.5;
+      for (int k = 0; k < 6; k++) pvector[3 + k] -= weight * S[k];
 
       if (vflag_either) {
         // symmetrised virial (x_i - x_j) F_ij: the tangential forces make it asymmetric
@@ -263,7 +282,7 @@ double PairLubricateSF::single(int i, int j, int /*itype*/, int /*jtype*/, doubl
   svector[0] = svector[1] = svector[2] = 0.0;
   const SuspensionFabric::ImposedFlow flow(domain);
   double fi[3], ti[3], tj[3];
-  if (!pair_interaction(i, j, flow.omega, fi, ti, tj)) return 0.0;
+  if (!pair_interaction(i, j, flow, fi, ti, tj, nullptr)) return 0.0;
   double **x = atom->x;
   const double fdel = fi[0] * (x[i][0] - x[j][0]) + fi[1] * (x[i][1] - x[j][1]) +
       fi[2] * (x[i][2] - x[j][2]);

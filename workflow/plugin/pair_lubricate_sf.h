@@ -7,6 +7,7 @@
 
 #include "pair.h"
 
+#include "imposed_flow.h"
 #include "lubrication.h"
 
 namespace LAMMPS_NS {
@@ -37,7 +38,9 @@ class PairLubricateSF : public Pair {
 
   void allocate();
   void update_type_radii();
-  bool pair_interaction(int, int, const double *, double *, double *, double *) const;
+  // forces, torques and (if S is not null) the pair's stresslet
+  bool pair_interaction(int, int, const SuspensionFabric::ImposedFlow &, double *, double *, double *,
+                        double *S) const;
 };
 
 }    // namespace LAMMPS_NS
