@@ -20,8 +20,8 @@ Parts (the total is their sum)
     ``einstein``     the one-body stresslet of force- and torque-free spheres in the straining
                      flow, (20/3) pi eta_f a^3 E per sphere, i.e. 5 phi eta_f E: 2.5 phi on the
                      12 component. The force model has no one-body strain resistance (the drag
-                     acts on force and torque only), so this term is added analytically, as
-                     LF_DEM does; it makes the dilute limit eta_r = 1 + 2.5 phi + O(phi^2).
+                     acts on force and torque only), so this term is added analytically (LF_DEM's
+                     current source adds none); it makes the dilute limit eta_r = 1 + 2.5 phi + O(phi^2).
 
 Each value at a frame is the mean of the table rows within half a frame interval of it
 (rows with step in (s - h, s + h], h = half the frame spacing in steps; only rows after the

@@ -6,6 +6,8 @@ pressure tensor pxx pyy pzz pxy pxz pyz and press (the stress is minus these; ki
 relative to the imposed flow), all six components of its kinetic, contact (granular) and
 lubrication parts (``kinetic_pxx`` ... ``lubrication_pyz``), the summed contact torque
 ``contact_torque_x/y/z`` (for the symmetric contact stress, :mod:`suspension_fabric.stress`),
+``stresslet_pxx ... stresslet_pyz`` (minus the pair lubrication stresslets over the volume, beside
+the dipoles; absent from tables written before they were recorded, NaN from the stock stand-in),
 the box volume ``vol``, tilts xz, yz and height lz. The first row is printed at set-up,
 before the first step. Tables written before the parts were recorded in full hold only the
 contact and lubrication pxz, pyz and press; :mod:`suspension_fabric.stress` refuses them.
