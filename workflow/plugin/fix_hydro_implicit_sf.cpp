@@ -239,8 +239,7 @@ void FixHydroImplicitSF::setup(int /*vflag*/)
 {
   // forces and virial of the current state, for output at the first step; springs unchanged
   const SuspensionFabric::ImposedFlow flow(domain);
-  double E[3][3];
-  strain_rate(flow, E);
+  const auto &E = flow.strain;
   collect_pairs(E);
   relative_velocities(flow);
   if (own_contacts) {
@@ -251,11 +250,6 @@ void FixHydroImplicitSF::setup(int /*vflag*/)
 }
 
 // E = (L + L^T)/2 of the imposed flow
-void FixHydroImplicitSF::strain_rate(const SuspensionFabric::ImposedFlow &flow, double E[3][3])
-{
-  for (int a = 0; a < 3; a++)
-    for (int b = 0; b < 3; b++) E[a][b] = 0.5 * (flow.grad[a][b] + flow.grad[b][a]);
-}
 
 // solution = (v - u_inf(x), omega - Omega_inf) of every local atom
 void FixHydroImplicitSF::relative_velocities(const SuspensionFabric::ImposedFlow &flow)
@@ -846,8 +840,7 @@ void FixHydroImplicitSF::final_integrate()
 
   const SuspensionFabric::ImposedFlow flow(domain);
   const double *W = flow.omega;
-  double E[3][3];
-  strain_rate(flow, E);
+  const auto &E = flow.strain;
 
   collect_pairs(E);
   const size_t size = 6 * static_cast<size_t>(nlocal);
@@ -926,12 +919,8 @@ void FixHydroImplicitSF::tally_virial(const double E[3][3])
     lubrication_virial[3] += weight * 0.5 * (p.del[0] * fi[1] + p.del[1] * fi[0]);
     lubrication_virial[4] += weight * 0.5 * (p.del[0] * fi[2] + p.del[2] * fi[0]);
     lubrication_virial[5] += weight * 0.5 * (p.del[1] * fi[2] + p.del[2] * fi[1]);
-    // the stresslet's relative velocity: the strain velocity at contact distance (lubrication.h)
-    const double contact = p.R.ai + p.R.aj;
-    double du_s[3];
-    for (int a = 0; a < 3; a++)
-      du_s[a] = ui[a] - uj[a] - contact * (E[a][0] * p.R.n[0] + E[a][1] * p.R.n[1] + E[a][2] * p.R.n[2]);
-    SuspensionFabric::lubrication_stresslet(p.R, lubrication->eta_f, du_s, ui + 3, uj + 3, S);
+    const double du_na[3] = {ui[0] - uj[0], ui[1] - uj[1], ui[2] - uj[2]};
+    SuspensionFabric::lubrication_stresslet(p.R, lubrication->eta_f, du_na, E, ui + 3, uj + 3, S);
     for (int k = 0; k < 6; k++) stresslet_virial[k] -= weight * S[k];
   }
   for (int k = 0; k < 6; k++) virial[k] = lubrication_virial[k] + (own_contacts ? contact_virial[k] : 0.0);

@@ -99,7 +99,6 @@ class FixHydroImplicitSF : public Fix {
   bool factor_dilu();
   double apply_preconditioner(const std::vector<double> &r, std::vector<double> &z, double &largest) const;
   void tally_virial(const double E[3][3]);
-  static void strain_rate(const SuspensionFabric::ImposedFlow &flow, double E[3][3]);
   void relative_velocities(const SuspensionFabric::ImposedFlow &flow);
 };
 

@@ -19,6 +19,7 @@ namespace SuspensionFabric {
 
 struct ImposedFlow {
   double grad[3][3];    // L_ij = du_i/dx_j
+  double strain[3][3];  // E = (L + L^T)/2
   double omega[3];      // (1/2) curl u
   double origin[3];     // box lower corner
   double offset[3];     // velocity of the lower corner (h_ratelo)
@@ -38,6 +39,8 @@ struct ImposedFlow {
         grad[i][j] = 0.0;
         for (int k = 0; k < 3; k++) grad[i][j] += hdot[i][k] * hinv[k][j];
       }
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) strain[i][j] = 0.5 * (grad[i][j] + grad[j][i]);
     omega[0] = 0.5 * (grad[2][1] - grad[1][2]);
     omega[1] = 0.5 * (grad[0][2] - grad[2][0]);
     omega[2] = 0.5 * (grad[1][0] - grad[0][1]);

@@ -91,7 +91,8 @@ inline void lubrication_forces(const PairResistance &R, const double du[3], cons
    the contact distance).  So S depends on one relative velocity,
      du_S = (U_i - U_inf(x_i)) - (U_j - U_inf(x_j)) - (a_i + a_j) E_inf.n,
    the velocity relative to the imposed flow plus the imposed strain velocity at contact
-   (the forces use the strain velocity at the actual distance, E_inf.(x_i - x_j)):
+   (the forces use the strain velocity at the actual distance, E_inf.(x_i - x_j)).  The
+   function takes du_na = (U_i - U_inf(x_i)) - (U_j - U_inf(x_j)) and E_inf:
      S = -(XG_i + XG_j) (n.du_S) (nn - I/3) - (YG_i + YG_j) (n du_t + du_t n)
          - [(YH_ii + YH_ji) w_i x n + (YH_ij + YH_jj) w_j x n] n  (symmetrised)
    with, for lambda = a_j/a_i, L = log(1/xi_r):
@@ -103,10 +104,13 @@ inline void lubrication_forces(const PairResistance &R, const double du[3], cons
    traceless symmetric part of n F_i (the force dipole at contact distance; tested).  S is
    traceless (no particle pressure: the force dipole keeps that).  Order xx yy zz xy xz yz;
    S > 0 is tensile. */
-inline void lubrication_stresslet(const PairResistance &R, const double eta_f, const double du[3],
-                                  const double wi[3], const double wj[3], double S[6])
+inline void lubrication_stresslet(const PairResistance &R, const double eta_f, const double du_na[3],
+                                  const double E[3][3], const double wi[3], const double wj[3], double S[6])
 {
   const double *n = R.n;
+  const double contact = R.ai + R.aj;
+  double du[3];    // du_S
+  for (int a = 0; a < 3; a++) du[a] = du_na[a] - contact * (E[a][0] * n[0] + E[a][1] * n[1] + E[a][2] * n[2]);
   const double fourpi = 4.0 * M_PI * eta_f;
   const double ai = R.ai, aj = R.aj;
   const double l = aj / ai, m = ai / aj;    // lambda seen from i and from j

@@ -179,17 +179,11 @@ bool PairLubricateSF::pair_interaction(int i, int j, const SuspensionFabric::Imp
   const double wj[3] = {omega[j][0] - W[0], omega[j][1] - W[1], omega[j][2] - W[2]};
   SuspensionFabric::lubrication_forces(R, du, wi, wj, fi, ti, tj);
   if (S) {
-    // the stresslet takes the strain velocity at contact distance, not at |del| (lubrication.h):
-    // du_S = du - E.del - (a_i + a_j) E.n = du + (|del| - a_i - a_j) E.n, with del = -|del| n
-    const double r = std::sqrt(del[0] * del[0] + del[1] * del[1] + del[2] * del[2]);
-    const double shift = r - R.ai - R.aj;
-    double du_s[3];
-    for (int a = 0; a < 3; a++) {
-      double En = 0.0;
-      for (int b = 0; b < 3; b++) En += 0.5 * (flow.grad[a][b] + flow.grad[b][a]) * R.n[b];
-      du_s[a] = du[a] + shift * En;
-    }
-    SuspensionFabric::lubrication_stresslet(R, eta_f, du_s, wi, wj, S);
+    // velocity relative to the imposed flow: take the strain part E.del out of du
+    const auto &E = flow.strain;
+    double du_na[3];
+    for (int a = 0; a < 3; a++) du_na[a] = du[a] - (E[a][0] * del[0] + E[a][1] * del[1] + E[a][2] * del[2]);
+    SuspensionFabric::lubrication_stresslet(R, eta_f, du_na, E, wi, wj, S);
   }
   return true;
 }
