@@ -35,7 +35,7 @@ RATE = 0.7
 PHI = 0.31
 ANGLES_DEG = [0.0, 30.0, 90.0, 137.5, -45.0, 180.0]
 LAMMPS_ORDER = ("pxx", "pyy", "pzz", "pxy", "pxz", "pyz")
-PREFIXES = ("", "kinetic_", "contact_", "lubrication_")
+PREFIXES = ("", "kinetic_", "contact_", "lubrication_", "stresslet_")
 
 
 def synthetic_table(rows=7, seed=0, first_step=0, every=10):
@@ -100,6 +100,7 @@ def test_particle_parts_match_the_explicit_paper_frame_formulas(angle_deg):
     sources = {
         "kinetic": {k: table[f"kinetic_{k}"] for k in LAMMPS_ORDER},
         "lubrication": {k: table[f"lubrication_{k}"] for k in LAMMPS_ORDER},
+        "stresslet": {k: table[f"stresslet_{k}"] for k in LAMMPS_ORDER},
         "contact": hand_symmetrised_contact(table),
     }
     for part, pressure in sources.items():
@@ -130,14 +131,43 @@ def test_solvent_and_einstein_parts_are_pure_12_in_every_frame(angle_deg):
 @pytest.mark.parametrize("angle_deg", [0.0, 137.5])
 def test_total_is_the_sum_of_the_parts(angle_deg):
     """total = contact + lubrication + kinetic + solvent + einstein (not the table's own total
-    columns pxx..pyz, which stress_parts does not use)."""
+    columns pxx..pyz, which stress_parts does not use, nor the pair stresslets, recorded beside
+    the lubrication dipoles as an alternative to them)."""
     table = synthetic_table(seed=3)
     parts = stress_parts(table, eta_f=ETA_F, rate=RATE, phi=PHI, theta_deg=angle_deg)
     summed = sum(parts[name] for name in PARTS if name != "total")
     np.testing.assert_allclose(parts["total"], summed, rtol=1e-14, atol=1e-14)
-    changed = dict(table, pxx=table["pxx"] + 1e3, pxz=table["pxz"] - 7.0)
+    changed = dict(table, pxx=table["pxx"] + 1e3, pxz=table["pxz"] - 7.0,
+                   stresslet_pxz=table["stresslet_pxz"] + 50.0)
     again = stress_parts(changed, eta_f=ETA_F, rate=RATE, phi=PHI, theta_deg=angle_deg)
     np.testing.assert_array_equal(again["total"], parts["total"])
+    assert not np.allclose(again["stresslet"], parts["stresslet"])
+
+
+def test_stresslet_part_is_nan_where_not_recorded(tmp_path):
+    """A table without stresslet columns (written before they were recorded) and one whose
+    stresslet columns are NaN (the stock force model) give a NaN stresslet part and the same
+    other parts; a per-run CSV without the stresslet columns reads back with them NaN."""
+    table = synthetic_table(seed=5)
+    full = stress_parts(table, eta_f=ETA_F, rate=RATE, phi=PHI, theta_deg=30.0)
+    older = {name: values for name, values in table.items() if not name.startswith("stresslet_")}
+    stock = dict(table, **{f"stresslet_{k}": np.full(len(table["step"]), np.nan) for k in LAMMPS_ORDER})
+    for variant in (older, stock):
+        parts = stress_parts(variant, eta_f=ETA_F, rate=RATE, phi=PHI, theta_deg=30.0)
+        assert np.isnan(parts["stresslet"]).all()
+        for name in PARTS:
+            np.testing.assert_array_equal(parts[name], full[name])
+    frames = stress_on_frames(older, [20, 40], first_step=0, eta_f=ETA_F, rate=RATE, phi=PHI,
+                              theta_deg=30.0)
+    frames.insert(0, "seed", 1)
+    for name, value in (("theta", 30.0), ("N", 40), ("phi", PHI), ("strain", [0.02, 0.04])):
+        frames[name] = value
+    old_csv = tmp_path / "old_stress.csv"
+    frames.drop(columns=list(stress.OPTIONAL_COLUMNS)).to_csv(old_csv, index=False)
+    read = read_stress_csv(old_csv)
+    assert list(read.columns) == list(STRESS_TABLE_COLUMNS)
+    assert read[list(stress.OPTIONAL_COLUMNS)].isna().all().all()
+    np.testing.assert_allclose(read["eta_r"], frames["eta_r"], rtol=1e-15)
 
 
 def test_stress_parts_rejects_non_positive_viscosity_or_rate():

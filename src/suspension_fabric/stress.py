@@ -23,6 +23,16 @@ Parts (the total is their sum)
                      acts on force and torque only), so this term is added analytically (LF_DEM's
                      current source adds none); it makes the dilute limit eta_r = 1 + 2.5 phi + O(phi^2).
 
+Recorded beside the parts, not summed into the total
+    ``stresslet``    the pair lubrication stresslets (Jeffrey 1992 X^G, Y^G, Y^H, X^M, Y^M at the
+                     force model's order and regularisation; ``workflow/plugin/lubrication.h``):
+                     an alternative to ``lubrication`` for the same interactions, traceless, and
+                     at this order the force dipole at contact distance without its trace.
+                     NaN where the run did not record it (the stock force model, and tables
+                     written before it was recorded; :func:`read_stress_csv` fills it in for
+                     older CSVs). ``total`` - ``lubrication`` + ``stresslet`` is the stress as
+                     the pair-stresslet codes report it (docs/gw_stress_relation.md, section 2.2).
+
 Each value at a frame is the mean of the table rows within half a frame interval of it
 (rows with step in (s - h, s + h], h = half the frame spacing in steps; only rows after the
 first step; the frame at the first step takes the rows in (s, s + max(h, row spacing)], so
@@ -50,10 +60,12 @@ from .tables import read_fabric_table
 __all__ = [
     "PARTS",
     "PARTICLE_PARTS",
+    "ALTERNATIVE_PARTS",
     "PAPER_COMPONENTS",
     "DERIVED_COLUMNS",
     "STRESS_VALUE_COLUMNS",
     "STRESS_TABLE_COLUMNS",
+    "OPTIONAL_COLUMNS",
     "pressure_tensors",
     "symmetric_contact_pressure",
     "stress_parts",
@@ -66,10 +78,14 @@ __all__ = [
 
 PARTS: tuple[str, ...] = ("total", "contact", "lubrication", "kinetic", "solvent", "einstein")
 PARTICLE_PARTS: tuple[str, ...] = ("contact", "lubrication", "kinetic")
+#: Parts recorded beside ``PARTS`` and left out of the total (module docstring).
+ALTERNATIVE_PARTS: tuple[str, ...] = ("stresslet",)
 PAPER_COMPONENTS: tuple[str, ...] = VECTOR_ORDER
 DERIVED_COLUMNS: tuple[str, ...] = ("eta_r", "N1", "N2", "Pi")
 STRESS_VALUE_COLUMNS: tuple[str, ...] = (
-    *DERIVED_COLUMNS, *(f"{part}_{c}" for part in PARTS for c in PAPER_COMPONENTS))
+    *DERIVED_COLUMNS, *(f"{part}_{c}" for part in (*PARTS, *ALTERNATIVE_PARTS) for c in PAPER_COMPONENTS))
+#: Columns that older per-run CSVs lack; :func:`read_stress_csv` gives them as NaN.
+OPTIONAL_COLUMNS: tuple[str, ...] = tuple(f"{part}_{c}" for part in ALTERNATIVE_PARTS for c in PAPER_COMPONENTS)
 STRESS_TABLE_COLUMNS: tuple[str, ...] = ("seed", "theta", "N", "phi", "step", "strain", "n_rows",
                                          *STRESS_VALUE_COLUMNS)
 EINSTEIN_COEFFICIENT = 2.5
@@ -116,8 +132,8 @@ def _imposed_strain_rate(rows: int, flow_angle: float) -> np.ndarray:
 
 def stress_parts(table: dict[str, np.ndarray], *, eta_f: float, rate: float, phi: float,
                  theta_deg: float) -> dict[str, np.ndarray]:
-    """Every part (and the total) per table row as (n, 3, 3) arrays in the paper frame of the
-    shear with flow angle ``theta_deg``, in units of eta_f gammadot."""
+    """Every part (and the total, and the alternative parts) per table row as (n, 3, 3) arrays in
+    the paper frame of the shear with flow angle ``theta_deg``, in units of eta_f gammadot."""
     if not (eta_f > 0 and rate > 0):
         raise ValueError(f"eta_f and rate must be positive, got {eta_f}, {rate}")
     scale = -1.0 / (eta_f * rate)
@@ -133,6 +149,10 @@ def stress_parts(table: dict[str, np.ndarray], *, eta_f: float, rate: float, phi
     }
     parts = {name: simulation_to_paper(value, angle) for name, value in sim.items()}
     parts["total"] = sum(parts[name] for name in sim)
+    # absent columns (tables from before the stresslets were recorded) give NaN like the stock model
+    stresslet = (pressure_tensors(table, "stresslet_") if "stresslet_pxx" in table
+                 else np.full((rows, 3, 3), np.nan))
+    parts["stresslet"] = simulation_to_paper(scale * stresslet, angle)
     return parts
 
 
@@ -166,7 +186,8 @@ def stress_on_frames(table: dict[str, np.ndarray], frame_steps, *, first_step: i
     half = (int(np.min(spacing)) if len(spacing) else row_spacing) / 2.0
     parts = stress_parts(table, eta_f=eta_f, rate=rate, phi=phi, theta_deg=theta_deg)
     columns = {"step": frame_steps, "n_rows": np.zeros(len(frame_steps), dtype=int)}
-    values = {f"{part}_{c}": np.empty(len(frame_steps)) for part in PARTS for c in PAPER_COMPONENTS}
+    shown = (*PARTS, *ALTERNATIVE_PARTS)
+    values = {f"{part}_{c}": np.empty(len(frame_steps)) for part in shown for c in PAPER_COMPONENTS}
     for k, step in enumerate(frame_steps):
         # the frame at the set-up step takes the rows just after it, at least the first one
         reach = max(half, row_spacing) if step == first_step else half
@@ -174,7 +195,7 @@ def stress_on_frames(table: dict[str, np.ndarray], frame_steps, *, first_step: i
         if not inside.any():
             raise ValueError(f"no stress-table row within {half:g} steps of frame step {step}")
         columns["n_rows"][k] = int(inside.sum())
-        for part in PARTS:
+        for part in shown:
             for c, value in zip(PAPER_COMPONENTS, sym_to_vec(parts[part][inside].mean(axis=0))):
                 values[f"{part}_{c}"][k] = value
     return derived_quantities(pd.DataFrame({**columns, **values}))
@@ -206,11 +227,17 @@ def run_stress_table(stress_table: str | os.PathLike, marker: str | os.PathLike,
 
 
 def read_stress_csv(path: str | os.PathLike) -> pd.DataFrame:
-    """A per-run (or concatenated) stress CSV, its columns checked; errors name the file."""
+    """A per-run (or concatenated) stress CSV, its columns checked; errors name the file.
+
+    ``OPTIONAL_COLUMNS`` missing from the file (written before they were recorded) come back NaN.
+    """
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"stress table not found: {path}")
     frame = pd.read_csv(path)
+    for column in OPTIONAL_COLUMNS:
+        if column not in frame.columns:
+            frame[column] = np.nan
     missing = [c for c in STRESS_TABLE_COLUMNS if c not in frame.columns]
     if missing:
         raise ValueError(f"{path}: stress table lacks column(s) {missing}")
