@@ -454,3 +454,51 @@ def test_run_stress_table_errors(tmp_path):
         read_stress_csv(tmp_path / "bad.csv")
     with pytest.raises(FileNotFoundError):
         read_stress_csv(tmp_path / "missing.csv")
+
+
+def test_with_lubrication_stress_swaps_the_stresslets_in():
+    """analysis.lubrication_stress = stresslet: lubrication_ij = stresslet_ij,
+    total_ij = old total_ij - dipole_ij + stresslet_ij, eta_r = new total_12,
+    N1 = total_11 - total_22, N2 = total_22 - total_33, Pi = -(1/3) Tr(contact + stresslet + kinetic);
+    dipole leaves the table as it is; a NaN stresslet or an unknown choice is an error naming it."""
+    rng = np.random.default_rng(8)
+    values = {f"{p}_{c}": rng.normal(size=4) for p in (*PARTS, "stresslet") for c in PAPER_COMPONENTS}
+    frame = derived_quantities(pd.DataFrame(values))
+    assert stress.with_lubrication_stress(frame, "dipole") is frame
+    swapped = stress.with_lubrication_stress(frame, "stresslet")
+    for c in PAPER_COMPONENTS:
+        np.testing.assert_array_equal(swapped[f"lubrication_{c}"], frame[f"stresslet_{c}"])
+        np.testing.assert_allclose(swapped[f"total_{c}"],
+                                   frame[f"total_{c}"] - frame[f"lubrication_{c}"] + frame[f"stresslet_{c}"],
+                                   rtol=1e-13, atol=1e-13)
+        np.testing.assert_array_equal(swapped[f"contact_{c}"], frame[f"contact_{c}"])
+    np.testing.assert_array_equal(swapped["eta_r"], swapped["total_12"])
+    np.testing.assert_allclose(swapped["N1"], swapped["total_11"] - swapped["total_22"], rtol=1e-13)
+    np.testing.assert_allclose(swapped["N2"], swapped["total_22"] - swapped["total_33"], rtol=1e-13)
+    trace = sum(frame[f"{p}_{c}"] for p in ("contact", "stresslet", "kinetic") for c in ("11", "22", "33"))
+    np.testing.assert_allclose(swapped["Pi"], -trace / 3.0, rtol=1e-13)
+    with pytest.raises(ValueError, match=r"runs/x\.csv: analysis.lubrication_stress = stresslet, but 1 row"):
+        stress.with_lubrication_stress(frame.assign(stresslet_23=[0.0, np.nan, 0.0, 0.0]), "stresslet",
+                                       "runs/x.csv")
+    with pytest.raises(ValueError, match="must be one of \\['dipole', 'stresslet'\\], got 'virial'"):
+        stress.with_lubrication_stress(frame, "virial")
+
+
+def test_read_stress_csv_applies_the_choice_and_names_an_old_file(tmp_path):
+    """read_stress_csv(path, 'stresslet') on a table with stresslets equals with_lubrication_stress
+    of the plain read; on a CSV from before the stresslets were recorded it fails naming the file."""
+    rng = np.random.default_rng(2)
+    frame = pd.DataFrame({"seed": 1, "theta": 0.0, "N": 40, "phi": PHI, "step": [10, 20, 30],
+                          "strain": [0.01, 0.02, 0.03], "n_rows": 2})
+    for p in (*PARTS, "stresslet"):
+        for c in PAPER_COMPONENTS:
+            frame[f"{p}_{c}"] = rng.normal(size=3)
+    frame = derived_quantities(frame)
+    path = tmp_path / "stress.csv"
+    frame.to_csv(path, index=False)
+    pd.testing.assert_frame_equal(read_stress_csv(path, "stresslet"),
+                                  stress.with_lubrication_stress(read_stress_csv(path), "stresslet"))
+    old = tmp_path / "old.csv"
+    frame.drop(columns=list(stress.OPTIONAL_COLUMNS)).to_csv(old, index=False)
+    with pytest.raises(ValueError, match=f"{old}: analysis.lubrication_stress = stresslet"):
+        read_stress_csv(old, "stresslet")

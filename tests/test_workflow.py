@@ -88,6 +88,41 @@ def test_study_produces_the_stress_tables_figures_and_relation(study):
                                rtol=1e-12)
 
 
+def test_lubrication_stress_choice_reaches_the_relation(study, tmp_path):
+    """analysis.lubrication_stress = stresslet (on a copy of the finished study): only the stress
+    aggregates and what follows rerun; the steady lubrication_12 is then the seed mean of the
+    runs' stresslet_12, the relation is fitted on it, and the particle pressure Pi loses the
+    dipoles' trace (the stresslets are traceless, so Pi = contact + kinetic only)."""
+    import numpy as np
+
+    copy = tmp_path / "study"
+    shutil.copytree(study, copy, symlinks=True)
+    override = ["--config", "analysis={steady_window: [0.1, 0.3], lubrication_stress: stresslet}"]
+    counts = job_counts(snakemake(copy, *TEST_CONFIG, *override, "-n").stdout)
+    assert counts["aggregate_stress_startup"] == 1 and counts["stress_relation"] == 1
+    for rule in ("startup", "rotate", "stress_table", "fabric_table", "aggregate_startup", "fit_models"):
+        assert rule not in counts
+    result = snakemake(copy, *TEST_CONFIG, *override, "--allowed-rules", "aggregate_stress_startup",
+                       "aggregate_stress_rotation", "stress_relation", "--",
+                       f"{RESULTS}/tables/stress_relation_fits.csv")
+    assert result.returncode == 0, result.stderr[-3000:]
+    tables = copy / RESULTS / "tables"
+    steady = pd.read_csv(tables / "stress_steady_state.csv").set_index("quantity")
+    dipole = pd.read_csv(study / RESULTS / "tables/stress_steady_state.csv").set_index("quantity")
+    runs = pd.read_csv(tables / "stress_startup_runs.csv")
+    inside = runs[(runs["strain"] >= 0.1) & (runs["strain"] <= 0.3)]
+    np.testing.assert_allclose(steady.loc["lubrication_12", "mean"],
+                               inside.groupby("seed")["stresslet_12"].mean().mean(), rtol=1e-9)
+    assert steady.loc["lubrication_12", "mean"] != dipole.loc["lubrication_12", "mean"]
+    np.testing.assert_allclose(steady.loc["contact_12", "mean"], dipole.loc["contact_12", "mean"], rtol=1e-12)
+    particle_trace = sum(inside[f"{p}_{c}"] for p in ("contact", "kinetic") for c in ("11", "22", "33"))
+    np.testing.assert_allclose(steady.loc["Pi", "mean"], (-particle_trace / 3).groupby(inside["seed"]).mean().mean(),
+                               rtol=1e-6, atol=1e-9)
+    relation = pd.read_csv(tables / "stress_relation_fits.csv").set_index("source")
+    np.testing.assert_allclose(relation.loc["simulation", "eta_r_predicted"],
+                               steady.loc["eta_r", "mean"] - steady.loc["kinetic_12", "mean"], rtol=1e-6)
+
+
 def test_study_decides_the_claims_per_seed(study):
     """Rule claims: per seed and angle, the statistics and T of every claim under every choice the
     test study allows (its window 0.1 is the whole rotation run, so no other window); rule

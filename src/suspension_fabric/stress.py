@@ -33,6 +33,11 @@ Recorded beside the parts, not summed into the total
                      older CSVs). ``total`` - ``lubrication`` + ``stresslet`` is the stress as
                      the pair-stresslet codes report it (docs/gw_stress_relation.md, section 2.2).
 
+Which lubrication stress the study's tables use from the seed aggregates on is the config key
+``analysis.lubrication_stress`` (:func:`with_lubrication_stress`): ``dipole`` (the default) keeps
+the per-run tables as they are; ``stresslet`` puts the stresslets in the ``lubrication`` part
+and the total, and recomputes eta_r, N1, N2 and Pi (the stresslets add nothing to Pi).
+
 Each value at a frame is the mean of the table rows within half a frame interval of it
 (rows with step in (s - h, s + h], h = half the frame spacing in steps; only rows after the
 first step; the frame at the first step takes the rows in (s, s + max(h, row spacing)], so
@@ -72,6 +77,8 @@ __all__ = [
     "stress_on_frames",
     "run_stress_table",
     "read_stress_csv",
+    "LUBRICATION_STRESSES",
+    "with_lubrication_stress",
     "STRESS_FLOAT_FORMAT",
     "derived_quantities",
 ]
@@ -84,6 +91,8 @@ PAPER_COMPONENTS: tuple[str, ...] = VECTOR_ORDER
 DERIVED_COLUMNS: tuple[str, ...] = ("eta_r", "N1", "N2", "Pi")
 STRESS_VALUE_COLUMNS: tuple[str, ...] = (
     *DERIVED_COLUMNS, *(f"{part}_{c}" for part in (*PARTS, *ALTERNATIVE_PARTS) for c in PAPER_COMPONENTS))
+#: The values of the config key analysis.lubrication_stress (:func:`with_lubrication_stress`).
+LUBRICATION_STRESSES: tuple[str, ...] = ("dipole", "stresslet")
 #: Columns that older per-run CSVs lack; :func:`read_stress_csv` gives them as NaN.
 OPTIONAL_COLUMNS: tuple[str, ...] = tuple(f"{part}_{c}" for part in ALTERNATIVE_PARTS for c in PAPER_COMPONENTS)
 STRESS_TABLE_COLUMNS: tuple[str, ...] = ("seed", "theta", "N", "phi", "step", "strain", "n_rows",
@@ -226,10 +235,34 @@ def run_stress_table(stress_table: str | os.PathLike, marker: str | os.PathLike,
     return out[list(STRESS_TABLE_COLUMNS)]
 
 
-def read_stress_csv(path: str | os.PathLike) -> pd.DataFrame:
+def with_lubrication_stress(frame: pd.DataFrame, choice: str, source: str = "stress table") -> pd.DataFrame:
+    """The stress table with ``choice`` (``LUBRICATION_STRESSES``) as its lubrication part.
+
+    ``dipole``: unchanged. ``stresslet``: lubrication_ij = stresslet_ij, total_ij shifted by
+    their difference, derived quantities recomputed; ``ValueError`` naming ``source`` if any
+    stresslet value is missing (a run of the stock model, or from before they were recorded).
+    """
+    if choice not in LUBRICATION_STRESSES:
+        raise ValueError(f"analysis.lubrication_stress must be one of {list(LUBRICATION_STRESSES)}, got {choice!r}")
+    if choice == "dipole":
+        return frame
+    values = frame[list(OPTIONAL_COLUMNS)]
+    if values.isna().any().any():
+        raise ValueError(f"{source}: analysis.lubrication_stress = stresslet, but {int(values.isna().any(axis=1).sum())} "
+                         "row(s) have no pair stresslets (runs of the stock force model, or from before the "
+                         "stresslets were recorded); rerun them or use dipole")
+    frame = frame.copy()
+    for c in PAPER_COMPONENTS:
+        frame[f"total_{c}"] += frame[f"stresslet_{c}"] - frame[f"lubrication_{c}"]
+        frame[f"lubrication_{c}"] = frame[f"stresslet_{c}"]
+    return derived_quantities(frame)
+
+
+def read_stress_csv(path: str | os.PathLike, lubrication_stress: str = "dipole") -> pd.DataFrame:
     """A per-run (or concatenated) stress CSV, its columns checked; errors name the file.
 
-    ``OPTIONAL_COLUMNS`` missing from the file (written before they were recorded) come back NaN.
+    ``OPTIONAL_COLUMNS`` missing from the file (written before they were recorded) come back NaN;
+    ``lubrication_stress`` as in :func:`with_lubrication_stress`.
     """
     path = Path(path)
     if not path.is_file():
@@ -241,4 +274,4 @@ def read_stress_csv(path: str | os.PathLike) -> pd.DataFrame:
     missing = [c for c in STRESS_TABLE_COLUMNS if c not in frame.columns]
     if missing:
         raise ValueError(f"{path}: stress table lacks column(s) {missing}")
-    return frame[list(STRESS_TABLE_COLUMNS)]
+    return with_lubrication_stress(frame[list(STRESS_TABLE_COLUMNS)], lubrication_stress, str(path))

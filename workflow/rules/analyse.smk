@@ -48,6 +48,7 @@ rule aggregate_stress_startup:
         kind="startup",
         quantity="stress",
         steady_window=setting("analysis", "steady_window"),
+        lubrication_stress=setting("analysis", "lubrication_stress"),
     conda:
         CONDA_ENV
     log:
@@ -66,6 +67,7 @@ rule aggregate_stress_rotation:
     params:
         kind="rotation",
         quantity="stress",
+        lubrication_stress=setting("analysis", "lubrication_stress"),
     conda:
         CONDA_ENV
     log:

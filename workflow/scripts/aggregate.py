@@ -1,6 +1,9 @@
 """Snakemake: concatenated run table, seed aggregate and, for startup, the steady state of the
 fabric or the stress (rules aggregate_startup, aggregate_rotation, aggregate_stress_startup and
-aggregate_stress_rotation; params.kind and params.quantity)."""
+aggregate_stress_rotation; params.kind, params.quantity and, for the stress,
+params.lubrication_stress)."""
+from functools import partial
+
 import pandas as pd
 
 from suspension_fabric import stress, tables
@@ -16,6 +19,8 @@ with logged(sm.log[0]):
     if sm.params.quantity not in READERS:
         raise ValueError(f"params.quantity must be one of {sorted(READERS)}, got {sm.params.quantity!r}")
     read, columns = READERS[sm.params.quantity]
+    if sm.params.quantity == "stress":
+        read = partial(read, lubrication_stress=sm.params.lubrication_stress)
     runs = pd.concat([read(p) for p in sm.input], ignore_index=True)
     runs.to_csv(sm.output.runs, index=False)
     tables.aggregate_seeds(runs, columns).to_csv(sm.output.aggregate, index=False)
