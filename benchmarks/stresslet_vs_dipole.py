@@ -35,17 +35,23 @@ ENGINE = {"lubrication": "sf", "eta_f": ETA_F, "kn": 1.25e8, "mu": 0.5, "kt": 1.
           "preconditioner": "dilu", "solver_tol": 1e-3, "dt": 1e-4, "rate": 1.0}
 
 
-def shear(packing: Path, folder: Path) -> dict[str, float]:
+def startup_run(packing: Path, folder: Path, strain: float = STRAIN, dump_strain: float = 0.5) -> Path:
+    """A startup shear of ``packing`` to ``strain`` with ENGINE in ``folder`` (stress table every
+    0.01 strain, trajectory every ``dump_strain``); the folder, or RuntimeError naming the log."""
     variables = {"lammps_dir": REPO / "workflow" / "lammps", "data_file": packing.resolve(), **ENGINE,
-                 "plugin": plugin_path(), "dump_strain": 0.5, "table_strain": 0.01, "thermo_strain": 0.1,
-                 "restart_strain": 10.0, "skin": 0.1, "strain_total": STRAIN, "dump_file": "trajectory.dump",
+                 "plugin": plugin_path(), "dump_strain": dump_strain, "table_strain": 0.01, "thermo_strain": 0.1,
+                 "restart_strain": 10.0, "skin": 0.1, "strain_total": strain, "dump_file": "trajectory.dump",
                  "table_file": "stress.txt", "checkpoint_file": "checkpoint.rst", "restart_file_a": "a.rst",
                  "restart_file_b": "b.rst"}
     result = launch(lammps_command(REPO / "workflow" / "lammps" / "startup.lmp", variables), folder,
-                    label=packing.parent.parent.name, strain_total=STRAIN)
+                    label=packing.parent.parent.name, strain_total=strain)
     if result.returncode != 0:
         raise RuntimeError(f"{packing}: LAMMPS failed ({result.returncode}); see {folder}/log.lammps")
-    table = read_stress_table(folder / "stress.txt")
+    return folder
+
+
+def shear(packing: Path, folder: Path) -> dict[str, float]:
+    table = read_stress_table(startup_run(packing, folder) / "stress.txt")
     inside = (table["strain"] >= WINDOW[0]) & (table["strain"] <= WINDOW[1])
 
     def mean(name):  # stress = -P, in units eta_f gammadot (gammadot = 1)
