@@ -30,11 +30,15 @@ Recorded beside the parts, not summed into the total
                      at this order the force dipole at contact distance without its trace.
                      NaN where the run did not record it (the stock force model, and tables
                      written before it was recorded; :func:`read_stress_csv` fills it in for
-                     older CSVs). ``total`` - ``lubrication`` + ``stresslet`` is the stress as
-                     the pair-stresslet codes report it (docs/gw_stress_relation.md, section 2.2).
+                     older CSVs). ``total`` - ``lubrication`` + ``stresslet`` is the shear stress and
+                     normal stress differences as the pair-stresslet codes report them
+                     (docs/gw_stress_relation.md, sections 2.2 and 2.5).
 
-Which lubrication stress the study's tables use from the seed aggregates on is the config key
-``analysis.lubrication_stress`` (:func:`with_lubrication_stress`): ``dipole`` (the default) keeps
+What each reported quantity contains (solvent, Einstein term, dipoles or stresslets) and which
+combination the figures, the steady-state table and the G-W stress relation use is stated in
+docs/gw_stress_relation.md, section 2.5, with how to compare with LF_DEM (no Einstein term,
+stresslets with their trace). Which lubrication stress the study's tables use from the seed
+aggregates on is the config key ``analysis.lubrication_stress`` (:func:`with_lubrication_stress`): ``dipole`` (the default) keeps
 the per-run tables as they are; ``stresslet`` puts the stresslets in the ``lubrication`` part
 and the total, and recomputes eta_r, N1, N2 and Pi (the stresslets add nothing to Pi).
 
