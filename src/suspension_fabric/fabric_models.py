@@ -25,11 +25,8 @@ instances (:data:`BUILT_IN`); a user's model is named in the config as ``module:
 
 from __future__ import annotations
 
-import importlib
-import importlib.util
 import math
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Callable, Mapping, NamedTuple
 
 import numpy as np
@@ -37,6 +34,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import least_squares
 
 from . import model as paper_models
+from .plugins import load_plugin
 from .frames import rotation_about_gradient, simple_shear_gradient, to_basis
 from .model import (VECTOR_ORDER, as_strains, closure_model_rhs, propagate_affine, split_strain_rate, sym_to_vec,
                     vec_to_sym)
@@ -227,32 +225,7 @@ BUILT_IN = {m.key: m for m in (GW, MODIFIED, SEPARATE_RATES)}
 def load_model(spec: str) -> FabricModel:
     """A model from its config entry: a built-in key, ``package.module:attribute`` or
     ``path/to/file.py:attribute`` (the attribute a :class:`FabricModel`)."""
-    if spec in BUILT_IN:
-        return BUILT_IN[spec]
-    location, sep, attribute = spec.rpartition(":")
-    if not sep or not location or not attribute:
-        raise ModelError(f"model {spec!r}: expected a built-in key {sorted(BUILT_IN)}, 'module:attribute' or "
-                         f"'file.py:attribute'")
-    if location.endswith(".py"):
-        path = Path(location)
-        if not path.is_file():
-            raise ModelError(f"model {spec!r}: file {path} not found")
-        module_spec = importlib.util.spec_from_file_location(f"fabric_model_{path.stem}", path)
-        module = importlib.util.module_from_spec(module_spec)
-        try:
-            module_spec.loader.exec_module(module)
-        except Exception as error:  # the user's file: report any failure with its name
-            raise ModelError(f"model {spec!r}: importing {path} failed: {error!r}") from error
-    else:
-        try:
-            module = importlib.import_module(location)
-        except ImportError as error:
-            raise ModelError(f"model {spec!r}: cannot import {location} ({error})") from error
-    found = getattr(module, attribute, None)
-    if not isinstance(found, FabricModel):
-        raise ModelError(f"model {spec!r}: {attribute} in {location} is {type(found).__name__}, "
-                         f"expected a suspension_fabric.fabric_models.FabricModel")
-    return found
+    return load_plugin(spec, BUILT_IN, FabricModel, ModelError, "model")
 
 
 def resolve_models(specs) -> dict[str, FabricModel]:
