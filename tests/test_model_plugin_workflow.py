@@ -8,7 +8,11 @@ relation and the figures. The toy model relaxes the fabric towards s phi (I/3 - 
     d<nn>/dgamma = -(<nn> - s phi (I/3 - Eh)),
 
 so in simple shear its steady <nn>_12 = -s phi / 2 and the steady fit gives s = -2 <nn>_12^ss / phi;
-it is declared not affine, so it runs through the general ODE path."""
+it is declared not affine, so it runs through the general ODE path.
+
+A toy stress relation in the same file, added to models.stress, reaches the stress-relation
+leaderboard: H = C = -<nn> (1 + k Tr<nn>) (shape parameter k), so that at the fitted
+coefficients it reproduces the steady lubrication and contact sigma_12."""
 
 import json
 import shutil
@@ -30,8 +34,19 @@ TOY = FabricModel(
     rhs=lambda fabric, flow, p, phi: -(np.asarray(fabric) - p["s"] * phi * (np.eye(3) / 3.0 - flow.e_hat)),
     affine=False,
 )
+
+from suspension_fabric.stress_relations import StressRelation
+
+
+def toy_forms(fabric, p):
+    form = -np.asarray(fabric) * (1 + p["k"] * np.trace(fabric, axis1=-2, axis2=-1))[..., None, None]
+    return form, form
+
+
+TOY_RELATION = StressRelation(key="toy_relation", label="toy stress relation", forms=toy_forms,
+                              parameters=(Parameter("k", 0.0, 5.0, 1.0),))
 '''
-MODELS = "models={fabric: [gw, modified, toy.py:TOY]}"
+MODELS = "models={fabric: [gw, modified, toy.py:TOY], stress: [gw, toy.py:TOY_RELATION]}"
 
 
 @pytest.fixture(scope="module")
@@ -48,7 +63,8 @@ def with_toy(study, tmp_path_factory):
 
 def test_a_model_in_the_config_reruns_the_model_rules_only(with_toy):
     _, rules = with_toy
-    assert {"fit_models", "predict", "model_errors", "stress_relation", "benchmark_models"} <= rules
+    assert {"fit_models", "predict", "model_errors", "stress_relation", "benchmark_models",
+            "benchmark_stress_relations"} <= rules
     assert not rules & {"build_plugin", "pack", "startup", "rotate", "fabric_table", "stress_table"}
 
 
@@ -74,3 +90,18 @@ def test_the_toy_model_flows_through_fits_predictions_errors_and_stress(with_toy
     assert set(zip(board["model"], board["mode"])) == {(m, f) for m in ("gw", "modified", "toy")
                                                        for f in ("steady", "global")}
     assert "toy relaxation" in (results / "tables/leaderboard.html").read_text()
+
+
+def test_the_toy_stress_relation_reaches_the_stress_leaderboard(with_toy):
+    """The toy relation is fitted (k within its bounds, a_H and a_C from the steady sigma_12 parts)
+    and scored beside G-W, with the paired held-out difference from G-W."""
+    workdir, _ = with_toy
+    tables = workdir / RESULTS / "tables"
+    board = pd.read_csv(tables / "stress_leaderboard.csv")
+    assert set(zip(board["relation"], board["mode"])) == {("gw", "steady"), ("toy_relation", "global")}
+    rotation = board[board["quantity"] == "eta_r rotation"].set_index("relation")
+    assert np.isfinite(rotation.loc["toy_relation", ["held_out_mse", "held_out_difference_vs_gw"]].astype(float)).all()
+    parameters = pd.read_csv(tables / "stress_relation_parameters.csv")
+    toy = parameters[parameters["relation"] == "toy_relation"].set_index("parameter")["value"]
+    assert set(toy.index) == {"a_H", "a_C", "k"} and 0.0 <= toy["k"] <= 5.0
+    assert "toy stress relation" in (tables / "stress_leaderboard.html").read_text()

@@ -502,3 +502,18 @@ def test_read_stress_csv_applies_the_choice_and_names_an_old_file(tmp_path):
     frame.drop(columns=list(stress.OPTIONAL_COLUMNS)).to_csv(old, index=False)
     with pytest.raises(ValueError, match=f"{old}: analysis.lubrication_stress = stresslet"):
         read_stress_csv(old, "stresslet")
+
+
+def test_recorded_value_columns_leave_out_what_no_run_recorded():
+    """Stresslet columns NaN in every row are left out of the aggregated columns; NaN in some
+    rows only is an error naming the seeds without them."""
+    frame = pd.DataFrame({"seed": [1, 1, 2], **{c: [0.1, 0.2, 0.3] for c in stress.STRESS_VALUE_COLUMNS}})
+    assert stress.recorded_value_columns(frame) == stress.STRESS_VALUE_COLUMNS
+    older = frame.assign(**{c: np.nan for c in stress.OPTIONAL_COLUMNS})
+    kept = stress.recorded_value_columns(older)
+    assert set(kept) == set(stress.STRESS_VALUE_COLUMNS) - set(stress.OPTIONAL_COLUMNS)
+    mixed = frame.copy()
+    mixed.loc[2, "stresslet_12"] = np.nan
+    with pytest.raises(ValueError, match=r"runs/x: stresslet_12 is recorded in some runs but not in others "
+                                         r"\(missing for seeds \[2\]\)"):
+        stress.recorded_value_columns(mixed, "runs/x")

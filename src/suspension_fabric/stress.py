@@ -83,6 +83,7 @@ __all__ = [
     "read_stress_csv",
     "LUBRICATION_STRESSES",
     "with_lubrication_stress",
+    "recorded_value_columns",
     "STRESS_FLOAT_FORMAT",
     "derived_quantities",
 ]
@@ -260,6 +261,22 @@ def with_lubrication_stress(frame: pd.DataFrame, choice: str, source: str = "str
         frame[f"total_{c}"] += frame[f"stresslet_{c}"] - frame[f"lubrication_{c}"]
         frame[f"lubrication_{c}"] = frame[f"stresslet_{c}"]
     return derived_quantities(frame)
+
+
+def recorded_value_columns(frame: pd.DataFrame, source: str = "stress tables") -> tuple[str, ...]:
+    """``STRESS_VALUE_COLUMNS`` without the optional columns that no row of ``frame`` recorded
+    (NaN throughout: runs from before the stresslets were recorded, or of the stock model); an
+    optional column recorded in some rows only is an error naming ``source``."""
+    missing = []
+    for column in OPTIONAL_COLUMNS:
+        absent = frame[column].isna()
+        if absent.all():
+            missing.append(column)
+        elif absent.any():
+            seeds = sorted(frame.loc[absent, "seed"].unique().tolist()) if "seed" in frame else []
+            raise ValueError(f"{source}: {column} is recorded in some runs but not in others (missing for seeds "
+                             f"{seeds}); rerun those runs so that all record it")
+    return tuple(c for c in STRESS_VALUE_COLUMNS if c not in missing)
 
 
 def read_stress_csv(path: str | os.PathLike, lubrication_stress: str = "dipole") -> pd.DataFrame:

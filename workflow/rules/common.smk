@@ -44,10 +44,15 @@ def setting(*keys):
     return value
 
 
-def model_files(wildcards):
-    """The Python files of the study's user-defined fabric models (models.fabric entries 'file.py:NAME')."""
-    specs = STUDIES[wildcards.study]["models"]["fabric"]
-    return [spec.rpartition(":")[0] for spec in specs if spec.rpartition(":")[0].endswith(".py")]
+def plugin_files(kind):
+    """An input function: the Python files of the study's user-defined plug-ins of models.<kind>
+    (entries 'file.py:NAME'), so that editing one reruns what depends on it."""
+
+    def files(wildcards):
+        specs = STUDIES[wildcards.study]["models"][kind]
+        return [spec.rpartition(":")[0] for spec in specs if spec.rpartition(":")[0].endswith(".py")]
+
+    return files
 
 
 def seed_runs(path):
@@ -83,6 +88,7 @@ def study_targets(study):
             *rules.figure_stress_startup.output,
             *rules.figure_stress_rotation.output,
             *rules.stress_relation.output,
+            *rules.benchmark_stress_relations.output,
             *rules.report_stress.output,
         ]
         if STUDIES[study]["verdicts"]["comparisons"]:

@@ -4,7 +4,7 @@ rule fit_models:
     input:
         steady=rules.aggregate_startup.output.steady,
         runs=rules.aggregate_startup.output.runs,
-        model_files=model_files,
+        model_files=plugin_files("fabric"),
     output:
         f"{RESULTS}/fits.json",
     params:
@@ -25,7 +25,7 @@ rule predict:
         fits=rules.fit_models.output[0],
         startup=rules.aggregate_startup.output.aggregate,
         rotation=rules.aggregate_rotation.output.aggregate,
-        model_files=model_files,
+        model_files=plugin_files("fabric"),
     output:
         f"{RESULTS}/tables/predictions.csv",
     params:
@@ -98,7 +98,7 @@ rule benchmark_models:
         fits=rules.fit_models.output[0],
         startup_runs=rules.aggregate_startup.output.runs,
         rotation_runs=rules.aggregate_rotation.output.runs,
-        model_files=model_files,
+        model_files=plugin_files("fabric"),
     output:
         leaderboard=f"{RESULTS}/tables/leaderboard.csv",
         parameters=f"{RESULTS}/tables/model_parameters.csv",
@@ -116,3 +116,31 @@ rule benchmark_models:
         f"{RESULTS}/logs/benchmark_models.log",
     script:
         "../scripts/benchmark_models.py"
+
+
+rule benchmark_stress_relations:
+    """Every relation of models.stress on each seed's simulated fabric: steady N1, N2, Pi and eta_r after rotation
+    on held-out angles, per seed with t-intervals, the paired difference from the G-W relation."""
+    input:
+        startup_runs=rules.aggregate_startup.output.runs,
+        rotation_runs=rules.aggregate_rotation.output.runs,
+        stress_startup_runs=rules.aggregate_stress_startup.output.runs,
+        stress_rotation_runs=rules.aggregate_stress_rotation.output.runs,
+        relation_files=plugin_files("stress"),
+    output:
+        leaderboard=f"{RESULTS}/tables/stress_leaderboard.csv",
+        parameters=f"{RESULTS}/tables/stress_relation_parameters.csv",
+        page=report(f"{RESULTS}/tables/stress_leaderboard.html", caption="../report/table_stress_leaderboard.rst",
+                    category="Tables"),
+    params:
+        relations=setting("models", "stress"),
+        folds=setting("models", "held_out_folds"),
+        steady_window=setting("analysis", "steady_window"),
+        window=setting("verdicts", "window"),
+        level=setting("verdicts", "level"),
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/benchmark_stress_relations.log",
+    script:
+        "../scripts/benchmark_stress_relations.py"

@@ -22,6 +22,8 @@ with logged(sm.log[0]):
     if sm.params.quantity == "stress":
         read = partial(read, lubrication_stress=sm.params.lubrication_stress)
     runs = pd.concat([read(p) for p in sm.input], ignore_index=True)
+    if sm.params.quantity == "stress":  # the stresslets only where the runs recorded them
+        columns = stress.recorded_value_columns(runs, f"{len(sm.input)} stress tables ({sm.input[0]} ...)")
     runs.to_csv(sm.output.runs, index=False)
     tables.aggregate_seeds(runs, columns).to_csv(sm.output.aggregate, index=False)
     if sm.params.kind == "startup":

@@ -1,0 +1,164 @@
+"""Stress relations as plug-ins: the particle stress as a static function of the fabric.
+
+A stress relation gives the particle stress in simple shear e1 e2 (paper frame of the current
+shear) from the fabric <nn> as a hydrodynamic and a contact term,
+
+    sigma^p / (eta_f gammadot) = a_H H(<nn>; q) + a_C C(<nn>; q),
+
+with tensor forms H and C (``forms(fabric, q) -> (H, C)``, broadcasting over leading axes), linear
+coefficients a_H, a_C and optional shape parameters q (:class:`suspension_fabric.fabric_models.Parameter`).
+For any q, a_H and a_C are fixed by the steady state of startup shear as for the paper's relation
+(:mod:`suspension_fabric.stress_model`): a_H = sigma^lub_12 / H_12(<nn>^ss), a_C = sigma^con_12 /
+C_12(<nn>^ss) (:func:`coefficients`). The total adds the solvent's 1 and the Einstein 2.5 phi on
+sigma_12 (docs/gw_stress_relation.md, section 2.5). Shape parameters are fitted on transients
+(:mod:`suspension_fabric.stress_benchmark`).
+
+Built in (:data:`BUILT_IN`)
+    ``gw``          Gillissen and Wilson (Phys. Rev. E 98, 033119 (2018)): H = <nnnn>:E^,
+                    C = <nnnn>:E^_c, <nnnn> by the paper's closure; no shape parameter.
+    ``gw_jamming``  the same with a contact coefficient that grows with the coordination and
+                    diverges at a jamming coordination Z_J:
+                    C = <nnnn>:E^_c / (1 - Z/Z_J)^2,  Z = 2 Tr<nn>  (Z < Z_J; infinite beyond).
+                    The form is this project's. Gillissen, Ness, Peterson, Wilson and Cates
+                    (Phys. Rev. Lett. 123, 214504 (2019)) let the contact stress diverge at jamming
+                    through the microstructure; their exact expression could not be checked here,
+                    so this is not claimed to be theirs. Z_J is fitted on the viscosity transients.
+
+A user's relation is a :class:`StressRelation` named in the config (``models.stress``) as
+``package.module:attribute`` or ``path/to/file.py:attribute`` (:func:`load_relation`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable, Mapping
+
+import numpy as np
+import pandas as pd
+
+from .fabric_models import Parameter
+from .plugins import load_plugin
+from .stress import EINSTEIN_COEFFICIENT
+from .stress_model import relation_terms
+
+__all__ = ["RelationError", "StressRelation", "GW_RELATION", "GW_JAMMING", "BUILT_IN", "load_relation",
+           "resolve_relations", "coefficients", "relation_stress", "STRESS_QUANTITIES"]
+
+#: What :func:`relation_stress` returns per fabric, in units of eta_f gammadot.
+STRESS_QUANTITIES = ("eta_r", "N1", "N2", "Pi", "lubrication_12", "contact_12")
+
+
+class RelationError(ValueError):
+    """A stress relation that cannot be used as declared."""
+
+
+@dataclass(frozen=True)
+class StressRelation:
+    """A stress relation (module docstring): ``forms(fabric, params)`` returns (H, C) of shape
+    ``fabric.shape`` for fabrics (..., 3, 3) and ``params`` {name: value} of its shape parameters."""
+
+    key: str
+    label: str
+    forms: Callable
+    parameters: tuple[Parameter, ...] = ()
+    description: str = field(default="", compare=False)
+
+    def __post_init__(self):
+        if not self.key.isidentifier():
+            raise RelationError(f"stress relation key {self.key!r} must be an identifier (it names table rows)")
+        names = [p.name for p in self.parameters]
+        if len(set(names)) != len(names) or {"a_H", "a_C"} & set(names):
+            raise RelationError(f"stress relation {self.key}: shape parameter names {names} must be distinct "
+                                "and not a_H or a_C (the coefficients fitted on the steady state)")
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(p.name for p in self.parameters)
+
+    def check(self, params: Mapping[str, float]) -> dict[str, float]:
+        """``params`` as {name: float} with every shape parameter, finite and within its bounds."""
+        if set(params) != set(self.names):
+            raise RelationError(f"stress relation {self.key}: parameters {sorted(params)} given, "
+                                f"expected {list(self.names)}")
+        checked = {}
+        for p in self.parameters:
+            value = float(params[p.name])
+            if not (math.isfinite(value) and p.lower <= value <= p.upper):
+                raise RelationError(f"stress relation {self.key}: {p.name} = {value} outside [{p.lower}, {p.upper}]")
+            checked[p.name] = value
+        return checked
+
+    def start(self) -> dict[str, float]:
+        return {p.name: p.start for p in self.parameters}
+
+
+def _gw_forms(fabric, params):
+    return relation_terms(fabric)
+
+
+def _jamming_forms(fabric, params):
+    hydro, contact = relation_terms(fabric)
+    z = 2.0 * np.trace(np.asarray(fabric, dtype=float), axis1=-2, axis2=-1)
+    with np.errstate(divide="ignore"):
+        growth = np.where(z < params["Z_J"], (1.0 - z / params["Z_J"]) ** -2.0, np.inf)
+    return hydro, contact * growth[..., None, None]
+
+
+GW_RELATION = StressRelation(
+    key="gw", label="G-W stress relation", forms=_gw_forms,
+    description="sigma^p = a_H <nnnn>:E^ + a_C <nnnn>:E^_c (Gillissen and Wilson 2018)")
+GW_JAMMING = StressRelation(
+    key="gw_jamming", label="G-W, contact coefficient diverging at Z_J", forms=_jamming_forms,
+    parameters=(Parameter("Z_J", 2.0, 12.0, 6.0),),
+    description="sigma^p = a_H <nnnn>:E^ + a_C <nnnn>:E^_c / (1 - Z/Z_J)^2, Z = 2 Tr<nn> (this project's form)")
+
+#: Built-in relations by key.
+BUILT_IN = {r.key: r for r in (GW_RELATION, GW_JAMMING)}
+
+
+def load_relation(spec: str) -> StressRelation:
+    """A relation from its config entry: a built-in key, ``package.module:attribute`` or
+    ``path/to/file.py:attribute`` (the attribute a :class:`StressRelation`)."""
+    return load_plugin(spec, BUILT_IN, StressRelation, RelationError, "stress relation")
+
+
+def resolve_relations(specs) -> dict[str, StressRelation]:
+    """Relations of a config's list of entries, by key (keys must be distinct)."""
+    relations = {}
+    for spec in specs:
+        found = load_relation(spec)
+        if found.key in relations:
+            raise RelationError(f"models.stress: two entries have the key {found.key!r}")
+        relations[found.key] = found
+    return relations
+
+
+def coefficients(relation: StressRelation, steady_fabric, lubrication_12: float, contact_12: float,
+                 params: Mapping[str, float]) -> dict[str, float]:
+    """a_H and a_C that reproduce the steady lubrication and contact sigma_12 at the steady fabric."""
+    hydro, contact = relation.forms(np.asarray(steady_fabric, dtype=float), relation.check(params))
+    h12, c12 = float(hydro[0, 1]), float(contact[0, 1])
+    if not (0.0 < h12 < math.inf and 0.0 < c12 < math.inf):
+        raise RelationError(f"stress relation {relation.key} at {dict(params)}: the steady fabric gives H_12 = "
+                            f"{h12:.4g} and C_12 = {c12:.4g}; both must be positive and finite")
+    return {"a_H": lubrication_12 / h12, "a_C": contact_12 / c12}
+
+
+def relation_stress(relation: StressRelation, fabric, coefficient: Mapping[str, float], params: Mapping[str, float],
+                    phi: float) -> dict[str, np.ndarray]:
+    """:data:`STRESS_QUANTITIES` for fabrics (..., 3, 3): eta_r with the solvent and Einstein
+    terms, the normal stress differences and the particle pressure of the relation."""
+    hydro, contact = relation.forms(np.asarray(fabric, dtype=float), relation.check(params))
+    lubrication, contacts = coefficient["a_H"] * hydro, coefficient["a_C"] * contact
+    particle = lubrication + contacts
+    eta = particle[..., 0, 1] + 1.0 + EINSTEIN_COEFFICIENT * phi
+    return {"eta_r": eta, "N1": particle[..., 0, 0] - particle[..., 1, 1],
+            "N2": particle[..., 1, 1] - particle[..., 2, 2], "Pi": -np.trace(particle, axis1=-2, axis2=-1) / 3.0,
+            "lubrication_12": lubrication[..., 0, 1], "contact_12": contacts[..., 0, 1]}
+
+
+def describe(relations: Mapping[str, StressRelation]) -> pd.DataFrame:
+    """One row per relation: key, label, shape parameters, description (for the report)."""
+    return pd.DataFrame([{"relation": r.key, "label": r.label, "shape_parameters": ", ".join(r.names) or "none",
+                          "description": r.description} for r in relations.values()])
