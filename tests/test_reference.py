@@ -1,5 +1,6 @@
 """The committed reference dataset v2 (data/reference, exported from config/paper.yaml; its N = 2000
-companion data/reference_n2000 from config/paper_n2000.yaml) and the study that rebuilds the paper's figures and the stress figures from it (config/reference.yaml):
+companion data/reference_n2000 from config/paper_n2000.yaml; data/stresslets, the default study's
+runs with the pair stresslets recorded, from config/config.yaml) and the study that rebuilds the paper's figures and the stress figures from it (config/reference.yaml):
 no simulation job in its plan, every run's files present with their recorded checksums, its fits
 equal to the ones recorded with the data, and a polar figure whose every cell is resolved by the
 seeds."""
@@ -9,12 +10,14 @@ from __future__ import annotations
 import json
 import shutil
 
+import numpy as np
 import pandas as pd
 import pytest
 
 from suspension_fabric.config import load_config
 from suspension_fabric.dataset import check_config_matches, has_run_tables, read_dataset, run_names
 from suspension_fabric.figures import polar_cell_errors
+from suspension_fabric.stress import OPTIONAL_COLUMNS, read_stress_csv
 from workflow_helpers import REPO, copy_workflow, dry_run_jobs, snakemake
 
 pytestmark = pytest.mark.workflow
@@ -23,7 +26,8 @@ DATASET = REPO / "data" / "reference"
 
 
 @pytest.mark.parametrize("folder, config_file, megabytes", [("reference", "reference.yaml", 30),
-                                                          ("reference_n2000", "paper_n2000.yaml", 5)])
+                                                          ("reference_n2000", "paper_n2000.yaml", 5),
+                                                          ("stresslets", "stresslets.yaml", 6)])
 def test_the_datasets_are_complete_and_small(folder, config_file, megabytes):
     """Every run's fabric table, per-frame stress table and run record, nothing else (no
     trajectories, no raw stress), within the size budget."""
@@ -38,6 +42,15 @@ def test_the_datasets_are_complete_and_small(folder, config_file, megabytes):
     assert size < megabytes * 1e6, f"{size / 1e6:.1f} MB"
 
 
+def test_the_stresslets_dataset_recorded_the_pair_stresslets():
+    """data/stresslets (config/stresslets.yaml) is the one dataset whose runs recorded the pair
+    stresslets: every per-frame stress table has them, finite, and its study uses them."""
+    for table in sorted((REPO / "data" / "stresslets").rglob("stress.csv")):
+        frame = read_stress_csv(table)
+        assert np.isfinite(frame[list(OPTIONAL_COLUMNS)].to_numpy()).all(), table
+    assert load_config(REPO / "config" / "stresslets.yaml")["analysis"]["lubrication_stress"] == "stresslet"
+
+
 def test_the_reference_study_rebuilds_the_fits_without_simulating(tmp_path):
     workdir = copy_workflow(tmp_path)
     shutil.copytree(REPO / "data", workdir / "data")  # the reference and the datasets it is compared with
@@ -45,7 +58,8 @@ def test_the_reference_study_rebuilds_the_fits_without_simulating(tmp_path):
     assert plan.returncode == 0, (plan.stdout + plan.stderr)[-3000:]
     rules = {job["rule"] for job in dry_run_jobs(plan.stdout + plan.stderr)}
     assert not rules & {"build_plugin", "pack", "startup", "rotate", "fabric_table", "stress_table"}, rules
-    assert {"stress_relation", "figure_stress_startup", "figure_stress_rotation"} <= rules, rules
+    assert {"stress_relation", "figure_stress_startup", "figure_stress_rotation",
+            "benchmark_stress_relations"} <= rules, rules
     result = snakemake(workdir, "--configfile", "config/reference.yaml", timeout=600)
     assert result.returncode == 0, result.stderr[-3000:]
     fits = json.loads((workdir / "results/reference/fits.json").read_text())
