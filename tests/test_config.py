@@ -123,3 +123,23 @@ def test_rotations_start_on_the_output_grid(run, message):
     does not divide 250000)."""
     with pytest.raises(ConfigError, match=message):
         validate_config({**MINIMAL, "run": run})
+
+
+def test_config_readme_names_every_key_and_shipped_file():
+    """config/README.md lists every section and second-level key of the schema and every
+    shipped study file, so the catalog's configuration page stays in step with the schema."""
+    from pathlib import Path
+
+    import yaml
+
+    folder = Path(__file__).resolve().parents[1] / "config"
+    readme = (folder / "README.md").read_text()
+    schema = yaml.safe_load((folder / "schema.yaml").read_text())
+    for section, spec in schema["properties"].items():
+        assert f"`{section}`" in readme, section
+        if section != "campaign":
+            for key in spec.get("properties", {}):
+                assert f"`{key}`" in readme, f"{section}.{key}"
+    for path in folder.glob("*.yaml"):
+        if path.name != "schema.yaml":
+            assert f"`{path.name}`" in readme, path.name
