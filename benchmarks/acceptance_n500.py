@@ -19,7 +19,16 @@ from pathlib import Path
 
 import numpy as np
 
-from suspension_fabric.lammps import PACK_FILES, RUN_FILES, ForceModel, ShearSettings, is_complete, pack, run_rotation, run_startup
+from suspension_fabric.lammps import (
+    PACK_FILES,
+    RUN_FILES,
+    ForceModel,
+    ShearSettings,
+    is_complete,
+    pack,
+    run_rotation,
+    run_startup,
+)
 from suspension_fabric.model import fit_gw, fit_modified
 from suspension_fabric.tables import run_fabric_table, steady_state
 
@@ -47,20 +56,35 @@ def main() -> None:
     if not is_complete(packing_dir):
         pack(packing_dir, 500, phi=0.45, seed=2024)
     if not is_complete(startup_dir):
-        run_startup(startup_dir, packing_dir / PACK_FILES["data"], 5.0, force_model=EXPLICIT, settings=SETTINGS,
-                    progress_interval=60)
+        run_startup(
+            startup_dir,
+            packing_dir / PACK_FILES["data"],
+            5.0,
+            force_model=EXPLICIT,
+            settings=SETTINGS,
+            progress_interval=60,
+        )
     if not is_complete(rotation_dir):
-        run_rotation(rotation_dir, startup_dir / RUN_FILES["checkpoint"], 90.0, 0.5, force_model=EXPLICIT,
-                     settings=SETTINGS, progress_interval=60)
+        run_rotation(
+            rotation_dir,
+            startup_dir / RUN_FILES["checkpoint"],
+            90.0,
+            0.5,
+            force_model=EXPLICIT,
+            settings=SETTINGS,
+            progress_interval=60,
+        )
 
     startup, rotation = marker(startup_dir), marker(rotation_dir)
     dt = float(startup["variables"]["dt"])
     print(f"N = 500, phi = 0.45, kn = {startup['variables']['kn']}, dt = {dt:g}, packing seed 2024")
     for name, info in (("startup", startup), ("rotation 90 deg", rotation)):
         results = info["results"]
-        print(f"{name}: strain {results['strain']:g} (steps {results['first_step']}-{results['last_step']}), "
-              f"wall {info['wall_time_s']:.0f} s = {info['wall_time_s'] / (500 * results['strain']):.2f} "
-              f"core-s per particle per unit strain, largest overlap {results['max_overlap']:.2e} d")
+        print(
+            f"{name}: strain {results['strain']:g} (steps {results['first_step']}-{results['last_step']}), "
+            f"wall {info['wall_time_s']:.0f} s = {info['wall_time_s'] / (500 * results['strain']):.2f} "
+            f"core-s per particle per unit strain, largest overlap {results['max_overlap']:.2e} d"
+        )
 
     table = fabric(startup_dir)
     steady = steady_state(table, 2.0, 5.0).set_index("quantity")
@@ -71,8 +95,10 @@ def main() -> None:
         print(f"| {name} | {row['mean']:.4f} | {row['sem']:.4f} | {row['tau_strain']:.3f} |")
     n11, n12 = steady.loc["n11", "mean"], steady.loc["n12", "mean"]
     modified = fit_modified(n11, n12, 0.45)
-    print(f"fits to these means (paper: 10.9; 9.4 and 42.4): G-W beta = {fit_gw(n12, 0.45):.2f}; "
-          f"modified beta = {modified.beta:.2f}, A = {modified.A:.1f}")
+    print(
+        f"fits to these means (paper: 10.9; 9.4 and 42.4): G-W beta = {fit_gw(n12, 0.45):.2f}; "
+        f"modified beta = {modified.beta:.2f}, A = {modified.A:.1f}"
+    )
 
     print("\nstartup fabric (frame nearest to each strain):")
     print("| strain | " + " | ".join(COLUMNS) + " |\n|" + "---|" * (len(COLUMNS) + 1))

@@ -39,7 +39,15 @@ import re
 from pathlib import Path
 
 from suspension_fabric.lammps import (
-    PACK_FILES, RUN_FILES, ForceModel, LammpsRunError, ShearSettings, is_complete, pack, run_rotation, run_startup,
+    PACK_FILES,
+    RUN_FILES,
+    ForceModel,
+    LammpsRunError,
+    ShearSettings,
+    is_complete,
+    pack,
+    run_rotation,
+    run_startup,
 )
 
 ROOT = Path("results/bench_engine")
@@ -67,10 +75,16 @@ def prepare() -> None:
             pack(packing, n, phi=0.45, seed=1)
         startup = ROOT / f"n{n}" / "startup"
         if not is_complete(startup):
-            run_startup(startup, packing / PACK_FILES["data"], PREPARE_STRAIN,
-                        force_model=ForceModel(contact_springs="implicit", preconditioner="dilu", kn=SPRINGS_KN,
-                                               solver_tol=1e-5),
-                        settings=ShearSettings(dt=SPRINGS_DT, dump_strain=0.1), progress_interval=120)
+            run_startup(
+                startup,
+                packing / PACK_FILES["data"],
+                PREPARE_STRAIN,
+                force_model=ForceModel(
+                    contact_springs="implicit", preconditioner="dilu", kn=SPRINGS_KN, solver_tol=1e-5
+                ),
+                settings=ShearSettings(dt=SPRINGS_DT, dump_strain=0.1),
+                progress_interval=120,
+            )
 
 
 def loop_time(log: Path) -> tuple[float, int]:
@@ -87,8 +101,10 @@ def mean_iterations(log: Path) -> float | None:
     return sum(values[1:]) / len(values[1:]) if len(values) > 1 else None
 
 
-TABLE_HEAD = ("| method | N | dt | steps per unit strain | strain | loop s | core-s per particle per unit strain "
-              "| mean CG iterations per step |\n|---|---|---|---|---|---|---|---|")
+TABLE_HEAD = (
+    "| method | N | dt | steps per unit strain | strain | loop s | core-s per particle per unit strain "
+    "| mean CG iterations per step |\n|---|---|---|---|---|---|---|---|"
+)
 
 
 def timed_continuation(label: str, model: ForceModel, dt: float, n: int, strain: float, out: Path) -> float | None:
@@ -97,87 +113,136 @@ def timed_continuation(label: str, model: ForceModel, dt: float, n: int, strain:
     try:
         # strides of 1000 / 100 / 50 steps: they divide the checkpoint's step (15000 at the
         # prepare step 1e-4, 75000 at 2e-5), so the outputs stay on LAMMPS's grid of multiples
-        settings = ShearSettings(dt=dt, dump_strain=1000 * dt, table_strain=100 * dt, thermo_strain=50 * dt,
-                                 restart_strain=strain, max_stress_jitter=None)
-        run = run_rotation(out, checkpoint(n), 0.0, strain, force_model=model, settings=settings,
-                           overwrite=True, resume=False, progress=None)
+        settings = ShearSettings(
+            dt=dt,
+            dump_strain=1000 * dt,
+            table_strain=100 * dt,
+            thermo_strain=50 * dt,
+            restart_strain=strain,
+            max_stress_jitter=None,
+        )
+        run = run_rotation(
+            out,
+            checkpoint(n),
+            0.0,
+            strain,
+            force_model=model,
+            settings=settings,
+            overwrite=True,
+            resume=False,
+            progress=None,
+        )
     except LammpsRunError as err:
         print(f"| {label} | {n} | {dt:g} | failed: {str(err).splitlines()[0][:120]} |||||", flush=True)
         return None
     seconds, _ = loop_time(run.log_file)  # the LAMMPS log of the run (one segment: resume=False)
     cost = seconds / (n * run.strain)
     iterations = mean_iterations(run.log_file) if model.integrator == "implicit" else None
-    print(f"| {label} | {n} | {dt:g} | {round(1 / dt)} | {run.strain:g} | {seconds:.1f} | {cost:.4f} | "
-          f"{'' if iterations is None else f'{iterations:.1f}'} |", flush=True)
+    print(
+        f"| {label} | {n} | {dt:g} | {round(1 / dt)} | {run.strain:g} | {seconds:.1f} | {cost:.4f} | "
+        f"{'' if iterations is None else f'{iterations:.1f}'} |",
+        flush=True,
+    )
     return cost
 
 
 def ladder(kn: float) -> None:
     """Cost and CG iterations of the implicit springs against dt at N = 500, both preconditioners."""
-    print(f"# {platform.machine()}, {platform.python_version()}, one core per run; N = 500, kn = {kn:g}; "
-          f"continuation of the startup shear from strain {PREPARE_STRAIN:g}\n")
+    print(
+        f"# {platform.machine()}, {platform.python_version()}, one core per run; N = 500, kn = {kn:g}; "
+        f"continuation of the startup shear from strain {PREPARE_STRAIN:g}\n"
+    )
     print(TABLE_HEAD)
     for dt in LADDER_DTS:
         for preconditioner in ("jacobi", "dilu"):
             model = ForceModel(contact_springs="implicit", preconditioner=preconditioner, kn=kn, solver_tol=1e-5)
-            timed_continuation(f"implicit springs, {preconditioner}", model, dt, 500, max(0.1, 2000 * dt),
-                               ROOT / "n500" / f"ladder_kn{kn:g}_{preconditioner}_dt{dt:g}")
+            timed_continuation(
+                f"implicit springs, {preconditioner}",
+                model,
+                dt,
+                500,
+                max(0.1, 2000 * dt),
+                ROOT / "n500" / f"ladder_kn{kn:g}_{preconditioner}_dt{dt:g}",
+            )
 
 
 def measure() -> None:
-    methods = ([("default", n) for n in SIZES] + [("jacobi", n) for n in SIZES] + [("implicit", n) for n in SIZES]
-               + [("dilu_tol1e-5", 500), ("explicit", 500), ("stock", 500)])
+    methods = (
+        [("default", n) for n in SIZES]
+        + [("jacobi", n) for n in SIZES]
+        + [("implicit", n) for n in SIZES]
+        + [("dilu_tol1e-5", 500), ("explicit", 500), ("stock", 500)]
+    )
     default_dt = ShearSettings().dt
     models = {
         "default": (ForceModel(), default_dt),
         "jacobi": (ForceModel(preconditioner="jacobi"), default_dt),
         "dilu_tol1e-5": (ForceModel(preconditioner="dilu", solver_tol=1e-5), default_dt),
-        "implicit": (ForceModel(contact_springs="explicit", preconditioner="jacobi", kn=REFERENCE_KN, solver_tol=1e-5),
-                     PRODUCTION_DT),
+        "implicit": (
+            ForceModel(contact_springs="explicit", preconditioner="jacobi", kn=REFERENCE_KN, solver_tol=1e-5),
+            PRODUCTION_DT,
+        ),
         "explicit": (ForceModel(integrator="explicit", contact_springs="explicit", kn=REFERENCE_KN), EXPLICIT_DT),
-        "stock": (ForceModel(lubrication="stock", integrator="explicit", contact_springs="explicit", kn=REFERENCE_KN),
-                  EXPLICIT_DT),
+        "stock": (
+            ForceModel(lubrication="stock", integrator="explicit", contact_springs="explicit", kn=REFERENCE_KN),
+            EXPLICIT_DT,
+        ),
     }
     model = models["default"][0]
-    label = {"default": f"default engine (springs implicit, {model.preconditioner}, kn {model.kn:g}, "
-                        f"tol {model.solver_tol:g})",
-             "jacobi": "the same with block Jacobi",
-             "dilu_tol1e-5": "dilu to solver_tol 1e-5 (first accepted setting)",
-             "implicit": f"springs explicit, kn {REFERENCE_KN:g}, tol 1e-5 (engine speed I, the reference data's engine)",
-             "explicit": f"explicit plugin (Verlet), kn {REFERENCE_KN:g}",
-             "stock": f"stock lubricate/poly + granular, kn {REFERENCE_KN:g}"}
+    label = {
+        "default": f"default engine (springs implicit, {model.preconditioner}, kn {model.kn:g}, "
+        f"tol {model.solver_tol:g})",
+        "jacobi": "the same with block Jacobi",
+        "dilu_tol1e-5": "dilu to solver_tol 1e-5 (first accepted setting)",
+        "implicit": f"springs explicit, kn {REFERENCE_KN:g}, tol 1e-5 (engine speed I, the reference data's engine)",
+        "explicit": f"explicit plugin (Verlet), kn {REFERENCE_KN:g}",
+        "stock": f"stock lubricate/poly + granular, kn {REFERENCE_KN:g}",
+    }
     cost = {}
-    print(f"# {platform.machine()}, {platform.python_version()}, one core per run; continuation of the "
-          f"startup shear from strain {PREPARE_STRAIN:g} (phi = 0.45)\n")
+    print(
+        f"# {platform.machine()}, {platform.python_version()}, one core per run; continuation of the "
+        f"startup shear from strain {PREPARE_STRAIN:g} (phi = 0.45)\n"
+    )
     print(TABLE_HEAD)
     for method, n in methods:
         model, dt = models[method]
         result = timed_continuation(label[method], model, dt, n, STRAIN[method], ROOT / f"n{n}" / f"measure_{method}")
         if result is not None:
             cost[method, n] = result
-    ratios = [f"{method} / default = {cost[method, 500] / cost['default', 500]:.1f}x"
-              for method in ("implicit", "jacobi", "dilu_tol1e-5", "explicit", "stock")
-              if (method, 500) in cost and ("default", 500) in cost]
+    ratios = [
+        f"{method} / default = {cost[method, 500] / cost['default', 500]:.1f}x"
+        for method in ("implicit", "jacobi", "dilu_tol1e-5", "explicit", "stock")
+        if (method, 500) in cost and ("default", 500) in cost
+    ]
     print(f"\nat N = 500: {', '.join(ratios)}; target: <= 0.012 core-s per particle per unit strain")
     for n in SIZES[1:]:
         if ("default", n) in cost and ("default", 500) in cost:
-            print(f"default engine, N = {n} / N = 500: {cost['default', n] / cost['default', 500]:.2f}"
-                  + (" (target <= 1.3)" if n == 4000 else ""))
+            print(
+                f"default engine, N = {n} / N = 500: {cost['default', n] / cost['default', 500]:.2f}"
+                + (" (target <= 1.3)" if n == 4000 else "")
+            )
 
 
 def alternate(sizes=(500, 1000), repeats: int = 3) -> None:
     """The two preconditioners of the default engine timed back to back, alternating, `repeats`
     times per N: separate runs of `measure` on this machine differ by 10-30%, more than the
     difference sought."""
-    print(f"# {platform.machine()}, {platform.python_version()}, one core per run; default engine, "
-          f"block Jacobi and dilu alternating\n")
+    print(
+        f"# {platform.machine()}, {platform.python_version()}, one core per run; default engine, "
+        f"block Jacobi and dilu alternating\n"
+    )
     print(TABLE_HEAD)
     for n in sizes:
         for repeat in range(repeats):
             for preconditioner in ("jacobi", "dilu"):
-                timed_continuation(f"default engine, {preconditioner} (run {repeat + 1})",
-                                   ForceModel(preconditioner=preconditioner), ShearSettings().dt, n, 1.0,
-                                   ROOT / f"n{n}" / f"alternate_{preconditioner}")
+                timed_continuation(
+                    f"default engine, {preconditioner} (run {repeat + 1})",
+                    ForceModel(preconditioner=preconditioner),
+                    ShearSettings().dt,
+                    n,
+                    1.0,
+                    ROOT / f"n{n}" / f"alternate_{preconditioner}",
+                )
 
 
 def main() -> None:

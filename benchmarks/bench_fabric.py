@@ -69,8 +69,10 @@ def main():
     parser.add_argument("--seed", type=int, default=0)
     args = parser.parse_args()
 
-    print(f"# {platform.processor() or platform.machine()}, Python {platform.python_version()}, "
-          f"numpy {np.__version__}, one thread")
+    print(
+        f"# {platform.processor() or platform.machine()}, Python {platform.python_version()}, "
+        f"numpy {np.__version__}, one thread"
+    )
     print("| N | method | ms/frame | frames/s | pairs | Z | brute/kernel |")
     print("|---:|---|---:|---:|---:|---:|---:|")
     for n in args.sizes:

@@ -90,12 +90,13 @@ fix drag all stokes/sf {ETA_F}
 """
     if model == "stock":
         cut = {(1, 1): D_SMALL, (1, 2): 0.5 * (D_SMALL + D_LARGE), (2, 2): D_LARGE}
-        lines = [f"pair_style hybrid/overlay granular lubricate/poly {ETA_F} 1 1 "
-                 f"{D_LARGE * (1 + 0.5 * DELTA)} {D_LARGE * (1 + 0.5 * H_OUT)} 1 0",
-                 f"pair_coeff * * granular hooke {KN} 0 tangential linear_history {KT} 0 {MU}"]
+        lines = [
+            f"pair_style hybrid/overlay granular lubricate/poly {ETA_F} 1 1 "
+            f"{D_LARGE * (1 + 0.5 * DELTA)} {D_LARGE * (1 + 0.5 * H_OUT)} 1 0",
+            f"pair_coeff * * granular hooke {KN} 0 tangential linear_history {KT} 0 {MU}",
+        ]
         for (i, j), radsum in cut.items():
-            lines.append(f"pair_coeff {i} {j} lubricate/poly {radsum * (1 + 0.5 * DELTA)} "
-                         f"{radsum * (1 + 0.5 * H_OUT)}")
+            lines.append(f"pair_coeff {i} {j} lubricate/poly {radsum * (1 + 0.5 * DELTA)} {radsum * (1 + 0.5 * H_OUT)}")
         return "\n".join(lines) + "\n"
     raise ValueError(model)
 
@@ -140,8 +141,7 @@ def stability_check(lmp) -> tuple[bool, float, float]:
     v = lmp.numpy.extract_atom("v")[:nlocal].copy()
     radius = lmp.numpy.extract_atom("radius")[:nlocal].copy()
     boxlo, boxhi, xy, yz, xz, *_ = lmp.extract_box()
-    shape = np.array([[boxhi[0] - boxlo[0], xy, xz], [0, boxhi[1] - boxlo[1], yz],
-                      [0, 0, boxhi[2] - boxlo[2]]])
+    shape = np.array([[boxhi[0] - boxlo[0], xy, xz], [0, boxhi[1] - boxlo[1], yz], [0, 0, boxhi[2] - boxlo[2]]])
     if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
         return False, np.inf, np.inf
     frac = np.linalg.solve(shape, (x - boxlo).T).T
@@ -185,40 +185,46 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         packing = Path(tmp) / "packing.data"
         make_packing(packing)
-        print(f"N = {N_ATOMS}, phi = {PHI}, box = {box_length():.3f}, dt = {args.dt:g}, "
-              f"{args.steps} steps, best of {args.repeats}, 1 core, OMP_NUM_THREADS=1")
+        print(
+            f"N = {N_ATOMS}, phi = {PHI}, box = {box_length():.3f}, dt = {args.dt:g}, "
+            f"{args.steps} steps, best of {args.repeats}, 1 core, OMP_NUM_THREADS=1"
+        )
         print()
         print("| force model | newton | atom-steps/s | core-s per particle per unit strain |")
         print("|---|---|---|---|")
         speeds = {}
-        for model, newton, label in [("sf", "on", "granular + lubricate/sf + stokes/sf"),
-                                     ("sf", "off", "granular + lubricate/sf + stokes/sf"),
-                                     ("stock", "off", "granular + lubricate/poly (stock)")]:
+        for model, newton, label in [
+            ("sf", "on", "granular + lubricate/sf + stokes/sf"),
+            ("sf", "off", "granular + lubricate/sf + stokes/sf"),
+            ("stock", "off", "granular + lubricate/poly (stock)"),
+        ]:
             rate, cost = time_model(packing, model, newton, args.dt, args.steps, args.repeats)
             speeds[(model, newton)] = rate
             print(f"| {label} | {newton} | {rate:.3g} | {cost:.3g} |")
         print()
-        print(f"speed ratio plugin/stock (atom-steps/s): newton on {speeds[('sf', 'on')] / speeds[('stock', 'off')]:.2f}, "
-              f"newton off {speeds[('sf', 'off')] / speeds[('stock', 'off')]:.2f}")
+        print(
+            "speed ratio plugin/stock (atom-steps/s): "
+            f"newton on {speeds[('sf', 'on')] / speeds[('stock', 'off')]:.2f}, "
+            f"newton off {speeds[('sf', 'off')] / speeds[('stock', 'off')]:.2f}"
+        )
         print()
         ladder = [1e-6, 1.5e-6, 2e-6, 2.5e-6, 3e-6, 5e-6]
-        print(f"dt ladder over strain {args.ladder_strain} (stable = no lost atoms, max overlap "
-              "< 0.02 d, max non-affine speed < 10):")
+        print(
+            f"dt ladder over strain {args.ladder_strain} (stable = no lost atoms, max overlap "
+            "< 0.02 d, max non-affine speed < 10):"
+        )
         print()
         print("| force model | dt | stable | max overlap / d | max non-affine speed | lost atoms |")
         print("|---|---|---|---|---|---|")
         largest = {}
         for model, newton in [("sf", "on"), ("stock", "off")]:
-            for dt, ok, overlap, speed, lost in dt_ladder(packing, model, newton, ladder,
-                                                          args.ladder_strain):
-                print(f"| {model} | {dt:g} | {'yes' if ok else 'no'} | {overlap:.3g} | "
-                      f"{speed:.3g} | {lost} |")
+            for dt, ok, overlap, speed, lost in dt_ladder(packing, model, newton, ladder, args.ladder_strain):
+                print(f"| {model} | {dt:g} | {'yes' if ok else 'no'} | {overlap:.3g} | {speed:.3g} | {lost} |")
                 if ok:
                     largest[model] = max(largest.get(model, 0.0), dt)
         print()
         for model in ("sf", "stock"):
-            print(f"largest stable dt ({model}, eta_f = {ETA_F:g}, delta = {DELTA:g}): "
-                  f"{largest.get(model, 'none')}")
+            print(f"largest stable dt ({model}, eta_f = {ETA_F:g}, delta = {DELTA:g}): {largest.get(model, 'none')}")
 
 
 if __name__ == "__main__":

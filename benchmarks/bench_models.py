@@ -40,12 +40,14 @@ def best_time(func, repeats):
 
 def solve_ivp_grid(beta, A):
     """Peer: startup to strain 5 then one solve_ivp per angle, in the rotated frame."""
-    before = model.integrate_fabric_ode(np.zeros((3, 3)), frames.simple_shear_gradient(),
-                                        np.array([0.0, 5.0]), beta, A, PHI, rtol=1e-8, atol=1e-10)[-1]
+    before = model.integrate_fabric_ode(
+        np.zeros((3, 3)), frames.simple_shear_gradient(), np.array([0.0, 5.0]), beta, A, PHI, rtol=1e-8, atol=1e-10
+    )[-1]
     out = np.empty((len(THETAS), len(STRAINS), 3, 3))
     for k, basis in enumerate(frames.rotation_about_gradient(THETAS)):
-        out[k] = model.integrate_fabric_ode(frames.to_basis(before, basis), frames.simple_shear_gradient(),
-                                            STRAINS, beta, A, PHI, rtol=1e-8, atol=1e-10)
+        out[k] = model.integrate_fabric_ode(
+            frames.to_basis(before, basis), frames.simple_shear_gradient(), STRAINS, beta, A, PHI, rtol=1e-8, atol=1e-10
+        )
     return out
 
 
@@ -57,8 +59,10 @@ def main():
     for name, (beta, A) in MODELS.items():
         t_fast, fast = best_time(lambda: model.shear_rotation(THETAS, STRAINS, beta, A, PHI), 20)
         t_peer, peer = best_time(lambda: solve_ivp_grid(beta, A), 2)
-        print(f"| {name} | {1e3 * t_fast:.1f} | {1e3 * t_peer:.0f} | {t_peer / t_fast:.0f}x "
-              f"| {np.abs(fast - peer).max():.1e} |")
+        print(
+            f"| {name} | {1e3 * t_fast:.1f} | {1e3 * t_peer:.0f} | {t_peer / t_fast:.0f}x "
+            f"| {np.abs(fast - peer).max():.1e} |"
+        )
 
 
 if __name__ == "__main__":

@@ -28,17 +28,16 @@ from pathlib import Path
 
 import numpy as np
 
-from suspension_fabric.lammps import ForceModel, pack, read_stress_table, run_startup
-from suspension_fabric.lammps import ShearSettings
+from suspension_fabric.lammps import ForceModel, ShearSettings, pack, read_stress_table, run_startup
 from suspension_fabric.lammps.plugin import plugin_path
 from suspension_fabric.lammps.process import lammps_processes_in
 
 STRAIN = 5.0
-KILLED_RUN = """
+KILLED_RUN = f"""
 import sys
 from suspension_fabric.lammps import ForceModel, run_startup
-run_startup(sys.argv[1], sys.argv[2], {strain}, force_model=ForceModel(plugin=sys.argv[3]), progress=None)
-""".format(strain=STRAIN)
+run_startup(sys.argv[1], sys.argv[2], {STRAIN}, force_model=ForceModel(plugin=sys.argv[3]), progress=None)
+"""
 
 
 def last_strain(table: Path) -> float:
@@ -66,9 +65,12 @@ def main() -> None:
     print(f"uninterrupted: {whole.wall_time:.1f} s for strain {STRAIN}", flush=True)
 
     output = root / "killed"
-    process = subprocess.Popen([sys.executable, "-c", KILLED_RUN, str(output), str(packing.data_file),
-                                str(plugin_path())], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                               start_new_session=True)
+    process = subprocess.Popen(
+        [sys.executable, "-c", KILLED_RUN, str(output), str(packing.data_file), str(plugin_path())],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
     table = root / ".killed.partial" / "segment-01" / "stress.txt"
     while last_strain(table) < args.kill_strain:
         if process.poll() is not None:
@@ -90,11 +92,15 @@ def main() -> None:
     continuous = np.array_equal(a["step"], b["step"])
     before = a["step"] <= segment["start_step"]
     identical = all(np.array_equal(a[c][before], b[c][before]) for c in a)
-    print(f"resumed from strain {resumed_from:.3f}: LAMMPS {segment['wall_time_s']:.1f} s, whole call "
-          f"{call:.1f} s (probe, stitching, checks: {call - segment['wall_time_s']:.1f} s)")
-    print(f"rerun from strain 0 would take {whole.wall_time:.1f} s: the resume costs "
-          f"{call / whole.wall_time:.3f} of it (saving {100 * (1 - call / whole.wall_time):.0f}%); "
-          f"work lost to the kill: strain {killed_at - resumed_from:.3f}")
+    print(
+        f"resumed from strain {resumed_from:.3f}: LAMMPS {segment['wall_time_s']:.1f} s, whole call "
+        f"{call:.1f} s (probe, stitching, checks: {call - segment['wall_time_s']:.1f} s)"
+    )
+    print(
+        f"rerun from strain 0 would take {whole.wall_time:.1f} s: the resume costs "
+        f"{call / whole.wall_time:.3f} of it (saving {100 * (1 - call / whole.wall_time):.0f}%); "
+        f"work lost to the kill: strain {killed_at - resumed_from:.3f}"
+    )
     print(f"stitched table has the uninterrupted steps: {continuous}; identical rows up to the restart: {identical}")
 
 

@@ -45,22 +45,48 @@ def measure(config_path: Path, workdir: Path, strain: float, points: list[str] |
             continue
         where = workdir / name
         p = study["particles"]
-        packing = pack(where / "packing", n_particles=p["n"], phi=p["phi"], seed=1, split=p["split"],
-                       fraction_large=p["fraction_large"], d_small=p["d_small"], d_large=p["d_large"],
-                       overwrite=True)
-        settings = ShearSettings.from_config({**study, "run": {**study["run"], "max_overlap": 1.0,
-                                                                "max_stress_jitter": 1e9}})
-        result = run_startup(where / "startup", packing.data_file, strain, force_model=ForceModel.from_config(study),
-                             settings=settings, overwrite=True)
+        packing = pack(
+            where / "packing",
+            n_particles=p["n"],
+            phi=p["phi"],
+            seed=1,
+            split=p["split"],
+            fraction_large=p["fraction_large"],
+            d_small=p["d_small"],
+            d_large=p["d_large"],
+            overwrite=True,
+        )
+        settings = ShearSettings.from_config(
+            {**study, "run": {**study["run"], "max_overlap": 1.0, "max_stress_jitter": 1e9}}
+        )
+        result = run_startup(
+            where / "startup",
+            packing.data_file,
+            strain,
+            force_model=ForceModel.from_config(study),
+            settings=settings,
+            overwrite=True,
+        )
         table = read_stress_table(where / "startup" / "stress.txt")
         parts = stress_parts(table, eta_f=study["forces"]["eta_f"], rate=1.0, phi=p["phi"], theta_deg=0.0)
         late = np.asarray(table["strain"]) >= strain / 2
         particle = sum(parts[part] for part in ("contact", "lubrication", "kinetic", "einstein"))
         pressure = -np.trace(particle[late], axis1=1, axis2=2) / 3.0
-        rows.append({"point": name, "phi": p["phi"], "mu": study["forces"]["mu"], "n": p["n"],
-                     "kn": study["forces"]["kn"], "dt": study["run"]["dt"], "strain": strain,
-                     "Pi": pressure.mean(), "eta_r": parts["total"][late, 0, 1].mean(),
-                     "max_overlap": result.max_overlap, "wall_s": result.wall_time})
+        rows.append(
+            {
+                "point": name,
+                "phi": p["phi"],
+                "mu": study["forces"]["mu"],
+                "n": p["n"],
+                "kn": study["forces"]["kn"],
+                "dt": study["run"]["dt"],
+                "strain": strain,
+                "Pi": pressure.mean(),
+                "eta_r": parts["total"][late, 0, 1].mean(),
+                "max_overlap": result.max_overlap,
+                "wall_s": result.wall_time,
+            }
+        )
         print(pd.DataFrame(rows[-1:]).to_string(index=False), flush=True)
     return pd.DataFrame(rows)
 
@@ -98,8 +124,18 @@ def main(argv: list[str] | None = None) -> None:
         sys.exit(f"{TABLE} not found: run `{Path(__file__).name} run` first")
     eta_f = load_config(args.config)["forces"]["eta_f"]
     table = proposal(pd.read_csv(TABLE), eta_f)
-    columns = ["point", "Pi", "eta_r", "max_overlap", "wall_s", "factor", "kn_proposed", "dt_proposed",
-               "kn_over_eta_f_Pi", "cost_proposed"]
+    columns = [
+        "point",
+        "Pi",
+        "eta_r",
+        "max_overlap",
+        "wall_s",
+        "factor",
+        "kn_proposed",
+        "dt_proposed",
+        "kn_over_eta_f_Pi",
+        "cost_proposed",
+    ]
     print(table[columns].to_markdown(index=False, floatfmt=".3g"))
 
 

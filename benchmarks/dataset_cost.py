@@ -28,10 +28,19 @@ def dataset_cost(folder: Path) -> dict:
             wall += run["wall_time_s"]
             strain += run["results"]["strain"]
     n = config["particles"]["n"]
-    return {"dataset": str(folder), "N": n, "phi": config["particles"]["phi"], "mu": config["forces"]["mu"],
-            "kn": config["forces"]["kn"], "dt": config["run"]["dt"], "seeds": len(config["seeds"]),
-            "runs": sum(key.endswith("/run.json") for key in record["files"]), "strain": strain,
-            "core_hours": wall / 3600.0, "core_s_per_particle_strain": wall / (n * strain)}
+    return {
+        "dataset": str(folder),
+        "N": n,
+        "phi": config["particles"]["phi"],
+        "mu": config["forces"]["mu"],
+        "kn": config["forces"]["kn"],
+        "dt": config["run"]["dt"],
+        "seeds": len(config["seeds"]),
+        "runs": sum(key.endswith("/run.json") for key in record["files"]),
+        "strain": strain,
+        "core_hours": wall / 3600.0,
+        "core_s_per_particle_strain": wall / (n * strain),
+    }
 
 
 def folders(paths: list[Path]) -> list[Path]:

@@ -2,7 +2,8 @@
 
     .venv/bin/python benchmarks/engine_accuracy.py run --seed 2024 --integrator explicit --dt 2e-7
     .venv/bin/python benchmarks/engine_accuracy.py run --seed 2024 --integrator implicit --dt 1e-5
-    .venv/bin/python benchmarks/engine_accuracy.py run --seed 2024 --integrator implicit --dt 2e-5 --from-explicit-checkpoint
+    .venv/bin/python benchmarks/engine_accuracy.py run --seed 2024 --integrator implicit --dt 2e-5 \
+        --from-explicit-checkpoint
     .venv/bin/python benchmarks/engine_accuracy.py save      # analysed tables -> benchmarks/data/engine_accuracy
     .venv/bin/python benchmarks/engine_accuracy.py report [--seeds 2024 2025] [--root benchmarks/data/engine_accuracy]
 
@@ -39,8 +40,16 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from suspension_fabric.lammps import plugin, runner
-from suspension_fabric.lammps import ForceModel, ShearSettings, is_complete, pack, run_rotation, run_startup
+from suspension_fabric.lammps import (
+    ForceModel,
+    ShearSettings,
+    is_complete,
+    pack,
+    plugin,
+    run_rotation,
+    run_startup,
+    runner,
+)
 from suspension_fabric.resources import LAMMPS_SCRIPTS_DIR
 from suspension_fabric.tables import run_fabric_table, steady_state
 
@@ -69,8 +78,10 @@ def frozen_inputs(out: Path) -> tuple[Path, Path]:
         shutil.copy2(plugin.plugin_path(), library)
     missing = sorted(s.name for s in LAMMPS_SCRIPTS_DIR.glob("*.lmp") if not (scripts / s.name).is_file())
     if missing:  # frozen for an older runner, which did not use these
-        raise SystemExit(f"{scripts} lacks {', '.join(missing)} that the current runner uses; "
-                         f"remove {scripts.parent} to freeze the current scripts and plugin")
+        raise SystemExit(
+            f"{scripts} lacks {', '.join(missing)} that the current runner uses; "
+            f"remove {scripts.parent} to freeze the current scripts and plugin"
+        )
     return scripts, library
 
 
@@ -86,8 +97,9 @@ def write_fabric(run_dir: Path, seed: int) -> None:
     """The run's fabric table (time step, first step and angle from its completion marker)."""
     target = run_dir / "fabric.csv"
     if not target.is_file():
-        run_fabric_table(run_dir / runner.DUMP_FILE, run_dir / runner.COMPLETION_MARKER,
-                         seed=seed).to_csv(target, index=False)
+        run_fabric_table(run_dir / runner.DUMP_FILE, run_dir / runner.COMPLETION_MARKER, seed=seed).to_csv(
+            target, index=False
+        )
 
 
 def run(seed: int, integrator: str, dt: float, from_explicit: bool) -> None:
@@ -110,14 +122,27 @@ def run(seed: int, integrator: str, dt: float, from_explicit: bool) -> None:
             pack(packing, N_PARTICLES, phi=PHI, seed=seed)
         startup = out / "startup"
         if not is_complete(startup):
-            run_startup(startup, packing / runner.PACK_DATA, STARTUP_STRAIN, force_model=frozen_model(),
-                        settings=settings, progress_interval=120)
+            run_startup(
+                startup,
+                packing / runner.PACK_DATA,
+                STARTUP_STRAIN,
+                force_model=frozen_model(),
+                settings=settings,
+                progress_interval=120,
+            )
         write_fabric(startup, seed)
     for theta in ANGLES:
         rotation = out / f"rotate_{theta:g}"
         if not is_complete(rotation):
-            run_rotation(rotation, startup / runner.CHECKPOINT_FILE, theta, ROTATION_STRAIN, force_model=frozen_model(),
-                         settings=settings, progress_interval=120)
+            run_rotation(
+                rotation,
+                startup / runner.CHECKPOINT_FILE,
+                theta,
+                ROTATION_STRAIN,
+                force_model=frozen_model(),
+                settings=settings,
+                progress_interval=120,
+            )
         write_fabric(rotation, seed)
 
 
@@ -136,13 +161,27 @@ def cost(run_dir: Path) -> float:
 
 
 def report(seeds: list[int], root: Path) -> None:
-    runs = sorted({p.name for seed in seeds for p in (root / f"seed{seed}").glob("*_dt*")
-                   if (p / "startup" / "fabric.csv").is_file()})
-    rotation_runs = sorted({p.name for seed in seeds for p in (root / f"seed{seed}").glob("*_dt*")
-                            if (p / f"rotate_{ANGLES[0]:g}" / "fabric.csv").is_file()})
+    runs = sorted(
+        {
+            p.name
+            for seed in seeds
+            for p in (root / f"seed{seed}").glob("*_dt*")
+            if (p / "startup" / "fabric.csv").is_file()
+        }
+    )
+    rotation_runs = sorted(
+        {
+            p.name
+            for seed in seeds
+            for p in (root / f"seed{seed}").glob("*_dt*")
+            if (p / f"rotate_{ANGLES[0]:g}" / "fabric.csv").is_file()
+        }
+    )
     reference = run_label(*REFERENCE)
-    print(f"N = {N_PARTICLES}, phi = {PHI}, default forces; steady window strain "
-          f"{STEADY_WINDOW[0]:g}-{STEADY_WINDOW[1]:g}; packings {', '.join(map(str, seeds))}\n")
+    print(
+        f"N = {N_PARTICLES}, phi = {PHI}, default forces; steady window strain "
+        f"{STEADY_WINDOW[0]:g}-{STEADY_WINDOW[1]:g}; packings {', '.join(map(str, seeds))}\n"
+    )
     print("Steady fabric (mean +- correlation-aware standard error); z = (run - explicit) / combined sem\n")
     print("| packing | run | " + " | ".join(COLUMNS) + " | max abs z | wall core-s/particle/strain |")
     print("|" + "---|" * (len(COLUMNS) + 4))
@@ -167,13 +206,18 @@ def report(seeds: list[int], root: Path) -> None:
                     text += f" (z {z:+.1f})"
                 cells.append(text)
             z_text = "-" if label == reference else f"{worst:.1f}"
-            print(f"| {seed} | {label} | " + " | ".join(cells)
-                  + f" | {z_text} | {cost(root / f'seed{seed}' / label / 'startup'):.3f} |")
+            print(
+                f"| {seed} | {label} | "
+                + " | ".join(cells)
+                + f" | {z_text} | {cost(root / f'seed{seed}' / label / 'startup'):.3f} |"
+            )
 
     for theta in ANGLES:
         for component in ("n12", "n23"):
-            print(f"\nAfter the {theta:g} degree rotation: <nn>'_{component[1:]} (rotated frame) per strain bin; "
-                  "spread = standard deviation of the explicit runs over packings\n")
+            print(
+                f"\nAfter the {theta:g} degree rotation: <nn>'_{component[1:]} (rotated frame) per strain bin; "
+                "spread = standard deviation of the explicit runs over packings\n"
+            )
             header = " | ".join(f"{lo:g}-{hi:g}" for lo, hi in ROTATION_BINS)
             print(f"| packing | run | {header} |")
             print("|" + "---|" * (len(ROTATION_BINS) + 2))
@@ -184,8 +228,10 @@ def report(seeds: list[int], root: Path) -> None:
                     if not path.is_file():
                         continue
                     table = pd.read_csv(path)
-                    means = [table.loc[(table.strain >= lo) & (table.strain < hi + 1e-9), component].mean()
-                             for lo, hi in ROTATION_BINS]
+                    means = [
+                        table.loc[(table.strain >= lo) & (table.strain < hi + 1e-9), component].mean()
+                        for lo, hi in ROTATION_BINS
+                    ]
                     bins.setdefault(label, []).append(means)
                     print(f"| {seed} | {label} | " + " | ".join(f"{m:.4f}" for m in means) + " |")
             reference_bins = np.array(bins.get(reference, []))
@@ -203,8 +249,10 @@ def report(seeds: list[int], root: Path) -> None:
                 difference = np.mean(values, axis=0) - reference_bins.mean(axis=0)
                 print(f"| mean - explicit | {label} | " + " | ".join(f"{v:+.4f}" for v in difference) + " |")
                 ratios.append(f"{label} {np.max(np.abs(difference)) / pooled:.2f}")
-            print(f"\npooled seed-to-seed spread of the explicit runs (rms over bins): {pooled:.4f}; "
-                  "largest |seed mean - explicit seed mean| over the bins / pooled spread: " + ", ".join(ratios))
+            print(
+                f"\npooled seed-to-seed spread of the explicit runs (rms over bins): {pooled:.4f}; "
+                "largest |seed mean - explicit seed mean| over the bins / pooled spread: " + ", ".join(ratios)
+            )
 
 
 def main() -> None:

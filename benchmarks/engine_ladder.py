@@ -138,8 +138,12 @@ def bin_means(strain: np.ndarray, values: np.ndarray, bins=BINS) -> list[float]:
 def binned_seed_means(study: Path, angle: int, kind: str, column: str) -> np.ndarray:
     """Per seed (rows) and strain bin (columns) the mean of `column` after the rotation."""
     table = run_table(study, f"rotation_theta{angle}", kind)
-    return np.array([bin_means(series["strain"].to_numpy(), series[column].to_numpy(dtype=float))
-                     for _, series in table.groupby("seed", sort=True)])
+    return np.array(
+        [
+            bin_means(series["strain"].to_numpy(), series[column].to_numpy(dtype=float))
+            for _, series in table.groupby("seed", sort=True)
+        ]
+    )
 
 
 def null_threshold(seeds: int = 3, bins: int = len(BINS), level: float = 0.95, draws: int = 20000) -> float:
@@ -184,8 +188,10 @@ def main() -> None:
     labels = {args.reference: f"reference: {engine_label(args.reference)}"}
     labels.update({study: engine_label(study) for study in args.studies})
     seeds = len(seed_folders(args.reference))
-    print(f"N = {particle_count(args.reference)}, phi = 0.45, {seeds} seeds; steady window strain "
-          f"{STEADY_WINDOW[0]:g}-{STEADY_WINDOW[1]:g}; z = (study - reference) / combined sem\n")
+    print(
+        f"N = {particle_count(args.reference)}, phi = 0.45, {seeds} seeds; steady window strain "
+        f"{STEADY_WINDOW[0]:g}-{STEADY_WINDOW[1]:g}; z = (study - reference) / combined sem\n"
+    )
 
     print("Steady fabric (seed mean +- correlation-aware sem)\n")
     print(f"| engine | {' | '.join(FABRIC)} | max abs z |")
@@ -194,8 +200,9 @@ def main() -> None:
     explicit = None
     explicit_runs = sorted(args.explicit.glob("seed*/explicit_dt2e-07/startup/fabric.csv"))
     if explicit_runs:
-        explicit = steady_state(pd.concat([pd.read_csv(p) for p in explicit_runs], ignore_index=True),
-                                *STEADY_WINDOW, value_columns=FABRIC).set_index("quantity")
+        explicit = steady_state(
+            pd.concat([pd.read_csv(p) for p in explicit_runs], ignore_index=True), *STEADY_WINDOW, value_columns=FABRIC
+        ).set_index("quantity")
         print(steady_rows(f"explicit dt 2e-7 (packings 2024, 2025; {args.explicit})", explicit, None, FABRIC))
     print(steady_rows(labels[args.reference], reference, None, FABRIC))
     for study in args.studies:
@@ -215,15 +222,19 @@ def main() -> None:
     for study in args.studies:
         print(steady_rows(labels[study], steady(study, "stress", STRESS), reference_stress, STRESS))
 
-    print(f"\nTransients: for two studies of the same engine ({seeds} seeds each, {len(BINS)} independent bins) "
-          f"the max ratio exceeds {null_threshold(seeds):.2f} with 5% probability (engine_ladder.null_threshold), "
-          f"the max per-bin |t| {per_bin_t_threshold(seeds):.2f} (engine_ladder.per_bin_t_threshold).")
+    print(
+        f"\nTransients: for two studies of the same engine ({seeds} seeds each, {len(BINS)} independent bins) "
+        f"the max ratio exceeds {null_threshold(seeds):.2f} with 5% probability (engine_ladder.null_threshold), "
+        f"the max per-bin |t| {per_bin_t_threshold(seeds):.2f} (engine_ladder.per_bin_t_threshold)."
+    )
     bins = " | ".join(f"{lo:g}-{hi:g}" for lo, hi in BINS)
     for angle in ANGLES:
         for kind, column in TRANSIENTS:
             name = {"n12": "<nn>'_12", "n23": "<nn>'_23", "total_12": "sigma'_12", "total_23": "sigma'_23"}[column]
-            print(f"\nAfter the {angle} degree rotation: {name} (seed mean per strain bin; ratio = "
-                  "(study - reference) / seed-to-seed sd pooled over the bins and both studies)\n")
+            print(
+                f"\nAfter the {angle} degree rotation: {name} (seed mean per strain bin; ratio = "
+                "(study - reference) / seed-to-seed sd pooled over the bins and both studies)\n"
+            )
             print(f"| engine | {bins} | max abs ratio |")
             print("|---|" + "---|" * (len(BINS) + 1))
             ref = binned_seed_means(args.reference, angle, kind, column)
@@ -234,9 +245,11 @@ def main() -> None:
                 values = binned_seed_means(study, angle, kind, column)
                 pooled = np.sqrt(np.mean(np.concatenate([spread, values.std(axis=0, ddof=1)]) ** 2))
                 ratio = (values.mean(axis=0) - ref.mean(axis=0)) / pooled
-                print(f"| {labels[study]} | {' | '.join(f'{v:.4f}' for v in values.mean(axis=0))} | "
-                      f"{np.abs(ratio).max():.2f} (pooled sd {pooled:.4f}); per-bin t "
-                      f"{np.abs(per_bin_t(values, ref)).max():.2f} |")
+                print(
+                    f"| {labels[study]} | {' | '.join(f'{v:.4f}' for v in values.mean(axis=0))} | "
+                    f"{np.abs(ratio).max():.2f} (pooled sd {pooled:.4f}); per-bin t "
+                    f"{np.abs(per_bin_t(values, ref)).max():.2f} |"
+                )
 
 
 if __name__ == "__main__":

@@ -27,31 +27,45 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from engine_ladder import bin_means  # same directory: the ladder's strain binning
 from scipy import stats
 
 from suspension_fabric import tables
 from suspension_fabric.lammps import ForceModel, ShearSettings, run_rotation
 from suspension_fabric.stress import STRESS_FLOAT_FORMAT, run_stress_table
 
-from engine_ladder import bin_means  # same directory: the ladder's strain binning
-
 ANGLES = (90, 180)
 ROTATION_STRAIN = 1.0
 FINE_DT = 2.0e-5  # divides the default startup's 50000 steps at dt = 1e-4 on every output grid
 FINE_TOL = 1.0e-5
 BINS = [(0.0, 0.05), (0.05, 0.1), (0.1, 0.2), (0.2, 0.3), (0.3, 0.5), (0.5, 1.0)]
-QUANTITIES = (("fabric", "n12", "<nn>'_12"), ("fabric", "n23", "<nn>'_23"),
-              ("stress", "total_12", "sigma'_12"), ("stress", "total_23", "sigma'_23"))
+QUANTITIES = (
+    ("fabric", "n12", "<nn>'_12"),
+    ("fabric", "n23", "<nn>'_23"),
+    ("stress", "total_12", "sigma'_12"),
+    ("stress", "total_23", "sigma'_23"),
+)
 
 
 def fine_rotation(study: Path, seed_folder: str, angle: int) -> Path:
     config = json.loads((study / seed_folder / "startup" / "run_complete.json").read_text())["variables"]
     out = study / "fine" / seed_folder / f"rotation_theta{angle}"
     model = ForceModel(kn=float(config["kn"]), solver_tol=FINE_TOL)
-    settings = ShearSettings(dt=FINE_DT, dump_strain=float(config["dump_strain"]),
-                             table_strain=float(config["table_strain"]), restart_strain=ROTATION_STRAIN)
-    run = run_rotation(out, study / seed_folder / "startup" / "checkpoint.rst", float(angle), ROTATION_STRAIN,
-                       force_model=model, settings=settings, progress=None)
+    settings = ShearSettings(
+        dt=FINE_DT,
+        dump_strain=float(config["dump_strain"]),
+        table_strain=float(config["table_strain"]),
+        restart_strain=ROTATION_STRAIN,
+    )
+    run = run_rotation(
+        out,
+        study / seed_folder / "startup" / "checkpoint.rst",
+        float(angle),
+        ROTATION_STRAIN,
+        force_model=model,
+        settings=settings,
+        progress=None,
+    )
     seed = int(seed_folder.removeprefix("seed"))
     fabric = tables.run_fabric_table(run.dump_file, out / "run_complete.json", seed=seed)
     tables.write_fabric_table(fabric, out / "fabric.csv")
@@ -65,8 +79,12 @@ def run(study: Path) -> None:
     if not seeds:
         raise FileNotFoundError(f"{study}: no seed*/startup/checkpoint.rst (run the study first)")
     with ProcessPoolExecutor(max_workers=2) as pool:
-        for out in pool.map(fine_rotation, [study] * len(seeds) * len(ANGLES),
-                            [s for s in seeds for _ in ANGLES], [a for _ in seeds for a in ANGLES]):
+        for out in pool.map(
+            fine_rotation,
+            [study] * len(seeds) * len(ANGLES),
+            [s for s in seeds for _ in ANGLES],
+            [a for _ in seeds for a in ANGLES],
+        ):
             print(out, flush=True)
 
 
@@ -75,7 +93,9 @@ def per_seed(study: Path, run_name: str, kind: str, column: str, fine: bool) -> 
     result = {}
     for folder in sorted(root.glob("seed*")):
         table = pd.read_csv(folder / run_name / f"{kind}.csv")
-        result[int(folder.name.removeprefix("seed"))] = table[table["strain"] <= ROTATION_STRAIN + 1e-9][["strain", column]]
+        result[int(folder.name.removeprefix("seed"))] = table[table["strain"] <= ROTATION_STRAIN + 1e-9][
+            ["strain", column]
+        ]
     return result
 
 
@@ -88,9 +108,11 @@ def report(study: Path) -> None:
     fine_record = json.loads(next((study / "fine").glob("seed*/rotation_theta*/run_complete.json")).read_text())
     own_record = json.loads(next(study.glob("seed*/rotation_theta90/run_complete.json")).read_text())
     own, fine = own_record["variables"], fine_record["variables"]
-    print(f"default: kn {float(own['kn']):g}, springs {own['contact_springs']}, {own['preconditioner']}, dt {own['dt']}, "
-          f"tol {own['solver_tol']}; fine: dt {fine['dt']}, tol {fine['solver_tol']}; same checkpoints, "
-          f"strain 0-{ROTATION_STRAIN:g} after the rotation\n")
+    print(
+        f"default: kn {float(own['kn']):g}, springs {own['contact_springs']}, {own['preconditioner']}, dt {own['dt']}, "
+        f"tol {own['solver_tol']}; fine: dt {fine['dt']}, tol {fine['solver_tol']}; same checkpoints, "
+        f"strain 0-{ROTATION_STRAIN:g} after the rotation\n"
+    )
     bins = " | ".join(f"{lo:g}-{hi:g}" for lo, hi in BINS)
     for angle in ANGLES:
         for kind, column, name in QUANTITIES:
@@ -100,14 +122,22 @@ def report(study: Path) -> None:
             diffs = np.array([integral(a[s], column) - integral(b[s], column) for s in seeds])
             scale = np.mean([abs(integral(b[s], column)) for s in seeds])
             half = stats.t.ppf(0.975, len(seeds) - 1) * diffs.std(ddof=1) / np.sqrt(len(seeds))
-            print(f"{angle} degrees, {name}: integral over strain 0-{ROTATION_STRAIN:g}, default - fine, per seed "
-                  f"{np.array2string(diffs, precision=4)}; mean {diffs.mean():+.4f}, 95% t-interval "
-                  f"[{diffs.mean() - half:+.4f}, {diffs.mean() + half:+.4f}] (fine integral, seed mean of |.|: {scale:.4f})\n")
+            print(
+                f"{angle} degrees, {name}: integral over strain 0-{ROTATION_STRAIN:g}, default - fine, per seed "
+                f"{np.array2string(diffs, precision=4)}; mean {diffs.mean():+.4f}, 95% t-interval "
+                f"[{diffs.mean() - half:+.4f}, {diffs.mean() + half:+.4f}] "
+                f"(fine integral, seed mean of |.|: {scale:.4f})\n"
+            )
             print(f"| run | {bins} |")
             print("|---|" + "---|" * len(BINS))
             for label, runs in (("default", a), ("fine", b)):
-                means = np.mean([bin_means(runs[s]["strain"].to_numpy(), runs[s][column].to_numpy(dtype=float), BINS)
-                                 for s in seeds], axis=0)
+                means = np.mean(
+                    [
+                        bin_means(runs[s]["strain"].to_numpy(), runs[s][column].to_numpy(dtype=float), BINS)
+                        for s in seeds
+                    ],
+                    axis=0,
+                )
                 print(f"| {label} | {' | '.join(f'{v:.4f}' for v in means)} |")
             print()
 

@@ -24,7 +24,8 @@ then the mean and standard error over packings of each code and of the paired di
 The conventions behind each row are in BENCHMARKS.md "Against the peer code LF_DEM" and
 docs/gw_stress_relation.md, section 2.5.
 
-    .venv/bin/python benchmarks/lfdem_comparison.py --lfdem /path/to/LF_DEM results/default/seed{1,2,3}/packing/packing.data
+    .venv/bin/python benchmarks/lfdem_comparison.py --lfdem /path/to/LF_DEM \
+        results/default/seed{1,2,3}/packing/packing.data
 """
 
 from __future__ import annotations
@@ -40,8 +41,8 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
-
 from stresslet_vs_dipole import ENGINE, ETA_F, startup_run
+
 from suspension_fabric.fabric import FabricAnalysis
 from suspension_fabric.stress import stress_parts
 from suspension_fabric.stressio import read_stress_table
@@ -94,8 +95,11 @@ def write_lfdem_configuration(packing: Path, target: Path) -> tuple[float, float
     small = np.isclose(radii, radii.min())
     volume = np.prod(lengths)
     vf = [float(np.sum(4.0 / 3.0 * math.pi * radii[mask] ** 3) / volume) for mask in (small, ~small)]
-    header = f"# np1 np2 vf lx ly lz vf1 vf2 disp\n# {small.sum()} {(~small).sum()} {sum(vf):.15g} " + \
-        " ".join(f"{scale * v:.15g}" for v in lengths) + f" {vf[0]:.15g} {vf[1]:.15g} 0\n"
+    header = (
+        f"# np1 np2 vf lx ly lz vf1 vf2 disp\n# {small.sum()} {(~small).sum()} {sum(vf):.15g} "
+        + " ".join(f"{scale * v:.15g}" for v in lengths)
+        + f" {vf[0]:.15g} {vf[1]:.15g} 0\n"
+    )
     body = "".join(f"{x:.15g} {y:.15g} {z:.15g} {a:.15g}\n" for (x, y, z), a in zip(scale * positions, scale * radii))
     target.write_text(header + body)
     return sum(vf), float(radii.min())
@@ -104,30 +108,32 @@ def write_lfdem_configuration(packing: Path, target: Path) -> tuple[float, float
 def lfdem_parameters(small_radius: float, strain: float) -> str:
     """LF_DEM's parameter file for ENGINE's physics (module docstring), hydrodynamic units."""
     kn_small_pairs = ENGINE["kn"] / (6.0 * math.pi * ETA_F * ENGINE["rate"] * small_radius)
-    return "\n".join([
-        "lubrication_model = tangential;",
-        f"lub_max_gap = {ENGINE['h_out']};",
-        f"lub_reduce_parameter = {ENGINE['delta']};",
-        "contact_relaxation_time = -1h;",
-        "contact_relaxation_time_tan = -1h;",
-        "friction_model = 1;",
-        f"mu_static = {ENGINE['mu']};",
-        f"mu_dynamic = {ENGINE['mu']};",
-        "mu_rolling = 0;",
-        f"kn = {kn_small_pairs:.6g}h;",
-        f"kt = {ENGINE['kt'] / ENGINE['kn']:.12g}kn;",
-        "kr = 0kn;",
-        "sd_coeff = 1;",
-        "integration_method = 1;",
-        "disp_max = 1e-3;",
-        f"time_end = {strain}h;",
-        "time_interval_output_data = 0.01h;",
-        "time_interval_output_config = 0.1h;",
-        "out_data_particle = true;",
-        "out_data_interaction = true;",
-        "origin_zero_flow = false;",
-        "",
-    ])
+    return "\n".join(
+        [
+            "lubrication_model = tangential;",
+            f"lub_max_gap = {ENGINE['h_out']};",
+            f"lub_reduce_parameter = {ENGINE['delta']};",
+            "contact_relaxation_time = -1h;",
+            "contact_relaxation_time_tan = -1h;",
+            "friction_model = 1;",
+            f"mu_static = {ENGINE['mu']};",
+            f"mu_dynamic = {ENGINE['mu']};",
+            "mu_rolling = 0;",
+            f"kn = {kn_small_pairs:.6g}h;",
+            f"kt = {ENGINE['kt'] / ENGINE['kn']:.12g}kn;",
+            "kr = 0kn;",
+            "sd_coeff = 1;",
+            "integration_method = 1;",
+            "disp_max = 1e-3;",
+            f"time_end = {strain}h;",
+            "time_interval_output_data = 0.01h;",
+            "time_interval_output_config = 0.1h;",
+            "out_data_particle = true;",
+            "out_data_interaction = true;",
+            "origin_zero_flow = false;",
+            "",
+        ]
+    )
 
 
 def snapshots(path: Path):
@@ -149,8 +155,13 @@ def run_lfdem(binary: Path, packing: Path, folder: Path, strain: float = STRAIN)
     phi, small_radius = write_lfdem_configuration(packing, folder / "conf.dat")
     (folder / "shear.txt").write_text(lfdem_parameters(small_radius, strain))
     with open(folder / "lfdem.out", "w") as out:
-        done = subprocess.run([str(binary), "-f", "-r", "1h", "conf.dat", "shear.txt"], cwd=folder, stdout=out,
-                              stderr=subprocess.STDOUT, env={**os.environ, "OMP_NUM_THREADS": "1"})
+        done = subprocess.run(
+            [str(binary), "-f", "-r", "1h", "conf.dat", "shear.txt"],
+            cwd=folder,
+            stdout=out,
+            stderr=subprocess.STDOUT,
+            env={**os.environ, "OMP_NUM_THREADS": "1"},
+        )
     if done.returncode != 0:
         raise RuntimeError(f"{packing}: LF_DEM failed ({done.returncode}); see {folder}/lfdem.out")
     return folder
@@ -165,9 +176,17 @@ def lfdem_observables(folder: Path, window=WINDOW) -> dict[str, float]:
     st_inside = (stress[:, 1] >= window[0]) & (stress[:, 1] <= window[1])
     hydro = stress[st_inside, 21:27].mean(axis=0)  # xx xy xz yz yy zz
     # hydro: the lubrication stresslets of the velocities not driven by contacts, and the solvent
-    out = {"eta": mean(4), "N1": mean(10), "N2": mean(11), "Pi": mean(12), "contact": mean(5),
-           "dashpot": mean(6), "hydro": mean(7) - 1.0 + mean(6),
-           "hydro Pi": float(-(hydro[0] + hydro[4] + hydro[5]) / 3.0), "Z (overlapping pairs)": mean(18)}
+    out = {
+        "eta": mean(4),
+        "N1": mean(10),
+        "N2": mean(11),
+        "Pi": mean(12),
+        "contact": mean(5),
+        "dashpot": mean(6),
+        "hydro": mean(7) - 1.0 + mean(6),
+        "hydro Pi": float(-(hydro[0] + hydro[4] + hydro[5]) / 3.0),
+        "Z (overlapping pairs)": mean(18),
+    }
     _, particles = next(snapshots(next(folder.glob("par_*.dat"))))
     radii = particles[:, 1]
     fabrics, near_z = [], []
@@ -190,21 +209,34 @@ def project_observables(folder: Path, window=WINDOW) -> dict[str, float]:
     """Window means of one project run (stress table and trajectory)."""
     table = read_stress_table(folder / "stress.txt")
     rows = (table["strain"] >= window[0]) & (table["strain"] <= window[1])
-    analysis = FabricAnalysis.from_dump(folder / "trajectory.dump", dt=ENGINE["dt"], shear_rate=ENGINE["rate"],
-                                        shear_start_step=int(table["step"][0]), flow_angle_deg=0.0, eps=EPS).run()
+    analysis = FabricAnalysis.from_dump(
+        folder / "trajectory.dump",
+        dt=ENGINE["dt"],
+        shear_rate=ENGINE["rate"],
+        shear_start_step=int(table["step"][0]),
+        flow_angle_deg=0.0,
+        eps=EPS,
+    ).run()
     frames = (analysis.results.strain >= window[0] - 1e-9) & (analysis.results.strain <= window[1] + 1e-9)
-    parts = {name: value[rows].mean(axis=0)
-             for name, value in stress_parts(table, eta_f=ETA_F, rate=ENGINE["rate"], phi=0.0, theta_deg=0.0).items()}
+    parts = {
+        name: value[rows].mean(axis=0)
+        for name, value in stress_parts(table, eta_f=ETA_F, rate=ENGINE["rate"], phi=0.0, theta_deg=0.0).items()
+    }
     stresslet_total = parts["total"] - parts["lubrication"] + parts["stresslet"]
     fabric = analysis.results.fabric[frames].mean(axis=0)
-    out = {"eta": parts["total"][0, 1], "N1": parts["total"][0, 0] - parts["total"][1, 1],
-           "N2": parts["total"][1, 1] - parts["total"][2, 2],
-           "Pi": -np.trace(parts["contact"] + parts["lubrication"] + parts["kinetic"]) / 3.0,
-           "eta stresslets": stresslet_total[0, 1],
-           "N1 stresslets": stresslet_total[0, 0] - stresslet_total[1, 1],
-           "N2 stresslets": stresslet_total[1, 1] - stresslet_total[2, 2],
-           "contact": parts["contact"][0, 1], "lubrication": parts["lubrication"][0, 1],
-           "stresslet": parts["stresslet"][0, 1], "lubrication Pi": -np.trace(parts["lubrication"]) / 3.0}
+    out = {
+        "eta": parts["total"][0, 1],
+        "N1": parts["total"][0, 0] - parts["total"][1, 1],
+        "N2": parts["total"][1, 1] - parts["total"][2, 2],
+        "Pi": -np.trace(parts["contact"] + parts["lubrication"] + parts["kinetic"]) / 3.0,
+        "eta stresslets": stresslet_total[0, 1],
+        "N1 stresslets": stresslet_total[0, 0] - stresslet_total[1, 1],
+        "N2 stresslets": stresslet_total[1, 1] - stresslet_total[2, 2],
+        "contact": parts["contact"][0, 1],
+        "lubrication": parts["lubrication"][0, 1],
+        "stresslet": parts["stresslet"][0, 1],
+        "lubrication Pi": -np.trace(parts["lubrication"]) / 3.0,
+    }
     out.update({f"n{a + 1}{b + 1}": float(fabric[a, b]) for a, b in ((0, 0), (1, 1), (2, 2), (0, 1))})
     out["Z"] = float(np.mean(analysis.results.coordination[frames]))
     return {name: float(value) for name, value in out.items()}
@@ -256,12 +288,21 @@ def mean_se(values) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("packings", nargs="+", type=Path)
-    parser.add_argument("--lfdem", type=Path, default=os.environ.get("LF_DEM") or shutil.which("LF_DEM"),
-                        help="the LF_DEM binary (default: $LF_DEM or LF_DEM on the PATH)")
+    parser.add_argument(
+        "--lfdem",
+        type=Path,
+        default=os.environ.get("LF_DEM") or shutil.which("LF_DEM"),
+        help="the LF_DEM binary (default: $LF_DEM or LF_DEM on the PATH)",
+    )
     parser.add_argument("--keep", type=Path, help="keep each run's files under this folder")
     parser.add_argument("--strain", type=float, default=STRAIN, help=f"startup strain (default {STRAIN:g})")
-    parser.add_argument("--window", type=float, nargs=2, default=WINDOW,
-                        help=f"strain window of the means (default {WINDOW[0]:g} {WINDOW[1]:g})")
+    parser.add_argument(
+        "--window",
+        type=float,
+        nargs=2,
+        default=WINDOW,
+        help=f"strain window of the means (default {WINDOW[0]:g} {WINDOW[1]:g})",
+    )
     args = parser.parse_args()
     if args.lfdem is None or not Path(args.lfdem).is_file():
         print(BUILD_HELP)
@@ -271,15 +312,22 @@ def main() -> None:
     results = []
     for packing in args.packings:
         results.append(compare(Path(args.lfdem).resolve(), packing, args.keep, args.strain, args.window))
-        print(packing, {k: round(v, 4) for k, v in results[-1][0].items()},
-              {k: round(v, 4) for k, v in results[-1][1].items()}, flush=True)
-    print(f"\n| quantity (eta_f gammadot, strain {args.window[0]:g}-{args.window[1]:g}; mean +- s.e. over {len(results)} "
-          "packings) | project | LF_DEM | project - LF_DEM (paired) |")
+        print(
+            packing,
+            {k: round(v, 4) for k, v in results[-1][0].items()},
+            {k: round(v, 4) for k, v in results[-1][1].items()},
+            flush=True,
+        )
+    print(
+        f"\n| quantity (eta_f gammadot, strain {args.window[0]:g}-{args.window[1]:g}; mean +- s.e. over {len(results)} "
+        "packings) | project | LF_DEM | project - LF_DEM (paired) |"
+    )
     print("|---|--:|--:|--:|")
     for label, ours_name, theirs_name in ROWS:
         ours = [r[0][ours_name] if ours_name else np.nan for r in results]
         theirs = [r[1][theirs_name] if theirs_name else np.nan for r in results]
         print(f"| {label} | {mean_se(ours)} | {mean_se(theirs)} | {mean_se(np.subtract(ours, theirs))} |")
+
 
 if __name__ == "__main__":
     main()

@@ -46,31 +46,41 @@ def main() -> None:
     dipole, stresslet = seed_steady(args.dipole), seed_steady(args.stresslet)
     print("| steady (seed mean) | dipoles | stresslets | stresslets - dipoles, per seed |\n|---|--:|--:|--:|")
     for name in QUANTITIES:
-        print(f"| {name} | {dipole[name].mean():.3f} | {stresslet[name].mean():.3f} | "
-              f"{interval(stresslet[name] - dipole[name])} |")
+        print(
+            f"| {name} | {dipole[name].mean():.3f} | {stresslet[name].mean():.3f} | "
+            f"{interval(stresslet[name] - dipole[name])} |"
+        )
 
     print("\n| G-W relation on the simulated fabric | dipoles | stresslets |\n|---|--:|--:|")
-    fits = [pd.read_csv(s / "tables/stress_relation_fits.csv").set_index("source").loc["simulation"]
-            for s in (args.dipole, args.stresslet)]
+    fits = [
+        pd.read_csv(s / "tables/stress_relation_fits.csv").set_index("source").loc["simulation"]
+        for s in (args.dipole, args.stresslet)
+    ]
     print(f"| a_H | {fits[0]['a_H']:.2f} | {fits[1]['a_H']:.2f} |")
     for name in ("N1", "N2", "Pi"):
         cells = [f"{f[f'{name}_predicted']:.2f} (simulated {f[f'{name}_simulated']:.2f})" for f in fits]
         print(f"| {name} predicted | {cells[0]} | {cells[1]} |")
 
     print("\n| theta | deficit, dipoles | deficit, stresslets | stresslets - dipoles, per seed |\n|---|--:|--:|--:|")
-    deficits = [pd.read_csv(s / "tables/stress_viscosity_deficit_per_seed.csv").set_index(["theta", "seed"])["deficit"]
-                for s in (args.dipole, args.stresslet)]
+    deficits = [
+        pd.read_csv(s / "tables/stress_viscosity_deficit_per_seed.csv").set_index(["theta", "seed"])["deficit"]
+        for s in (args.dipole, args.stresslet)
+    ]
     for theta in deficits[0].index.get_level_values("theta").unique():
         a, b = deficits[0].loc[theta], deficits[1].loc[theta].loc[deficits[0].loc[theta].index]
         print(f"| {theta:g} | {interval(a)} | {interval(b)} | {interval(b - a)} |")
 
     print("\n| relation | held-out mse of eta_r after rotation, dipoles | stresslets |\n|---|--:|--:|")
-    boards = [pd.read_csv(s / "tables/stress_leaderboard.csv").query("quantity == 'eta_r rotation'").set_index("relation")
-              for s in (args.dipole, args.stresslet)]
+    boards = [
+        pd.read_csv(s / "tables/stress_leaderboard.csv").query("quantity == 'eta_r rotation'").set_index("relation")
+        for s in (args.dipole, args.stresslet)
+    ]
     for relation, row in boards[0].iterrows():
         other = boards[1].loc[relation]
-        print(f"| {relation} | {row['held_out_mse']:.4f} [{row['held_out_low']:.4f}, {row['held_out_high']:.4f}] | "
-              f"{other['held_out_mse']:.4f} [{other['held_out_low']:.4f}, {other['held_out_high']:.4f}] |")
+        print(
+            f"| {relation} | {row['held_out_mse']:.4f} [{row['held_out_low']:.4f}, {row['held_out_high']:.4f}] | "
+            f"{other['held_out_mse']:.4f} [{other['held_out_low']:.4f}, {other['held_out_high']:.4f}] |"
+        )
 
 
 if __name__ == "__main__":

@@ -59,18 +59,32 @@ def run(root: Path, only: list[str] | None) -> None:
             packing = folder / "packing"
             if not (packing / "packing.data").is_file():
                 pack(packing, seed=seed, phi=PHI, overwrite=True, **pack_keywords)
-            startup = run_startup(folder / "startup", packing / "packing.data", STRAIN, overwrite=True,
-                                  force_model=ForceModel(plugin=plugin_path(), **force_keywords),
-                                  settings=SETTINGS, progress=None)
+            startup = run_startup(
+                folder / "startup",
+                packing / "packing.data",
+                STRAIN,
+                overwrite=True,
+                force_model=ForceModel(plugin=plugin_path(), **force_keywords),
+                settings=SETTINGS,
+                progress=None,
+            )
             target.parent.mkdir(parents=True, exist_ok=True)
-            tables.write_fabric_table(tables.run_fabric_table(startup.dump_file, startup.output_dir / "run_complete.json",
-                                                              seed=seed, eps=eps), target)
+            tables.write_fabric_table(
+                tables.run_fabric_table(
+                    startup.dump_file, startup.output_dir / "run_complete.json", seed=seed, eps=eps
+                ),
+                target,
+            )
             if variant == "reference":
                 for name, other_eps in EPS_VARIANTS.items():
                     other = table_path(name, seed)
                     other.parent.mkdir(parents=True, exist_ok=True)
-                    tables.write_fabric_table(tables.run_fabric_table(
-                        startup.dump_file, startup.output_dir / "run_complete.json", seed=seed, eps=other_eps), other)
+                    tables.write_fabric_table(
+                        tables.run_fabric_table(
+                            startup.dump_file, startup.output_dir / "run_complete.json", seed=seed, eps=other_eps
+                        ),
+                        other,
+                    )
             print(f"{variant} seed {seed}: {startup.wall_time:.0f} s", flush=True)
 
 

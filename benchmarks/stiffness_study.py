@@ -24,13 +24,27 @@ import numpy as np
 
 from suspension_fabric.fabric import FabricAnalysis, near_contact_pairs
 from suspension_fabric.lammps import (
-    ForceModel, ShearSettings, is_complete, iter_dump_frames, pack, read_stress_table, run_startup, stress_jitter,
+    ForceModel,
+    ShearSettings,
+    is_complete,
+    iter_dump_frames,
+    pack,
+    read_stress_table,
+    run_startup,
+    stress_jitter,
 )
 from suspension_fabric.scales import contact_relaxation_time
 
 # (kn, dt, h_out): the stiffness ladder, the time step, and the lubrication range
-RUNS = [(1.25e5, 2e-7, 0.05), (1.25e7, 2e-7, 0.05), (1.25e9, 2e-7, 0.05), (1.25e11, 2e-7, 0.05),
-        (1.25e9, 5e-7, 0.05), (1.25e9, 1e-6, 0.05), (1.25e9, 2e-7, 0.1)]
+RUNS = [
+    (1.25e5, 2e-7, 0.05),
+    (1.25e7, 2e-7, 0.05),
+    (1.25e9, 2e-7, 0.05),
+    (1.25e11, 2e-7, 0.05),
+    (1.25e9, 5e-7, 0.05),
+    (1.25e9, 1e-6, 0.05),
+    (1.25e9, 2e-7, 0.1),
+]
 BINS = [(0.2, 0.5), (0.5, 1.0), (1.0, 1.5), (1.5, 2.0), (2.0, 2.5), (2.5, 3.0), (3.0, 4.0), (4.0, 5.0)]
 
 
@@ -66,10 +80,14 @@ def main() -> None:
         name = run_name(args.n, kn, dt, h_out) + ("" if args.seed == 7 else f"_seed{args.seed}")
         run_dir = args.out / name
         if not is_complete(run_dir):
-            run_startup(run_dir, packing_dir / "packing.data", args.strain,
-                        force_model=ForceModel(kn=kn, h_out=h_out, integrator="explicit"),
-                        settings=ShearSettings(dt=dt, dump_strain=0.02, max_overlap=1.0, max_stress_jitter=None),
-                        progress_interval=60)
+            run_startup(
+                run_dir,
+                packing_dir / "packing.data",
+                args.strain,
+                force_model=ForceModel(kn=kn, h_out=h_out, integrator="explicit"),
+                settings=ShearSettings(dt=dt, dump_strain=0.02, max_overlap=1.0, max_stress_jitter=None),
+                progress_interval=60,
+            )
         marker = json.loads((run_dir / "run_complete.json").read_text())
         fabric = FabricAnalysis.from_dump(run_dir / "trajectory.dump", dt=dt).run().results
         table = read_stress_table(run_dir / "stress.txt")
@@ -77,29 +95,50 @@ def main() -> None:
         stress_rows = table["strain"] > args.strain - 1.0
         shear = -table["pxz"][stress_rows].mean()
         mean_overlap, max_overlap = overlaps(run_dir / "trajectory.dump")
-        rows.append((kn, dt, h_out, contact_relaxation_time(1.4, 1.4, ForceModel.eta_f, ForceModel.delta, kn),
-                     *(fabric[c][last].mean() for c in ("n11", "n22", "n33", "n12")),
-                     fabric.coordination[last].mean(), table["press"][stress_rows].mean(), shear,
-                     -table["contact_pxz"][stress_rows].mean() / shear, mean_overlap, max_overlap,
-                     stress_jitter(table)[0], marker["wall_time_s"]))
-        series[name] = [fabric.n12[(fabric.strain > lo) & (fabric.strain <= hi)].mean()
-                        if ((fabric.strain > lo) & (fabric.strain <= hi)).any() else float("nan")
-                        for lo, hi in BINS]
-    print(f"N = {args.n}, phi = 0.45, eta_f = 223, mu = 0.5, delta = 1e-3, packing seed {args.seed}, "
-          f"startup to strain {args.strain}; fabric and stress averaged over strain "
-          f"{args.strain - 1:g}-{args.strain:g}\n")
-    print("| kn | dt | h_out | tau_LL (strain) | n11 | n22 | n33 | n12 | Z | P | -sigma_xz | contact share | "
-          "mean overlap / d | max overlap / d | jitter | wall s |")
+        rows.append(
+            (
+                kn,
+                dt,
+                h_out,
+                contact_relaxation_time(1.4, 1.4, ForceModel.eta_f, ForceModel.delta, kn),
+                *(fabric[c][last].mean() for c in ("n11", "n22", "n33", "n12")),
+                fabric.coordination[last].mean(),
+                table["press"][stress_rows].mean(),
+                shear,
+                -table["contact_pxz"][stress_rows].mean() / shear,
+                mean_overlap,
+                max_overlap,
+                stress_jitter(table)[0],
+                marker["wall_time_s"],
+            )
+        )
+        series[name] = [
+            fabric.n12[(fabric.strain > lo) & (fabric.strain <= hi)].mean()
+            if ((fabric.strain > lo) & (fabric.strain <= hi)).any()
+            else float("nan")
+            for lo, hi in BINS
+        ]
+    print(
+        f"N = {args.n}, phi = 0.45, eta_f = 223, mu = 0.5, delta = 1e-3, packing seed {args.seed}, "
+        f"startup to strain {args.strain}; fabric and stress averaged over strain "
+        f"{args.strain - 1:g}-{args.strain:g}\n"
+    )
+    print(
+        "| kn | dt | h_out | tau_LL (strain) | n11 | n22 | n33 | n12 | Z | P | -sigma_xz | contact share | "
+        "mean overlap / d | max overlap / d | jitter | wall s |"
+    )
     print("|" + "---|" * 16)
     for row in rows:
-        print("| {:.3g} | {:.0e} | {:g} | {:.2g} | {:.3f} | {:.3f} | {:.3f} | {:.3f} | {:.2f} | {:.0f} | {:.0f} | "
-              "{:.2f} | {:.1e} | {:.1e} | {:.3g} | {:.0f} |".format(*row))
+        print(
+            "| {:.3g} | {:.0e} | {:g} | {:.2g} | {:.3f} | {:.3f} | {:.3f} | {:.3f} | {:.2f} | {:.0f} | {:.0f} | "
+            "{:.2f} | {:.1e} | {:.1e} | {:.3g} | {:.0f} |".format(*row)
+        )
     print("\n<nn>_12 averaged over strain bins:\n")
     shown = [b for b in BINS if b[1] <= args.strain + 1e-9]
     print("| run | " + " | ".join(f"{lo:g}-{hi:g}" for lo, hi in shown) + " |")
     print("|" + "---|" * (len(shown) + 1))
     for name, values in series.items():
-        print(f"| {name} | " + " | ".join(f"{v:.3f}" for v in values[:len(shown)]) + " |")
+        print(f"| {name} | " + " | ".join(f"{v:.3f}" for v in values[: len(shown)]) + " |")
 
 
 if __name__ == "__main__":

@@ -24,27 +24,56 @@ from pathlib import Path
 import numpy as np
 
 from suspension_fabric.lammps.plugin import plugin_path
-from suspension_fabric.lammps.process import launch, lammps_command
+from suspension_fabric.lammps.process import lammps_command, launch
 from suspension_fabric.stressio import read_stress_table
 
 REPO = Path(__file__).resolve().parents[1]
 ETA_F = 223.0
 STRAIN, WINDOW = 3.0, (1.5, 3.0)
-ENGINE = {"lubrication": "sf", "eta_f": ETA_F, "kn": 1.25e8, "mu": 0.5, "kt": 1.25e8 * 2 / 7, "delta": 1e-3,
-          "h_out": 0.05, "newton_pair": "on", "integrator": "implicit", "contact_springs": "implicit",
-          "preconditioner": "dilu", "solver_tol": 1e-3, "dt": 1e-4, "rate": 1.0}
+ENGINE = {
+    "lubrication": "sf",
+    "eta_f": ETA_F,
+    "kn": 1.25e8,
+    "mu": 0.5,
+    "kt": 1.25e8 * 2 / 7,
+    "delta": 1e-3,
+    "h_out": 0.05,
+    "newton_pair": "on",
+    "integrator": "implicit",
+    "contact_springs": "implicit",
+    "preconditioner": "dilu",
+    "solver_tol": 1e-3,
+    "dt": 1e-4,
+    "rate": 1.0,
+}
 
 
 def startup_run(packing: Path, folder: Path, strain: float = STRAIN, dump_strain: float = 0.5) -> Path:
     """A startup shear of ``packing`` to ``strain`` with ENGINE in ``folder`` (stress table every
     0.01 strain, trajectory every ``dump_strain``); the folder, or RuntimeError naming the log."""
-    variables = {"lammps_dir": REPO / "workflow" / "lammps", "data_file": packing.resolve(), **ENGINE,
-                 "plugin": plugin_path(), "dump_strain": dump_strain, "table_strain": 0.01, "thermo_strain": 0.1,
-                 "restart_strain": 10.0, "skin": 0.1, "strain_total": strain, "dump_file": "trajectory.dump",
-                 "table_file": "stress.txt", "checkpoint_file": "checkpoint.rst", "restart_file_a": "a.rst",
-                 "restart_file_b": "b.rst"}
-    result = launch(lammps_command(REPO / "workflow" / "lammps" / "startup.lmp", variables), folder,
-                    label=packing.parent.parent.name, strain_total=strain)
+    variables = {
+        "lammps_dir": REPO / "workflow" / "lammps",
+        "data_file": packing.resolve(),
+        **ENGINE,
+        "plugin": plugin_path(),
+        "dump_strain": dump_strain,
+        "table_strain": 0.01,
+        "thermo_strain": 0.1,
+        "restart_strain": 10.0,
+        "skin": 0.1,
+        "strain_total": strain,
+        "dump_file": "trajectory.dump",
+        "table_file": "stress.txt",
+        "checkpoint_file": "checkpoint.rst",
+        "restart_file_a": "a.rst",
+        "restart_file_b": "b.rst",
+    }
+    result = launch(
+        lammps_command(REPO / "workflow" / "lammps" / "startup.lmp", variables),
+        folder,
+        label=packing.parent.parent.name,
+        strain_total=strain,
+    )
     if result.returncode != 0:
         raise RuntimeError(f"{packing}: LAMMPS failed ({result.returncode}); see {folder}/log.lammps")
     return folder
@@ -57,10 +86,13 @@ def shear(packing: Path, folder: Path) -> dict[str, float]:
     def mean(name):  # stress = -P, in units eta_f gammadot (gammadot = 1)
         return float(-np.mean(table[name][inside]) / ETA_F)
 
-    return {"dipole_12": mean("lubrication_pxz"), "stresslet_12": mean("stresslet_pxz"),
-            "contact_12": mean("contact_pxz"),
-            "dipole_pressure": -(mean("lubrication_pxx") + mean("lubrication_pyy") + mean("lubrication_pzz")) / 3,
-            "stresslet_trace": mean("stresslet_pxx") + mean("stresslet_pyy") + mean("stresslet_pzz")}
+    return {
+        "dipole_12": mean("lubrication_pxz"),
+        "stresslet_12": mean("stresslet_pxz"),
+        "contact_12": mean("contact_pxz"),
+        "dipole_pressure": -(mean("lubrication_pxx") + mean("lubrication_pyy") + mean("lubrication_pzz")) / 3,
+        "stresslet_trace": mean("stresslet_pxx") + mean("stresslet_pyy") + mean("stresslet_pzz"),
+    }
 
 
 def main() -> None:
@@ -77,7 +109,9 @@ def main() -> None:
         print(packing, {k: round(v, 4) for k, v in rows[-1].items()}, flush=True)
     names = list(rows[0])
     values = np.array([[row[n] for n in names] for row in rows])
-    print(f"\n| quantity (eta_f gammadot, strain {WINDOW[0]:g}-{WINDOW[1]:g}) | mean | s.e. over {len(rows)} packings |")
+    print(
+        f"\n| quantity (eta_f gammadot, strain {WINDOW[0]:g}-{WINDOW[1]:g}) | mean | s.e. over {len(rows)} packings |"
+    )
     print("|---|--:|--:|")
     for k, name in enumerate(names):
         se = values[:, k].std(ddof=1) / np.sqrt(len(rows)) if len(rows) > 1 else float("nan")

@@ -19,7 +19,13 @@ from pathlib import Path
 
 from suspension_fabric.fabric import FabricAnalysis
 from suspension_fabric.lammps import (
-    ForceModel, ShearSettings, is_complete, pack, read_stress_table, run_startup, stress_jitter,
+    ForceModel,
+    ShearSettings,
+    is_complete,
+    pack,
+    read_stress_table,
+    run_startup,
+    stress_jitter,
 )
 
 BINS = [(0.2, 0.5), (0.5, 1.0), (1.0, 1.5), (1.5, 2.0), (2.0, 3.0), (3.0, 4.0), (4.0, 5.0)]
@@ -36,7 +42,9 @@ def main() -> None:
     if not is_complete(packing_dir):
         pack(packing_dir, args.n, phi=0.45, seed=2024)
     acceptance = Path("results/acceptance_stiff/startup")
-    print(f"N = {args.n}, phi = 0.45, packing seed 2024, default forces (kn = 1.25e9), startup to strain {args.strain}\n")
+    print(
+        f"N = {args.n}, phi = 0.45, packing seed 2024, default forces (kn = 1.25e9), startup to strain {args.strain}\n"
+    )
     print("| dt | strain | n11 | n22 | n33 | n12 | Z | P | -sigma_xz | contact share |")
     print("|" + "---|" * 10)
     summary = []
@@ -45,9 +53,14 @@ def main() -> None:
         if dt == 2e-7 and args.n == 500 and is_complete(acceptance):
             run_dir = acceptance
         elif not is_complete(run_dir):
-            run_startup(run_dir, packing_dir / "packing.data", args.strain, force_model=ForceModel(integrator="explicit"),
-                        settings=ShearSettings(dt=dt, dump_strain=0.01, max_overlap=1.0, max_stress_jitter=None),
-                        progress_interval=60)
+            run_startup(
+                run_dir,
+                packing_dir / "packing.data",
+                args.strain,
+                force_model=ForceModel(integrator="explicit"),
+                settings=ShearSettings(dt=dt, dump_strain=0.01, max_overlap=1.0, max_stress_jitter=None),
+                progress_interval=60,
+            )
         marker = json.loads((run_dir / "run_complete.json").read_text())
         fabric = FabricAnalysis.from_dump(run_dir / "trajectory.dump", dt=dt).run().results
         table = read_stress_table(run_dir / "stress.txt")
@@ -56,14 +69,19 @@ def main() -> None:
                 break
             frames = (fabric.strain > lo) & (fabric.strain <= hi)
             rows = (table["strain"] > lo) & (table["strain"] <= hi)
-            print(f"| {dt:.0e} | {lo:g}-{hi:g} | " + " | ".join(
-                f"{fabric[c][frames].mean():.3f}" for c in ("n11", "n22", "n33", "n12"))
+            print(
+                f"| {dt:.0e} | {lo:g}-{hi:g} | "
+                + " | ".join(f"{fabric[c][frames].mean():.3f}" for c in ("n11", "n22", "n33", "n12"))
                 + f" | {fabric.coordination[frames].mean():.3f} | {table['press'][rows].mean():.0f} | "
-                f"{-table['pxz'][rows].mean():.0f} | {table['contact_pxz'][rows].mean() / table['pxz'][rows].mean():.2f} |")
+                f"{-table['pxz'][rows].mean():.0f} | "
+                f"{table['contact_pxz'][rows].mean() / table['pxz'][rows].mean():.2f} |"
+            )
         jitter, lo, hi = stress_jitter(table)
         cost = marker["wall_time_s"] / (args.n * marker["results"]["strain"])
-        summary.append(f"dt {dt:.0e}: largest stress jitter {jitter:.3g} (strain {lo:.3g}-{hi:.3g}); "
-                       f"{cost:.2f} core-s per particle per unit strain ({run_dir})")
+        summary.append(
+            f"dt {dt:.0e}: largest stress jitter {jitter:.3g} (strain {lo:.3g}-{hi:.3g}); "
+            f"{cost:.2f} core-s per particle per unit strain ({run_dir})"
+        )
     print()
     print("\n".join(summary))
 

@@ -12,5 +12,3 @@ def study(tmp_path_factory):
     result = snakemake(workdir, *TEST_CONFIG)
     assert result.returncode == 0, result.stderr[-4000:]
     return workdir
-
-

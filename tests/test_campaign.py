@@ -36,9 +36,12 @@ def test_a_campaign_is_one_study_per_point_of_the_grid():
 
 
 def test_overrides_subsets_and_points_not_run():
-    config = campaign(overrides={"phi0.45_mu0.5": {"forces": {"kn": 5e8}, "run": {"dt": 2.5e-5}}},
-                      points=["phi0.45_mu0.5", "phi0.40_mu0"], not_run={"phi0.40_mu0": "too dear"},
-                      datasets="data/grid")
+    config = campaign(
+        overrides={"phi0.45_mu0.5": {"forces": {"kn": 5e8}, "run": {"dt": 2.5e-5}}},
+        points=["phi0.45_mu0.5", "phi0.40_mu0"],
+        not_run={"phi0.40_mu0": "too dear"},
+        datasets="data/grid",
+    )
     points = campaign_points(config)
     assert list(points) == ["phi0.45_mu0.5"]
     assert points["phi0.45_mu0.5"]["forces"]["kn"] == 5e8 and points["phi0.45_mu0.5"]["run"]["dt"] == 2.5e-5
@@ -47,15 +50,22 @@ def test_overrides_subsets_and_points_not_run():
     assert point_name(0.4, 1.0) == "phi0.40_mu1" and point_name(0.525, 0.25) == "phi0.53_mu0.25"
 
 
-@pytest.mark.parametrize("section, message", [
-    ({"points": ["phi0.47_mu0"]}, "config key 'campaign.points': 'phi0.47_mu0' is not a point"),
-    ({"overrides": {"phi0.4_mu0": {}}}, "config key 'campaign.overrides': 'phi0.4_mu0' is not a point"),
-    ({"not_run": {"phi0.40_mu0": "x", "phi0.40_mu0.5": "x", "phi0.45_mu0": "x", "phi0.45_mu0.5": "x"}},
-     "config key 'campaign.points': no point left"),
-    ({"overrides": {"phi0.45_mu0": {"run": {"startup_strain": 1.0}}}},
-     "campaign point phi0.45_mu0 .*config key 'analysis.steady_window'"),
-    ({"overrides": {"phi0.45_mu0": {"run": {"dt": 1.0e-3}}}}, "campaign point phi0.45_mu0 .*config key 'run.dt'"),
-])
+@pytest.mark.parametrize(
+    "section, message",
+    [
+        ({"points": ["phi0.47_mu0"]}, "config key 'campaign.points': 'phi0.47_mu0' is not a point"),
+        ({"overrides": {"phi0.4_mu0": {}}}, "config key 'campaign.overrides': 'phi0.4_mu0' is not a point"),
+        (
+            {"not_run": {"phi0.40_mu0": "x", "phi0.40_mu0.5": "x", "phi0.45_mu0": "x", "phi0.45_mu0.5": "x"}},
+            "config key 'campaign.points': no point left",
+        ),
+        (
+            {"overrides": {"phi0.45_mu0": {"run": {"startup_strain": 1.0}}}},
+            "campaign point phi0.45_mu0 .*config key 'analysis.steady_window'",
+        ),
+        ({"overrides": {"phi0.45_mu0": {"run": {"dt": 1.0e-3}}}}, "campaign point phi0.45_mu0 .*config key 'run.dt'"),
+    ],
+)
 def test_bad_campaigns_name_the_point_and_key(section, message):
     with pytest.raises(ConfigError, match=message):
         campaign_points(campaign(**section))
@@ -88,9 +98,16 @@ def _runs(drifts, noise=0.0):
     """Startup runs of several seeds, value 1 + drift * (strain - 2) / 3 over strain [2, 5]."""
     strain = np.linspace(0.0, 5.0, 251)
     rng = np.random.default_rng(3)
-    frames = [pd.DataFrame({"seed": seed, "strain": strain,
-                            "n12": 1.0 + drift * (strain - 2.0) / 3.0 + noise * rng.standard_normal(strain.size)})
-              for seed, drift in enumerate(drifts, start=1)]
+    frames = [
+        pd.DataFrame(
+            {
+                "seed": seed,
+                "strain": strain,
+                "n12": 1.0 + drift * (strain - 2.0) / 3.0 + noise * rng.standard_normal(strain.size),
+            }
+        )
+        for seed, drift in enumerate(drifts, start=1)
+    ]
     return pd.concat(frames, ignore_index=True)
 
 
@@ -105,8 +122,9 @@ def test_steady_state_drift_against_a_known_linear_drift():
 
 
 def test_map_table_lists_points_not_run_with_their_reason():
-    table = map_table([{"point": "phi0.45_mu0.5", "phi": 0.45, "mu": 0.5, "steady": "steady"}],
-                      {"phi0.55_mu1": "too dear"})
+    table = map_table(
+        [{"point": "phi0.45_mu0.5", "phi": 0.45, "mu": 0.5, "steady": "steady"}], {"phi0.55_mu1": "too dear"}
+    )
     assert list(table["point"]) == ["phi0.45_mu0.5", "phi0.55_mu1"]
     assert table.set_index("point").loc["phi0.55_mu1", "steady"] == "not run: too dear"
     assert table.set_index("point").loc["phi0.55_mu1", "phi"] == 0.55
@@ -119,12 +137,19 @@ def test_a_campaign_runs_by_the_study_rules_and_its_map_rebuilds_from_its_datase
     the exported datasets rebuild the same map with no simulation job."""
     workdir = copy_workflow(tmp_path)
     config = yaml.safe_load((REPO / "config" / "test.yaml").read_text())
-    config.update(study="tcamp", campaign={"phi": [0.40, 0.45], "mu": [0.5, 1.0],
-                                           "not_run": {"phi0.45_mu1": "test of a point not run"},
-                                           "points": ["phi0.40_mu0.5", "phi0.45_mu0.5", "phi0.45_mu1"]})
+    config.update(
+        study="tcamp",
+        campaign={
+            "phi": [0.40, 0.45],
+            "mu": [0.5, 1.0],
+            "not_run": {"phi0.45_mu1": "test of a point not run"},
+            "points": ["phi0.40_mu0.5", "phi0.45_mu0.5", "phi0.45_mu1"],
+        },
+    )
     (workdir / "config" / "tcamp.yaml").write_text(yaml.safe_dump(config))
-    subset = snakemake(workdir, "-n", "--configfile", "config/tcamp.yaml", "--config",
-                       "campaign={points: [phi0.45_mu0.5]}")
+    subset = snakemake(
+        workdir, "-n", "--configfile", "config/tcamp.yaml", "--config", "campaign={points: [phi0.45_mu0.5]}"
+    )
     assert subset.returncode == 0, subset.stderr[-3000:]
     jobs = dry_run_jobs(subset.stdout)
     assert {job["study"] for job in jobs if job["rule"] == "pack"} == {"tcamp/phi0.45_mu0.5"}
@@ -133,15 +158,35 @@ def test_a_campaign_runs_by_the_study_rules_and_its_map_rebuilds_from_its_datase
     result = snakemake(workdir, "campaign_figures", "--configfile", "config/tcamp.yaml", timeout=1200)
     assert result.returncode == 0, result.stderr[-3000:]
     # the map needs no rotation stress: those runs lack their stress.csv, and are not exported without it
-    early = subprocess.run([sys.executable, "-m", "suspension_fabric.dataset", "export", "--config",
-                            "config/tcamp.yaml", "--to", "data/early", "--without-raw-stress"],
-                           cwd=workdir, capture_output=True, text=True)
+    early = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "suspension_fabric.dataset",
+            "export",
+            "--config",
+            "config/tcamp.yaml",
+            "--to",
+            "data/early",
+            "--without-raw-stress",
+        ],
+        cwd=workdir,
+        capture_output=True,
+        text=True,
+    )
     assert early.returncode == 0, early.stderr[-3000:]
-    assert ("data/early/phi0.45_mu0.5: 2 runs exported, 4 missing (no run_complete.json, fabric.csv or "
-            "stress.csv yet, e.g. seed1/rotation_theta0)") in early.stdout
+    assert (
+        "data/early/phi0.45_mu0.5: 2 runs exported, 4 missing (no run_complete.json, fabric.csv or "
+        "stress.csv yet, e.g. seed1/rotation_theta0)"
+    ) in early.stdout
     points = ("phi0.40_mu0.5", "phi0.45_mu0.5")
-    result = snakemake(workdir, *(f"results/tcamp/{point}/tables/stress_rotation_aggregate.csv" for point in points),
-                       "--configfile", "config/tcamp.yaml", timeout=1200)
+    result = snakemake(
+        workdir,
+        *(f"results/tcamp/{point}/tables/stress_rotation_aggregate.csv" for point in points),
+        "--configfile",
+        "config/tcamp.yaml",
+        timeout=1200,
+    )
     assert result.returncode == 0, result.stderr[-3000:]
     table = pd.read_csv(workdir / "results/tcamp/tables/map.csv").set_index("point")
     assert list(table.index) == ["phi0.40_mu0.5", "phi0.45_mu0.5", "phi0.45_mu1"]
@@ -153,9 +198,22 @@ def test_a_campaign_runs_by_the_study_rules_and_its_map_rebuilds_from_its_datase
     assert table.loc["phi0.45_mu0.5", "Z"] > table.loc["phi0.40_mu0.5", "Z"]  # denser, more contacts
     for name in ("map_models", "map_fabric", "map_rheology", "map_model_errors"):
         assert (workdir / f"results/tcamp/figures/{name}.png").stat().st_size > 10_000
-    export = subprocess.run([sys.executable, "-m", "suspension_fabric.dataset", "export", "--config",
-                             "config/tcamp.yaml", "--to", "data/tcamp", "--without-raw-stress"],
-                            cwd=workdir, capture_output=True, text=True)
+    export = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "suspension_fabric.dataset",
+            "export",
+            "--config",
+            "config/tcamp.yaml",
+            "--to",
+            "data/tcamp",
+            "--without-raw-stress",
+        ],
+        cwd=workdir,
+        capture_output=True,
+        text=True,
+    )
     assert export.returncode == 0, export.stderr[-3000:]
     assert "data/tcamp/phi0.45_mu0.5: 6 runs exported, 0 missing" in export.stdout
     (workdir / "config" / "tmap.yaml").write_text("study: tmap\ncampaign:\n  datasets: data/tcamp\n")
@@ -163,7 +221,9 @@ def test_a_campaign_runs_by_the_study_rules_and_its_map_rebuilds_from_its_datase
     assert plan.returncode == 0, plan.stdout[-3000:]
     counts = job_counts(plan.stdout)
     assert {rule: count for rule, count in counts.items() if rule.startswith("import")} == {
-        "import_run_tables_0": 1, "import_run_tables_1": 1}  # one job per point
+        "import_run_tables_0": 1,
+        "import_run_tables_1": 1,
+    }  # one job per point
     assert not set(counts) & {"build_plugin", "pack", "startup", "rotate", "fabric_table", "stress_table"}
     rebuilt = snakemake(workdir, "campaign_figures", "--configfile", "config/tcamp.yaml", "config/tmap.yaml")
     assert rebuilt.returncode == 0, rebuilt.stderr[-3000:]

@@ -45,8 +45,9 @@ def test_deficit_of_exponential_dip(a, g0):
     r12 = 1.0 - a * np.exp(-FINE / g0)
     assert float(claims.deficit(r12, FINE)) == pytest.approx(a * g0 * (1 - math.exp(-W / g0)), abs=TRAPEZOID_TOL)
     half = FINE <= 1.0
-    assert float(claims.deficit(r12[half], FINE[half])) == pytest.approx(a * g0 * (1 - math.exp(-1.0 / g0)),
-                                                                        abs=TRAPEZOID_TOL)
+    assert float(claims.deficit(r12[half], FINE[half])) == pytest.approx(
+        a * g0 * (1 - math.exp(-1.0 / g0)), abs=TRAPEZOID_TOL
+    )
 
 
 def test_deficit_per_angle_and_with_a_baseline_curve():
@@ -123,8 +124,8 @@ H = 0.01
 STRAIN = np.round(np.arange(0.0, 2.0 + 1e-9, H), 10)  # 0..2 step 0.01, 201 strains
 G0 = 0.3
 A_THETA = np.array([0.1, 0.3, 0.5, 0.4, 0.2])  # dip amplitude per angle
-SEED_C = {3: 0.01, 7: -0.02, 11: 0.005}       # per-seed constant offset of the simulated r12
-SEED_D = {3: 0.004, 7: -0.001, 11: 0.002}     # per-seed slope of the simulated r23
+SEED_C = {3: 0.01, 7: -0.02, 11: 0.005}  # per-seed constant offset of the simulated r12
+SEED_D = {3: 0.004, 7: -0.001, 11: 0.002}  # per-seed slope of the simulated r23
 PRIMARY = Choice("primary", 2.0)
 
 
@@ -140,8 +141,9 @@ def test_trapezoid_closed_form_is_the_integral():
     """The exact trapezoid value differs from g0 (1 - exp(-W/g0)) by O(h^2) only (and the grid is 0..2)."""
     assert len(STRAIN) == 201 and STRAIN[-1] == 2.0
     assert I_EXP == pytest.approx(G0 * (1 - math.exp(-2.0 / G0)), abs=3e-5)
-    assert I_EXP == pytest.approx(float(np.sum((np.exp(-STRAIN[1:] / G0) + np.exp(-STRAIN[:-1] / G0)) / 2 * H)),
-                                  rel=1e-12)
+    assert I_EXP == pytest.approx(
+        float(np.sum((np.exp(-STRAIN[1:] / G0) + np.exp(-STRAIN[:-1] / G0)) / 2 * H)), rel=1e-12
+    )
 
 
 def _replicate(seed, thetas=THETAS, a=A_THETA, overshoot_at_90=False) -> SeedReplicate:
@@ -162,8 +164,15 @@ def _replicate(seed, thetas=THETAS, a=A_THETA, overshoot_at_90=False) -> SeedRep
         i = int(np.flatnonzero(thetas == 90.0)[0])
         modified["r12"][i] = 1.0 + 0.1 * np.sin(np.pi * STRAIN)
         sim["r12"][i] = 1.0 + (1.0 + 10.0 * c) * np.abs(STRAIN * (1.0 - STRAIN))
-    return SeedReplicate(seed=seed, n12_ss=-0.1 - c, params={"gw": (10.0, None), "modified": (9.0, 12.0)},
-                         thetas=thetas, strain=STRAIN.copy(), sim=sim, models={"gw": gw, "modified": modified})
+    return SeedReplicate(
+        seed=seed,
+        n12_ss=-0.1 - c,
+        params={"gw": (10.0, None), "modified": (9.0, 12.0)},
+        thetas=thetas,
+        strain=STRAIN.copy(),
+        sim=sim,
+        models={"gw": gw, "modified": modified},
+    )
 
 
 @pytest.fixture(scope="module")
@@ -186,8 +195,19 @@ def test_angle_statistics_layout(statistics):
     """One row per (seed, theta): 3 seeds x 5 angles; n12_ss is carried over (-0.1 - c_s: -0.08 for seed 7)."""
     assert len(statistics) == 15
     assert sorted(set(statistics["seed"])) == [3, 7, 11]
-    for col in ("D12_sim", "D12_gw", "D12_modified", "E23_sim", "X12_sim", "MSE12_gw", "MSE23_modified",
-                "O12_modified", "s2_12", "s2_23", "n12_ss"):
+    for col in (
+        "D12_sim",
+        "D12_gw",
+        "D12_modified",
+        "E23_sim",
+        "X12_sim",
+        "MSE12_gw",
+        "MSE23_modified",
+        "O12_modified",
+        "s2_12",
+        "s2_23",
+        "n12_ss",
+    ):
         assert col in statistics.columns
     assert _at(statistics, 7, 90.0, "n12_ss") == pytest.approx(-0.08)
 
@@ -202,8 +222,9 @@ def test_paired_mse_difference_is_linear_in_the_data(replicates, statistics):
             product = ((g - m) * (g + m - 2.0 * x))[:, after]
             expected = product.sum(axis=1) / after.sum()
             for k, theta in enumerate(THETAS):
-                got = (_at(statistics, rep.seed, theta, f"MSE{comp}_gw")
-                       - _at(statistics, rep.seed, theta, f"MSE{comp}_modified"))
+                got = _at(statistics, rep.seed, theta, f"MSE{comp}_gw") - _at(
+                    statistics, rep.seed, theta, f"MSE{comp}_modified"
+                )
                 assert got == pytest.approx(expected[k], rel=1e-9, abs=1e-15), (rep.seed, theta, comp)
 
 
@@ -227,10 +248,15 @@ def test_c1_claim_table_averages_angles_within_seeds(statistics):
     """claim_table's C1: per seed the mean of T over 45, 90, 135; the mean over seeds of that; the
     t-interval (t_{0.975, 2}) of the three per-seed means, not of the nine seed x angle values."""
     chosen = [1, 2, 3]  # 45, 90, 135
-    per_seed = np.array([np.mean([2 * A_THETA[k] * I_EXP - 1.25 * (A_THETA[k] * I_EXP - 2.0 * c) for k in chosen])
-                         for c in SEED_C.values()])
-    pooled = np.array([2 * A_THETA[k] * I_EXP - 1.25 * (A_THETA[k] * I_EXP - 2.0 * c)
-                       for c in SEED_C.values() for k in chosen])
+    per_seed = np.array(
+        [
+            np.mean([2 * A_THETA[k] * I_EXP - 1.25 * (A_THETA[k] * I_EXP - 2.0 * c) for k in chosen])
+            for c in SEED_C.values()
+        ]
+    )
+    pooled = np.array(
+        [2 * A_THETA[k] * I_EXP - 1.25 * (A_THETA[k] * I_EXP - 2.0 * c) for c in SEED_C.values() for k in chosen]
+    )
     half_seed = stats.t.ppf(0.975, 2) * np.std(per_seed, ddof=1) / math.sqrt(3)
     half_pooled = stats.t.ppf(0.975, 8) * np.std(pooled, ddof=1) / math.sqrt(9)
     assert abs(half_seed - half_pooled) > 0.01  # the two candidate intervals are far apart
@@ -245,8 +271,13 @@ def test_c1_claim_table_averages_angles_within_seeds(statistics):
     assert row["high"] == pytest.approx(per_seed.mean() + half_seed, abs=1e-12)
     assert row["se"] == pytest.approx(np.std(per_seed, ddof=1) / math.sqrt(3), abs=1e-12)
     assert row["low"] != pytest.approx(pooled.mean() - half_pooled, abs=1e-6)
-    expected_verdict = ("confirmed" if per_seed.mean() - half_seed > 0
-                        else "refuted" if per_seed.mean() + half_seed < 0 else "undecided")
+    expected_verdict = (
+        "confirmed"
+        if per_seed.mean() - half_seed > 0
+        else "refuted"
+        if per_seed.mean() + half_seed < 0
+        else "undecided"
+    )
     assert row["verdict"] == expected_verdict
 
 
@@ -419,11 +450,20 @@ def test_range_edge_table_other_claims(edge_values):
     table = claims.range_edge_table(edge_values)
     assert not table["claim"].isin(["C3'", "C4'"]).any()
     c2 = table[table["claim"] == "C2"].set_index("edges")["angles"].to_dict()
-    assert c2 == {"as stated": _text(range(90, 166, 15)), "low edge out": _text(range(75, 166, 15)),
-                  "low edge in": _text(range(105, 166, 15)), "high edge in": _text(range(90, 151, 15))}
+    assert c2 == {
+        "as stated": _text(range(90, 166, 15)),
+        "low edge out": _text(range(75, 166, 15)),
+        "low edge in": _text(range(105, 166, 15)),
+        "high edge in": _text(range(90, 151, 15)),
+    }
     c5 = table[table["claim"] == "C5"].set_index("edges")["angles"].to_dict()
-    assert c5 == {"as stated": "75, 90, 105", "low edge out": "60, 75, 90, 105", "low edge in": "90, 105",
-                  "high edge in": "75, 90", "high edge out": "75, 90, 105, 120"}
+    assert c5 == {
+        "as stated": "75, 90, 105",
+        "low edge out": "60, 75, 90, 105",
+        "low edge in": "90, 105",
+        "high edge in": "75, 90",
+        "high edge out": "75, 90, 105, 120",
+    }
 
 
 # ============================================================================ 4. end to end on G-W data
@@ -436,8 +476,9 @@ ROTATION = np.round(np.arange(0.0, 2.0 + 1e-9, 0.02), 10)
 
 def _rows(seed, theta, strain, fabric) -> pd.DataFrame:
     """A run table (suspension_fabric.tables): seed, theta, N, phi, step, strain, n11 ... n23, Z = 2 Tr<nn>."""
-    table = pd.DataFrame({"seed": seed, "theta": theta, "N": 500, "phi": PHI,
-                          "step": np.arange(len(strain)) * 100, "strain": strain})
+    table = pd.DataFrame(
+        {"seed": seed, "theta": theta, "N": 500, "phi": PHI, "step": np.arange(len(strain)) * 100, "strain": strain}
+    )
     for name, (i, j) in COMPONENTS.items():
         table[name] = fabric[:, i, j]
     table["Z"] = 2.0 * np.trace(fabric, axis1=-2, axis2=-1)
@@ -468,13 +509,23 @@ def test_gw_runs_are_converged(gw_runs):
 
 def _replicates(gw_runs, choice):
     startup, rotation = gw_runs
-    return [claims.seed_replicate(startup[startup["seed"] == s], rotation[rotation["seed"] == s], PHI, (20.0, 30.0),
-                                  30.0, choice) for s in E2E_SEEDS]
+    return [
+        claims.seed_replicate(
+            startup[startup["seed"] == s], rotation[rotation["seed"] == s], PHI, (20.0, 30.0), 30.0, choice
+        )
+        for s in E2E_SEEDS
+    ]
 
 
-@pytest.mark.parametrize("choice", [Choice("primary", 2.0), Choice("state: simulated", 2.0, state="simulated"),
-                                    Choice("state: model steady", 2.0, state="steady")],
-                         ids=["primary", "simulated", "steady"])
+@pytest.mark.parametrize(
+    "choice",
+    [
+        Choice("primary", 2.0),
+        Choice("state: simulated", 2.0, state="simulated"),
+        Choice("state: model steady", 2.0, state="steady"),
+    ],
+    ids=["primary", "simulated", "steady"],
+)
 def test_seed_replicate_on_gw_data_recovers_gw(gw_runs, choice):
     """Data = G-W(beta = 10.8): each seed's fitted G-W beta is 10.8 (to 1e-6); its prediction is the
     data, so MSE12_gw, MSE23_gw < 1e-12 and D12(G-W) = D12(sim), E23(G-W) = E23(sim); n12_ss is the
@@ -498,8 +549,9 @@ def test_seed_replicate_on_gw_data_recovers_gw(gw_runs, choice):
     # C1's T is then D12(sim) (1 - 1.25) = -0.25 D12(sim).
     values = claims.claim_values(table)
     c1 = values[values["claim"] == "C1"].set_index(["seed", "theta"])["T"]
-    np.testing.assert_allclose(c1.to_numpy(), -0.25 * table.set_index(["seed", "theta"]).loc[c1.index, "D12_sim"],
-                               atol=1e-7)
+    np.testing.assert_allclose(
+        c1.to_numpy(), -0.25 * table.set_index(["seed", "theta"]).loc[c1.index, "D12_sim"], atol=1e-7
+    )
 
 
 def model_gradient():
@@ -523,8 +575,9 @@ def test_simulated_state_starts_from_the_rotation_runs_first_frame(gw_runs):
     perturbation[1, 2] = perturbation[2, 1] = 0.005
     before = model.shear_rotation(np.radians(E2E_THETAS), np.array([0.0]), BETA, None, PHI, 30.0, fabric0)[:, 0]
     after = model.integrate_fabric(before + perturbation, model_gradient(), ROTATION, BETA, None, PHI)
-    rotation = pd.concat([_rows(seed, theta, ROTATION, after[k]) for k, theta in enumerate(E2E_THETAS)],
-                         ignore_index=True)
+    rotation = pd.concat(
+        [_rows(seed, theta, ROTATION, after[k]) for k, theta in enumerate(E2E_THETAS)], ignore_index=True
+    )
     mine = startup[startup["seed"] == seed]
     simulated = claims.seed_replicate(mine, rotation, PHI, (20.0, 30.0), 30.0, Choice("s", 2.0, state="simulated"))
     own = claims.seed_replicate(mine, rotation, PHI, (20.0, 30.0), 30.0, Choice("o", 2.0))
@@ -559,18 +612,27 @@ def test_seed_replicate_rejects_a_window_beyond_the_runs(gw_runs):
     """The rotation runs reach strain 2 < window 3: ValueError naming the seed."""
     startup, rotation = gw_runs
     with pytest.raises(ValueError, match="seed 2"):
-        claims.seed_replicate(startup[startup["seed"] == 2], rotation[rotation["seed"] == 2], PHI, (20.0, 30.0), 30.0,
-                              Choice("window 3", 3.0))
+        claims.seed_replicate(
+            startup[startup["seed"] == 2],
+            rotation[rotation["seed"] == 2],
+            PHI,
+            (20.0, 30.0),
+            30.0,
+            Choice("window 3", 3.0),
+        )
 
 
 # ============================================================================ 5. choices
-@pytest.mark.parametrize("field, kwargs", [
-    ("state", {"state": "frozen"}),
-    ("fit", {"fit": "transient"}),
-    ("baseline", {"baseline": "zero"}),
-    ("window", {"window": 0.0}),
-    ("window", {"window": -1.0}),
-])
+@pytest.mark.parametrize(
+    "field, kwargs",
+    [
+        ("state", {"state": "frozen"}),
+        ("fit", {"fit": "transient"}),
+        ("baseline", {"baseline": "zero"}),
+        ("window", {"window": 0.0}),
+        ("window", {"window": -1.0}),
+    ],
+)
 def test_choice_validation_names_the_field(field, kwargs):
     """state not in (own, simulated, steady), fit not in (steady, startup, paper), baseline not in
     (steady, continuation), window <= 0: ValueError whose message names Choice.<field>."""
@@ -584,8 +646,15 @@ def test_study_choices():
     curve, fit with the paper's printed values (added later, docs/verdict_statistics.md Sec. 7),
     continuation baseline; window 3 only when the runs reach strain 3."""
     choices = claims.study_choices(2.0, 2.0)
-    assert [c.name for c in choices] == ["primary", "state: simulated", "state: model steady", "window 1",
-                                         "fit: startup curve", "fit: paper's values", "baseline: theta = 0"]
+    assert [c.name for c in choices] == [
+        "primary",
+        "state: simulated",
+        "state: model steady",
+        "window 1",
+        "fit: startup curve",
+        "fit: paper's values",
+        "baseline: theta = 0",
+    ]
     by_name = {c.name: c for c in choices}
     assert by_name["primary"] == Choice("primary", 2.0)
     assert by_name["state: simulated"].state == "simulated" and by_name["state: model steady"].state == "steady"
@@ -594,8 +663,16 @@ def test_study_choices():
     assert by_name["fit: paper's values"].fit == "paper"
     assert by_name["baseline: theta = 0"].baseline == "continuation"
     longer = [c.name for c in claims.study_choices(2.0, 3.0)]
-    assert longer == ["primary", "state: simulated", "state: model steady", "window 1", "window 3",
-                      "fit: startup curve", "fit: paper's values", "baseline: theta = 0"]
+    assert longer == [
+        "primary",
+        "state: simulated",
+        "state: model steady",
+        "window 1",
+        "window 3",
+        "fit: startup curve",
+        "fit: paper's values",
+        "baseline: theta = 0",
+    ]
     assert "window 2" not in [c.name for c in claims.study_choices(2.0, 3.0)]  # W = 2 is the primary
     assert [c.name for c in claims.study_choices(1.0, 2.0)][3] == "window 2"
     assert {c.name: c.window for c in claims.study_choices(2.0, 3.0)}["window 3"] == 3.0

@@ -54,9 +54,12 @@ def verdict_rates(factor: float, mse_share: float, studies: int, seed: int, nois
     verdicts = []
     for _ in range(studies):
         e12, e23 = noise(rng, noise_scale), noise(rng, noise_scale)
-        replicates = [claims.SeedReplicate(s + 1, -0.1, {}, THETAS, STRAIN,
-                                           {"r12": sim["r12"] + e12[s], "r23": sim["r23"] + e23[s]}, models)
-                      for s in range(N_SEEDS)]
+        replicates = [
+            claims.SeedReplicate(
+                s + 1, -0.1, {}, THETAS, STRAIN, {"r12": sim["r12"] + e12[s], "r23": sim["r23"] + e23[s]}, models
+            )
+            for s in range(N_SEEDS)
+        ]
         table = claims.claim_table(claims.claim_values(claims.angle_statistics(replicates, choice)), LEVEL)
         verdicts.append(table.set_index("claim")["verdict"])
     verdicts = pd.DataFrame(verdicts)

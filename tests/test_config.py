@@ -4,7 +4,6 @@ import math
 
 import pytest
 
-
 from suspension_fabric.config import ConfigError, angle_label, load_config, validate_config
 from suspension_fabric.lammps import ForceModel, ShearSettings
 from suspension_fabric.scales import max_dt_explicit, max_dt_implicit
@@ -112,10 +111,13 @@ def test_implicit_springs_step_resolves_the_contact_relaxation_time():
         validate_config({**MINIMAL, "run": {"integrator": "explicit", "dt": 2.0e-7}})
 
 
-@pytest.mark.parametrize("run, message", [
-    ({"dt": 3.0e-5}, r"run.dt' \(3e-05\): run.startup_strain \(5\) is not a whole number of steps"),
-    ({"dt": 2.0e-5, "table_strain": 0.0014}, r"run.table_strain' \(0.0014\) gives a stride of 70 steps"),
-])
+@pytest.mark.parametrize(
+    "run, message",
+    [
+        ({"dt": 3.0e-5}, r"run.dt' \(3e-05\): run.startup_strain \(5\) is not a whole number of steps"),
+        ({"dt": 2.0e-5, "table_strain": 0.0014}, r"run.table_strain' \(0.0014\) gives a stride of 70 steps"),
+    ],
+)
 def test_rotations_start_on_the_output_grid(run, message):
     """LAMMPS writes a row or frame when the step is a multiple of the stride: a startup that
     does not end on every grid would start the rotations off it, so such a config is refused

@@ -12,9 +12,16 @@ import pytest
 import yaml
 
 from suspension_fabric.config import load_config
-from suspension_fabric.dataset import export_dataset, has_run_tables, import_run_table, read_dataset, read_dataset_stress, run_names
+from suspension_fabric.dataset import (
+    export_dataset,
+    has_run_tables,
+    import_run_table,
+    read_dataset,
+    read_dataset_stress,
+    run_names,
+)
 from suspension_fabric.stressio import read_stress_table
-from workflow_helpers import RESULTS, copy_workflow, dry_run_jobs, snakemake
+from workflow_helpers import REPO, RESULTS, copy_workflow, dry_run_jobs, snakemake
 
 pytestmark = pytest.mark.workflow
 
@@ -108,11 +115,14 @@ def test_a_dataset_without_stress_tables_builds_everything_else(study, dataset, 
     assert "has no per-run stress tables; the stress rules are left out" in plan.stdout + plan.stderr
 
 
-@pytest.mark.parametrize("key, value, message", [
-    ("seeds", [1], "config key 'seeds' differs from the dataset"),
-    ("forces", {"eta_f": 1.0, "kn": 5.0e+5}, "config key 'forces' differs from the dataset"),
-    ("analysis", {"eps": 0.02, "steady_window": [0.1, 0.3]}, "config key 'analysis.eps' differs from the dataset"),
-])
+@pytest.mark.parametrize(
+    "key, value, message",
+    [
+        ("seeds", [1], "config key 'seeds' differs from the dataset"),
+        ("forces", {"eta_f": 1.0, "kn": 5.0e5}, "config key 'forces' differs from the dataset"),
+        ("analysis", {"eps": 0.02, "steady_window": [0.1, 0.3]}, "config key 'analysis.eps' differs from the dataset"),
+    ],
+)
 def test_a_study_that_does_not_describe_the_dataset_is_refused(dataset, tmp_path, key, value, message):
     workdir = copy_workflow(tmp_path)
     config = yaml.safe_load((workdir / "config/test.yaml").read_text())
@@ -130,3 +140,35 @@ def test_a_changed_dataset_file_is_refused(dataset, tmp_path):
     table.write_text(table.read_text().replace("\n1,", "\n2,", 1))
     with pytest.raises(ValueError, match="does not match the SHA-256 recorded"):
         import_run_table(copy, "seed1/startup", "fabric.csv", tmp_path / "out.csv")
+
+
+def test_load_reads_a_dataset_and_a_results_folder_alike(study, dataset, tmp_path, monkeypatch):
+    """dataset.load: the exported dataset and the study's results folder give the same per-frame
+    tables and steady states; the results folder adds its verdicts, the dataset its config and
+    provenance (git commit, versions); a changed file and a folder that is neither are errors
+    naming the folder; the module docstring's example runs as written (on a copy of data/default)."""
+    from suspension_fabric import dataset as dataset_module
+    from suspension_fabric.dataset import load
+
+    exported, results = load(dataset), load(study / RESULTS)
+    pd.testing.assert_frame_equal(exported.fabric_startup, results.fabric_startup, check_exact=False, rtol=1e-12)
+    pd.testing.assert_frame_equal(exported.stress_rotation, results.stress_rotation, check_exact=False, rtol=1e-12)
+    mine, theirs = (x.steady_fabric.set_index(["theta", "quantity"])["mean"] for x in (exported, results))
+    pd.testing.assert_series_equal(mine, theirs.loc[mine.index], check_exact=False, rtol=1e-9)
+    assert results.verdicts is not None and exported.verdicts is None
+    assert exported.config["study"] == "test" and results.config is None
+    assert exported.provenance["kind"] == "dataset" and "numpy" in exported.provenance["versions"]
+    assert exported.fits["targets"]["n12"]["mean"] == pytest.approx(results.fits["targets"]["n12"]["mean"])
+    with pytest.raises(FileNotFoundError, match=f"{tmp_path}: neither a dataset"):
+        load(tmp_path)
+    changed = tmp_path / "changed"
+    shutil.copytree(dataset, changed)
+    (changed / "seed1/startup/fabric.csv").write_text("seed,theta\n")
+    with pytest.raises(ValueError, match="does not match the SHA-256"):
+        load(changed)
+    example = dataset_module.__doc__.split("::\n")[1].split("\n\n")[0]
+    shutil.copytree(REPO / "data" / "default", tmp_path / "data" / "reference")
+    namespace = {}
+    monkeypatch.chdir(tmp_path)
+    exec(compile(example.replace("\n    ", "\n").strip(), "dataset docstring", "exec"), namespace)
+    assert namespace["reference"].steady_fabric.set_index("quantity").loc["n12", "mean"] < 0

@@ -26,8 +26,13 @@ def test_welch_interval_equals_scipy_welch_test():
 def _startup(values_by_seed):
     """Startup runs whose every quantity is constant per seed over strain [0, 5]."""
     strain = np.linspace(0.0, 5.0, 26)
-    return pd.concat([pd.DataFrame({"seed": seed, "strain": strain, **{q: value for q in FABRIC_QUANTITIES}})
-                      for seed, value in values_by_seed.items()], ignore_index=True)
+    return pd.concat(
+        [
+            pd.DataFrame({"seed": seed, "strain": strain, **{q: value for q in FABRIC_QUANTITIES}})
+            for seed, value in values_by_seed.items()
+        ],
+        ignore_index=True,
+    )
 
 
 def test_comparison_of_two_datasets_by_hand():

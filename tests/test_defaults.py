@@ -21,11 +21,22 @@ def script_defaults(name: str) -> dict[str, str]:
 SHARED = script_defaults("shear_defaults.lmp")
 
 
-@pytest.mark.parametrize("section, key", [
-    ("forces", "eta_f"), ("forces", "kn"), ("forces", "mu"), ("forces", "delta"), ("forces", "h_out"),
-    ("run", "solver_tol"), ("run", "dt"), ("run", "dump_strain"), ("run", "table_strain"),
-    ("run", "thermo_strain"), ("run", "restart_strain"),
-])
+@pytest.mark.parametrize(
+    "section, key",
+    [
+        ("forces", "eta_f"),
+        ("forces", "kn"),
+        ("forces", "mu"),
+        ("forces", "delta"),
+        ("forces", "h_out"),
+        ("run", "solver_tol"),
+        ("run", "dt"),
+        ("run", "dump_strain"),
+        ("run", "table_strain"),
+        ("run", "thermo_strain"),
+        ("run", "restart_strain"),
+    ],
+)
 def test_shear_script_defaults_equal_the_schema(section, key):
     assert float(SHARED[key]) == schema_default(section, key)
 
@@ -40,8 +51,15 @@ def test_shear_script_text_defaults_and_python_defaults():
     assert (SHARED["newton_pair"], SHARED["lubrication"]) == (model.newton_pair, model.lubrication)
     for key in ("eta_f", "kn", "mu", "delta", "h_out"):
         assert getattr(model, key) == schema_default("forces", key), key
-    for key in ("dt", "dump_strain", "table_strain", "thermo_strain", "restart_strain",
-                "max_overlap", "max_stress_jitter"):
+    for key in (
+        "dt",
+        "dump_strain",
+        "table_strain",
+        "thermo_strain",
+        "restart_strain",
+        "max_overlap",
+        "max_stress_jitter",
+    ):
         assert getattr(settings, key) == schema_default("run", key), key
     assert float(SHARED["rate"]) == settings.rate and float(SHARED["skin"]) == settings.skin
 
@@ -51,8 +69,10 @@ def test_strain_and_packing_defaults():
     pack.lmp's particle defaults equal the schema's particles section."""
     import inspect
 
-    for script, function, key in (("startup.lmp", run_startup, "startup_strain"),
-                                  ("rotate.lmp", run_rotation, "rotation_strain")):
+    for script, function, key in (
+        ("startup.lmp", run_startup, "startup_strain"),
+        ("rotate.lmp", run_rotation, "rotation_strain"),
+    ):
         assert float(script_defaults(script)["strain_total"]) == schema_default("run", key)
         assert inspect.signature(function).parameters["strain_total"].default == schema_default("run", key)
     pack_defaults = script_defaults("pack.lmp")

@@ -24,8 +24,12 @@ def random_box(rng) -> TriclinicBox:
     """Box with all three tilts anywhere in [-L/2, L/2] (LAMMPS keeps them there with flip yes)."""
     lx, ly, lz = rng.uniform(5.0, 8.0, size=3)
     return TriclinicBox(
-        lx, ly, lz,
-        xy=rng.uniform(-0.5, 0.5) * lx, xz=rng.uniform(-0.5, 0.5) * lx, yz=rng.uniform(-0.5, 0.5) * ly,
+        lx,
+        ly,
+        lz,
+        xy=rng.uniform(-0.5, 0.5) * lx,
+        xz=rng.uniform(-0.5, 0.5) * lx,
+        yz=rng.uniform(-0.5, 0.5) * ly,
         origin=tuple(rng.uniform(-5.0, 5.0, size=3)),
     )
 
@@ -104,9 +108,7 @@ def test_threshold_is_strict_and_uses_smaller_diameter():
     contacts = near_contact_pairs(positions, radii, box.mdanalysis_dimensions(), EPS)
     expected_pairs = [(2 * q, 2 * q + 1) for q, inside in enumerate(expected) if inside]
     assert [tuple(p) for p in contacts.pairs] == expected_pairs
-    np.testing.assert_allclose(
-        contacts.gaps, [EPS * 2 * min(a) * (1 - 1e-6) for a in radius_pairs], rtol=1e-9
-    )
+    np.testing.assert_allclose(contacts.gaps, [EPS * 2 * min(a) * (1 - 1e-6) for a in radius_pairs], rtol=1e-9)
 
 
 def test_gap_exactly_at_threshold_is_not_a_near_contact():
@@ -134,12 +136,12 @@ def hand_made_configuration():
     x = np.array([1.0, 0.0, 0.0])
     layout = [
         # (first centre, radius i, radius j, unit vector i->j, centre distance, near contact?)
-        ((1.0, 1.0, 3.0), 0.5, 0.5, x, 1.005, True),            # h = 0.005 < 0.01
+        ((1.0, 1.0, 3.0), 0.5, 0.5, x, 1.005, True),  # h = 0.005 < 0.01
         ((6.0, 1.0, 3.0), 0.7, 0.7, diagonal_xy, 1.413, True),  # h = 0.013 < 0.014
-        ((1.0, 6.0, 3.0), 0.5, 0.5, y, 1.011, False),           # h = 0.011 > 0.01
-        ((6.0, 6.0, 3.0), 0.7, 0.5, diagonal_yz, 1.15, True),   # overlap h = -0.05
-        ((1.0, 1.0, 8.0), 0.7, 0.5, x, 1.212, False),           # h = 0.012 > min(d) eps
-        ((6.0, 6.0, 11.6), 0.5, 0.7, z, 1.209, True),           # across the tilted z face
+        ((1.0, 6.0, 3.0), 0.5, 0.5, y, 1.011, False),  # h = 0.011 > 0.01
+        ((6.0, 6.0, 3.0), 0.7, 0.5, diagonal_yz, 1.15, True),  # overlap h = -0.05
+        ((1.0, 1.0, 8.0), 0.7, 0.5, x, 1.212, False),  # h = 0.012 > min(d) eps
+        ((6.0, 6.0, 11.6), 0.5, 0.7, z, 1.209, True),  # across the tilted z face
     ]
     positions, radii, normals = [], [], []
     for start, ai, aj, unit, distance, inside in layout:
@@ -265,9 +267,11 @@ def synthetic_trajectory(rng, n=160, n_frames=5, first_step=2000, stride=500):
     return frames
 
 
-@pytest.mark.parametrize("columns", [("id", "type", "radius", "x", "y", "z"),
-                                     ("id", "type", "radius", "xs", "ys", "zs")],
-                         ids=["unscaled", "scaled"])
+@pytest.mark.parametrize(
+    "columns",
+    [("id", "type", "radius", "x", "y", "z"), ("id", "type", "radius", "xs", "ys", "zs")],
+    ids=["unscaled", "scaled"],
+)
 def test_trajectory_to_table_matches_kernel(tmp_path, columns):
     """Analysis rows equal the kernel on the written frames, rotated to the paper frame of theta.
 
@@ -280,7 +284,11 @@ def test_trajectory_to_table_matches_kernel(tmp_path, columns):
     path = write_lammps_dump(tmp_path / "run.dump", frames, columns=columns)
     theta_deg, dt, rate, start = 45.0, 2e-4, 0.5, 1500
     analysis = FabricAnalysis.from_dump(
-        path, dt=dt, shear_rate=rate, shear_start_step=start, flow_angle_deg=theta_deg,
+        path,
+        dt=dt,
+        shear_rate=rate,
+        shear_start_step=start,
+        flow_angle_deg=theta_deg,
         expected_n_atoms=160,
     ).run()
     table = fabric_table(analysis, seed=3)
@@ -296,7 +304,7 @@ def test_trajectory_to_table_matches_kernel(tmp_path, columns):
         got = [row.n11, row.n22, row.n33, row.n12, row.n13, row.n23]
         want = [paper[0, 0], paper[1, 1], paper[2, 2], paper[0, 1], paper[0, 2], paper[1, 2]]
         np.testing.assert_allclose(got, want, atol=1e-6)
-    phi = np.sum(4 / 3 * np.pi * frames[0].radii**3) / frames[0].box.volume
+    phi = np.sum(4 / 3 * np.pi * frames[0].radii ** 3) / frames[0].box.volume
     assert table["phi"].iloc[0] == pytest.approx(phi, rel=1e-6)
     assert (table["seed"] == 3).all() and (table["theta"] == 45.0).all() and (table["N"] == 160).all()
     csv = write_fabric_table(table, tmp_path / "run.csv")

@@ -29,8 +29,15 @@ def relaxation(target):
 
 def relaxation_model(affine, **changes):
     target = model.vec_to_sym([0.05, 0.03, 0.04, -0.02, 0.0, 0.0])
-    return fm.FabricModel(key="relax", label="relaxation", parameters=(fm.Parameter("k", 0.0, 10.0, 1.0),),
-                          steady_targets=("12",), rhs=relaxation(target), affine=affine, **changes), target
+    return fm.FabricModel(
+        key="relax",
+        label="relaxation",
+        parameters=(fm.Parameter("k", 0.0, 10.0, 1.0),),
+        steady_targets=("12",),
+        rhs=relaxation(target),
+        affine=affine,
+        **changes,
+    ), target
 
 
 @pytest.mark.parametrize("affine", [True, False])
@@ -49,20 +56,25 @@ def test_the_paper_models_through_the_interface_equal_its_equations(fabric_model
     M_paper, b_paper = model.affine_rhs(SHEAR, beta, A, PHI)
     np.testing.assert_allclose(M, M_paper, atol=1e-14)
     np.testing.assert_allclose(b, b_paper, atol=1e-14)
-    np.testing.assert_allclose(fm.shear_rotation(fabric_model, THETAS, STRAINS, params, PHI, 5.0, FABRIC0),
-                               model.shear_rotation(THETAS, STRAINS, beta, A, PHI, 5.0, FABRIC0), atol=1e-13)
-    np.testing.assert_allclose(fm.steady_state(fabric_model, params, PHI), model.steady_state_ode(beta, A, PHI),
-                               atol=1e-12)
+    np.testing.assert_allclose(
+        fm.shear_rotation(fabric_model, THETAS, STRAINS, params, PHI, 5.0, FABRIC0),
+        model.shear_rotation(THETAS, STRAINS, beta, A, PHI, 5.0, FABRIC0),
+        atol=1e-13,
+    )
+    np.testing.assert_allclose(
+        fm.steady_state(fabric_model, params, PHI), model.steady_state_ode(beta, A, PHI), atol=1e-12
+    )
 
 
 def test_the_ode_path_equals_the_exact_propagation_for_the_modified_model():
     params = {"beta": 9.4, "A": 42.4}
     as_ode = dataclasses.replace(fm.MODIFIED, affine=False, steady=None, fit=None)
-    np.testing.assert_allclose(fm.shear_rotation(as_ode, THETAS, STRAINS, params, PHI, 5.0, FABRIC0),
-                               fm.shear_rotation(fm.MODIFIED, THETAS, STRAINS, params, PHI, 5.0, FABRIC0),
-                               atol=1e-9)
-    np.testing.assert_allclose(fm.steady_state(as_ode, params, PHI), model.steady_state_ode(9.4, 42.4, PHI),
-                               atol=1e-9)
+    np.testing.assert_allclose(
+        fm.shear_rotation(as_ode, THETAS, STRAINS, params, PHI, 5.0, FABRIC0),
+        fm.shear_rotation(fm.MODIFIED, THETAS, STRAINS, params, PHI, 5.0, FABRIC0),
+        atol=1e-9,
+    )
+    np.testing.assert_allclose(fm.steady_state(as_ode, params, PHI), model.steady_state_ode(9.4, 42.4, PHI), atol=1e-9)
 
 
 def test_the_generic_steady_fit_recovers_the_exact_fit():
@@ -77,8 +89,11 @@ def test_the_generic_steady_fit_recovers_the_exact_fit():
 def test_separate_rates_reduce_to_the_modified_model_and_fit_three_components():
     """beta_e = beta_c = beta is the modified model; its steady 11, 33, 12 give back the three rates."""
     same = {"beta_e": 9.4, "beta_c": 9.4, "A": 42.4}
-    np.testing.assert_allclose(fm.shear_rotation(fm.SEPARATE_RATES, THETAS, STRAINS, same, PHI, 5.0, FABRIC0),
-                               model.shear_rotation(THETAS, STRAINS, 9.4, 42.4, PHI, 5.0, FABRIC0), atol=1e-13)
+    np.testing.assert_allclose(
+        fm.shear_rotation(fm.SEPARATE_RATES, THETAS, STRAINS, same, PHI, 5.0, FABRIC0),
+        model.shear_rotation(THETAS, STRAINS, 9.4, 42.4, PHI, 5.0, FABRIC0),
+        atol=1e-13,
+    )
     rates = {"beta_e": 12.0, "beta_c": 7.0, "A": 30.0}
     steady = fm.steady_state(fm.SEPARATE_RATES, rates, PHI)
     targets = {"11": steady[0, 0], "33": steady[2, 2], "12": steady[0, 1]}
@@ -88,9 +103,14 @@ def test_separate_rates_reduce_to_the_modified_model_and_fit_three_components():
 
 
 def test_a_model_declared_affine_that_is_not_is_refused():
-    quadratic = fm.FabricModel(key="quad", label="q", parameters=(fm.Parameter("k", 0.0, 1.0, 0.5),),
-                               steady_targets=("12",), affine=True,
-                               rhs=lambda x, flow, p, phi: -p["k"] * np.asarray(x) @ np.asarray(x))
+    quadratic = fm.FabricModel(
+        key="quad",
+        label="q",
+        parameters=(fm.Parameter("k", 0.0, 1.0, 0.5),),
+        steady_targets=("12",),
+        affine=True,
+        rhs=lambda x, flow, p, phi: -p["k"] * np.asarray(x) @ np.asarray(x),
+    )
     with pytest.raises(fm.ModelError, match="quad is declared affine but"):
         fm.integrate(quadratic, FABRIC0, SHEAR, STRAINS, {"k": 0.5}, PHI)
 
@@ -101,8 +121,13 @@ def test_parameters_are_checked_by_name_and_bounds():
     with pytest.raises(fm.ModelError, match=r"gw: beta = -1.0 outside \[0.001, 10000.0\]"):
         fm.steady_state(fm.GW, {"beta": -1.0}, PHI)
     with pytest.raises(fm.ModelError, match="steady_targets"):
-        fm.FabricModel(key="bad", label="b", parameters=(fm.Parameter("k", 0, 1, 0.5),), steady_targets=("12", "11"),
-                       rhs=lambda *a: 0)
+        fm.FabricModel(
+            key="bad",
+            label="b",
+            parameters=(fm.Parameter("k", 0, 1, 0.5),),
+            steady_targets=("12", "11"),
+            rhs=lambda *a: 0,
+        )
 
 
 def test_models_load_from_a_key_a_module_or_a_file(tmp_path):
@@ -110,13 +135,17 @@ def test_models_load_from_a_key_a_module_or_a_file(tmp_path):
     assert fm.load_model("suspension_fabric.fabric_models:SEPARATE_RATES") is fm.SEPARATE_RATES
     (tmp_path / "mine.py").write_text(
         "import dataclasses\nfrom suspension_fabric import fabric_models as fm\n"
-        "MINE = dataclasses.replace(fm.GW, key='mine', label='my G-W copy')\nNOT_A_MODEL = 3\n")
+        "MINE = dataclasses.replace(fm.GW, key='mine', label='my G-W copy')\nNOT_A_MODEL = 3\n"
+    )
     mine = fm.load_model(f"{tmp_path}/mine.py:MINE")
     assert mine.key == "mine" and mine.rhs is fm.GW.rhs
     assert list(fm.resolve_models(["gw", f"{tmp_path}/mine.py:MINE"])) == ["gw", "mine"]
-    for spec, message in [("nonsense", "expected a built-in key"), (f"{tmp_path}/none.py:X", "not found"),
-                          (f"{tmp_path}/mine.py:NOT_A_MODEL", "is int, expected"),
-                          ("no_such_module_xyz:M", "cannot import no_such_module_xyz")]:
+    for spec, message in [
+        ("nonsense", "expected a built-in key"),
+        (f"{tmp_path}/none.py:X", "not found"),
+        (f"{tmp_path}/mine.py:NOT_A_MODEL", "is int, expected"),
+        ("no_such_module_xyz:M", "cannot import no_such_module_xyz"),
+    ]:
         with pytest.raises(fm.ModelError, match=message):
             fm.load_model(spec)
     with pytest.raises(fm.ModelError, match="two entries have the key 'gw'"):
@@ -125,6 +154,7 @@ def test_models_load_from_a_key_a_module_or_a_file(tmp_path):
 
 def test_the_config_names_a_bad_model_entry_before_anything_runs(tmp_path):
     from suspension_fabric.config import ConfigError, validate_config
+
     assert validate_config({**STUDY})["models"]["fabric"] == ["gw", "modified", "separate_rates"]
     with pytest.raises(ConfigError, match=r"config key 'models.fabric': model 'gw_typo': expected a built-in key"):
         validate_config({**STUDY, "models": {"fabric": ["gw", "gw_typo"]}})

@@ -31,8 +31,12 @@ def make_table(seed, theta, strain, values, n_particles=500, phi=0.45):
         values = np.repeat(values[:, None], len(VALUE_COLUMNS), axis=1)
     table = pd.DataFrame(
         {
-            "seed": seed, "theta": float(theta), "N": n_particles, "phi": phi,
-            "step": np.arange(len(strain)) * 100, "strain": strain,
+            "seed": seed,
+            "theta": float(theta),
+            "N": n_particles,
+            "phi": phi,
+            "step": np.arange(len(strain)) * 100,
+            "strain": strain,
         }
     )
     for k, name in enumerate(VALUE_COLUMNS):
@@ -49,13 +53,20 @@ def test_run_fabric_table_uses_the_runs_time_step_first_step_and_angle(tmp_path)
     frames = [DumpFrame(1000 + 50 * k, box, base + 0.001 * k, np.full(4, 0.5)) for k in range(3)]
     dump = write_lammps_dump(tmp_path / "trajectory.dump", frames)
     marker = tmp_path / "run_complete.json"
-    marker.write_text(json.dumps({"variables": {"dt": "0.0002", "rate": "0.5", "theta_deg": "-30.0"},
-                                  "results": {"first_step": 1000}}))
+    marker.write_text(
+        json.dumps(
+            {"variables": {"dt": "0.0002", "rate": "0.5", "theta_deg": "-30.0"}, "results": {"first_step": 1000}}
+        )
+    )
     table = run_fabric_table(dump, marker, seed=4, eps=0.05)
     np.testing.assert_allclose(table["strain"], [0.0, 0.005, 0.01])
     assert (table["theta"] == -30.0).all() and (table["seed"] == 4).all()
-    expected = fabric_table(FabricAnalysis.from_dump(dump, dt=2e-4, shear_rate=0.5, shear_start_step=1000,
-                                                     flow_angle_deg=-30.0, eps=0.05).run(), seed=4)
+    expected = fabric_table(
+        FabricAnalysis.from_dump(
+            dump, dt=2e-4, shear_rate=0.5, shear_start_step=1000, flow_angle_deg=-30.0, eps=0.05
+        ).run(),
+        seed=4,
+    )
     pd.testing.assert_frame_equal(table, expected)
     assert (table["Z"] > 0).all() and (table["n13"].abs() > 1e-3).all()  # contacts, rotated frame
     assert (run_fabric_table(dump, marker, seed=4, eps=0.001)["Z"] == 0).all()
@@ -78,8 +89,10 @@ def test_aggregate_seeds_mean_and_standard_error():
     (sem undefined -> NaN). Rows are given shuffled to check sorting by strain.
     """
     strain = [0.0, 0.1, 0.2]
-    tables = [make_table(s, 30, strain, np.array(strain) * 0 + base + np.arange(3))
-              for s, base in zip((1, 2, 3), (1.0, 2.0, 4.0))]
+    tables = [
+        make_table(s, 30, strain, np.array(strain) * 0 + base + np.arange(3))
+        for s, base in zip((1, 2, 3), (1.0, 2.0, 4.0))
+    ]
     tables.append(make_table(9, 0, strain, [5.0, 6.0, 7.0]))
     table = pd.concat(tables).sample(frac=1.0, random_state=0)
     result = aggregate_seeds(table)
@@ -99,10 +112,12 @@ def test_aggregate_seeds_mean_and_standard_error():
 @pytest.mark.parametrize("other_strain", [[0.0, 0.1, 0.25], [0.0, 0.1]], ids=["shifted", "shorter"])
 def test_aggregate_seeds_rejects_different_strain_grids(other_strain):
     """Seeds of one theta whose strain grids differ raise ValueError naming theta and the seeds."""
-    table = pd.concat([
-        make_table(1, 45, [0.0, 0.1, 0.2], [1.0, 2.0, 3.0]),
-        make_table(2, 45, other_strain, np.ones(len(other_strain))),
-    ])
+    table = pd.concat(
+        [
+            make_table(1, 45, [0.0, 0.1, 0.2], [1.0, 2.0, 3.0]),
+            make_table(2, 45, other_strain, np.ones(len(other_strain))),
+        ]
+    )
     with pytest.raises(ValueError, match=r"theta=45.0: strain grid of seed 2 .* seed 1"):
         aggregate_seeds(table)
 

@@ -32,7 +32,9 @@ def test_a_stale_plugin_library_is_refused(tmp_path):
     source = plugin_sources()[0]
     old = source.stat().st_mtime - 3600
     os.utime(library, (old, old))
-    with pytest.raises(PluginBuildError, match=rf"stale LAMMPS plugin library .*{source.name}(, [\w.]+)* changed.*rebuild"):
+    with pytest.raises(
+        PluginBuildError, match=rf"stale LAMMPS plugin library .*{source.name}(, [\w.]+)* changed.*rebuild"
+    ):
         ForceModel(plugin=library).variables()
 
 
@@ -46,8 +48,11 @@ def test_a_dump_cut_mid_frame_fails_its_fabric_job_naming_the_file(study, tmp_pa
     dump = workdir / RESULTS / "seed1/startup/trajectory.dump"
     text = dump.read_text()
     dump.write_text(text[: len(text) - 200])
-    finished = {p: p.stat().st_mtime_ns for p in (workdir / RESULTS).rglob("*.csv")
-                if p != workdir / RESULTS / "seed1/startup/fabric.csv"}
+    finished = {
+        p: p.stat().st_mtime_ns
+        for p in (workdir / RESULTS).rglob("*.csv")
+        if p != workdir / RESULTS / "seed1/startup/fabric.csv"
+    }
     target = f"{RESULTS}/seed1/startup/fabric.csv"
     result = snakemake(workdir, *TEST_CONFIG, "--allowed-rules", "fabric_table", "--forcerun", target, "--", target)
     assert result.returncode != 0
@@ -81,8 +86,9 @@ def test_a_blow_up_in_one_job_lets_the_others_finish_with_keep_going(tmp_path):
     assert any(reason in log for reason in ("Lost atoms", "non-finite", "overlap", "ERROR"))
     # kept for inspection: a run that stopped as .startup.partial, one that ended but failed its
     # checks (here the overlap bound) as startup.failed
-    assert ((workdir / RESULTS / "seed2/.startup.partial").is_dir()
-            or (workdir / RESULTS / "seed2/startup.failed").is_dir())
+    assert (workdir / RESULTS / "seed2/.startup.partial").is_dir() or (
+        workdir / RESULTS / "seed2/startup.failed"
+    ).is_dir()
     assert not (workdir / RESULTS / "seed2/startup/run_complete.json").exists()
     for run in ("startup", "rotation_theta0", "rotation_theta90"):
         assert (workdir / RESULTS / f"seed1/{run}/fabric.csv").is_file(), run
@@ -92,11 +98,14 @@ def test_a_blow_up_in_one_job_lets_the_others_finish_with_keep_going(tmp_path):
     assert {p: p.stat().st_mtime_ns for p in finished} == finished
 
 
-@pytest.mark.parametrize("key, value, message", [
-    ("seeds", [1, 2, 1], "config key 'seeds': [1, 2, 1] has non-unique elements"),
-    ("angles_deg", [0, 90, 90.0], "config key 'angles_deg': [0, 90, 90.0] has non-unique elements"),
-    ("angles_deg", [30, 30.0000001], "config key 'angles_deg': angles collide after formatting"),
-])
+@pytest.mark.parametrize(
+    "key, value, message",
+    [
+        ("seeds", [1, 2, 1], "config key 'seeds': [1, 2, 1] has non-unique elements"),
+        ("angles_deg", [0, 90, 90.0], "config key 'angles_deg': [0, 90, 90.0] has non-unique elements"),
+        ("angles_deg", [30, 30.0000001], "config key 'angles_deg': angles collide after formatting"),
+    ],
+)
 def test_duplicate_seeds_or_angles_stop_before_any_job(tmp_path, key, value, message):
     workdir = copy_workflow(tmp_path)
     config = yaml.safe_load((workdir / "config/test.yaml").read_text())

@@ -20,8 +20,10 @@ FITS = {
     "gw": {"beta": 12.3456},
     "modified": {"beta": 7.891, "A": 43.21},
     "targets": {"n12": {"mean": -0.1, "sem": 0.001}},
-    "models": {"gw": {"label": "G-W (Eq. 1)", "parameters": {"beta": 12.3456}},
-               "modified": {"label": "modified G-W (Eq. 2)", "parameters": {"beta": 7.891, "A": 43.21}}},
+    "models": {
+        "gw": {"label": "G-W (Eq. 1)", "parameters": {"beta": 12.3456}},
+        "modified": {"label": "modified G-W (Eq. 2)", "parameters": {"beta": 7.891, "A": 43.21}},
+    },
 }
 STARTUP_COMPONENTS = ("n11", "n22", "n33", "n12")
 OFFSETS = {"n11": 0.3, "n22": 0.2, "n33": 0.1, "n12": -0.05}  # distinct per component
@@ -171,8 +173,18 @@ def rotation_tables(sim_thetas):
                 frame[column] = rotation_value(key, column, theta, ROTATION_STRAINS)
             rows.append(frame)
         # startup rows (another strain grid, theta 0) must stay out of the polar maps
-        rows.append(pd.DataFrame({"model": key, "protocol": "startup", "theta": 0.0,
-                                  "strain": np.linspace(0, 20, 11), "n12": 5.0, "n23": 5.0}))
+        rows.append(
+            pd.DataFrame(
+                {
+                    "model": key,
+                    "protocol": "startup",
+                    "theta": 0.0,
+                    "strain": np.linspace(0, 20, 11),
+                    "n12": 5.0,
+                    "n23": 5.0,
+                }
+            )
+        )
     return pd.concat(sim, ignore_index=True), pd.concat(rows, ignore_index=True)
 
 
@@ -214,8 +226,11 @@ def test_rotation_figure_maps_each_component_of_each_source_by_angle_and_strain(
     assert len(axes) == 6
     sim_thetas = [-180, -135, -90, -45, 0, 45, 90, 135, 180]
     model_thetas = np.arange(-180.0, 181.0, 15.0)
-    sources = [("simulation", sim_thetas, "simulation"), ("gw", model_thetas, "G-W (Eq. 1)"),
-               ("modified", model_thetas, "modified G-W (Eq. 2)")]
+    sources = [
+        ("simulation", sim_thetas, "simulation"),
+        ("gw", model_thetas, "G-W (Eq. 1)"),
+        ("modified", model_thetas, "modified G-W (Eq. 2)"),
+    ]
     maxima = {"n12": [], "n23": []}
     for r, (source, thetas, title) in enumerate(sources):
         for c, column in enumerate(("n12", "n23")):

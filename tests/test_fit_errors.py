@@ -32,8 +32,16 @@ def seed_table(seed, offset, frames) -> pd.DataFrame:
     plus ``frames`` (len(STRAINS), 3, 3) symmetrised."""
     tensors = EXACT + offset + frames
     tensors = 0.5 * (tensors + np.swapaxes(tensors, -1, -2))
-    frame = pd.DataFrame({"seed": seed, "theta": 0.0, "N": 1000, "phi": PHI,
-                          "step": np.round(STRAINS * 1e5).astype(int), "strain": STRAINS})
+    frame = pd.DataFrame(
+        {
+            "seed": seed,
+            "theta": 0.0,
+            "N": 1000,
+            "phi": PHI,
+            "step": np.round(STRAINS * 1e5).astype(int),
+            "strain": STRAINS,
+        }
+    )
     for name, (i, j) in COMPONENTS.items():
         frame[name] = tensors[:, i, j]
     frame["Z"] = 2.0 * np.trace(tensors, axis1=-2, axis2=-1)
@@ -49,8 +57,13 @@ def offset_tensor(d11=0.0, d12=0.0, rest=0.0) -> np.ndarray:
 def noisy_runs(n_seeds, seed=11) -> pd.DataFrame:
     """n seeds with random per-seed offsets (sd 0.004 in every component) and frame noise (sd 0.01)."""
     rng = np.random.default_rng(seed)
-    return pd.concat([seed_table(s, 0.004 * rng.normal(size=(3, 3)), 0.01 * rng.normal(size=(len(STRAINS), 3, 3)))
-                      for s in range(1, n_seeds + 1)], ignore_index=True)
+    return pd.concat(
+        [
+            seed_table(s, 0.004 * rng.normal(size=(3, 3)), 0.01 * rng.normal(size=(len(STRAINS), 3, 3)))
+            for s in range(1, n_seeds + 1)
+        ],
+        ignore_index=True,
+    )
 
 
 def fit(runs) -> dict:
@@ -103,7 +116,8 @@ def test_jackknife_error_is_that_of_the_leave_one_out_fits(five_seeds):
     expected = np.sqrt((n - 1) / n * np.sum((leave_one_out - leave_one_out.mean(axis=0)) ** 2, axis=0))
     np.testing.assert_allclose(values(fits, "_err"), expected, rtol=1e-9)
     assert fits["modified"]["beta_A_correlation"] == pytest.approx(
-        np.corrcoef(leave_one_out[:, 1], leave_one_out[:, 2])[0, 1], rel=1e-9)
+        np.corrcoef(leave_one_out[:, 1], leave_one_out[:, 2])[0, 1], rel=1e-9
+    )
     propagated = model_vs_simulation.propagated_fit_errors(tables.steady_state(runs, *WINDOW), PHI)
     np.testing.assert_allclose(values(fits, "_err_propagated"), list(propagated), rtol=1e-12)
     assert np.all(values(fits, "_err") > 0.0) and np.all(values(fits, "_err_propagated") > 0.0)
@@ -124,14 +138,20 @@ def correlated_runs(rho, n_seeds=6, sd11=0.004, sd12=0.002) -> pd.DataFrame:
     m = int(INSIDE.sum())
     sign = np.where(INSIDE, (-1.0) ** np.arange(len(STRAINS)), 0.0)[:, None, None]
     frames = sign * offset_tensor(sd11 * np.sqrt(m), sd12 * np.sqrt(m))
-    return pd.concat([seed_table(s + 1, offset_tensor(d11[s], d12[s]), frames) for s in range(n_seeds)],
-                     ignore_index=True)
+    return pd.concat(
+        [seed_table(s + 1, offset_tensor(d11[s], d12[s]), frames) for s in range(n_seeds)], ignore_index=True
+    )
 
 
 def gradient(n11, n12, h=1e-6) -> np.ndarray:
     """d(G-W beta, modified beta, A) / d(n11, n12), central differences: shape (3, 2)."""
-    return np.stack([(fit_by_hand(n11 + h, n12) - fit_by_hand(n11 - h, n12)) / (2 * h),
-                     (fit_by_hand(n11, n12 + h) - fit_by_hand(n11, n12 - h)) / (2 * h)], axis=1)
+    return np.stack(
+        [
+            (fit_by_hand(n11 + h, n12) - fit_by_hand(n11 - h, n12)) / (2 * h),
+            (fit_by_hand(n11, n12 + h) - fit_by_hand(n11, n12 - h)) / (2 * h),
+        ],
+        axis=1,
+    )
 
 
 @pytest.mark.parametrize("rho", [-0.95, 0.0], ids=["anticorrelated", "uncorrelated"])
@@ -194,11 +214,28 @@ def test_one_seed_gives_null_jackknife_errors(tmp_path):
 def test_fits_json_keys(five_seeds):
     """Every key other code reads is there, the errors once each under their names."""
     fits = five_seeds[1]
-    assert list(fits) == ["phi", "steady_window", "n_seeds", "fit_errors", "targets", "gw", "modified",
-                          "model_steady_state", "models"]
+    assert list(fits) == [
+        "phi",
+        "steady_window",
+        "n_seeds",
+        "fit_errors",
+        "targets",
+        "gw",
+        "modified",
+        "model_steady_state",
+        "models",
+    ]
     assert list(fits["gw"]) == ["beta", "beta_err", "beta_err_propagated", "fitted_to"]
-    assert list(fits["modified"]) == ["beta", "beta_err", "beta_err_propagated", "A", "A_err", "A_err_propagated",
-                                      "beta_A_correlation", "fitted_to"]
+    assert list(fits["modified"]) == [
+        "beta",
+        "beta_err",
+        "beta_err_propagated",
+        "A",
+        "A_err",
+        "A_err_propagated",
+        "beta_A_correlation",
+        "fitted_to",
+    ]
     assert -1.0 <= fits["modified"]["beta_A_correlation"] <= 1.0
 
 
@@ -220,12 +257,14 @@ def test_the_listed_models_section_repeats_the_paper_fits_and_fits_any_model(fiv
     the modified model the same parameters and jackknife errors as the paper's entries; a model
     with three parameters (separate rates) reproduces its three steady targets."""
     from suspension_fabric import fabric_models
+
     runs, fits = noisy_runs(5), five_seeds[1]
     for key, name in PARAMETERS:
         assert fits["models"][key]["parameters"][name] == pytest.approx(fits[key][name], rel=1e-9)
         assert fits["models"][key]["errors"][name] == pytest.approx(fits[key][f"{name}_err"], rel=1e-6)
-    listed = model_vs_simulation.fit_steady_state(tables.steady_state(runs, *WINDOW), PHI, runs, *WINDOW,
-                                                  models=fabric_models.resolve_models(["separate_rates"]))
+    listed = model_vs_simulation.fit_steady_state(
+        tables.steady_state(runs, *WINDOW), PHI, runs, *WINDOW, models=fabric_models.resolve_models(["separate_rates"])
+    )
     entry = listed["models"]["separate_rates"]
     assert list(listed["models"]) == ["separate_rates"] and entry["fitted_to"] == ["n11", "n33", "n12"]
     for component in ("n11", "n33", "n12"):

@@ -11,7 +11,9 @@ ANGLES = np.deg2rad([0.0, 30.0, 90.0, 135.0, -60.0])
 
 def test_startup_mapping():
     """At flow angle 0: e1 = x, e2 = z, e3 = -y."""
-    np.testing.assert_allclose(frames.paper_basis_in_simulation_frame(0.0), [[1, 0, 0], [0, 0, 1], [0, -1, 0]], atol=1e-15)
+    np.testing.assert_allclose(
+        frames.paper_basis_in_simulation_frame(0.0), [[1, 0, 0], [0, 0, 1], [0, -1, 0]], atol=1e-15
+    )
 
 
 @pytest.mark.parametrize("t", ANGLES)
@@ -44,7 +46,9 @@ def test_simulation_paper_round_trip_and_shear_gradient():
     """paper_to_simulation inverts simulation_to_paper; L = e1 e2 maps to du_x/dz = 1 at t = 0."""
     tensor = np.random.default_rng(1).normal(size=(3, 3))
     for t in ANGLES:
-        np.testing.assert_allclose(frames.paper_to_simulation(frames.simulation_to_paper(tensor, t), t), tensor, atol=1e-14)
+        np.testing.assert_allclose(
+            frames.paper_to_simulation(frames.simulation_to_paper(tensor, t), t), tensor, atol=1e-14
+        )
     grad_sim = frames.paper_to_simulation(frames.simple_shear_gradient(), 0.0)
     expected = np.zeros((3, 3))
     expected[0, 2] = 1.0  # xz erate 1: v_x = z

@@ -24,7 +24,8 @@ from suspension_fabric.lammps import ShearSettings, pack, run_startup
 from suspension_fabric.lammps.plugin import plugin_path
 packing = pack("packing", 20, seed=1)
 run = run_startup("startup", packing.data_file, 0.002, progress=None,
-                  settings=ShearSettings(dump_strain=0.001, table_strain=0.001, thermo_strain=0.001, restart_strain=0.001))
+                  settings=ShearSettings(dump_strain=0.001, table_strain=0.001, thermo_strain=0.001,
+                                         restart_strain=0.001))
 print(json.dumps({"checkout": str(resources.editable_checkout()), "schema": str(resources.SCHEMA_PATH),
                   "scripts": str(resources.LAMMPS_SCRIPTS_DIR), "sources": str(resources.PLUGIN_SOURCE_DIR),
                   "plugin": str(plugin_path()), "strain": run.strain}))
@@ -39,14 +40,19 @@ def test_a_regular_install_runs_without_the_checkout(tmp_path):
     for name in ("src", "config", "workflow"):
         shutil.copytree(REPO / name, source / name, ignore=shutil.ignore_patterns("__pycache__", "*.egg-info"))
     target = tmp_path / "site"
-    install = subprocess.run([sys.executable, "-m", "pip", "install", "--quiet", "--no-deps", "--target",
-                              str(target), str(source)], capture_output=True, text=True, timeout=600)
+    install = subprocess.run(
+        [sys.executable, "-m", "pip", "install", "--quiet", "--no-deps", "--target", str(target), str(source)],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert install.returncode == 0, install.stderr[-3000:]
     work = tmp_path / "work"
     work.mkdir()
     env = dict(os.environ, PYTHONPATH=str(target), SUSPENSION_FABRIC_BUILD_DIR=str(tmp_path / "plugin"))
-    result = subprocess.run([sys.executable, "-c", PROBE], cwd=work, env=env, capture_output=True,
-                            text=True, timeout=600)
+    result = subprocess.run(
+        [sys.executable, "-c", PROBE], cwd=work, env=env, capture_output=True, text=True, timeout=600
+    )
     assert result.returncode == 0, result.stderr[-3000:]
     found = json.loads(result.stdout.strip().splitlines()[-1])
     assert found["checkout"] == "None"

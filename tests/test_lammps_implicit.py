@@ -12,8 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
-
-from test_lammps_plugin import DELTA, ETA_F, H_OUT, forces_and_torques, make_system, random_spheres, reynolds_squeeze
+from test_lammps_plugin import DELTA, ETA_F, H_OUT, make_system, random_spheres, reynolds_squeeze
 
 pytestmark = pytest.mark.lammps
 
@@ -36,10 +35,13 @@ def test_free_sphere_relaxes_to_the_imposed_flow_at_a_large_step(angle_deg):
     (z - zlo)(cos t, sin t, 0) and omega = (-sin t, cos t, 0)/2 to round-off (with a solver
     tolerance below that: the solver keeps the old velocity once it is within tol)."""
     t = np.radians(angle_deg)
-    lmp = make_system([(0.3, 0.4, 7.0, 1.0, (0, 0, 0), (0, 0, 0))], pair=IMPLICIT_PAIR,
-                      extra="fix integrate all hydro/implicit/sf tol 1e-13\n"
-                            f"fix shear all deform 1 xz erate {np.cos(t)} yz erate {np.sin(t)} remap v flip yes\n"
-                            "timestep 1e-2\n")
+    lmp = make_system(
+        [(0.3, 0.4, 7.0, 1.0, (0, 0, 0), (0, 0, 0))],
+        pair=IMPLICIT_PAIR,
+        extra="fix integrate all hydro/implicit/sf tol 1e-13\n"
+        f"fix shear all deform 1 xz erate {np.cos(t)} yz erate {np.sin(t)} remap v flip yes\n"
+        "timestep 1e-2\n",
+    )
     lmp.numpy.extract_atom("v")[0] = (0.3, -2.0, 1.0)
     lmp.numpy.extract_atom("omega")[0] = (1.0, 2.0, -3.0)
     lmp.command("run 30 post no")
@@ -76,11 +78,13 @@ def test_two_spheres_pushed_together_approach_at_the_squeeze_rate(dt):
     force, gap0, duration = 15000.0, 0.02, 0.05
     centre = 5.0
     half = 0.5 + 0.5 * gap0
-    lmp = make_system([(centre - half, 5.0, 5.0, 1.0, (0, 0, 0), (0, 0, 0)),
-                       (centre + half, 5.0, 5.0, 1.0, (0, 0, 0), (0, 0, 0))], pair=IMPLICIT_PAIR,
-                      extra="group left id 1\ngroup right id 2\n"
-                            f"fix push_left left addforce {force} 0 0\nfix push_right right addforce {-force} 0 0\n"
-                            f"fix integrate all hydro/implicit/sf tol 1e-10\ntimestep {dt}\n")
+    lmp = make_system(
+        [(centre - half, 5.0, 5.0, 1.0, (0, 0, 0), (0, 0, 0)), (centre + half, 5.0, 5.0, 1.0, (0, 0, 0), (0, 0, 0))],
+        pair=IMPLICIT_PAIR,
+        extra="group left id 1\ngroup right id 2\n"
+        f"fix push_left left addforce {force} 0 0\nfix push_right right addforce {-force} 0 0\n"
+        f"fix integrate all hydro/implicit/sf tol 1e-10\ntimestep {dt}\n",
+    )
     lmp.command(f"run {round(duration / dt)} post no")
     x = atom_array(lmp, "x")
     gap = x[1, 0] - x[0, 0] - 1.0
@@ -96,10 +100,16 @@ def dense_sheared_system(newton, dt):
     box, tilt = 6.0, (0.0, 1.3, -0.7)
     shape = np.array([[box, tilt[0], tilt[1]], [0.0, box, tilt[2]], [0.0, 0.0, box]])
     atoms = random_spheres(150, shape, seed=1)
-    return make_system(atoms, box=(box,) * 3, tilt=tilt, newton=newton, pair=IMPLICIT_PAIR,
-                       extra="fix integrate all hydro/implicit/sf tol 1e-10\n"
-                             "fix shear all deform 1 xz erate 0.6 yz erate 0.8 remap v\n"
-                             f"timestep {dt}\n")
+    return make_system(
+        atoms,
+        box=(box,) * 3,
+        tilt=tilt,
+        newton=newton,
+        pair=IMPLICIT_PAIR,
+        extra="fix integrate all hydro/implicit/sf tol 1e-10\n"
+        "fix shear all deform 1 xz erate 0.6 yz erate 0.8 remap v\n"
+        f"timestep {dt}\n",
+    )
 
 
 @pytest.mark.parametrize("newton", ["on", "off"])
@@ -142,18 +152,22 @@ def test_solver_that_does_not_converge_stops_the_run():
     lmp.close()
 
 
-@pytest.mark.parametrize("pair, fixes, message", [
-    (f"lubricate/sf {ETA_F} {DELTA} {H_OUT}", "fix integrate all hydro/implicit/sf",
-     "keyword 'implicit'"),
-    (IMPLICIT_PAIR, "fix nve all nve/sphere", "needs fix hydro/implicit/sf"),
-    (IMPLICIT_PAIR, f"fix integrate all hydro/implicit/sf\nfix drag all stokes/sf {ETA_F}",
-     "remove fix stokes/sf"),
-])
+@pytest.mark.parametrize(
+    "pair, fixes, message",
+    [
+        (f"lubricate/sf {ETA_F} {DELTA} {H_OUT}", "fix integrate all hydro/implicit/sf", "keyword 'implicit'"),
+        (IMPLICIT_PAIR, "fix nve all nve/sphere", "needs fix hydro/implicit/sf"),
+        (IMPLICIT_PAIR, f"fix integrate all hydro/implicit/sf\nfix drag all stokes/sf {ETA_F}", "remove fix stokes/sf"),
+    ],
+)
 def test_inconsistent_setups_are_refused(pair, fixes, message):
     """The implicit fix and the pair style's 'implicit' keyword come together, and the drag
     is not applied twice."""
-    lmp = make_system([(3.0, 3.0, 3.0, 1.0, (0, 0, 0), (0, 0, 0)), (4.02, 3.0, 3.0, 1.0, (0, 0, 0), (0, 0, 0))],
-                      pair=pair, extra=fixes + "\n")
+    lmp = make_system(
+        [(3.0, 3.0, 3.0, 1.0, (0, 0, 0), (0, 0, 0)), (4.02, 3.0, 3.0, 1.0, (0, 0, 0), (0, 0, 0))],
+        pair=pair,
+        extra=fixes + "\n",
+    )
     with pytest.raises(Exception, match=message):
         lmp.command("run 1 post no")
     lmp.close()
@@ -166,12 +180,13 @@ def test_pair_entering_the_lubrication_range_between_rebuilds_feels_the_squeeze(
     lubricate/sf covers the lubrication range plus the skin, so the pair is listed and the
     force is the squeeze force, not zero (a size list, r < a_i + a_j + skin, would miss it)."""
     speed, gap0 = 0.49, 0.101
-    lmp = make_system([(3.0, 3.0, 3.0, 1.0, (0, 0, 0), (0, 0, 0)),
-                       (4.0 + gap0, 3.0, 3.0, 1.0, (0, 0, 0), (0, 0, 0))],
-                      extra="neighbor 0.1 bin\nneigh_modify every 1 delay 0 check yes\n"
-                            "group left id 1\ngroup right id 2\n"
-                            f"fix move_left left move linear {speed} 0 0\n"
-                            f"fix move_right right move linear {-speed} 0 0\ntimestep 1e-3\n")
+    lmp = make_system(
+        [(3.0, 3.0, 3.0, 1.0, (0, 0, 0), (0, 0, 0)), (4.0 + gap0, 3.0, 3.0, 1.0, (0, 0, 0), (0, 0, 0))],
+        extra="neighbor 0.1 bin\nneigh_modify every 1 delay 0 check yes\n"
+        "group left id 1\ngroup right id 2\n"
+        f"fix move_left left move linear {speed} 0 0\n"
+        f"fix move_right right move linear {-speed} 0 0\ntimestep 1e-3\n",
+    )
     lmp.command("run 100 post no")
     x, f = atom_array(lmp, "x"), atom_array(lmp, "f")
     lmp.close()

@@ -8,16 +8,21 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from test_lammps_implicit import IMPLICIT_PAIR, atom_array
+from test_lammps_plugin import DELTA, ETA_F, H_OUT, make_system
 
-from suspension_fabric.lammps import (
-    ForceModel, ShearSettings, iter_dump_frames, pack, read_stress_table, run_startup,
-)
 from suspension_fabric.fabric import FabricAnalysis
+from suspension_fabric.lammps import (
+    ForceModel,
+    ShearSettings,
+    iter_dump_frames,
+    pack,
+    read_stress_table,
+    run_startup,
+)
 from suspension_fabric.lammps.checks import max_overlap_in_dump
 from suspension_fabric.lammps.plugin import plugin_path
 from suspension_fabric.scales import contact_relaxation_time
-from test_lammps_implicit import IMPLICIT_PAIR, atom_array
-from test_lammps_plugin import DELTA, ETA_F, H_OUT, make_system
 
 pytestmark = pytest.mark.lammps
 
@@ -32,11 +37,22 @@ def touching_packing(tmp_path_factory):
 
 
 def short_startup(path, packing, springs, dt, strain):
-    settings = ShearSettings(dt=dt, dump_strain=strain / 4, table_strain=strain / 20,
-                             thermo_strain=strain / 20, restart_strain=strain, max_stress_jitter=None)
-    return run_startup(path, packing.data_file, strain, settings=settings, progress=None,
-                       force_model=ForceModel(plugin=plugin_path(), contact_springs=springs, kn=KN,
-                                              solver_tol=1e-5))
+    settings = ShearSettings(
+        dt=dt,
+        dump_strain=strain / 4,
+        table_strain=strain / 20,
+        thermo_strain=strain / 20,
+        restart_strain=strain,
+        max_stress_jitter=None,
+    )
+    return run_startup(
+        path,
+        packing.data_file,
+        strain,
+        settings=settings,
+        progress=None,
+        force_model=ForceModel(plugin=plugin_path(), contact_springs=springs, kn=KN, solver_tol=1e-5),
+    )
 
 
 def test_implicit_springs_are_the_granular_contact_law(tmp_path, touching_packing):
@@ -86,13 +102,15 @@ def test_contact_force_is_capped_by_coulomb_and_normal_force_is_kn_overlap():
     overlap, mu = 1e-4, 0.5
     normal = KN * overlap
     push = 2.0 * mu * normal
-    lmp = make_system([(5.0, 5.0, 5.0, 1.0, (0, 0, 0), (0, 0, 0)),
-                       (6.0 - overlap, 5.0, 5.0, 1.0, (0, 0, 0), (0, 0, 0))], pair=IMPLICIT_PAIR,
-                      extra="group left id 1\ngroup right id 2\n"
-                            f"fix push_left left addforce {normal} {-push} 0\n"
-                            f"fix push_right right addforce {-normal} {push} 0\n"
-                            f"fix integrate all hydro/implicit/sf tol 1e-12 contacts {KN} {KT} {mu}\n"
-                            "timestep 1e-5\n")
+    lmp = make_system(
+        [(5.0, 5.0, 5.0, 1.0, (0, 0, 0), (0, 0, 0)), (6.0 - overlap, 5.0, 5.0, 1.0, (0, 0, 0), (0, 0, 0))],
+        pair=IMPLICIT_PAIR,
+        extra="group left id 1\ngroup right id 2\n"
+        f"fix push_left left addforce {normal} {-push} 0\n"
+        f"fix push_right right addforce {-normal} {push} 0\n"
+        f"fix integrate all hydro/implicit/sf tol 1e-12 contacts {KN} {KT} {mu}\n"
+        "timestep 1e-5\n",
+    )
     records = []
     for _ in range(40):
         lmp.command("run 1 post no")
@@ -119,11 +137,15 @@ def chain_of_spheres(preconditioner, count=4):
     """`count` spheres (d = 1) in a straight line with surface gaps 0.01 and random velocities:
     every neighbour pair is lubricated, the pair graph is a chain (a tree)."""
     rng = np.random.default_rng(3)
-    atoms = [(3.0 + 1.01 * k, 5.0, 5.0, 1.0, tuple(rng.normal(size=3)), tuple(rng.normal(size=3)))
-             for k in range(count)]
-    return make_system(atoms, box=(12.0, 10.0, 10.0), pair=IMPLICIT_PAIR,
-                       extra=f"fix integrate all hydro/implicit/sf tol 1e-12 precond {preconditioner}\n"
-                             "timestep 1e-3\n")
+    atoms = [
+        (3.0 + 1.01 * k, 5.0, 5.0, 1.0, tuple(rng.normal(size=3)), tuple(rng.normal(size=3))) for k in range(count)
+    ]
+    return make_system(
+        atoms,
+        box=(12.0, 10.0, 10.0),
+        pair=IMPLICIT_PAIR,
+        extra=f"fix integrate all hydro/implicit/sf tol 1e-12 precond {preconditioner}\ntimestep 1e-3\n",
+    )
 
 
 def test_dilu_is_exact_on_a_tree_of_pairs():
@@ -143,16 +165,25 @@ def test_dilu_is_exact_on_a_tree_of_pairs():
     assert iterations["jacobi"] >= 3
 
 
-@pytest.mark.parametrize("pair, fix, message", [
-    (f"hybrid/overlay granular lubricate/sf {ETA_F} {DELTA} {H_OUT} implicit",
-     f"fix integrate all hydro/implicit/sf contacts {KN} {KT} 0.5", "remove the granular pair style"),
-    (IMPLICIT_PAIR, "fix integrate all hydro/implicit/sf precond ilu", "precond must be dilu or jacobi"),
-    (IMPLICIT_PAIR, f"fix integrate all hydro/implicit/sf contacts {KN} -1 0.5", "contacts needs kn > 0"),
-])
+@pytest.mark.parametrize(
+    "pair, fix, message",
+    [
+        (
+            f"hybrid/overlay granular lubricate/sf {ETA_F} {DELTA} {H_OUT} implicit",
+            f"fix integrate all hydro/implicit/sf contacts {KN} {KT} 0.5",
+            "remove the granular pair style",
+        ),
+        (IMPLICIT_PAIR, "fix integrate all hydro/implicit/sf precond ilu", "precond must be dilu or jacobi"),
+        (IMPLICIT_PAIR, f"fix integrate all hydro/implicit/sf contacts {KN} -1 0.5", "contacts needs kn > 0"),
+    ],
+)
 def test_inconsistent_contact_setups_are_refused(pair, fix, message):
     """The fix's contacts replace pair granular (never both); bad keywords name what is expected."""
-    coeffs = (f"* * granular hooke {KN} 0 tangential linear_history {KT} 0 0.5", "* * lubricate/sf") \
-        if pair.startswith("hybrid") else ("* *",)
+    coeffs = (
+        (f"* * granular hooke {KN} 0 tangential linear_history {KT} 0 0.5", "* * lubricate/sf")
+        if pair.startswith("hybrid")
+        else ("* *",)
+    )
     atoms = [(3.0, 3.0, 3.0, 1.0, (0, 0, 0), (0, 0, 0)), (4.0, 3.0, 3.0, 1.0, (0, 0, 0), (0, 0, 0))]
     with pytest.raises(Exception, match=message):
         lmp = make_system(atoms, pair=pair, pair_coeffs=coeffs, extra=fix + "\n")
@@ -168,14 +199,28 @@ def startup_fabric(path, packing, kn, strain=1.0):
     averaged over the second half of the strain."""
     tau = contact_relaxation_time(1.0, 1.0, ETA_F, DELTA, kn)
     dt = float(f"{0.024 * tau:.1g}")
-    settings = ShearSettings(dt=dt, dump_strain=0.02, table_strain=0.02, thermo_strain=0.05,
-                             restart_strain=strain, max_stress_jitter=None, max_overlap=1.0)
-    run = run_startup(path, packing.data_file, strain, settings=settings, progress=None,
-                      force_model=ForceModel(plugin=plugin_path(), kn=kn))
+    settings = ShearSettings(
+        dt=dt,
+        dump_strain=0.02,
+        table_strain=0.02,
+        thermo_strain=0.05,
+        restart_strain=strain,
+        max_stress_jitter=None,
+        max_overlap=1.0,
+    )
+    run = run_startup(
+        path,
+        packing.data_file,
+        strain,
+        settings=settings,
+        progress=None,
+        force_model=ForceModel(plugin=plugin_path(), kn=kn),
+    )
     fabric = FabricAnalysis.from_dump(run.dump_file, dt=dt).run().results
     late = fabric.strain > strain / 2
-    return np.array([fabric[c][late].mean() for c in ("n11", "n22", "n33", "n12", "n13", "n23")]), \
-        fabric.coordination[late].mean()
+    return np.array([fabric[c][late].mean() for c in ("n11", "n22", "n33", "n12", "n13", "n23")]), fabric.coordination[
+        late
+    ].mean()
 
 
 def test_fabric_is_in_the_stiff_limit_at_the_default_stiffness(tmp_path):

@@ -24,21 +24,34 @@ def built_plugin():
     return plugin_path()
 
 
-def make_system(atoms, box=(10.0, 10.0, 10.0), tilt=(0.0, 0.0, 0.0), newton="on",
-                pair=f"lubricate/sf {ETA_F} {DELTA} {H_OUT}", pair_coeffs=("* *",),
-                extra=""):
+def make_system(
+    atoms,
+    box=(10.0, 10.0, 10.0),
+    tilt=(0.0, 0.0, 0.0),
+    newton="on",
+    pair=f"lubricate/sf {ETA_F} {DELTA} {H_OUT}",
+    pair_coeffs=("* *",),
+    extra="",
+):
     """LAMMPS instance with spheres ``atoms`` = [(x, y, z, diameter, v, omega), ...]."""
     lmp = new_lammps()
     lx, ly, lz = box
     xy, xz, yz = tilt
     lines = [
-        "units lj", "atom_style sphere", "atom_modify map array", f"newton {newton}",
-        f"region box prism 0 {lx} 0 {ly} 0 {lz} {xy} {xz} {yz}", "create_box 1 box",
-        "comm_modify vel yes", "neighbor 0.3 bin",
+        "units lj",
+        "atom_style sphere",
+        "atom_modify map array",
+        f"newton {newton}",
+        f"region box prism 0 {lx} 0 {ly} 0 {lz} {xy} {xz} {yz}",
+        "create_box 1 box",
+        "comm_modify vel yes",
+        "neighbor 0.3 bin",
     ]
     for k, (x, y, z, diameter, _, _) in enumerate(atoms, start=1):
-        lines += [f"create_atoms 1 single {x} {y} {z} units box remap yes",
-                  f"set atom {k} diameter {diameter} density 1.0"]
+        lines += [
+            f"create_atoms 1 single {x} {y} {z} units box remap yes",
+            f"set atom {k} diameter {diameter} density 1.0",
+        ]
     lines += [f"pair_style {pair}"] + [f"pair_coeff {c}" for c in pair_coeffs]
     lmp.commands_string("\n".join(lines) + "\n" + extra)
     assert lmp.get_natoms() == len(atoms)
@@ -84,8 +97,9 @@ def test_free_sphere_follows_imposed_flow(box_length, angle_deg):
     spins at L/2)."""
     t = np.radians(angle_deg)
     z = 0.7 * box_length
-    lmp = make_system([(0.3, 0.4, z, 1.0, (0, 0, 0), (0, 0, 0))],
-                      box=(box_length,) * 3, pair="zero 1.0", pair_coeffs=("* *",))
+    lmp = make_system(
+        [(0.3, 0.4, z, 1.0, (0, 0, 0), (0, 0, 0))], box=(box_length,) * 3, pair="zero 1.0", pair_coeffs=("* *",)
+    )
     lmp.commands_string(f"""
 fix drag all stokes/sf {ETA_F}
 fix shear all deform 1 xz erate {np.cos(t)} yz erate {np.sin(t)} remap v flip yes
@@ -105,10 +119,8 @@ def test_drag_values_at_rest():
     """F = -3 pi eta d (v - u_inf(x)), T = -pi eta d^3 (omega - Omega_inf) for a sphere of d = 1.4
     at rest in the shear xz erate 1 (u_inf = (z, 0, 0), Omega_inf = (0, 1/2, 0))."""
     d, z = 1.4, 3.0
-    lmp = make_system([(5.0, 5.0, z, d, (0.1, -0.2, 0.3), (0.5, 0.0, -1.0))],
-                      pair="zero 1.0", pair_coeffs=("* *",))
-    lmp.commands_string(f"fix drag all stokes/sf {ETA_F}\n"
-                        "fix shear all deform 1 xz erate 1.0 remap v\n")
+    lmp = make_system([(5.0, 5.0, z, d, (0.1, -0.2, 0.3), (0.5, 0.0, -1.0))], pair="zero 1.0", pair_coeffs=("* *",))
+    lmp.commands_string(f"fix drag all stokes/sf {ETA_F}\nfix shear all deform 1 xz erate 1.0 remap v\n")
     f, t = forces_and_torques(lmp)
     np.testing.assert_allclose(f[0], -3 * np.pi * ETA_F * d * np.array([0.1 - z, -0.2, 0.3]))
     np.testing.assert_allclose(t[0], -np.pi * ETA_F * d**3 * np.array([0.5, -0.5, -1.0]))
@@ -130,8 +142,7 @@ def test_squeeze_force_matches_reynolds_formula(size_ratio, reduced_gap):
     x_i = np.array([4.0, 4.0, 5.0])
     x_j = x_i + (a_i + a_j + gap) * n
     speed_i, speed_j = 0.3, -0.2  # along n: approach speed 0.5
-    lmp = make_system([(*x_i, 2 * a_i, speed_i * n, (0, 0, 0)),
-                       (*x_j, 2 * a_j, speed_j * n, (0, 0, 0))])
+    lmp = make_system([(*x_i, 2 * a_i, speed_i * n, (0, 0, 0)), (*x_j, 2 * a_j, speed_j * n, (0, 0, 0))])
     f, t = forces_and_torques(lmp)
     expected = reynolds_squeeze(a_i, a_j, gap, speed_i - speed_j)
     np.testing.assert_allclose(f[0], -expected * n, rtol=1e-10, atol=1e-12)
@@ -153,9 +164,10 @@ def test_pair_across_sheared_periodic_boundary_sees_affine_velocity_jump():
         x_j = x_i - sep * n
         x_j_wrapped = x_j.copy()
         x_j_wrapped[2] %= 10.0
-        lmp = make_system([(*x_i, 2 * a, (x_i[2], 0, 0), (0, 0.5, 0)),
-                           (*x_j_wrapped, 2 * a, (x_j_wrapped[2], 0, 0), (0, 0.5, 0))],
-                          extra="fix shear all deform 1 xz erate 1.0 remap v\n")
+        lmp = make_system(
+            [(*x_i, 2 * a, (x_i[2], 0, 0), (0, 0.5, 0)), (*x_j_wrapped, 2 * a, (x_j_wrapped[2], 0, 0), (0, 0.5, 0))],
+            extra="fix shear all deform 1 xz erate 1.0 remap v\n",
+        )
         f, _ = forces_and_torques(lmp)
         forces.append(f)
         lmp.close()
@@ -191,8 +203,13 @@ def test_pair_forces_sum_to_zero_in_dense_sheared_packing(newton):
     atoms = random_spheres(150, shape, seed=1)
     results = {}
     for setting in ("on", "off"):
-        lmp = make_system(atoms, box=(6.0, 6.0, 6.0), tilt=(0.0, 1.3, -0.7), newton=setting,
-                          extra="fix shear all deform 1 xz erate 0.6 yz erate 0.8 remap v\n")
+        lmp = make_system(
+            atoms,
+            box=(6.0, 6.0, 6.0),
+            tilt=(0.0, 1.3, -0.7),
+            newton=setting,
+            extra="fix shear all deform 1 xz erate 0.6 yz erate 0.8 remap v\n",
+        )
         results[setting] = forces_and_torques(lmp)
         lmp.close()
     f, t = results[newton]
@@ -225,8 +242,9 @@ def test_pair_torques_conserve_angular_momentum_at_contact(size_ratio):
 
     spin = rng.normal(size=3)
     centre = 0.5 * (x_i + x_j)
-    lmp = make_system([(*x_i, 2 * a_i, np.cross(spin, x_i - centre), spin),
-                       (*x_j, 2 * a_j, np.cross(spin, x_j - centre), spin)])
+    lmp = make_system(
+        [(*x_i, 2 * a_i, np.cross(spin, x_i - centre), spin), (*x_j, 2 * a_j, np.cross(spin, x_j - centre), spin)]
+    )
     f, t = forces_and_torques(lmp)
     lmp.close()
     np.testing.assert_allclose(f, 0.0, atol=1e-8)
@@ -246,8 +264,10 @@ def test_contact_with_lubrication_overlay_respects_coulomb_bound():
     n = np.array([0.0, 0.6, 0.8])
     tangent = np.array([1.0, 0.0, 0.0])
     x_i = np.array([5.0, 5.0, 5.0])
-    atoms = [(*x_i, 2 * a_i, slip_speed * tangent, (0, 0, 0)),
-             (*(x_i + (a_i + a_j - overlap) * n), 2 * a_j, (0, 0, 0), (0, 0, 0))]
+    atoms = [
+        (*x_i, 2 * a_i, slip_speed * tangent, (0, 0, 0)),
+        (*(x_i + (a_i + a_j - overlap) * n), 2 * a_j, (0, 0, 0), (0, 0, 0)),
+    ]
 
     lubrication_only = make_system(atoms)
     f_lub, _ = forces_and_torques(lubrication_only)
@@ -255,10 +275,11 @@ def test_contact_with_lubrication_overlay_respects_coulomb_bound():
     assert np.linalg.norm(f_lub[0]) > 0.0
 
     lmp = make_system(
-        atoms, pair=f"hybrid/overlay granular lubricate/sf {ETA_F} {DELTA} {H_OUT}",
-        pair_coeffs=(f"* * granular hooke {kn} 0 tangential linear_history {kt} 0 {mu}",
-                     "* * lubricate/sf"),
-        extra=f"timestep {dt}\n")  # no integrator: positions and velocities stay fixed
+        atoms,
+        pair=f"hybrid/overlay granular lubricate/sf {ETA_F} {DELTA} {H_OUT}",
+        pair_coeffs=(f"* * granular hooke {kn} 0 tangential linear_history {kt} 0 {mu}", "* * lubricate/sf"),
+        extra=f"timestep {dt}\n",
+    )  # no integrator: positions and velocities stay fixed
     tangential_history = []
     for _ in range(40):
         lmp.command("run 1 post no")
@@ -289,13 +310,16 @@ def test_overlap_relaxes_on_the_contact_relaxation_time(size_ratio):
     tau = contact_relaxation_time(2 * a_i, 2 * a_j, eta, DELTA, kn)
     x_i = np.array([5.0, 5.0, 5.0])
     n = np.array([0.36, 0.48, 0.8])
-    atoms = [(*x_i, 2 * a_i, (0, 0, 0), (0, 0, 0)),
-             (*(x_i + (a_i + a_j - overlap0) * n), 2 * a_j, (0, 0, 0), (0, 0, 0))]
+    atoms = [
+        (*x_i, 2 * a_i, (0, 0, 0), (0, 0, 0)),
+        (*(x_i + (a_i + a_j - overlap0) * n), 2 * a_j, (0, 0, 0), (0, 0, 0)),
+    ]
     lmp = make_system(
-        atoms, pair=f"hybrid/overlay granular lubricate/sf {eta} {DELTA} {H_OUT}",
-        pair_coeffs=(f"* * granular hooke {kn} 0 tangential linear_history {2 / 7 * kn} 0 0.5",
-                     "* * lubricate/sf"),
-        extra=f"fix drag all stokes/sf {eta}\nfix nve all nve/sphere\ntimestep {dt}\n")
+        atoms,
+        pair=f"hybrid/overlay granular lubricate/sf {eta} {DELTA} {H_OUT}",
+        pair_coeffs=(f"* * granular hooke {kn} 0 tangential linear_history {2 / 7 * kn} 0 0.5", "* * lubricate/sf"),
+        extra=f"fix drag all stokes/sf {eta}\nfix nve all nve/sphere\ntimestep {dt}\n",
+    )
     steps_done = 0
     for fraction in (0.5, 1.0, 2.0):
         steps = round(fraction * tau / dt)
@@ -321,14 +345,17 @@ def test_squeeze_virial_sign_and_value(approach_speed):
     r = a_i + a_j + gap
     x_i = np.array([4.0, 5.0, 5.0])
     lmp = make_system(
-        [(*x_i, 2 * a_i, (approach_speed / 2, 0, 0), (0, 0, 0)),
-         (*(x_i + [r, 0, 0]), 2 * a_j, (-approach_speed / 2, 0, 0), (0, 0, 0))],
+        [
+            (*x_i, 2 * a_i, (approach_speed / 2, 0, 0), (0, 0, 0)),
+            (*(x_i + [r, 0, 0]), 2 * a_j, (-approach_speed / 2, 0, 0), (0, 0, 0)),
+        ],
         extra="""
 compute virial all pressure NULL virial
 compute peratom all stress/atom NULL virial
 compute peratom_sum all reduce sum c_peratom[1] c_peratom[2] c_peratom[3] c_peratom[4] c_peratom[5] c_peratom[6]
 thermo_style custom step c_virial[1] c_virial[2] c_virial[3] c_virial[4] c_virial[5] c_virial[6] c_peratom_sum[1]
-""")
+""",
+    )
     forces_and_torques(lmp)
     from lammps import LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR
 

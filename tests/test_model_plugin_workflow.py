@@ -25,7 +25,7 @@ from workflow_helpers import RESULTS, TEST_CONFIG, dry_run_jobs, snakemake
 
 pytestmark = pytest.mark.workflow
 
-TOY = '''
+TOY = """
 import numpy as np
 from suspension_fabric.fabric_models import FabricModel, Parameter
 
@@ -45,7 +45,7 @@ def toy_forms(fabric, p):
 
 TOY_RELATION = StressRelation(key="toy_relation", label="toy stress relation", forms=toy_forms,
                               parameters=(Parameter("k", 0.0, 5.0, 1.0),))
-'''
+"""
 MODELS = "models={fabric: [gw, modified, toy.py:TOY], stress: [gw, toy.py:TOY_RELATION]}"
 
 
@@ -63,8 +63,14 @@ def with_toy(study, tmp_path_factory):
 
 def test_a_model_in_the_config_reruns_the_model_rules_only(with_toy):
     _, rules = with_toy
-    assert {"fit_models", "predict", "model_errors", "stress_relation", "benchmark_models",
-            "benchmark_stress_relations"} <= rules
+    assert {
+        "fit_models",
+        "predict",
+        "model_errors",
+        "stress_relation",
+        "benchmark_models",
+        "benchmark_stress_relations",
+    } <= rules
     assert not rules & {"build_plugin", "pack", "startup", "rotate", "fabric_table", "stress_table"}
 
 
@@ -84,11 +90,16 @@ def test_the_toy_model_flows_through_fits_predictions_errors_and_stress(with_toy
     assert set(pd.read_csv(results / "tables/model_errors.csv")["model"]) == {"gw", "modified", "toy"}
     assert "rms_toy" in pd.read_csv(results / "tables/model_errors_summary.csv")
     assert set(pd.read_csv(results / "tables/stress_relation_fits.csv")["source"]) == {
-        "simulation", "gw", "modified", "toy"}
+        "simulation",
+        "gw",
+        "modified",
+        "toy",
+    }
     assert "toy relaxation" in (results / "tables/fits.html").read_text()
     board = pd.read_csv(results / "tables/leaderboard.csv")
-    assert set(zip(board["model"], board["mode"])) == {(m, f) for m in ("gw", "modified", "toy")
-                                                       for f in ("steady", "global")}
+    assert set(zip(board["model"], board["mode"])) == {
+        (m, f) for m in ("gw", "modified", "toy") for f in ("steady", "global")
+    }
     assert "toy relaxation" in (results / "tables/leaderboard.html").read_text()
 
 

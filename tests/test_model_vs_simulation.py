@@ -25,8 +25,16 @@ NOISE = 0.002
 
 
 def run_table(seed, theta, strains, tensors):
-    frame = pd.DataFrame({"seed": seed, "theta": theta, "N": 500, "phi": PHI,
-                          "step": np.round(strains * 1e5).astype(int), "strain": strains})
+    frame = pd.DataFrame(
+        {
+            "seed": seed,
+            "theta": theta,
+            "N": 500,
+            "phi": PHI,
+            "step": np.round(strains * 1e5).astype(int),
+            "strain": strains,
+        }
+    )
     for name, (i, j) in COMPONENTS.items():
         frame[name] = tensors[:, i, j]
     frame["Z"] = 2 * np.trace(tensors, axis1=-2, axis2=-1)
@@ -49,8 +57,16 @@ def synthetic():
     steady = tables.steady_state(startup, 10.0, 20.0)
     fits = model_vs_simulation.fit_steady_state(steady, PHI, startup, 10.0, 20.0)
     startup_agg, rotation_agg = tables.aggregate_seeds(startup), tables.aggregate_seeds(rotation)
-    predictions = model_vs_simulation.predict(fits, PAPER_MODELS, model_vs_simulation.initial_fabric(startup_agg), STARTUP,
-                                              STARTUP[-1], THETAS, ROTATION, extra_thetas_deg=np.arange(0, 181, 15))
+    predictions = model_vs_simulation.predict(
+        fits,
+        PAPER_MODELS,
+        model_vs_simulation.initial_fabric(startup_agg),
+        STARTUP,
+        STARTUP[-1],
+        THETAS,
+        ROTATION,
+        extra_thetas_deg=np.arange(0, 181, 15),
+    )
     return fits, startup_agg, rotation_agg, predictions
 
 
@@ -70,7 +86,8 @@ def test_error_table_ranks_generating_model_first(synthetic):
     fits, _, rotation_agg, predictions = synthetic
     errors = model_vs_simulation.model_errors(rotation_agg, predictions, fits["targets"]["n12"]["mean"], "rotation")
     pivot = errors[errors["component"].isin(["n12", "n23"])].pivot_table(
-        index="theta", columns="model", values="rms_error", aggfunc="mean")
+        index="theta", columns="model", values="rms_error", aggfunc="mean"
+    )
     assert (pivot["modified"] < 0.1).all()
     assert pivot.loc[[45.0, 90.0, 135.0], "gw"].gt(2 * pivot.loc[[45.0, 90.0, 135.0], "modified"]).all()
 
@@ -98,8 +115,10 @@ def test_prediction_grids_are_the_simulated_strains_and_angles_plus_a_polar_grid
     np.testing.assert_array_equal(grids.polar_thetas_deg, [0.0, 45.0, 90.0, 135.0, 180.0])
     # a negative simulated angle: the polar grid covers [-180, 180]
     negative = aggregate([-30.0, 60.0], lambda theta: [0.0, 0.1, 0.2])
-    np.testing.assert_array_equal(model_vs_simulation.prediction_grids(startup, negative, 60.0).polar_thetas_deg,
-                                  [-180.0, -120.0, -60.0, 0.0, 60.0, 120.0, 180.0])
+    np.testing.assert_array_equal(
+        model_vs_simulation.prediction_grids(startup, negative, 60.0).polar_thetas_deg,
+        [-180.0, -120.0, -60.0, 0.0, 60.0, 120.0, 180.0],
+    )
     with pytest.raises(ValueError, match="polar_step_deg must be positive"):
         model_vs_simulation.prediction_grids(startup, rotation, 0.0)
 
@@ -117,7 +136,9 @@ def test_predictions_on_simulation_grids_match_predict_at_the_simulated_points(s
     """The workflow's predictions (rule predict) are predict() at the simulated strains and angles
     plus the polar grid, from the simulated initial fabric."""
     fits, startup_agg, rotation_agg, predictions = synthetic
-    on_grids = model_vs_simulation.predict_on_simulation_grids(fits, PAPER_MODELS, startup_agg, rotation_agg, STARTUP[-1], 15.0)
+    on_grids = model_vs_simulation.predict_on_simulation_grids(
+        fits, PAPER_MODELS, startup_agg, rotation_agg, STARTUP[-1], 15.0
+    )
     pd.testing.assert_frame_equal(on_grids, predictions)
 
 
@@ -125,9 +146,13 @@ def test_error_tables_cover_both_protocols_and_summarise_them(synthetic):
     fits, startup_agg, rotation_agg, predictions = synthetic
     errors, summary = model_vs_simulation.error_tables(fits, predictions, startup_agg, rotation_agg)
     n12_ss = fits["targets"]["n12"]["mean"]
-    expected = pd.concat([model_vs_simulation.model_errors(startup_agg, predictions, n12_ss, "startup"),
-                          model_vs_simulation.model_errors(rotation_agg, predictions, n12_ss, "rotation")],
-                         ignore_index=True)
+    expected = pd.concat(
+        [
+            model_vs_simulation.model_errors(startup_agg, predictions, n12_ss, "startup"),
+            model_vs_simulation.model_errors(rotation_agg, predictions, n12_ss, "rotation"),
+        ],
+        ignore_index=True,
+    )
     pd.testing.assert_frame_equal(errors, expected)
     pd.testing.assert_frame_equal(summary, model_vs_simulation.summarise_errors(expected))
     assert set(summary["protocol"]) == {"startup", "rotation"}

@@ -27,14 +27,26 @@ def steady_table(fabric, sems):
     rows = []
     for quantity in VALUE_COLUMNS:
         mean = 2.0 * np.trace(fabric) if quantity == "Z" else fabric[COMPONENTS[quantity]]
-        rows.append({"theta": 0.0, "quantity": quantity, "mean": float(mean), "sem": sems.get(quantity, 0.003),
-                     "sem_between_seeds": np.nan, "tau_strain": 0.1, "n_frames": 100, "n_seeds": 3,
-                     "strain_min": 10.0, "strain_max": 20.0})
+        rows.append(
+            {
+                "theta": 0.0,
+                "quantity": quantity,
+                "mean": float(mean),
+                "sem": sems.get(quantity, 0.003),
+                "sem_between_seeds": np.nan,
+                "tau_strain": 0.1,
+                "n_frames": 100,
+                "n_seeds": 3,
+                "strain_min": 10.0,
+                "strain_max": 20.0,
+            }
+        )
     return pd.DataFrame(rows)
 
 
-@pytest.mark.parametrize("sem_11, sem_12", [(0.005, 0.002), (0.005, 0.0), (0.0, 0.002)],
-                         ids=["both", "n11-only", "n12-only"])
+@pytest.mark.parametrize(
+    "sem_11, sem_12", [(0.005, 0.002), (0.005, 0.0), (0.0, 0.002)], ids=["both", "n11-only", "n12-only"]
+)
 def test_propagated_fit_errors_match_monte_carlo_spread(sem_11, sem_12):
     """sigma_p = sqrt(sum_k (dp/dx_k sigma_k)^2) (p = G-W beta from x = <nn>_12; modified beta
     and A from x = (<nn>_11, <nn>_12)) equals the standard deviation of p fitted to
@@ -72,14 +84,23 @@ def test_summarise_errors_averages_over_angles_per_protocol_and_component():
 
     def add(protocol, component, model_key, values, thetas):
         for k, (theta, value) in enumerate(zip(thetas, values)):
-            rows.append({"protocol": protocol, "model": model_key, "theta": theta, "component": component,
-                         "rms_error": value, "max_abs_error": 10.0 * value, "n_strains": 5 + 20 * k})
+            rows.append(
+                {
+                    "protocol": protocol,
+                    "model": model_key,
+                    "theta": theta,
+                    "component": component,
+                    "rms_error": value,
+                    "max_abs_error": 10.0 * value,
+                    "n_strains": 5 + 20 * k,
+                }
+            )
 
     rotation_thetas = (45.0, 90.0, 135.0)
-    add("rotation", "n12", "gw", (0.25, 0.5, 0.75), rotation_thetas)         # mean 0.5
+    add("rotation", "n12", "gw", (0.25, 0.5, 0.75), rotation_thetas)  # mean 0.5
     add("rotation", "n12", "modified", (0.125, 0.125, 0.5), rotation_thetas)  # mean 0.25
-    add("rotation", "n23", "gw", (0.5, 1.0, 1.5), rotation_thetas)            # mean 1.0
-    add("rotation", "n23", "modified", (0.25, 0.25, 0.25), rotation_thetas)   # mean 0.25
+    add("rotation", "n23", "gw", (0.5, 1.0, 1.5), rotation_thetas)  # mean 1.0
+    add("rotation", "n23", "modified", (0.25, 0.25, 0.25), rotation_thetas)  # mean 0.25
     add("startup", "n12", "gw", (0.75,), (0.0,))
     add("startup", "n12", "modified", (0.375,), (0.0,))
     add("startup", "n11", "gw", (0.125,), (0.0,))
@@ -89,8 +110,10 @@ def test_summarise_errors_averages_over_angles_per_protocol_and_component():
     summary = model_vs_simulation.summarise_errors(errors)
     assert list(summary.columns) == ["protocol", "component", "rms_gw", "rms_modified", "gw_over_modified"]
     assert len(summary) == 4
-    got = {(row.protocol, row.component): (row.rms_gw, row.rms_modified, row.gw_over_modified)
-           for row in summary.itertuples()}
+    got = {
+        (row.protocol, row.component): (row.rms_gw, row.rms_modified, row.gw_over_modified)
+        for row in summary.itertuples()
+    }
     assert got == {
         ("rotation", "n12"): (0.5, 0.25, 2.0),
         ("rotation", "n23"): (1.0, 0.25, 4.0),

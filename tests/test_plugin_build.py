@@ -60,8 +60,13 @@ def tree(tmp_path, monkeypatch):
     compiler = FakeCompiler()
     monkeypatch.setattr(plugin_module, "subprocess", SimpleNamespace(run=compiler))
     monkeypatch.setattr(plugin_module.shutil, "which", lambda name: f"/usr/bin/{name}")
-    return SimpleNamespace(source=source, build=build, library=plugin_module.PLUGIN_LIBRARY,
-                           stamp=plugin_module._COMMAND_STAMP, compiler=compiler)
+    return SimpleNamespace(
+        source=source,
+        build=build,
+        library=plugin_module.PLUGIN_LIBRARY,
+        stamp=plugin_module._COMMAND_STAMP,
+        compiler=compiler,
+    )
 
 
 def build(tree):
@@ -82,8 +87,7 @@ def test_first_call_compiles_every_cpp_and_later_calls_reuse_the_library(tree):
     temporary file left); unchanged sources -> no further compile; force=True -> compile."""
     built_once(tree)
     command = tree.compiler.commands[0]
-    assert sorted(arg for arg in command if arg.endswith(".cpp")) == sorted(
-        str(p) for p in tree.source.glob("*.cpp"))
+    assert sorted(arg for arg in command if arg.endswith(".cpp")) == sorted(str(p) for p in tree.source.glob("*.cpp"))
     assert tree.library.read_text().count("lammpsplugin_init") >= 1
     assert sorted(p.name for p in tree.build.iterdir()) == sorted([tree.library.name, tree.stamp.name])
     assert not plugin_module._is_stale()

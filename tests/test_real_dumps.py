@@ -45,7 +45,6 @@ import shutil
 
 import numpy as np
 import pytest
-
 from MDAnalysis.lib.mdamath import triclinic_vectors
 
 from suspension_fabric.dumpio import iter_dump_frames, scan_dump
@@ -63,14 +62,17 @@ STARTUP_STRAIN = 0.02
 ROTATION_STRAIN = 0.01
 THETA_DEG = 60.0
 EPS = 0.01
-SETTINGS = ShearSettings(dt=DT, dump_strain=0.005, table_strain=0.001, thermo_strain=0.005,
-                         restart_strain=0.01)
+SETTINGS = ShearSettings(dt=DT, dump_strain=0.005, table_strain=0.001, thermo_strain=0.005, restart_strain=0.01)
 U32 = 2.0**-24  # float32 unit round-off
 
 # Paper basis of the startup shear, rows e1, e2, e3 in simulation components.
-STARTUP_BASIS = np.array([[1.0, 0.0, 0.0],    # e1 = x, flow
-                          [0.0, 0.0, 1.0],    # e2 = z, gradient
-                          [0.0, -1.0, 0.0]])  # e3 = e1 x e2 = -y, vorticity
+STARTUP_BASIS = np.array(
+    [
+        [1.0, 0.0, 0.0],  # e1 = x, flow
+        [0.0, 0.0, 1.0],  # e2 = z, gradient
+        [0.0, -1.0, 0.0],
+    ]
+)  # e3 = e1 x e2 = -y, vorticity
 
 
 def rotation_in_startup_frame(theta_deg: float) -> np.ndarray:
@@ -86,6 +88,7 @@ def rotated_basis(theta_deg: float) -> np.ndarray:
 
 # ---------------------------------------------------------------------------- the runs
 
+
 @pytest.fixture(scope="module")
 def force_model():
     return ForceModel(plugin=plugin_path())
@@ -93,17 +96,28 @@ def force_model():
 
 @pytest.fixture(scope="module")
 def startup(tmp_path_factory, force_model):
-    packing = pack(tmp_path_factory.mktemp("pack") / "packing", N_PARTICLES, phi=PHI, seed=3,
-                   gap_margin=0.0)
-    return run_startup(tmp_path_factory.mktemp("startup") / "run", packing.data_file, STARTUP_STRAIN,
-                       force_model=force_model, settings=SETTINGS, progress=None)
+    packing = pack(tmp_path_factory.mktemp("pack") / "packing", N_PARTICLES, phi=PHI, seed=3, gap_margin=0.0)
+    return run_startup(
+        tmp_path_factory.mktemp("startup") / "run",
+        packing.data_file,
+        STARTUP_STRAIN,
+        force_model=force_model,
+        settings=SETTINGS,
+        progress=None,
+    )
 
 
 @pytest.fixture(scope="module")
 def rotation(tmp_path_factory, startup, force_model):
-    return run_rotation(tmp_path_factory.mktemp("rotation") / "rot", startup.checkpoint_file,
-                        THETA_DEG, ROTATION_STRAIN, force_model=force_model, settings=SETTINGS,
-                        progress=None)
+    return run_rotation(
+        tmp_path_factory.mktemp("rotation") / "rot",
+        startup.checkpoint_file,
+        THETA_DEG,
+        ROTATION_STRAIN,
+        force_model=force_model,
+        settings=SETTINGS,
+        progress=None,
+    )
 
 
 RUNS = {
@@ -119,8 +133,16 @@ def analyses(startup, rotation):
     runs = {"startup": startup, "rotation": rotation}
     return {
         name: FabricAnalysis.from_dump(
-            runs[name].dump_file, dt=DT, shear_rate=1.0, shear_start_step=runs[name].first_step,
-            flow_angle_deg=RUNS[name][1], eps=EPS, expected_n_atoms=N_PARTICLES).run().results
+            runs[name].dump_file,
+            dt=DT,
+            shear_rate=1.0,
+            shear_start_step=runs[name].first_step,
+            flow_angle_deg=RUNS[name][1],
+            eps=EPS,
+            expected_n_atoms=N_PARTICLES,
+        )
+        .run()
+        .results
         for name in RUNS
     }
 
@@ -149,7 +171,8 @@ def reference(positions, radii, box_rows, basis) -> dict:
     thresholds = EPS * 2.0 * np.minimum(radii[i], radii[j])
     delta = 16.0 * U32 * frame_extent(positions, box_rows)
     return {
-        "pairs": pairs, "separations": separations,
+        "pairs": pairs,
+        "separations": separations,
         "fabric_simulation": normals.T @ normals / n,
         "fabric": paper_normals.T @ paper_normals / n,
         "n_pairs": len(pairs),
@@ -170,9 +193,10 @@ def text_reference(frame, basis) -> dict:
 def references(startup, rotation):
     """Brute force on the float64 text of every frame of both dumps."""
     runs = {"startup": startup, "rotation": rotation}
-    return {name: [text_reference(frame, RUNS[name][2])
-                   for frame in iter_dump_frames(runs[name].dump_file)]
-            for name in RUNS}
+    return {
+        name: [text_reference(frame, RUNS[name][2]) for frame in iter_dump_frames(runs[name].dump_file)]
+        for name in RUNS
+    }
 
 
 @pytest.fixture(scope="module")
@@ -184,16 +208,22 @@ def float32_references(startup, rotation):
     for name in RUNS:
         universe = open_dump(runs[name].dump_file)
         out[name] = [
-            {"step": int(ts.data["step"]),
-             **reference(np.asarray(ts.positions, dtype=float),
-                         np.asarray(ts.data["radius"], dtype=float),
-                         triclinic_vectors(ts.dimensions, dtype=np.float64), RUNS[name][2])}
+            {
+                "step": int(ts.data["step"]),
+                **reference(
+                    np.asarray(ts.positions, dtype=float),
+                    np.asarray(ts.data["radius"], dtype=float),
+                    triclinic_vectors(ts.dimensions, dtype=np.float64),
+                    RUNS[name][2],
+                ),
+            }
             for ts in universe.trajectory
         ]
     return out
 
 
 # ---------------------------------------------------------------------------- analysis vs brute force
+
 
 @pytest.mark.parametrize("name", list(RUNS))
 def test_paper_basis_is_the_flow_of_the_run(name, request):
@@ -230,9 +260,11 @@ def test_float32_frames_give_the_brute_force_pairs(name, references, request):
         assert ts.data["step"] == ref["step"]
         assert ref["n_pairs"] > N_PARTICLES  # near contacts present (gap_margin = 0)
         assert ref["threshold_margin"] > 2.0 * np.sqrt(3.0) * ref["delta"], (
-            f"step {ref['step']}: a pair lies within float32 round-off of the threshold")
-        contacts = near_contact_pairs(np.asarray(ts.positions, dtype=float),
-                                      np.asarray(ts.data["radius"], dtype=float), ts.dimensions, EPS)
+            f"step {ref['step']}: a pair lies within float32 round-off of the threshold"
+        )
+        contacts = near_contact_pairs(
+            np.asarray(ts.positions, dtype=float), np.asarray(ts.data["radius"], dtype=float), ts.dimensions, EPS
+        )
         np.testing.assert_array_equal(contacts.pairs, ref["pairs"])
         np.testing.assert_allclose(contacts.separations, ref["separations"], rtol=0, atol=ref["delta"])
 
@@ -253,8 +285,7 @@ def test_fabric_analysis_is_exact_on_the_float32_data_it_reads(name, analyses, f
     np.testing.assert_array_equal(results.n_pairs, [r["n_pairs"] for r in refs])
     for k, ref in enumerate(refs):
         np.testing.assert_allclose(results.fabric[k], ref["fabric"], rtol=0, atol=1e-12)
-        np.testing.assert_allclose(results.fabric_simulation[k], ref["fabric_simulation"],
-                                   rtol=0, atol=1e-12)
+        np.testing.assert_allclose(results.fabric_simulation[k], ref["fabric_simulation"], rtol=0, atol=1e-12)
         assert results.volume_fraction[k] == pytest.approx(ref["volume_fraction"], rel=1e-12)
 
 
@@ -273,21 +304,31 @@ def test_fabric_analysis_matches_brute_force_in_the_paper_frame(name, analyses, 
     results, refs = analyses[name], references[name]
     first_step = refs[0]["step"]
     np.testing.assert_array_equal(results.step, [r["step"] for r in refs])
-    np.testing.assert_allclose(results.strain, (results.step - first_step) * DT * 1.0,
-                               rtol=0, atol=1e-15)
+    np.testing.assert_allclose(results.strain, (results.step - first_step) * DT * 1.0, rtol=0, atol=1e-15)
     assert results.n_particles == N_PARTICLES
     np.testing.assert_array_equal(results.n_pairs, [r["n_pairs"] for r in refs])
-    np.testing.assert_allclose(results.coordination, [2.0 * r["n_pairs"] / N_PARTICLES for r in refs],
-                               rtol=1e-15)
+    np.testing.assert_allclose(results.coordination, [2.0 * r["n_pairs"] / N_PARTICLES for r in refs], rtol=1e-15)
     for k, ref in enumerate(refs):
         tol = ref["tensor_tol"]
         assert tol < 1e-4  # far below one pair's share, 1/N
-        np.testing.assert_allclose(results.fabric[k], ref["fabric"], rtol=0, atol=tol,
-                                   err_msg=f"{name} step {ref['step']}: paper-frame fabric")
-        np.testing.assert_allclose(results.fabric_simulation[k], ref["fabric_simulation"], rtol=0,
-                                   atol=tol, err_msg=f"{name} step {ref['step']}: simulation frame")
-        for component, (a, b) in {"n11": (0, 0), "n22": (1, 1), "n33": (2, 2), "n12": (0, 1),
-                                  "n13": (0, 2), "n23": (1, 2)}.items():
+        np.testing.assert_allclose(
+            results.fabric[k], ref["fabric"], rtol=0, atol=tol, err_msg=f"{name} step {ref['step']}: paper-frame fabric"
+        )
+        np.testing.assert_allclose(
+            results.fabric_simulation[k],
+            ref["fabric_simulation"],
+            rtol=0,
+            atol=tol,
+            err_msg=f"{name} step {ref['step']}: simulation frame",
+        )
+        for component, (a, b) in {
+            "n11": (0, 0),
+            "n22": (1, 1),
+            "n33": (2, 2),
+            "n12": (0, 1),
+            "n13": (0, 2),
+            "n23": (1, 2),
+        }.items():
             assert results[component][k] == pytest.approx(ref["fabric"][a, b], abs=tol), component
         assert results.volume_fraction[k] == pytest.approx(PHI, rel=1e-6)
         assert ref["volume_fraction"] == pytest.approx(PHI, rel=1e-9)
@@ -320,8 +361,7 @@ def test_first_rotated_frame_is_the_last_startup_frame_rotated(startup, rotation
     c, s = np.cos(np.radians(THETA_DEG)), np.sin(np.radians(THETA_DEG))
     R = rotation_in_startup_frame(THETA_DEG)
     np.testing.assert_allclose(after.fabric[0], R @ n @ R.T, rtol=0, atol=tol)
-    n11, n22, n33, n12, n13, n23 = (before[key][-1]
-                                    for key in ("n11", "n22", "n33", "n12", "n13", "n23"))
+    n11, n22, n33, n12, n13, n23 = (before[key][-1] for key in ("n11", "n22", "n33", "n12", "n13", "n23"))
     expected = {
         "n11": c**2 * n11 - 2 * c * s * n13 + s**2 * n33,
         "n22": n22,
@@ -338,6 +378,7 @@ def test_first_rotated_frame_is_the_last_startup_frame_rotated(startup, rotation
 
 # ---------------------------------------------------------------------------- truncated dumps
 
+
 def _cut(text: str, line: int, keep: int | None = None) -> str:
     """``text`` cut inside its last frame: before line ``line`` of that frame (0 = its
     'ITEM: TIMESTEP' line, 9 = its first atom line), plus ``keep`` characters of that line
@@ -345,16 +386,20 @@ def _cut(text: str, line: int, keep: int | None = None) -> str:
     start = text.rindex("ITEM: TIMESTEP")
     lines = text[start:].splitlines(keepends=True)
     offset = start + sum(len(row) for row in lines[:line])
-    return text[:offset + (len(lines[line]) // 2 if keep is None else keep)]
+    return text[: offset + (len(lines[line]) // 2 if keep is None else keep)]
 
 
 # name: (cut text, expected message after "<path>: frame 4 (step 1000) is truncated: ")
 CUTS = {
-    "mid atom line": (lambda text: _cut(text, 9 + 30),
-                      r"30 of 60 atom lines complete, the file ends inside atom line 31$"),
+    "mid atom line": (
+        lambda text: _cut(text, 9 + 30),
+        r"30 of 60 atom lines complete, the file ends inside atom line 31$",
+    ),
     "atom line boundary": (lambda text: _cut(text, 9 + 30, keep=0), r"30 of 60 atom lines complete$"),
-    "inside the last atom line": (lambda text: _cut(text, 9 + 59),
-                                  r"59 of 60 atom lines complete, the file ends inside atom line 60$"),
+    "inside the last atom line": (
+        lambda text: _cut(text, 9 + 59),
+        r"59 of 60 atom lines complete, the file ends inside atom line 60$",
+    ),
     "inside BOX BOUNDS": (lambda text: _cut(text, 6), r"the file ends inside its header$"),
 }
 
@@ -391,8 +436,9 @@ def test_fabric_analysis_rejects_a_truncated_dump(truncated):
     (2.11) drops such a frame, or reads a cut last atom line as a complete one, silently."""
     path, message, _ = truncated
     with pytest.raises(ValueError, match=message):
-        FabricAnalysis.from_dump(path, dt=DT, shear_rate=1.0, shear_start_step=0, eps=EPS,
-                                 expected_n_atoms=N_PARTICLES).run()
+        FabricAnalysis.from_dump(
+            path, dt=DT, shear_rate=1.0, shear_start_step=0, eps=EPS, expected_n_atoms=N_PARTICLES
+        ).run()
 
 
 def test_iter_dump_frames_yields_the_intact_frames_then_names_the_truncated_one(truncated):

@@ -1,6 +1,7 @@
 """The committed reference dataset v2 (data/reference, exported from config/paper.yaml; its N = 2000
 companion data/reference_n2000 from config/paper_n2000.yaml; data/stresslets, the default study's
-runs with the pair stresslets recorded, from config/config.yaml) and the study that rebuilds the paper's figures and the stress figures from it (config/reference.yaml):
+runs with the pair stresslets recorded, from config/config.yaml) and the study that rebuilds the paper's figures and
+the stress figures from it (config/reference.yaml):
 no simulation job in its plan, every run's files present with their recorded checksums, its fits
 equal to the ones recorded with the data, and a polar figure whose every cell is resolved by the
 seeds."""
@@ -25,9 +26,14 @@ pytestmark = pytest.mark.workflow
 DATASET = REPO / "data" / "reference"
 
 
-@pytest.mark.parametrize("folder, config_file, megabytes", [("reference", "reference.yaml", 30),
-                                                          ("reference_n2000", "paper_n2000.yaml", 5),
-                                                          ("stresslets", "stresslets.yaml", 6)])
+@pytest.mark.parametrize(
+    "folder, config_file, megabytes",
+    [
+        ("reference", "reference.yaml", 30),
+        ("reference_n2000", "paper_n2000.yaml", 5),
+        ("stresslets", "stresslets.yaml", 6),
+    ],
+)
 def test_the_datasets_are_complete_and_small(folder, config_file, megabytes):
     """Every run's fabric table, per-frame stress table and run record, nothing else (no
     trajectories, no raw stress), within the size budget."""
@@ -58,8 +64,12 @@ def test_the_reference_study_rebuilds_the_fits_without_simulating(tmp_path):
     assert plan.returncode == 0, (plan.stdout + plan.stderr)[-3000:]
     rules = {job["rule"] for job in dry_run_jobs(plan.stdout + plan.stderr)}
     assert not rules & {"build_plugin", "pack", "startup", "rotate", "fabric_table", "stress_table"}, rules
-    assert {"stress_relation", "figure_stress_startup", "figure_stress_rotation",
-            "benchmark_stress_relations"} <= rules, rules
+    assert {
+        "stress_relation",
+        "figure_stress_startup",
+        "figure_stress_rotation",
+        "benchmark_stress_relations",
+    } <= rules, rules
     result = snakemake(workdir, "--configfile", "config/reference.yaml", timeout=600)
     assert result.returncode == 0, result.stderr[-3000:]
     fits = json.loads((workdir / "results/reference/fits.json").read_text())
@@ -72,19 +82,24 @@ def test_the_reference_study_rebuilds_the_fits_without_simulating(tmp_path):
     for figure in ("fig3_stress.png", "fig4_stress_rotation.png"):
         assert (workdir / "results/reference/figures" / figure).is_file()
     # Fig. 2 without a patchwork: every plotted cell's seed-mean standard error within 5% of |<nn>_12^ss|
-    cells = polar_cell_errors(pd.read_csv(workdir / "results/reference/tables/rotation_aggregate.csv"),
-                              fits["targets"]["n12"]["mean"])
+    cells = polar_cell_errors(
+        pd.read_csv(workdir / "results/reference/tables/rotation_aggregate.csv"), fits["targets"]["n12"]["mean"]
+    )
     assert max(cells.values()) <= 0.05, cells
     # the model benchmark (docs/fabric_models.md): every model and fit scored; held out, G-W fitted to
     # the steady <nn>_12 stays the most accurate on <nn>'_12 and the separate-rates model fits its
     # three steady components exactly
     board = pd.read_csv(workdir / "results/reference/tables/leaderboard.csv")
-    assert set(zip(board["model"], board["mode"])) == {(m, f) for m in ("gw", "modified", "separate_rates")
-                                                       for f in ("steady", "global")}
+    assert set(zip(board["model"], board["mode"])) == {
+        (m, f) for m in ("gw", "modified", "separate_rates") for f in ("steady", "global")
+    }
     shear = board[board["component"] == "n12"].set_index(["model", "mode"])["held_out_mse"]
     assert shear.idxmin() == ("gw", "steady"), shear
     separate = fits["models"]["separate_rates"]
     for component in separate["fitted_to"]:
         assert separate["steady_state"][component] == pytest.approx(fits["targets"][component]["mean"], rel=1e-8)
     comparison = pd.read_csv(workdir / "results/reference/tables/dataset_comparison.csv")
-    assert set(comparison["dataset"]) == {"reference", *load_config(REPO / "config" / "reference.yaml")["verdicts"]["comparisons"]}
+    assert set(comparison["dataset"]) == {
+        "reference",
+        *load_config(REPO / "config" / "reference.yaml")["verdicts"]["comparisons"],
+    }

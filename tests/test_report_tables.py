@@ -7,8 +7,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from suspension_fabric import report_tables as rt
 from suspension_fabric import model_vs_simulation
+from suspension_fabric import report_tables as rt
 
 
 @pytest.mark.parametrize(
@@ -34,9 +34,17 @@ def test_format_value_error(value, error, expected):
 
 @pytest.mark.parametrize(
     "value, significant, expected",
-    [(3.2373715425731784, 3, "3.24"), (0.06494715678410383, 3, "0.0649"), (19.597673660189685, 3, "19.6"),
-     (0.9957891073525561, 3, "0.996"), (1.0, 3, "1.00"), (0.0, 4, "0"), (-0.0, 4, "0"), (2.5e-7, 2, "2.5e-07"),
-     (None, 3, "—")],
+    [
+        (3.2373715425731784, 3, "3.24"),
+        (0.06494715678410383, 3, "0.0649"),
+        (19.597673660189685, 3, "19.6"),
+        (0.9957891073525561, 3, "0.996"),
+        (1.0, 3, "1.00"),
+        (0.0, 4, "0"),
+        (-0.0, 4, "0"),
+        (2.5e-7, 2, "2.5e-07"),
+        (None, 3, "—"),
+    ],
 )
 def test_format_number(value, significant, expected):
     assert rt.format_number(value, significant) == expected
@@ -53,15 +61,27 @@ def fits():
     """fits.json as :func:`model_vs_simulation.fit_steady_state` writes it (values of the default study;
     the propagated errors are those of the reference study)."""
     return {
-        "phi": 0.45, "steady_window": [2.0, 5.0], "n_seeds": 3, "fit_errors": model_vs_simulation.FIT_ERRORS,
-        "targets": {"n11": {"mean": 0.5465, "sem": 0.00193}, "n12": {"mean": -0.10306, "sem": 0.00194},
-                    "Z": {"mean": 3.4748, "sem": 0.01035}},
+        "phi": 0.45,
+        "steady_window": [2.0, 5.0],
+        "n_seeds": 3,
+        "fit_errors": model_vs_simulation.FIT_ERRORS,
+        "targets": {
+            "n11": {"mean": 0.5465, "sem": 0.00193},
+            "n12": {"mean": -0.10306, "sem": 0.00194},
+            "Z": {"mean": 3.4748, "sem": 0.01035},
+        },
         "gw": {"beta": 10.747, "beta_err": 0.18753, "beta_err_propagated": 0.0901, "fitted_to": ["n12"]},
-        "modified": {"beta": 9.2517, "beta_err": None, "beta_err_propagated": 0.0392,
-                     "A": 44.763, "A_err": 0.30719, "A_err_propagated": 0.2255, "beta_A_correlation": 0.9756,
-                     "fitted_to": ["n11", "n12"]},
-        "model_steady_state": {"gw": {"n11": 0.20831, "n12": -0.10306},
-                               "modified": {"n11": 0.54653, "n12": -0.10306}},
+        "modified": {
+            "beta": 9.2517,
+            "beta_err": None,
+            "beta_err_propagated": 0.0392,
+            "A": 44.763,
+            "A_err": 0.30719,
+            "A_err_propagated": 0.2255,
+            "beta_A_correlation": 0.9756,
+            "fitted_to": ["n11", "n12"],
+        },
+        "model_steady_state": {"gw": {"n11": 0.20831, "n12": -0.10306}, "modified": {"n11": 0.54653, "n12": -0.10306}},
         "provenance": {"study": "default", "seeds": [1, 2, 3], "N": 500},
     }
 
@@ -69,8 +89,13 @@ def fits():
 def test_fit_parameters_table(fits):
     """Both errors, named: the jackknife over seeds (fits.json <parameter>_err) and the propagated one."""
     table = rt.fit_parameters_table(fits)
-    assert list(table.columns) == ["Model", "Parameter", "Value ± 1σ (jackknife over seeds)",
-                                   "Value ± 1σ (propagated)", "Fitted to (steady state)"]
+    assert list(table.columns) == [
+        "Model",
+        "Parameter",
+        "Value ± 1σ (jackknife over seeds)",
+        "Value ± 1σ (propagated)",
+        "Fitted to (steady state)",
+    ]
     assert table.values.tolist() == [
         ["G-W (Eq. 1)", "β", "10.75 ± 0.19", "10.747 ± 0.090", "⟨nn⟩₁₂"],
         ["modified G-W (Eq. 2)", "β", "9.252 ± —", "9.252 ± 0.039", "⟨nn⟩₁₁, ⟨nn⟩₁₂"],  # null error in fits.json
@@ -105,8 +130,13 @@ def test_fit_targets_table(fits):
 
 def test_fit_settings(fits):
     settings = dict(rt.fit_settings(fits).values.tolist())
-    assert settings == {"Volume fraction φ": "0.45", "Steady-state strain window": "2 ≤ γ ≤ 5",
-                        "Seeds (independent packings)": "3", "Particles N": "500", "Study": "default"}
+    assert settings == {
+        "Volume fraction φ": "0.45",
+        "Steady-state strain window": "2 ≤ γ ≤ 5",
+        "Seeds (independent packings)": "3",
+        "Particles N": "500",
+        "Study": "default",
+    }
 
 
 def test_fits_round_trip_through_fits_json(tmp_path, fits):
@@ -120,18 +150,38 @@ def test_fits_round_trip_through_fits_json(tmp_path, fits):
 def steady_rows(thetas=(0.0,)):
     rows = []
     for theta in thetas:
-        for quantity, mean, sem in [("n11", 0.5465273, 0.0019303), ("n12", -0.1030627, 0.0019439),
-                                    ("Z", 3.4747638, 0.0103463)]:
-            rows.append({"theta": theta, "quantity": quantity, "mean": mean, "sem": sem,
-                         "sem_between_seeds": 0.00337, "tau_strain": 0.1387, "n_frames": 151, "n_seeds": 3,
-                         "strain_min": 2.0, "strain_max": 5.0})
+        for quantity, mean, sem in [
+            ("n11", 0.5465273, 0.0019303),
+            ("n12", -0.1030627, 0.0019439),
+            ("Z", 3.4747638, 0.0103463),
+        ]:
+            rows.append(
+                {
+                    "theta": theta,
+                    "quantity": quantity,
+                    "mean": mean,
+                    "sem": sem,
+                    "sem_between_seeds": 0.00337,
+                    "tau_strain": 0.1387,
+                    "n_frames": 151,
+                    "n_seeds": 3,
+                    "strain_min": 2.0,
+                    "strain_max": 5.0,
+                }
+            )
     return pd.DataFrame(rows)
 
 
 def test_steady_state_table():
     table = rt.steady_state_table(steady_rows())
-    assert list(table.columns) == ["Quantity", "Mean ± s.e.", "s.e. between seeds", "Autocorrelation strain",
-                                   "Frames per seed", "Seeds"]
+    assert list(table.columns) == [
+        "Quantity",
+        "Mean ± s.e.",
+        "s.e. between seeds",
+        "Autocorrelation strain",
+        "Frames per seed",
+        "Seeds",
+    ]
     assert table.values.tolist() == [
         ["⟨nn⟩₁₁", "0.5465 ± 0.0019", "0.0034", "0.14", "151", "3"],
         ["⟨nn⟩₁₂", "-0.1031 ± 0.0019", "0.0034", "0.14", "151", "3"],
@@ -151,14 +201,23 @@ def test_steady_state_table_without_between_seed_error():
 
 
 def test_error_summary_table():
-    summary = pd.DataFrame({
-        "protocol": ["startup", "rotation"], "component": ["n11", "Z"],
-        "rms_gw": [3.2373715, 19.1134576], "rms_modified": [0.6368932, 7.4424335],
-        "gw_over_modified": [5.0830684, 2.5681731],
-    })
+    summary = pd.DataFrame(
+        {
+            "protocol": ["startup", "rotation"],
+            "component": ["n11", "Z"],
+            "rms_gw": [3.2373715, 19.1134576],
+            "rms_modified": [0.6368932, 7.4424335],
+            "gw_over_modified": [5.0830684, 2.5681731],
+        }
+    )
     table = rt.error_summary_table(summary)
-    assert list(table.columns) == ["Protocol", "Quantity", "rms error, G-W (Eq. 1)",
-                                   "rms error, modified G-W (Eq. 2)", "Ratio G-W / modified"]
+    assert list(table.columns) == [
+        "Protocol",
+        "Quantity",
+        "rms error, G-W (Eq. 1)",
+        "rms error, modified G-W (Eq. 2)",
+        "Ratio G-W / modified",
+    ]
     assert table.values.tolist() == [
         ["startup shear", "⟨nn⟩₁₁", "3.24", "0.637", "5.08"],
         ["shear rotation", "Z", "19.1", "7.44", "2.57"],
@@ -167,11 +226,20 @@ def test_error_summary_table():
 
 def test_error_summary_table_from_summarise_errors():
     """Columns as model_vs_simulation.summarise_errors produces them."""
-    errors = pd.DataFrame([
-        {"protocol": "startup", "model": model, "theta": 0.0, "component": "n12", "rms_error": rms,
-         "max_abs_error": rms, "n_strains": 5}
-        for model, rms in (("gw", 0.4), ("modified", 0.2))
-    ])
+    errors = pd.DataFrame(
+        [
+            {
+                "protocol": "startup",
+                "model": model,
+                "theta": 0.0,
+                "component": "n12",
+                "rms_error": rms,
+                "max_abs_error": rms,
+                "n_strains": 5,
+            }
+            for model, rms in (("gw", 0.4), ("modified", 0.2))
+        ]
+    )
     table = rt.error_summary_table(model_vs_simulation.summarise_errors(errors))
     assert table.values.tolist() == [["startup shear", "⟨nn⟩₁₂", "0.400", "0.200", "2.00"]]
 
@@ -226,8 +294,15 @@ def test_report_pages(tmp_path, fits):
     steady_page = parse(rt.write_steady_state_page(steady_rows(), tmp_path / "steady.html"))
     assert steady_page.captions == ["Simulated steady state over the strain window 2 ≤ γ ≤ 5"]
     assert "-0.1031 ± 0.0019" in steady_page.cells
-    summary = pd.DataFrame({"protocol": ["startup"], "component": ["n12"], "rms_gw": [0.327],
-                            "rms_modified": [0.3284], "gw_over_modified": [0.327 / 0.3284]})
+    summary = pd.DataFrame(
+        {
+            "protocol": ["startup"],
+            "component": ["n12"],
+            "rms_gw": [0.327],
+            "rms_modified": [0.3284],
+            "gw_over_modified": [0.327 / 0.3284],
+        }
+    )
     errors_page = parse(rt.write_error_summary_page(summary, tmp_path / "errors.html"))
     assert errors_page.captions[0].startswith("Angle-averaged rms error")
     assert ["startup shear", "⟨nn⟩₁₂", "0.327", "0.328", "0.996"] == errors_page.cells[-5:]

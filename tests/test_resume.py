@@ -45,21 +45,27 @@ def packing(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def uninterrupted(tmp_path_factory, packing):
-    return run_startup(tmp_path_factory.mktemp("whole") / "run", packing.data_file, STRAIN,
-                       force_model=ForceModel(plugin=plugin_path(), **FORCES),
-                       settings=ShearSettings(**SETTINGS), progress=None)
+    return run_startup(
+        tmp_path_factory.mktemp("whole") / "run",
+        packing.data_file,
+        STRAIN,
+        force_model=ForceModel(plugin=plugin_path(), **FORCES),
+        settings=ShearSettings(**SETTINGS),
+        progress=None,
+    )
 
 
-RUNNER = """
+RUNNER = f"""
 import sys
 from suspension_fabric.lammps import ForceModel, ShearSettings, run_startup
-run_startup(sys.argv[1], sys.argv[2], {strain}, force_model=ForceModel(plugin=sys.argv[3], **{forces}),
-            settings=ShearSettings(**{settings}), overwrite=True, progress=None)
-""".format(strain=STRAIN, forces=FORCES, settings=SETTINGS)
+run_startup(sys.argv[1], sys.argv[2], {STRAIN}, force_model=ForceModel(plugin=sys.argv[3], **{FORCES}),
+            settings=ShearSettings(**{SETTINGS}), overwrite=True, progress=None)
+"""
 
 
-def kill_after_restarts(process: subprocess.Popen, partial: Path, restarts: int = 2,
-                        also_kill_group: bool = False) -> None:
+def kill_after_restarts(
+    process: subprocess.Popen, partial: Path, restarts: int = 2, also_kill_group: bool = False
+) -> None:
     """Wait until ``restarts`` restart files exist in the partial run, then SIGKILL the lmp
     process group (and, with ``also_kill_group``, the group of ``process`` itself first)."""
     names = ["restart.a.rst", "restart.b.rst"][:restarts]
@@ -83,17 +89,27 @@ def kill_after_restarts(process: subprocess.Popen, partial: Path, restarts: int 
 
 def start_and_kill(tmp_path: Path, packing) -> Path:
     output = tmp_path / "run"
-    process = subprocess.Popen([sys.executable, "-c", RUNNER, str(output), str(packing.data_file),
-                                str(plugin_path())], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                               start_new_session=True)
+    process = subprocess.Popen(
+        [sys.executable, "-c", RUNNER, str(output), str(packing.data_file), str(plugin_path())],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
     kill_after_restarts(process, tmp_path / ".run.partial")
     assert not output.exists()
     return output
 
 
 def resume(output: Path, packing, capsys):
-    result = run_startup(output, packing.data_file, STRAIN, force_model=ForceModel(plugin=plugin_path(), **FORCES),
-                         settings=ShearSettings(**SETTINGS), overwrite=True, progress=None)
+    result = run_startup(
+        output,
+        packing.data_file,
+        STRAIN,
+        force_model=ForceModel(plugin=plugin_path(), **FORCES),
+        settings=ShearSettings(**SETTINGS),
+        overwrite=True,
+        progress=None,
+    )
     return result, capsys.readouterr().err
 
 
@@ -168,8 +184,15 @@ def test_changed_settings_discard_the_partial_run(tmp_path, packing, capsys):
     changed setting and the run starts from strain 0."""
     output = start_and_kill(tmp_path, packing)
     other = dict(SETTINGS, table_strain=0.02)
-    result = run_startup(output, packing.data_file, STRAIN, force_model=ForceModel(plugin=plugin_path(), **FORCES),
-                         settings=ShearSettings(**other), overwrite=True, progress=None)
+    result = run_startup(
+        output,
+        packing.data_file,
+        STRAIN,
+        force_model=ForceModel(plugin=plugin_path(), **FORCES),
+        settings=ShearSettings(**other),
+        overwrite=True,
+        progress=None,
+    )
     messages = capsys.readouterr().err
     assert "changed: variables.table_strain" in messages and "starting from strain 0" in messages
     assert result.segments == 1
@@ -183,8 +206,7 @@ def test_snakemake_killed_with_its_simulation_resumes_it(tmp_path):
     up to the restart step."""
     config = yaml.safe_load((Path(__file__).parents[1] / "config" / "test.yaml").read_text())
     config.update(study="resume", seeds=[1], angles_deg=[0])
-    config["run"].update(startup_strain=STRAIN, rotation_strain=1.0,
-                         **{k: v for k, v in SETTINGS.items() if k != "dt"})
+    config["run"].update(startup_strain=STRAIN, rotation_strain=1.0, **{k: v for k, v in SETTINGS.items() if k != "dt"})
     config["analysis"]["steady_window"] = [10.0, STRAIN]
     target = "results/resume/seed1/startup/run_complete.json"
 
@@ -195,11 +217,32 @@ def test_snakemake_killed_with_its_simulation_resumes_it(tmp_path):
 
     killed = copy_workflow(tmp_path / "killed")
     (killed / "config" / "resume.yaml").write_text(yaml.safe_dump(config))
-    assert snakemake(killed, "--configfile", "config/resume.yaml", "--", "build/plugin/libsuspension_fabric_lammps.so",
-                     "results/resume/seed1/packing/packing.data").returncode == 0
-    process = subprocess.Popen([str(Path(sys.executable).with_name("snakemake")), "--cores", "2",
-                                "--configfile", "config/resume.yaml", "--", target], cwd=killed,
-                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    assert (
+        snakemake(
+            killed,
+            "--configfile",
+            "config/resume.yaml",
+            "--",
+            "build/plugin/libsuspension_fabric_lammps.so",
+            "results/resume/seed1/packing/packing.data",
+        ).returncode
+        == 0
+    )
+    process = subprocess.Popen(
+        [
+            str(Path(sys.executable).with_name("snakemake")),
+            "--cores",
+            "2",
+            "--configfile",
+            "config/resume.yaml",
+            "--",
+            target,
+        ],
+        cwd=killed,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
     kill_after_restarts(process, killed / "results/resume/seed1/.startup.partial", also_kill_group=True)
     assert not (killed / target).exists()
 

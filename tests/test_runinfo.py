@@ -16,9 +16,11 @@ def write_marker(path, variables, results):
 
 
 def test_rotation_marker(tmp_path):
-    marker = write_marker(tmp_path / "run_complete.json",
-                          {"dt": "2e-05", "rate": "1.0", "theta_deg": "-22.5", "kn": "1250000000.0"},
-                          {"first_step": 250000, "last_step": 325000, "strain": 1.5})
+    marker = write_marker(
+        tmp_path / "run_complete.json",
+        {"dt": "2e-05", "rate": "1.0", "theta_deg": "-22.5", "kn": "1250000000.0"},
+        {"first_step": 250000, "last_step": 325000, "strain": 1.5},
+    )
     assert read_run_info(marker) == RunInfo(dt=2e-5, rate=1.0, first_step=250000, theta_deg=-22.5)
 
 
@@ -32,12 +34,15 @@ def test_startup_marker_has_angle_zero(tmp_path, theta):
     assert info == RunInfo(dt=2e-7, rate=0.5, first_step=0, theta_deg=0.0)
 
 
-@pytest.mark.parametrize(("variables", "results", "message"), [
-    ({"rate": "1.0"}, {"first_step": 0}, r"missing variables\.dt"),
-    ({"dt": "1e-5"}, {"first_step": 0}, r"missing variables\.rate"),
-    ({"dt": "1e-5", "rate": "1.0"}, {}, r"missing results\.first_step"),
-    ({"dt": "fast", "rate": "1.0"}, {"first_step": 0}, r"variables\.dt = 'fast' is not a float"),
-])
+@pytest.mark.parametrize(
+    ("variables", "results", "message"),
+    [
+        ({"rate": "1.0"}, {"first_step": 0}, r"missing variables\.dt"),
+        ({"dt": "1e-5"}, {"first_step": 0}, r"missing variables\.rate"),
+        ({"dt": "1e-5", "rate": "1.0"}, {}, r"missing results\.first_step"),
+        ({"dt": "fast", "rate": "1.0"}, {"first_step": 0}, r"variables\.dt = 'fast' is not a float"),
+    ],
+)
 def test_bad_markers_name_the_file_and_the_key(tmp_path, variables, results, message):
     marker = write_marker(tmp_path / "run_complete.json", variables, results)
     with pytest.raises(ValueError, match=message) as caught:

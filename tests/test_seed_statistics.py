@@ -92,17 +92,20 @@ def test_t_interval_rejects_level_outside_unit_interval(level):
 
 
 # ----------------------------------------------------------------------------- decide
-@pytest.mark.parametrize("low, high, verdict", [
-    (0.1, 0.5, "confirmed"),          # entirely above 0
-    (1e-300, 1.0, "confirmed"),
-    (-0.5, -0.1, "refuted"),          # entirely below 0
-    (-1.0, -1e-300, "refuted"),
-    (-0.1, 0.2, "undecided"),         # straddles 0
-    (0.0, 0.3, "undecided"),          # touches 0 from above: lo > 0 fails
-    (-0.3, 0.0, "undecided"),         # touches 0 from below: hi < 0 fails
-    (0.0, 0.0, "undecided"),
-    (-np.inf, np.inf, "undecided"),
-])
+@pytest.mark.parametrize(
+    "low, high, verdict",
+    [
+        (0.1, 0.5, "confirmed"),  # entirely above 0
+        (1e-300, 1.0, "confirmed"),
+        (-0.5, -0.1, "refuted"),  # entirely below 0
+        (-1.0, -1e-300, "refuted"),
+        (-0.1, 0.2, "undecided"),  # straddles 0
+        (0.0, 0.3, "undecided"),  # touches 0 from above: lo > 0 fails
+        (-0.3, 0.0, "undecided"),  # touches 0 from below: hi < 0 fails
+        (0.0, 0.0, "undecided"),
+        (-np.inf, np.inf, "undecided"),
+    ],
+)
 def test_decide(low, high, verdict):
     """confirmed iff low > 0, refuted iff high < 0, undecided otherwise."""
     interval = Interval(mean=0.0, se=1.0, low=low, high=high, n=3, level=0.95)  # only low, high matter
@@ -118,15 +121,18 @@ def _brute_force_seeds(mean: float, sd: float, level: float, n_max: int = 5000) 
     return float(n[np.argmax(ok)]) if ok.any() else np.inf
 
 
-@pytest.mark.parametrize("values", [
-    [0.1, -0.05, 0.3],                  # undecided with 3 seeds
-    [1.0, -0.8, 0.5, 0.2],
-    [0.01, -0.2, 0.25, 0.05, -0.07],
-    [-0.4, 0.1, -0.3],                  # negative mean: |mean| counts
-    [1.0, 1.1, 0.9],                    # already decided: the answer may be below n
-    [5.0, 5.1],
-    [0.02, -0.3, 0.31, 0.1, -0.1, 0.02],  # needs thousands (2287 at 95 %)
-])
+@pytest.mark.parametrize(
+    "values",
+    [
+        [0.1, -0.05, 0.3],  # undecided with 3 seeds
+        [1.0, -0.8, 0.5, 0.2],
+        [0.01, -0.2, 0.25, 0.05, -0.07],
+        [-0.4, 0.1, -0.3],  # negative mean: |mean| counts
+        [1.0, 1.1, 0.9],  # already decided: the answer may be below n
+        [5.0, 5.1],
+        [0.02, -0.3, 0.31, 0.1, -0.1, 0.02],  # needs thousands (2287 at 95 %)
+    ],
+)
 @pytest.mark.parametrize("level", [0.95, 0.9])
 def test_seeds_needed_brute_force(values, level):
     """seeds_needed = smallest n >= 2 with t_{(1+level)/2, n-1} sd / sqrt(n) < |mean| (mean, sd of the
@@ -172,16 +178,19 @@ def test_seeds_needed_zero_spread_is_two():
 
 
 # ----------------------------------------------------------------------------- jackknife
-@pytest.mark.parametrize("values", [
-    [0.3, -0.1, 0.5],
-    [1.0, 2.0, 3.0, 4.0, 5.0],
-    [2.0, 2.5],
-    [0.12, 0.08, 0.11, 0.3, -0.02, 0.07, 0.15],
-])
+@pytest.mark.parametrize(
+    "values",
+    [
+        [0.3, -0.1, 0.5],
+        [1.0, 2.0, 3.0, 4.0, 5.0],
+        [2.0, 2.5],
+        [0.12, 0.08, 0.11, 0.3, -0.02, 0.07, 0.15],
+    ],
+)
 def test_jackknife_of_mean_is_standard_error(values):
     """For the mean, the jackknife error sqrt((n-1)/n sum (m_(i) - m_(.))^2) equals sd(ddof=1)/sqrt(n)
     exactly (m_(i) - m_(.) = -(x_i - xbar)/(n - 1))."""
-    per_seed = dict(zip([11, 23, 5, 42, 7, 8, 9][:len(values)], values))
+    per_seed = dict(zip([11, 23, 5, 42, 7, 8, 9][: len(values)], values))
 
     def statistic(seeds):
         return sum(per_seed[s] for s in seeds) / len(seeds)

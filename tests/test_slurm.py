@@ -51,16 +51,21 @@ def cluster():
 def run_on_slurm(workdir, *args):
     """The README's cluster command (no --cores: each job's threads are its own)."""
     started = datetime.now() - timedelta(minutes=1)
-    result = subprocess.run([str(SNAKEMAKE), *TEST_CONFIG, *PROFILE, *args], cwd=workdir,
-                            capture_output=True, text=True, timeout=1800)
+    result = subprocess.run(
+        [str(SNAKEMAKE), *TEST_CONFIG, *PROFILE, *args], cwd=workdir, capture_output=True, text=True, timeout=1800
+    )
     assert result.returncode == 0, result.stderr[-4000:]
     return result, started
 
 
 def started_jobs(output: str) -> list[tuple[bool, str, str]]:
     """(local, rule, Snakemake job id) of every job the log says was started."""
-    return [(bool(local), rule, jobid) for local, rule, jobid in
-            re.findall(r"^(local)?rule (\w+):\n(?:    .*\n)*?    jobid: (\d+)$", output, flags=re.M)]
+    return [
+        (bool(local), rule, jobid)
+        for local, rule, jobid in re.findall(
+            r"^(local)?rule (\w+):\n(?:    .*\n)*?    jobid: (\d+)$", output, flags=re.M
+        )
+    ]
 
 
 def sbatch_submissions(output: str) -> list[tuple[str, str]]:
@@ -73,8 +78,22 @@ def sacct_jobs(output: str, started: datetime) -> dict[str, dict]:
     job after the run's id and puts the rule and wildcards in its comment)."""
     run_id = re.search(r"SLURM run ID: (\S+)", output).group(1)
     table = subprocess.run(
-        ["sacct", "-X", "-P", "-n", "--name", run_id, "-S", started.strftime("%Y-%m-%dT%H:%M:%S"),
-         "-o", ",".join(SACCT_FIELDS)], capture_output=True, text=True, check=True).stdout
+        [
+            "sacct",
+            "-X",
+            "-P",
+            "-n",
+            "--name",
+            run_id,
+            "-S",
+            started.strftime("%Y-%m-%dT%H:%M:%S"),
+            "-o",
+            ",".join(SACCT_FIELDS),
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
     rows = [dict(zip(SACCT_FIELDS, line.split("|", len(SACCT_FIELDS) - 1))) for line in table.splitlines()]
     return {row["JobIDRaw"]: row for row in rows}
 
@@ -125,14 +144,21 @@ def test_two_mpi_ranks_run_as_one_two_task_slurm_job(cluster, tmp_path):
     """run.mpi_ranks = 2 (explicit integrator with explicit springs, dt below its 5.5e-5 limit,
     the lubrication squeeze at the test study's eta_f = 1):
     one SLURM job of 2 tasks x 1 core on one node, in which LAMMPS runs on a 2-rank grid."""
-    node_cpus = subprocess.run(["sinfo", "-h", "-p", cluster[1], "-o", "%c"], capture_output=True,
-                               text=True, check=True).stdout.split()
+    node_cpus = subprocess.run(
+        ["sinfo", "-h", "-p", cluster[1], "-o", "%c"], capture_output=True, text=True, check=True
+    ).stdout.split()
     if max(int(cpus.rstrip("+")) for cpus in node_cpus) < 2:
         pytest.skip("no node of the partition has 2 cores")
     workdir = copy_workflow(tmp_path)
     target = f"{RESULTS}/seed1/startup/run_complete.json"
-    result, started = run_on_slurm(workdir, "--config", "seeds=[1]",
-                                   "run={integrator: explicit, contact_springs: explicit, mpi_ranks: 2, dt: 4.0e-5}", "--", target)
+    result, started = run_on_slurm(
+        workdir,
+        "--config",
+        "seeds=[1]",
+        "run={integrator: explicit, contact_springs: explicit, mpi_ranks: 2, dt: 4.0e-5}",
+        "--",
+        target,
+    )
     sacct = sacct_jobs(result.stderr, started)
     startup = [row for row in sacct.values() if rule_of(row["Comment"]) == "startup"]
     assert len(startup) == 1

@@ -41,8 +41,10 @@ PREFIXES = ("", "kinetic_", "contact_", "lubrication_", "stresslet_")
 def synthetic_table(rows=7, seed=0, first_step=0, every=10):
     """A table of random values in every column of the current format (shear_run.lmp)."""
     rng = np.random.default_rng(seed)
-    table = {"step": first_step + every * np.arange(rows, dtype=float),
-             "strain": every * 1e-3 * np.arange(rows, dtype=float)}
+    table = {
+        "step": first_step + every * np.arange(rows, dtype=float),
+        "strain": every * 1e-3 * np.arange(rows, dtype=float),
+    }
     for prefix in PREFIXES:
         for name in LAMMPS_ORDER:
             table[prefix + name] = rng.normal(size=rows) * 50.0
@@ -76,7 +78,9 @@ def hand_symmetrised_contact(table):
     """P_sym: diagonal as stored, P_xy + T_z/2V, P_xz - T_y/2V, P_yz + T_x/2V."""
     v2 = 2.0 * table["vol"]
     return dict(
-        pxx=table["contact_pxx"], pyy=table["contact_pyy"], pzz=table["contact_pzz"],
+        pxx=table["contact_pxx"],
+        pyy=table["contact_pyy"],
+        pzz=table["contact_pzz"],
         pxy=table["contact_pxy"] + table["contact_torque_z"] / v2,
         pxz=table["contact_pxz"] - table["contact_torque_y"] / v2,
         pyz=table["contact_pyz"] + table["contact_torque_x"] / v2,
@@ -108,11 +112,15 @@ def test_particle_parts_match_the_explicit_paper_frame_formulas(angle_deg):
         expected = explicit_paper_components(*sigma, t)
         tensor = parts[part]
         assert tensor.shape == (len(table["step"]), 3, 3)
-        np.testing.assert_allclose(tensor, np.swapaxes(tensor, -1, -2), rtol=0,
-                                   atol=1e-14 * np.abs(tensor).max())
+        np.testing.assert_allclose(tensor, np.swapaxes(tensor, -1, -2), rtol=0, atol=1e-14 * np.abs(tensor).max())
         for component, (a, b) in INDEX.items():
-            np.testing.assert_allclose(tensor[:, a, b], expected[component], rtol=1e-12, atol=1e-12,
-                                       err_msg=f"{part}_{component} at t = {angle_deg}")
+            np.testing.assert_allclose(
+                tensor[:, a, b],
+                expected[component],
+                rtol=1e-12,
+                atol=1e-12,
+                err_msg=f"{part}_{component} at t = {angle_deg}",
+            )
 
 
 @pytest.mark.parametrize("angle_deg", ANGLES_DEG)
@@ -124,8 +132,7 @@ def test_solvent_and_einstein_parts_are_pure_12_in_every_frame(angle_deg):
     for part, value in (("solvent", 1.0), ("einstein", 2.5 * PHI)):
         expected = np.zeros((3, 3))
         expected[0, 1] = expected[1, 0] = value
-        np.testing.assert_allclose(parts[part], np.broadcast_to(expected, parts[part].shape),
-                                   rtol=0, atol=1e-15)
+        np.testing.assert_allclose(parts[part], np.broadcast_to(expected, parts[part].shape), rtol=0, atol=1e-15)
 
 
 @pytest.mark.parametrize("angle_deg", [0.0, 137.5])
@@ -137,8 +144,7 @@ def test_total_is_the_sum_of_the_parts(angle_deg):
     parts = stress_parts(table, eta_f=ETA_F, rate=RATE, phi=PHI, theta_deg=angle_deg)
     summed = sum(parts[name] for name in PARTS if name != "total")
     np.testing.assert_allclose(parts["total"], summed, rtol=1e-14, atol=1e-14)
-    changed = dict(table, pxx=table["pxx"] + 1e3, pxz=table["pxz"] - 7.0,
-                   stresslet_pxz=table["stresslet_pxz"] + 50.0)
+    changed = dict(table, pxx=table["pxx"] + 1e3, pxz=table["pxz"] - 7.0, stresslet_pxz=table["stresslet_pxz"] + 50.0)
     again = stress_parts(changed, eta_f=ETA_F, rate=RATE, phi=PHI, theta_deg=angle_deg)
     np.testing.assert_array_equal(again["total"], parts["total"])
     assert not np.allclose(again["stresslet"], parts["stresslet"])
@@ -157,8 +163,7 @@ def test_stresslet_part_is_nan_where_not_recorded(tmp_path):
         assert np.isnan(parts["stresslet"]).all()
         for name in PARTS:
             np.testing.assert_array_equal(parts[name], full[name])
-    frames = stress_on_frames(older, [20, 40], first_step=0, eta_f=ETA_F, rate=RATE, phi=PHI,
-                              theta_deg=30.0)
+    frames = stress_on_frames(older, [20, 40], first_step=0, eta_f=ETA_F, rate=RATE, phi=PHI, theta_deg=30.0)
     frames.insert(0, "seed", 1)
     for name, value in (("theta", 30.0), ("N", 40), ("phi", PHI), ("strain", [0.02, 0.04])):
         frames[name] = value
@@ -187,8 +192,10 @@ def lammps_contact_row(pairs, volume):
     yz = r_y F_z), and the summed torque T = -sum r x F (the lever-arm identity)."""
     full = sum(np.outer(r, f) for r, f in pairs) / volume
     torque = -sum(np.cross(r, f) for r, f in pairs)
-    row = {f"contact_{name}": np.array([full[a, b]]) for name, (a, b) in
-           zip(LAMMPS_ORDER, ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)))}
+    row = {
+        f"contact_{name}": np.array([full[a, b]])
+        for name, (a, b) in zip(LAMMPS_ORDER, ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)))
+    }
     row.update({f"contact_torque_{k}": np.array([torque[n]]) for n, k in enumerate("xyz")})
     row["vol"] = np.array([volume])
     return row
@@ -224,8 +231,9 @@ def test_contact_symmetrisation_leaves_central_forces_alone():
     pairs = [(r, -2.5 * r) for r in rng.normal(size=(4, 3))]
     row = lammps_contact_row(pairs, 50.0)
     np.testing.assert_allclose([row[f"contact_torque_{k}"][0] for k in "xyz"], 0.0, atol=1e-12)
-    np.testing.assert_allclose(symmetric_contact_pressure(row), pressure_tensors(row, "contact_"),
-                               rtol=1e-14, atol=1e-14)
+    np.testing.assert_allclose(
+        symmetric_contact_pressure(row), pressure_tensors(row, "contact_"), rtol=1e-14, atol=1e-14
+    )
 
 
 # ------------------------------------------------------------------ frames and windows
@@ -254,13 +262,11 @@ def test_stress_on_frames_windows_and_skips_the_set_up_row():
     {105, 110}, {115, ..., 130} and {135, ..., 150}; the set-up row at first_step = 100 is never
     used (its value 1e9 would show)."""
     table = windowing_table()
-    frames = stress_on_frames(table, [100, 120, 140], first_step=100, eta_f=ETA_F, rate=RATE,
-                              phi=PHI, theta_deg=0.0)
+    frames = stress_on_frames(table, [100, 120, 140], first_step=100, eta_f=ETA_F, rate=RATE, phi=PHI, theta_deg=0.0)
     np.testing.assert_array_equal(frames["step"], [100, 120, 140])
     np.testing.assert_array_equal(frames["n_rows"], [2, 4, 4])
     expected_steps = [np.mean([105, 110]), np.mean([115, 120, 125, 130]), np.mean([135, 140, 145, 150])]
-    np.testing.assert_allclose(frames["lubrication_12"], np.array(expected_steps) / (ETA_F * RATE),
-                               rtol=1e-14)
+    np.testing.assert_allclose(frames["lubrication_12"], np.array(expected_steps) / (ETA_F * RATE), rtol=1e-14)
     assert list(frames.columns[:2]) == ["step", "n_rows"]
     expected_columns = {f"{p}_{c}" for p in PARTS for c in PAPER_COMPONENTS} | {"eta_r", "N1", "N2", "Pi"}
     assert expected_columns <= set(frames.columns)
@@ -270,8 +276,7 @@ def test_stress_on_frames_single_frame_uses_its_own_row():
     """One frame: no frame spacing, so h = half the row spacing (5 steps): only the row at that
     very step is used."""
     table = windowing_table()
-    frames = stress_on_frames(table, [150], first_step=100, eta_f=ETA_F, rate=RATE, phi=PHI,
-                              theta_deg=0.0)
+    frames = stress_on_frames(table, [150], first_step=100, eta_f=ETA_F, rate=RATE, phi=PHI, theta_deg=0.0)
     assert frames["n_rows"].tolist() == [1]
     np.testing.assert_allclose(frames["lubrication_12"], [150.0 / (ETA_F * RATE)], rtol=1e-14)
 
@@ -285,8 +290,7 @@ def test_frame_at_the_set_up_step_takes_the_first_rows_after_it():
     kwargs = dict(first_step=100, eta_f=ETA_F, rate=RATE, phi=PHI, theta_deg=0.0)
     frames = stress_on_frames(table, [100, 104, 108], **kwargs)
     np.testing.assert_array_equal(frames["n_rows"], [1, 1, 1])
-    np.testing.assert_allclose(frames["lubrication_12"], np.array([105.0, 105.0, 110.0]) / (ETA_F * RATE),
-                               rtol=1e-14)
+    np.testing.assert_allclose(frames["lubrication_12"], np.array([105.0, 105.0, 110.0]) / (ETA_F * RATE), rtol=1e-14)
     alone = stress_on_frames(table, [100], **kwargs)
     np.testing.assert_allclose(alone["lubrication_12"], [105.0 / (ETA_F * RATE)], rtol=1e-14)
 
@@ -325,8 +329,7 @@ def test_derived_quantities_of_a_pure_shear_table():
     """A table with only solvent and Einstein parts: eta_r = 1 + 2.5 phi, N1 = N2 = Pi = 0."""
     table = windowing_table()
     table["lubrication_pxz"] = np.zeros_like(table["step"])
-    frames = stress_on_frames(table, [120, 140], first_step=100, eta_f=ETA_F, rate=RATE, phi=PHI,
-                              theta_deg=63.0)
+    frames = stress_on_frames(table, [120, 140], first_step=100, eta_f=ETA_F, rate=RATE, phi=PHI, theta_deg=63.0)
     np.testing.assert_allclose(frames["eta_r"], 1.0 + 2.5 * PHI, rtol=1e-15)
     np.testing.assert_allclose(frames[["N1", "N2", "Pi"]].to_numpy(), 0.0, atol=1e-15)
 
@@ -334,8 +337,10 @@ def test_derived_quantities_of_a_pure_shear_table():
 # ------------------------------------------------------------------ old-format tables
 
 
-OLD_HEADER = ("step strain pxx pyy pzz pxy pxz pyz press contact_pxz contact_pyz contact_press "
-              "lubrication_pxz lubrication_pyz lubrication_press xz yz lz").split()
+OLD_HEADER = (
+    "step strain pxx pyy pzz pxy pxz pyz press contact_pxz contact_pyz contact_press "
+    "lubrication_pxz lubrication_pyz lubrication_press xz yz lz"
+).split()
 
 
 def old_format_table(rows=3):
@@ -358,8 +363,9 @@ def test_old_format_table_errors_name_the_missing_columns():
     assert "lubrication_pxz" not in message and "rerun" in message
     with pytest.raises(ValueError, match="kinetic_pxx"):
         pressure_tensors(table, "kinetic_")
-    with_torque = dict(table, contact_torque_x=table["step"], contact_torque_y=table["step"],
-                       contact_torque_z=table["step"])
+    with_torque = dict(
+        table, contact_torque_x=table["step"], contact_torque_y=table["step"], contact_torque_z=table["step"]
+    )
     with pytest.raises(ValueError, match="lacks column 'vol'"):
         symmetric_contact_pressure(with_torque)
 
@@ -384,10 +390,23 @@ def write_run(tmp_path, table, *, first_step, dt, rate, theta=None, eta_f="223.0
 
 
 def write_fabric(tmp_path, steps, *, theta, phi, first_step, dt, rate, seed=5, n=40):
-    fabric = pd.DataFrame({"seed": seed, "theta": theta, "N": n, "phi": phi, "step": steps,
-                           "strain": (np.asarray(steps) - first_step) * dt * rate,
-                           "n11": 0.1, "n22": 0.1, "n33": 0.1, "n12": 0.0, "n13": 0.0, "n23": 0.0,
-                           "Z": 0.6})
+    fabric = pd.DataFrame(
+        {
+            "seed": seed,
+            "theta": theta,
+            "N": n,
+            "phi": phi,
+            "step": steps,
+            "strain": (np.asarray(steps) - first_step) * dt * rate,
+            "n11": 0.1,
+            "n22": 0.1,
+            "n33": 0.1,
+            "n12": 0.0,
+            "n13": 0.0,
+            "n23": 0.0,
+            "Z": 0.6,
+        }
+    )
     path = tmp_path / "fabric.csv"
     fabric.to_csv(path, index=False)
     return path
@@ -401,15 +420,13 @@ def test_run_stress_table_end_to_end(tmp_path):
     table = windowing_table()
     table["kinetic_pxx"] = np.linspace(-1.0, 1.0, len(table["step"]))
     stress_txt, marker = write_run(tmp_path, table, first_step=100, dt=2e-3, rate=RATE, theta=30.0)
-    fabric = write_fabric(tmp_path, [100, 120, 140], theta=30.0, phi=PHI, first_step=100, dt=2e-3,
-                          rate=RATE)
+    fabric = write_fabric(tmp_path, [100, 120, 140], theta=30.0, phi=PHI, first_step=100, dt=2e-3, rate=RATE)
     out = run_stress_table(stress_txt, marker, fabric)
     assert list(out.columns) == list(STRESS_TABLE_COLUMNS)
     np.testing.assert_array_equal(out["step"], [100, 120, 140])
     np.testing.assert_allclose(out["strain"], [0.0, 20 * 2e-3 * RATE, 40 * 2e-3 * RATE])
     assert (out["seed"] == 5).all() and (out["N"] == 40).all() and np.allclose(out["theta"], 30.0)
-    direct = stress_on_frames(table, [100, 120, 140], first_step=100, eta_f=223.0, rate=RATE,
-                              phi=PHI, theta_deg=30.0)
+    direct = stress_on_frames(table, [100, 120, 140], first_step=100, eta_f=223.0, rate=RATE, phi=PHI, theta_deg=30.0)
     for column in stress.STRESS_VALUE_COLUMNS:
         np.testing.assert_allclose(out[column], direct[column], rtol=1e-12, atol=1e-14, err_msg=column)
     np.testing.assert_allclose(out["einstein_12"], 2.5 * PHI, rtol=1e-15)
@@ -468,9 +485,12 @@ def test_with_lubrication_stress_swaps_the_stresslets_in():
     swapped = stress.with_lubrication_stress(frame, "stresslet")
     for c in PAPER_COMPONENTS:
         np.testing.assert_array_equal(swapped[f"lubrication_{c}"], frame[f"stresslet_{c}"])
-        np.testing.assert_allclose(swapped[f"total_{c}"],
-                                   frame[f"total_{c}"] - frame[f"lubrication_{c}"] + frame[f"stresslet_{c}"],
-                                   rtol=1e-13, atol=1e-13)
+        np.testing.assert_allclose(
+            swapped[f"total_{c}"],
+            frame[f"total_{c}"] - frame[f"lubrication_{c}"] + frame[f"stresslet_{c}"],
+            rtol=1e-13,
+            atol=1e-13,
+        )
         np.testing.assert_array_equal(swapped[f"contact_{c}"], frame[f"contact_{c}"])
     np.testing.assert_array_equal(swapped["eta_r"], swapped["total_12"])
     np.testing.assert_allclose(swapped["N1"], swapped["total_11"] - swapped["total_22"], rtol=1e-13)
@@ -478,8 +498,7 @@ def test_with_lubrication_stress_swaps_the_stresslets_in():
     trace = sum(frame[f"{p}_{c}"] for p in ("contact", "stresslet", "kinetic") for c in ("11", "22", "33"))
     np.testing.assert_allclose(swapped["Pi"], -trace / 3.0, rtol=1e-13)
     with pytest.raises(ValueError, match=r"runs/x\.csv: analysis.lubrication_stress = stresslet, but 1 row"):
-        stress.with_lubrication_stress(frame.assign(stresslet_23=[0.0, np.nan, 0.0, 0.0]), "stresslet",
-                                       "runs/x.csv")
+        stress.with_lubrication_stress(frame.assign(stresslet_23=[0.0, np.nan, 0.0, 0.0]), "stresslet", "runs/x.csv")
     with pytest.raises(ValueError, match="must be one of \\['dipole', 'stresslet'\\], got 'virial'"):
         stress.with_lubrication_stress(frame, "virial")
 
@@ -488,16 +507,18 @@ def test_read_stress_csv_applies_the_choice_and_names_an_old_file(tmp_path):
     """read_stress_csv(path, 'stresslet') on a table with stresslets equals with_lubrication_stress
     of the plain read; on a CSV from before the stresslets were recorded it fails naming the file."""
     rng = np.random.default_rng(2)
-    frame = pd.DataFrame({"seed": 1, "theta": 0.0, "N": 40, "phi": PHI, "step": [10, 20, 30],
-                          "strain": [0.01, 0.02, 0.03], "n_rows": 2})
+    frame = pd.DataFrame(
+        {"seed": 1, "theta": 0.0, "N": 40, "phi": PHI, "step": [10, 20, 30], "strain": [0.01, 0.02, 0.03], "n_rows": 2}
+    )
     for p in (*PARTS, "stresslet"):
         for c in PAPER_COMPONENTS:
             frame[f"{p}_{c}"] = rng.normal(size=3)
     frame = derived_quantities(frame)
     path = tmp_path / "stress.csv"
     frame.to_csv(path, index=False)
-    pd.testing.assert_frame_equal(read_stress_csv(path, "stresslet"),
-                                  stress.with_lubrication_stress(read_stress_csv(path), "stresslet"))
+    pd.testing.assert_frame_equal(
+        read_stress_csv(path, "stresslet"), stress.with_lubrication_stress(read_stress_csv(path), "stresslet")
+    )
     old = tmp_path / "old.csv"
     frame.drop(columns=list(stress.OPTIONAL_COLUMNS)).to_csv(old, index=False)
     with pytest.raises(ValueError, match=f"{old}: analysis.lubrication_stress = stresslet"):
@@ -514,6 +535,9 @@ def test_recorded_value_columns_leave_out_what_no_run_recorded():
     assert set(kept) == set(stress.STRESS_VALUE_COLUMNS) - set(stress.OPTIONAL_COLUMNS)
     mixed = frame.copy()
     mixed.loc[2, "stresslet_12"] = np.nan
-    with pytest.raises(ValueError, match=r"runs/x: stresslet_12 is recorded in some runs but not in others "
-                                         r"\(missing for seeds \[2\]\)"):
+    with pytest.raises(
+        ValueError,
+        match=r"runs/x: stresslet_12 is recorded in some runs but not in others "
+        r"\(missing for seeds \[2\]\)",
+    ):
         stress.recorded_value_columns(mixed, "runs/x")

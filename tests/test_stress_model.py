@@ -90,8 +90,11 @@ def test_isotropic_fabric(trace):
     <nnnn>:E^_c = (T/15)(2 E^_c + Tr(E^_c) I) (Tr E^_c = -1/2)."""
     fabric = trace / 3.0 * np.eye(3)
     eye = np.eye(3)
-    exact = trace / 15.0 * (np.einsum("ij,kl->ijkl", eye, eye) + np.einsum("ik,jl->ijkl", eye, eye)
-                            + np.einsum("il,jk->ijkl", eye, eye))
+    exact = (
+        trace
+        / 15.0
+        * (np.einsum("ij,kl->ijkl", eye, eye) + np.einsum("ik,jl->ijkl", eye, eye) + np.einsum("il,jk->ijkl", eye, eye))
+    )
     np.testing.assert_allclose(model.hinch_leal_closure(fabric), exact, atol=1e-15)
 
     hydro, contact = stress_model.relation_terms(fabric)
@@ -101,8 +104,7 @@ def test_isotropic_fabric(trace):
     # the general symmetric S of the identity, through the same contraction
     s = RNG.normal(size=(3, 3))
     s = s + s.T
-    np.testing.assert_allclose(model.contract_closure(s, fabric), trace / 15 * (np.trace(s) * eye + 2 * s),
-                               atol=1e-13)
+    np.testing.assert_allclose(model.contract_closure(s, fabric), trace / 15 * (np.trace(s) * eye + 2 * s), atol=1e-13)
 
 
 def test_relation_terms_match_the_explicit_closure():
@@ -118,15 +120,18 @@ def test_relation_terms_match_the_explicit_closure():
 
 
 # ------------------------------------------------------------------ 2. closed forms
-@pytest.mark.parametrize("fabric", [
-    shear_fabric(0.2477, 0.3342, 0.2668, -0.1409),
-    shear_fabric(0.4, 0.3, 0.1, 0.05),
-    shear_fabric(0.0, 0.0, 0.0, 0.0),
-    shear_fabric(1.0, 0.0, 0.0, 0.0),
-    shear_fabric(0.0, 1.0, 0.0, 0.0),
-    shear_fabric(0.0, 0.0, 1.0, 0.0),
-    shear_fabric(0.0, 0.0, 0.0, 1.0),
-])
+@pytest.mark.parametrize(
+    "fabric",
+    [
+        shear_fabric(0.2477, 0.3342, 0.2668, -0.1409),
+        shear_fabric(0.4, 0.3, 0.1, 0.05),
+        shear_fabric(0.0, 0.0, 0.0, 0.0),
+        shear_fabric(1.0, 0.0, 0.0, 0.0),
+        shear_fabric(0.0, 1.0, 0.0, 0.0),
+        shear_fabric(0.0, 0.0, 1.0, 0.0),
+        shear_fabric(0.0, 0.0, 0.0, 1.0),
+    ],
+)
 def test_closed_forms_in_simple_shear(fabric):
     """For X13 = X23 = 0, q = X11 + X22 - 2 X12, TrX = X11 + X22 + X33:
     H = <nnnn>:E^:   H11 = H22 = 3 X12/7, H33 = X12/7, H12 = (X11 + X22)/7 - TrX/35, H13 = H23 = 0;
@@ -162,13 +167,16 @@ def test_fit_relation_coefficients_and_errors():
     assert np.isnan(stress_model.fit_relation(fabric, LUB_12, CON_12)["a_H_err"])
 
 
-@pytest.mark.parametrize("fabric, which", [
-    # X12 > 0 (contacts along the extension axis): C12 = -0.6/70 + (0.4 - 0.9)/14 < 0, H12 > 0
-    (shear_fabric(0.2, 0.2, 0.2, 0.3), "C12"),
-    # X33 > 4 (X11 + X22): H12 = (4 (X11 + X22) - X33)/35 = -0.1/35 < 0
-    (shear_fabric(0.05, 0.05, 0.5, -0.01), "H12"),
-    (np.zeros((3, 3)), "both"),
-])
+@pytest.mark.parametrize(
+    "fabric, which",
+    [
+        # X12 > 0 (contacts along the extension axis): C12 = -0.6/70 + (0.4 - 0.9)/14 < 0, H12 > 0
+        (shear_fabric(0.2, 0.2, 0.2, 0.3), "C12"),
+        # X33 > 4 (X11 + X22): H12 = (4 (X11 + X22) - X33)/35 = -0.1/35 < 0
+        (shear_fabric(0.05, 0.05, 0.5, -0.01), "H12"),
+        (np.zeros((3, 3)), "both"),
+    ],
+)
 def test_fit_relation_rejects_non_positive_terms(fabric, which):
     """H12 <= 0 or C12 <= 0 cannot be fitted: ValueError naming both terms (<nnnn>:E^)_12 and
     (<nnnn>:E^_c)_12 with their values."""
@@ -221,8 +229,18 @@ def test_relation_stress_shapes():
         particle = 60.0 * h + 25.0 * c
         np.testing.assert_allclose(
             many.loc[k, ["total_23", "total_13", "lubrication_23", "contact_23", "N1", "N2", "Pi"]].to_numpy(float),
-            [particle[1, 2], particle[0, 2], 60.0 * h[1, 2], 25.0 * c[1, 2], particle[0, 0] - particle[1, 1],
-             particle[1, 1] - particle[2, 2], -np.trace(particle) / 3], rtol=1e-12, atol=1e-14)
+            [
+                particle[1, 2],
+                particle[0, 2],
+                60.0 * h[1, 2],
+                25.0 * c[1, 2],
+                particle[0, 0] - particle[1, 1],
+                particle[1, 1] - particle[2, 2],
+                -np.trace(particle) / 3,
+            ],
+            rtol=1e-12,
+            atol=1e-14,
+        )
         assert many.loc[k, "eta_r"] == pytest.approx(1 + 2.5 * PHI + particle[0, 1], rel=1e-13)
 
 
@@ -245,8 +263,11 @@ def test_contraction_is_objective(theta_deg):
     q = frames.rotation_about_gradient(np.radians(theta_deg))
     x = random_fabric()
     for s in (E_HAT, E_COMP):
-        np.testing.assert_allclose(model.contract_closure(frames.to_basis(s, q), frames.to_basis(x, q)),
-                                   frames.to_basis(model.contract_closure(s, x), q), atol=1e-14)
+        np.testing.assert_allclose(
+            model.contract_closure(frames.to_basis(s, q), frames.to_basis(x, q)),
+            frames.to_basis(model.contract_closure(s, x), q),
+            atol=1e-14,
+        )
 
 
 def test_reversal_theta_180():
@@ -283,8 +304,9 @@ def test_reversal_theta_180():
     assert s180["lubrication_12"] == pytest.approx(s0["lubrication_12"], rel=1e-13)
     assert s180["contact_12"] == pytest.approx(fit["a_C"] * (h[0, 1] - c[0, 1]), rel=1e-12)
     assert s180["contact_12"] == pytest.approx(s0["contact_12"] - fit["a_C"] * 3 * abs(before[0, 1]) / 7, rel=1e-12)
-    assert s180["eta_r"] == pytest.approx(1 + 2.5 * PHI + fit["a_H"] * h[0, 1] + fit["a_C"] * (h[0, 1] - c[0, 1]),
-                                          rel=1e-13)
+    assert s180["eta_r"] == pytest.approx(
+        1 + 2.5 * PHI + fit["a_H"] * h[0, 1] + fit["a_C"] * (h[0, 1] - c[0, 1]), rel=1e-13
+    )
     assert s180["eta_r"] < s0["eta_r"]
     lub_n2 = lambda x: fit["a_H"] * 2 * x[0, 1] / 7  # noqa: E731
     h_n2 = stress_model.relation_stress(before, {"a_H": fit["a_H"], "a_C": 0.0}, PHI).iloc[0]["N2"]
@@ -300,23 +322,43 @@ def steady_table(values: dict, skip: str | None = None) -> pd.DataFrame:
         for quantity, (mean, sem) in values.items():
             if quantity == skip and theta == 0.0:
                 continue
-            rows.append({"theta": theta, "quantity": quantity, "mean": mean + shift, "sem": sem,
-                         "sem_between_seeds": 2 * sem, "tau_strain": 0.02, "n_frames": 21, "n_seeds": 2,
-                         "strain_min": 0.1, "strain_max": 0.3})
+            rows.append(
+                {
+                    "theta": theta,
+                    "quantity": quantity,
+                    "mean": mean + shift,
+                    "sem": sem,
+                    "sem_between_seeds": 2 * sem,
+                    "tau_strain": 0.02,
+                    "n_frames": 21,
+                    "n_seeds": 2,
+                    "strain_min": 0.1,
+                    "strain_max": 0.3,
+                }
+            )
     return pd.DataFrame(rows)
 
 
-STEADY_VALUES = {"eta_r": (7.16, 0.50), "N1": (-0.38, 0.17), "N2": (-3.17, 0.44), "Pi": (4.69, 0.53),
-                 "lubrication_12": (LUB_12, LUB_12_SEM), "contact_12": (CON_12, CON_12_SEM),
-                 "total_23": (0.05, 0.04)}
+STEADY_VALUES = {
+    "eta_r": (7.16, 0.50),
+    "N1": (-0.38, 0.17),
+    "N2": (-3.17, 0.44),
+    "Pi": (4.69, 0.53),
+    "lubrication_12": (LUB_12, LUB_12_SEM),
+    "contact_12": (CON_12, CON_12_SEM),
+    "total_23": (0.05, 0.04),
+}
 
 
 def fits_dict() -> dict:
     targets = {name: {"mean": value, "sem": 0.01} for name, value in STEADY["simulation"].items()}
     targets["Z"] = {"mean": 1.275, "sem": 0.14}
-    return {"phi": PHI, "targets": targets,
-            "model_steady_state": {key: dict(STEADY[key]) for key in ("gw", "modified")},
-            "models": {key: {"label": key, "steady_state": dict(STEADY[key])} for key in ("gw", "modified")}}
+    return {
+        "phi": PHI,
+        "targets": targets,
+        "model_steady_state": {key: dict(STEADY[key]) for key in ("gw", "modified")},
+        "models": {key: {"label": key, "steady_state": dict(STEADY[key])} for key in ("gw", "modified")},
+    }
 
 
 def test_relation_fits():
@@ -399,15 +441,18 @@ def synthetic_fabrics():
     startup = fabric_rows(fabric_curve(np.zeros((3, 3)), sim_ss, 0.2), 0.0, "_mean", N=40, phi=PHI, n_seeds=2)
     rotation, predictions = [], []
     for key, steady in (("gw", gw_ss), ("modified", mod_ss)):
-        predictions.append(fabric_rows(fabric_curve(np.zeros((3, 3)), steady, 0.25), 0.0, model=key,
-                                       protocol="startup"))
+        predictions.append(
+            fabric_rows(fabric_curve(np.zeros((3, 3)), steady, 0.25), 0.0, model=key, protocol="startup")
+        )
     for theta in THETAS:
         r = frames.rotation_about_gradient(np.radians(theta))
-        rotation.append(fabric_rows(fabric_curve(r @ sim_ss @ r.T, sim_ss, 0.3), theta, "_mean", N=40, phi=PHI,
-                                    n_seeds=2))
+        rotation.append(
+            fabric_rows(fabric_curve(r @ sim_ss @ r.T, sim_ss, 0.3), theta, "_mean", N=40, phi=PHI, n_seeds=2)
+        )
         for key, steady in (("gw", gw_ss), ("modified", mod_ss)):
-            predictions.append(fabric_rows(fabric_curve(r @ steady @ r.T, steady, 0.35), theta, model=key,
-                                           protocol="rotation"))
+            predictions.append(
+                fabric_rows(fabric_curve(r @ steady @ r.T, steady, 0.35), theta, model=key, protocol="rotation")
+            )
     return startup, pd.concat(rotation, ignore_index=True), pd.concat(predictions, ignore_index=True)
 
 
@@ -426,8 +471,14 @@ def simulated_stress(aggregate: pd.DataFrame, relation: pd.DataFrame) -> pd.Data
         lub, con = coefficients["a_H"] * h, coefficients["a_C"] * c
         total = lub + con
         total[0, 1] = total[1, 0] = total[0, 1] + 1 + 2.5 * PHI
-        values = {"eta_r": total[0, 1], "N1": total[0, 0] - total[1, 1], "N2": total[1, 1] - total[2, 2],
-                  "total_23": total[1, 2], "contact_12": con[0, 1], "lubrication_12": lub[0, 1]}
+        values = {
+            "eta_r": total[0, 1],
+            "N1": total[0, 0] - total[1, 1],
+            "N2": total[1, 1] - total[2, 2],
+            "total_23": total[1, 2],
+            "contact_12": con[0, 1],
+            "lubrication_12": lub[0, 1],
+        }
         out = {"theta": row["theta"], "N": 40, "phi": PHI, "strain": row["strain"], "n_seeds": 2}
         for name, value in values.items():
             out[f"{name}_mean"], out[f"{name}_sem"] = value, 0.1
@@ -454,12 +505,19 @@ def test_stress_predictions_layout_and_values():
                 rows = table[table["theta"] == theta]
                 fabrics = model.vec_to_sym(rows[[f"n{c}_mean" for c in model.VECTOR_ORDER]].to_numpy())
             else:
-                rows = predictions[(predictions["model"] == source) & (predictions["protocol"] == protocol)
-                                   & (predictions["theta"] == theta)]
+                rows = predictions[
+                    (predictions["model"] == source)
+                    & (predictions["protocol"] == protocol)
+                    & (predictions["theta"] == theta)
+                ]
                 fabrics = model.vec_to_sym(rows[[f"n{c}" for c in model.VECTOR_ORDER]].to_numpy())
             expected = stress_model.relation_stress(fabrics, coefficients.loc[source], PHI)
-            np.testing.assert_allclose(block[list(stress_model.PREDICTED_COLUMNS)].to_numpy(float),
-                                       expected.to_numpy(float), rtol=1e-13, atol=1e-14)
+            np.testing.assert_allclose(
+                block[list(stress_model.PREDICTED_COLUMNS)].to_numpy(float),
+                expected.to_numpy(float),
+                rtol=1e-13,
+                atol=1e-14,
+            )
     # steady end of startup: eta_r -> 1 + 2.5 phi + lub + con for every source (fitted there)
     ends = out[(out["protocol"] == "startup") & (out["strain"] == STRAIN[-1])]
     np.testing.assert_allclose(ends["eta_r"], 1 + 2.5 * PHI + LUB_12 + CON_12, rtol=2e-2)
@@ -475,20 +533,27 @@ def test_relation_errors_zero_and_offset():
     predicted = stress_model.stress_predictions(relation, startup, rotation, predictions, PHI)
     s_startup = simulated_stress(startup, relation).sample(frac=1.0, random_state=1)
     s_rotation = simulated_stress(rotation, relation).sample(frac=1.0, random_state=2)
-    errors = stress_model.relation_errors(s_startup, s_rotation, predicted.sample(frac=1.0, random_state=3),
-                                          -SIGMA12_SS)
+    errors = stress_model.relation_errors(
+        s_startup, s_rotation, predicted.sample(frac=1.0, random_state=3), -SIGMA12_SS
+    )
     assert len(errors) == 3 * (1 + len(THETAS)) * len(ERROR_QUANTITIES)
     assert set(errors["n_strains"]) == {len(STRAIN)}
     sim = errors[errors["source"] == "simulation"]
     np.testing.assert_allclose(sim[["rms_error", "max_abs_error"]].to_numpy(), 0.0, atol=1e-12)
 
     for _, row in errors[errors["source"] != "simulation"].iterrows():
-        mine = predicted[(predicted["source"] == row["source"]) & (predicted["protocol"] == row["protocol"])
-                         & (predicted["theta"] == row["theta"])].sort_values("strain")
-        ref = predicted[(predicted["source"] == "simulation") & (predicted["protocol"] == row["protocol"])
-                        & (predicted["theta"] == row["theta"])].sort_values("strain")
+        mine = predicted[
+            (predicted["source"] == row["source"])
+            & (predicted["protocol"] == row["protocol"])
+            & (predicted["theta"] == row["theta"])
+        ].sort_values("strain")
+        ref = predicted[
+            (predicted["source"] == "simulation")
+            & (predicted["protocol"] == row["protocol"])
+            & (predicted["theta"] == row["theta"])
+        ].sort_values("strain")
         diff = (mine[row["quantity"]].to_numpy() - ref[row["quantity"]].to_numpy()) / SIGMA12_SS
-        assert row["rms_error"] == pytest.approx(np.sqrt(np.mean(diff ** 2)), rel=1e-9, abs=1e-13)
+        assert row["rms_error"] == pytest.approx(np.sqrt(np.mean(diff**2)), rel=1e-9, abs=1e-13)
         assert row["max_abs_error"] == pytest.approx(np.abs(diff).max(), rel=1e-9, abs=1e-13)
 
     d = 0.3
@@ -509,8 +574,12 @@ def test_relation_errors_accepts_a_finer_prediction_grid():
     startup, rotation, predictions = synthetic_fabrics()
     predicted = stress_model.stress_predictions(relation, startup, rotation, predictions, PHI)
     extra = predicted.assign(strain=predicted["strain"] + 0.025, eta_r=predicted["eta_r"] + 100.0)
-    errors = stress_model.relation_errors(simulated_stress(startup, relation), simulated_stress(rotation, relation),
-                                          pd.concat([predicted, extra], ignore_index=True), SIGMA12_SS)
+    errors = stress_model.relation_errors(
+        simulated_stress(startup, relation),
+        simulated_stress(rotation, relation),
+        pd.concat([predicted, extra], ignore_index=True),
+        SIGMA12_SS,
+    )
     sim = errors[errors["source"] == "simulation"]
     np.testing.assert_allclose(sim["rms_error"], 0.0, atol=1e-12)
 
@@ -524,8 +593,9 @@ def test_relation_errors_strain_grid_mismatch():
     shifted.loc[gw_rotation, "strain"] += 0.01
     predicted = stress_model.stress_predictions(relation, startup, rotation, shifted, PHI)
     with pytest.raises(ValueError, match=r"rotation: source gw at theta=90.0 is not on the simulation's strain grid"):
-        stress_model.relation_errors(simulated_stress(startup, relation), simulated_stress(rotation, relation),
-                                     predicted, SIGMA12_SS)
+        stress_model.relation_errors(
+            simulated_stress(startup, relation), simulated_stress(rotation, relation), predicted, SIGMA12_SS
+        )
     # a simulated angle the prediction lacks altogether
     s_rotation = simulated_stress(rotation, relation)
     s_rotation = pd.concat([s_rotation, s_rotation[s_rotation["theta"] == 90.0].assign(theta=45.0)])
@@ -542,9 +612,17 @@ def test_summarise_relation_errors():
         for quantity in ("eta_r", "N1"):
             for k, source in enumerate(stress_model.SOURCES):
                 for j, theta in enumerate(thetas):
-                    rows.append({"protocol": protocol, "source": source, "theta": theta, "quantity": quantity,
-                                 "rms_error": 0.1 * (k + 1) + 0.01 * j + (quantity == "N1"),
-                                 "max_abs_error": 1.0, "n_strains": 5})
+                    rows.append(
+                        {
+                            "protocol": protocol,
+                            "source": source,
+                            "theta": theta,
+                            "quantity": quantity,
+                            "rms_error": 0.1 * (k + 1) + 0.01 * j + (quantity == "N1"),
+                            "max_abs_error": 1.0,
+                            "n_strains": 5,
+                        }
+                    )
     summary = stress_model.summarise_relation_errors(pd.DataFrame(rows))
     assert list(summary.columns) == ["protocol", "quantity", "rms_simulation", "rms_gw", "rms_modified"]
     assert len(summary) == 4
@@ -585,8 +663,9 @@ def runs_table(curves: dict[float, list[np.ndarray]], eta_ss=None, strain=T_GRID
     for theta, per_seed in curves.items():
         for seed, curve in enumerate(per_seed, start=1):
             scale = ETA_SS if eta_ss is None else eta_ss[seed - 1]
-            rows.append(pd.DataFrame({"seed": seed, "theta": theta, "strain": strain, "eta_r": scale * curve,
-                                      "N1": 0.0}))
+            rows.append(
+                pd.DataFrame({"seed": seed, "theta": theta, "strain": strain, "eta_r": scale * curve, "N1": 0.0})
+            )
     return pd.concat(rows, ignore_index=True).sample(frac=1.0, random_state=4)
 
 
@@ -598,8 +677,9 @@ def bootstrap_interval(statistic, curves, level=LEVEL):
     """Percentile interval of statistic(mean of a resample of the curves) over all n^n resamples
     of n seeds with replacement (independent of seed_statistics)."""
     n = len(curves)
-    values = [statistic(np.mean([curves[k] for k in sample], axis=0))
-              for sample in itertools.product(range(n), repeat=n)]
+    values = [
+        statistic(np.mean([curves[k] for k in sample], axis=0)) for sample in itertools.product(range(n), repeat=n)
+    ]
     return tuple(np.quantile(values, [0.5 - level / 2, 0.5 + level / 2]))
 
 
@@ -610,8 +690,19 @@ def test_seed_steady_viscosity_is_each_seeds_mean_over_the_window():
     rows = []
     for seed, level in ((1, 10.0), (2, 12.0), (3, 11.0)):
         eta = level + 0.1 * seed * np.sin(3.0 * strain) + (strain < 2.0) * 5.0
-        rows.append(pd.DataFrame({"seed": seed, "theta": 0.0, "N": 100, "phi": PHI, "step": np.arange(len(strain)),
-                                  "strain": strain, "eta_r": eta}))
+        rows.append(
+            pd.DataFrame(
+                {
+                    "seed": seed,
+                    "theta": 0.0,
+                    "N": 100,
+                    "phi": PHI,
+                    "step": np.arange(len(strain)),
+                    "strain": strain,
+                    "eta_r": eta,
+                }
+            )
+        )
     startup = pd.concat(rows, ignore_index=True).sample(frac=1.0, random_state=2)
     out = stress_model.seed_steady_viscosity(startup, [2.0, 5.0])
     inside = (strain >= 2.0) & (strain <= 5.0)
@@ -717,14 +808,18 @@ def test_viscosity_transients_different_seeds():
     and the intervals the 2.5% and 97.5% quantiles over all 27 resamples of the seeds with
     replacement, recomputed here; each contains its value and the minimum's has non-zero width."""
     seeds = [dip(0.3, 0.2), dip(0.4, 0.25), dip(0.5, 0.3)]
-    out = stress_model.viscosity_transients(runs_table({90.0: seeds}), same_steady(3), 2.0,
-                                            smoothing_strain=0.0).iloc[0]
+    out = stress_model.viscosity_transients(runs_table({90.0: seeds}), same_steady(3), 2.0, smoothing_strain=0.0).iloc[
+        0
+    ]
 
     def outside_last(mean):
         return T_GRID[np.flatnonzero(np.abs(mean - 1.0) > 0.1)[-1] + 1]
 
-    statistics = {"minimum": np.min, "strain_at_min": lambda mean: T_GRID[np.argmin(mean)],
-                  "recovery_strain": outside_last}
+    statistics = {
+        "minimum": np.min,
+        "strain_at_min": lambda mean: T_GRID[np.argmin(mean)],
+        "recovery_strain": outside_last,
+    }
     mean = np.mean(seeds, axis=0)
     for name, statistic in statistics.items():
         low, high = bootstrap_interval(statistic, seeds)
@@ -748,8 +843,9 @@ def test_viscosity_transients_resample_each_seeds_own_steady_state():
     ratio = (6.0 * curves[0] + 9.0 * curves[1]) / 15.0
     assert out["minimum"] == pytest.approx(ratio.min(), rel=1e-12)
     # resamples (1, 1) and (2, 2) are each seed's own curve: the extremes of the 4 resamples
-    assert out["minimum_low"] == pytest.approx(np.quantile([curves[1].min(), ratio.min(), ratio.min(),
-                                                            curves[0].min()], 0.025), rel=1e-12)
+    assert out["minimum_low"] == pytest.approx(
+        np.quantile([curves[1].min(), ratio.min(), ratio.min(), curves[0].min()], 0.025), rel=1e-12
+    )
     per_seed = stress_model.viscosity_deficits(table, {1: 6.0, 2: 9.0}, 2.0)
     np.testing.assert_allclose(per_seed["deficit"], [np.trapezoid(1 - c, T_GRID) for c in curves], rtol=1e-12)
 
@@ -757,8 +853,9 @@ def test_viscosity_transients_resample_each_seeds_own_steady_state():
 def test_viscosity_transients_single_seed_and_tolerance():
     """One seed: no bootstrap interval (nan) and an infinite t-interval; a wider tolerance (0.2)
     moves the exponential's recovery to the first grid strain >= 0.2 ln(0.5/0.2) = 0.1833, i.e. 0.19."""
-    out = stress_model.viscosity_transients(runs_table({0.0: [exponential()]}), same_steady(1), 2.0, tolerance=0.2,
-                                            smoothing_strain=0.0).iloc[0]
+    out = stress_model.viscosity_transients(
+        runs_table({0.0: [exponential()]}), same_steady(1), 2.0, tolerance=0.2, smoothing_strain=0.0
+    ).iloc[0]
     assert out["recovery_strain"] == pytest.approx(0.19, abs=1e-12)
     assert np.isnan(out["recovery_strain_low"]) and np.isnan(out["recovery_strain_high"]) and out["n_seeds"] == 1
     assert out["deficit_low"] == -np.inf and out["deficit_high"] == np.inf

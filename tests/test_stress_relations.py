@@ -93,8 +93,9 @@ def test_relation_errors_name_the_problem(tmp_path):
 
 
 def fabric_frame(seed, theta, strains, tensors, step0):
-    frame = pd.DataFrame({"seed": seed, "theta": theta, "N": 100, "phi": PHI, "step": step0 + np.arange(len(strains)),
-                          "strain": strains})
+    frame = pd.DataFrame(
+        {"seed": seed, "theta": theta, "N": 100, "phi": PHI, "step": step0 + np.arange(len(strains)), "strain": strains}
+    )
     for name, (i, j) in COMPONENTS.items():
         frame[name] = tensors[:, i, j]
     frame["Z"] = 2 * np.trace(tensors, axis1=1, axis2=2)
@@ -132,8 +133,9 @@ def synthetic():
             tables["rotation"].append(frame)
             tables["stress_rotation"].append(stress_frame(frame, scale * rotation[k], rng, truth))
     frames = {name: pd.concat(value, ignore_index=True) for name, value in tables.items()}
-    return sb.stress_curves(frames["startup"], frames["rotation"], frames["stress_startup"], frames["stress_rotation"],
-                            2.0, (15.0, 20.0)), frames
+    return sb.stress_curves(
+        frames["startup"], frames["rotation"], frames["stress_startup"], frames["stress_rotation"], 2.0, (15.0, 20.0)
+    ), frames
 
 
 def test_the_global_fit_recovers_z_j(synthetic):

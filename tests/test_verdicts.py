@@ -43,10 +43,13 @@ def predictions(tau_gw: float, tau_modified: float, bump: float = 0.0, n23_tau: 
             amplitude = 0.0 if theta == 0.0 else 1.0
             n12 = relaxation(tau, amplitude)
             if model == "modified" and theta == 90.0:
-                n12 = n12 + N12_SS * bump * np.exp(-((STRAIN - 0.8) / 0.15) ** 2)
+                n12 = n12 + N12_SS * bump * np.exp(-(((STRAIN - 0.8) / 0.15) ** 2))
             n23 = -N12_SS * np.sin(np.radians(theta)) * np.exp(-STRAIN / n23_tau)
-            rows.append(pd.DataFrame({"model": model, "protocol": "rotation", "theta": theta, "strain": STRAIN,
-                                      "n12": n12, "n23": n23}))
+            rows.append(
+                pd.DataFrame(
+                    {"model": model, "protocol": "rotation", "theta": theta, "strain": STRAIN, "n12": n12, "n23": n23}
+                )
+            )
     return pd.concat(rows, ignore_index=True)
 
 
@@ -109,10 +112,15 @@ def test_descriptive_intervals_are_seed_bootstrap_percentiles():
 
 def test_steady_state_verdicts():
     targets = {c: {"mean": m, "sem": 0.002} for c, m in (("n11", 0.55), ("n22", 0.60), ("n33", 0.59), ("n12", -0.10))}
-    fits = {"targets": targets, "gw": {"beta": 10.7, "beta_err": 0.2},
-            "modified": {"beta": 9.3, "beta_err": 0.1, "A": 44.8, "A_err": 0.3},
-            "model_steady_state": {"gw": {"n11": 0.2, "n22": 0.3, "n33": 0.25},
-                                   "modified": {"n11": 0.55, "n22": 0.62, "n33": 1.0}}}
+    fits = {
+        "targets": targets,
+        "gw": {"beta": 10.7, "beta_err": 0.2},
+        "modified": {"beta": 9.3, "beta_err": 0.1, "A": 44.8, "A_err": 0.3},
+        "model_steady_state": {
+            "gw": {"n11": 0.2, "n22": 0.3, "n33": 0.25},
+            "modified": {"n11": 0.55, "n22": 0.62, "n33": 1.0},
+        },
+    }
     rows = {row["text"]: row for row in verdicts.steady_state_verdicts(fits)}
     assert rows["G-W underestimates the diagonal components"]["verdict"] == verdicts.CONFIRMED
     assert rows["modified captures <nn>_22"]["verdict"] == verdicts.CONFIRMED  # 3.3% off

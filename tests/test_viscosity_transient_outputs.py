@@ -33,8 +33,11 @@ def curve(theta: float, seed: int) -> np.ndarray:
 
 
 def transients(level=0.9, window=1.5) -> pd.DataFrame:
-    rows = [pd.DataFrame({"seed": seed, "theta": theta, "strain": STRAIN, "eta_r": eta * curve(theta, seed)})
-            for theta in THETAS for seed, eta in ETA_SS.items()]
+    rows = [
+        pd.DataFrame({"seed": seed, "theta": theta, "strain": STRAIN, "eta_r": eta * curve(theta, seed)})
+        for theta in THETAS
+        for seed, eta in ETA_SS.items()
+    ]
     return stress_model.viscosity_transients(pd.concat(rows, ignore_index=True), ETA_SS, window, level)
 
 
@@ -42,10 +45,28 @@ def rotation_inputs():
     """Minimal rotation aggregate and predictions for the polar panels (a-d)."""
     sim, predicted = [], []
     for theta in THETAS:
-        sim.append(pd.DataFrame({"theta": theta, "strain": STRAIN, "total_12_mean": 10.0 - theta / 90.0,
-                                 "total_23_mean": np.sin(np.radians(theta))}))
-        predicted.append(pd.DataFrame({"source": "simulation", "protocol": "rotation", "theta": theta,
-                                       "strain": STRAIN, "total_12": 9.0, "total_23": 0.0}))
+        sim.append(
+            pd.DataFrame(
+                {
+                    "theta": theta,
+                    "strain": STRAIN,
+                    "total_12_mean": 10.0 - theta / 90.0,
+                    "total_23_mean": np.sin(np.radians(theta)),
+                }
+            )
+        )
+        predicted.append(
+            pd.DataFrame(
+                {
+                    "source": "simulation",
+                    "protocol": "rotation",
+                    "theta": theta,
+                    "strain": STRAIN,
+                    "total_12": 9.0,
+                    "total_23": 0.0,
+                }
+            )
+        )
     return pd.concat(sim, ignore_index=True), pd.concat(predicted, ignore_index=True)
 
 
@@ -58,9 +79,26 @@ def bar_segments(ax):
 def test_transients_table_has_the_deficit_and_the_bootstrap_columns():
     out = transients()
     assert list(out.columns) == [
-        "theta", "window", "deficit", "deficit_se", "deficit_low", "deficit_high", "n_seeds", "level",
-        "minimum", "minimum_low", "minimum_high", "strain_at_min", "strain_at_min_low", "strain_at_min_high",
-        "recovery_strain", "recovery_strain_low", "recovery_strain_high", "recovery_settled", "smoothing_strain"]
+        "theta",
+        "window",
+        "deficit",
+        "deficit_se",
+        "deficit_low",
+        "deficit_high",
+        "n_seeds",
+        "level",
+        "minimum",
+        "minimum_low",
+        "minimum_high",
+        "strain_at_min",
+        "strain_at_min_low",
+        "strain_at_min_high",
+        "recovery_strain",
+        "recovery_strain_low",
+        "recovery_strain_high",
+        "recovery_settled",
+        "smoothing_strain",
+    ]
     for name in ("minimum", "strain_at_min", "recovery_strain"):
         assert (out[f"{name}_low"] <= out[name]).all() and (out[name] <= out[f"{name}_high"]).all()
     assert out["recovery_settled"].tolist() == [True, True, False]
@@ -79,8 +117,9 @@ def test_fig4_draws_the_deficit_t_interval_and_the_bootstrap_intervals():
     assert "bootstrap 90%" in ax_min.get_title() and "bootstrap 90%" in ax_rec.get_title()
     theta = table["theta"].to_numpy()
     for ax, name in ((ax_def, "deficit"), (ax_min, "minimum")):
-        np.testing.assert_allclose(bar_segments(ax), np.column_stack([theta, table[f"{name}_low"],
-                                                                      table[f"{name}_high"]]), rtol=1e-12)
+        np.testing.assert_allclose(
+            bar_segments(ax), np.column_stack([theta, table[f"{name}_low"], table[f"{name}_high"]]), rtol=1e-12
+        )
         (line,) = [line for line in ax.get_lines() if line.get_marker() == "o"]  # not the caps or the zero line
         np.testing.assert_allclose(line.get_xdata(), theta)
         np.testing.assert_allclose(line.get_ydata(), table[name], rtol=1e-12)
@@ -97,22 +136,31 @@ def test_fig4_draws_the_deficit_t_interval_and_the_bootstrap_intervals():
 def test_report_table_names_the_level_and_each_interval():
     table, note = report_tables.viscosity_transient_table(transients())
     columns = list(table.columns)
-    assert columns == ["θ (deg)", "deficit ∫₀^1.5 (1 − ηᵣ/ηᵣˢˢ) dγ [90% t-interval]", "s.e.", "seeds",
-                       "min ηᵣ/ηᵣˢˢ [90% bootstrap]", "at strain [90% bootstrap]",
-                       "recovery strain (10%) [90% bootstrap]"]
+    assert columns == [
+        "θ (deg)",
+        "deficit ∫₀^1.5 (1 − ηᵣ/ηᵣˢˢ) dγ [90% t-interval]",
+        "s.e.",
+        "seeds",
+        "min ηᵣ/ηᵣˢˢ [90% bootstrap]",
+        "at strain [90% bootstrap]",
+        "recovery strain (10%) [90% bootstrap]",
+    ]
     assert "Student t-interval" in note and "bootstrap resamples of whole seeds" in note
     assert "no verdict rests on them" in note and "own steady viscosity" in note
     assert table["seeds"].tolist() == ["3", "3", "3"] and table["θ (deg)"].tolist() == ["0", "90", "180"]
     assert table.iloc[2, -1].endswith("(not recovered: lower bound)")
 
 
-@pytest.mark.parametrize("value, low, high, expected", [
-    (0.2791, 0.1434, 0.4148, "0.28 [0.14, 0.41]"),
-    (0.0452, -0.1089, 0.1984, "0.05 [-0.11, 0.20]"),
-    (0.0, 0.0, 1.72, "0.0 [0.0, 1.7]"),
-    (1.94, 1.94, 1.94, "1.940 [1.940, 1.940]"),
-    (0.3, -np.inf, np.inf, "0.3000 [—]"),
-    (0.3, np.nan, np.nan, "0.3000 [—]"),
-])
+@pytest.mark.parametrize(
+    "value, low, high, expected",
+    [
+        (0.2791, 0.1434, 0.4148, "0.28 [0.14, 0.41]"),
+        (0.0452, -0.1089, 0.1984, "0.05 [-0.11, 0.20]"),
+        (0.0, 0.0, 1.72, "0.0 [0.0, 1.7]"),
+        (1.94, 1.94, 1.94, "1.940 [1.940, 1.940]"),
+        (0.3, -np.inf, np.inf, "0.3000 [—]"),
+        (0.3, np.nan, np.nan, "0.3000 [—]"),
+    ],
+)
 def test_format_interval(value, low, high, expected):
     assert report_tables.format_interval(value, low, high) == expected

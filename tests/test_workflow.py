@@ -66,8 +66,9 @@ def test_study_produces_the_stress_tables_figures_and_relation(study):
     assert (relation["a_H"] > 0).all() and (relation["a_C"] > 0).all()
     # the relation reproduces the steady contact and lubrication sigma_12 it was fitted to; it
     # has no kinetic part (O(1/eta_f), larger in this study's eta_f = 1)
-    np.testing.assert_allclose(relation["eta_r_predicted"],
-                               steady.loc["eta_r", "mean"] - steady.loc["kinetic_12", "mean"], rtol=1e-6)
+    np.testing.assert_allclose(
+        relation["eta_r_predicted"], steady.loc["eta_r", "mean"] - steady.loc["kinetic_12", "mean"], rtol=1e-6
+    )
     errors = pd.read_csv(results / "tables/stress_model_errors.csv")
     assert set(errors["source"]) == {"simulation", "gw", "modified", "separate_rates"}
     assert sorted(errors[errors["protocol"] == "rotation"]["theta"].unique()) == [0.0, 90.0]
@@ -84,8 +85,9 @@ def test_study_produces_the_stress_tables_figures_and_relation(study):
     assert list(deficits.columns) == ["seed", "theta", "window", "eta_ss_seed", "deficit"]
     assert len(deficits) == 4 and (deficits["window"] == 0.1).all()
     np.testing.assert_allclose(deficits.groupby("theta")["deficit"].mean(), transients["deficit"], rtol=1e-12)
-    np.testing.assert_allclose(deficits.groupby("seed")["eta_ss_seed"].first().mean(), steady.loc["eta_r", "mean"],
-                               rtol=1e-12)
+    np.testing.assert_allclose(
+        deficits.groupby("seed")["eta_ss_seed"].first().mean(), steady.loc["eta_r", "mean"], rtol=1e-12
+    )
 
 
 def test_lubrication_stress_choice_reaches_the_relation(study, tmp_path):
@@ -102,25 +104,38 @@ def test_lubrication_stress_choice_reaches_the_relation(study, tmp_path):
     assert counts["aggregate_stress_startup"] == 1 and counts["stress_relation"] == 1
     for rule in ("startup", "rotate", "stress_table", "fabric_table", "aggregate_startup", "fit_models"):
         assert rule not in counts
-    result = snakemake(copy, *TEST_CONFIG, *override, "--allowed-rules", "aggregate_stress_startup",
-                       "aggregate_stress_rotation", "stress_relation", "--",
-                       f"{RESULTS}/tables/stress_relation_fits.csv")
+    result = snakemake(
+        copy,
+        *TEST_CONFIG,
+        *override,
+        "--allowed-rules",
+        "aggregate_stress_startup",
+        "aggregate_stress_rotation",
+        "stress_relation",
+        "--",
+        f"{RESULTS}/tables/stress_relation_fits.csv",
+    )
     assert result.returncode == 0, result.stderr[-3000:]
     tables = copy / RESULTS / "tables"
     steady = pd.read_csv(tables / "stress_steady_state.csv").set_index("quantity")
     dipole = pd.read_csv(study / RESULTS / "tables/stress_steady_state.csv").set_index("quantity")
     runs = pd.read_csv(tables / "stress_startup_runs.csv")
     inside = runs[(runs["strain"] >= 0.1) & (runs["strain"] <= 0.3)]
-    np.testing.assert_allclose(steady.loc["lubrication_12", "mean"],
-                               inside.groupby("seed")["stresslet_12"].mean().mean(), rtol=1e-9)
+    np.testing.assert_allclose(
+        steady.loc["lubrication_12", "mean"], inside.groupby("seed")["stresslet_12"].mean().mean(), rtol=1e-9
+    )
     assert steady.loc["lubrication_12", "mean"] != dipole.loc["lubrication_12", "mean"]
     np.testing.assert_allclose(steady.loc["contact_12", "mean"], dipole.loc["contact_12", "mean"], rtol=1e-12)
     particle_trace = sum(inside[f"{p}_{c}"] for p in ("contact", "kinetic") for c in ("11", "22", "33"))
-    np.testing.assert_allclose(steady.loc["Pi", "mean"], (-particle_trace / 3).groupby(inside["seed"]).mean().mean(),
-                               rtol=1e-6, atol=1e-9)
+    np.testing.assert_allclose(
+        steady.loc["Pi", "mean"], (-particle_trace / 3).groupby(inside["seed"]).mean().mean(), rtol=1e-6, atol=1e-9
+    )
     relation = pd.read_csv(tables / "stress_relation_fits.csv").set_index("source")
-    np.testing.assert_allclose(relation.loc["simulation", "eta_r_predicted"],
-                               steady.loc["eta_r", "mean"] - steady.loc["kinetic_12", "mean"], rtol=1e-6)
+    np.testing.assert_allclose(
+        relation.loc["simulation", "eta_r_predicted"],
+        steady.loc["eta_r", "mean"] - steady.loc["kinetic_12", "mean"],
+        rtol=1e-6,
+    )
 
 
 def test_study_decides_the_claims_per_seed(study):
@@ -133,8 +148,14 @@ def test_study_decides_the_claims_per_seed(study):
 
     tables = study / RESULTS / "tables"
     values = pd.read_csv(tables / "claims_values.csv")
-    assert list(dict.fromkeys(values["choice"])) == ["primary", "state: simulated", "state: model steady",
-                                                     "fit: startup curve", "fit: paper's values", "baseline: theta = 0"]
+    assert list(dict.fromkeys(values["choice"])) == [
+        "primary",
+        "state: simulated",
+        "state: model steady",
+        "fit: startup curve",
+        "fit: paper's values",
+        "baseline: theta = 0",
+    ]
     primary = values[values["choice"] == "primary"]
     assert sorted(primary["seed"].unique()) == [1, 2]
     assert set(primary[primary["claim"] == "C2"]["theta"]) == {90.0}  # 0 (and 180) left out of the 23 claims
@@ -144,8 +165,11 @@ def test_study_decides_the_claims_per_seed(study):
     c1 = primary[(primary["claim"] == "C1") & (primary["theta"] == 90.0)].set_index("seed")["T"]
     half = stats.t.ppf(0.975, 1) * c1.std(ddof=1) / np.sqrt(2)
     assert verdicts.loc["C1", "angles"] == "90"
-    np.testing.assert_allclose(verdicts.loc["C1", ["mean", "low", "high"]].to_numpy(dtype=float),
-                               [c1.mean(), c1.mean() - half, c1.mean() + half], rtol=1e-9)
+    np.testing.assert_allclose(
+        verdicts.loc["C1", ["mean", "low", "high"]].to_numpy(dtype=float),
+        [c1.mean(), c1.mean() - half, c1.mean() + half],
+        rtol=1e-9,
+    )
     assert verdicts.loc["C2", "angles"] == "90" and verdicts.loc["C3'", "angles"] == "0, 90"
     choices = pd.read_csv(tables / "verdict_choices.csv")
     assert set(choices["choice"]) == set(values["choice"]) and choices["robust"].notna().all()
@@ -203,12 +227,25 @@ def test_every_figure_depends_on_every_stage(study):
                     todo.append(parent)
         return seen
 
-    upstream = {"build_plugin", "pack", "startup", "rotate", "fabric_table", "aggregate_startup",
-                "aggregate_rotation", "fit_models", "predict"}
+    upstream = {
+        "build_plugin",
+        "pack",
+        "startup",
+        "rotate",
+        "fabric_table",
+        "aggregate_startup",
+        "aggregate_rotation",
+        "fit_models",
+        "predict",
+    }
     for figure in ("figure_startup", "figure_rotation"):
         assert upstream <= ancestors(figure), upstream - ancestors(figure)
-    stress_upstream = upstream | {"stress_table", "aggregate_stress_startup", "aggregate_stress_rotation",
-                                  "stress_relation"}
+    stress_upstream = upstream | {
+        "stress_table",
+        "aggregate_stress_startup",
+        "aggregate_stress_rotation",
+        "stress_relation",
+    }
     for figure in ("figure_stress_startup", "figure_stress_rotation"):
         assert stress_upstream <= ancestors(figure), stress_upstream - ancestors(figure)
 
@@ -256,12 +293,23 @@ def test_report_shows_the_tables(study):
     result = snakemake(study, *TEST_CONFIG, "--report", "report_tables.html", timeout=300)
     assert result.returncode == 0, result.stderr[-3000:]
     html = (study / "report_tables.html").read_text(errors="replace")
-    pages = {name: base64.b64decode(data).decode("utf-8") for name, data in re.findall(
-        r"data:text/html;charset=utf-?8;filename=([\w.]+);base64,([A-Za-z0-9+/=]+)", html)}
-    assert set(pages) == {"fits.html", "steady_state.html", "model_errors_summary.html", "verdicts.html",
-                          "stress.html", "leaderboard.html"}, set(pages)
-    for caption in ("Fitted model parameters (fits.json)", "Steady state of startup shear",
-                    "Model versus simulation (tables/model_errors_summary.csv)"):
+    pages = {
+        name: base64.b64decode(data).decode("utf-8")
+        for name, data in re.findall(r"data:text/html;charset=utf-?8;filename=([\w.]+);base64,([A-Za-z0-9+/=]+)", html)
+    }
+    assert set(pages) == {
+        "fits.html",
+        "steady_state.html",
+        "model_errors_summary.html",
+        "verdicts.html",
+        "stress.html",
+        "leaderboard.html",
+    }, set(pages)
+    for caption in (
+        "Fitted model parameters (fits.json)",
+        "Steady state of startup shear",
+        "Model versus simulation (tables/model_errors_summary.csv)",
+    ):
         assert caption in html  # the report captions (workflow/report/table_*.rst)
     fits = json.loads((study / RESULTS / "fits.json").read_text())
     for model, parameter in (("gw", "beta"), ("modified", "beta"), ("modified", "A")):
@@ -290,9 +338,13 @@ def test_report_shows_the_tables(study):
 def fabric_tensor(row):
     import numpy as np
 
-    return np.array([[row["n11"], row["n12"], row["n13"]],
-                     [row["n12"], row["n22"], row["n23"]],
-                     [row["n13"], row["n23"], row["n33"]]])
+    return np.array(
+        [
+            [row["n11"], row["n12"], row["n13"]],
+            [row["n12"], row["n22"], row["n23"]],
+            [row["n13"], row["n23"], row["n33"]],
+        ]
+    )
 
 
 @pytest.mark.parametrize("theta_deg", [0, 90])
@@ -331,7 +383,8 @@ def test_command_line_overrides_on_the_default_study(tmp_path):
     assert counts["startup"] == 4 and counts["rotate"] == 52
     merged = snakemake(workdir, "-n", "--config", "run={startup_strain: 3}")
     assert merged.returncode != 0
-    assert ("config key 'analysis.steady_window': need 0 <= min < max <= run.startup_strain (3), "
-            "got [2.0, 5.0]") in merged.stdout + merged.stderr
+    assert (
+        "config key 'analysis.steady_window': need 0 <= min < max <= run.startup_strain (3), got [2.0, 5.0]"
+    ) in merged.stdout + merged.stderr
     bad = snakemake(workdir, "-n", "--config", "run={rotation_strain: -1}")
     assert bad.returncode != 0 and "config key 'run.rotation_strain'" in bad.stdout + bad.stderr

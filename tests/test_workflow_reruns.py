@@ -20,8 +20,11 @@ SEEDS, ANGLES = (1, 2), (0, 90)
 PACK = {("pack", f"seed={s}") for s in SEEDS}
 STARTUP = {("startup", f"seed={s}") for s in SEEDS}
 ROTATE = {("rotate", f"seed={s}, angle={a}") for s in SEEDS for a in ANGLES}
-FABRIC = {("fabric_table", f"seed={s}, run={run}") for s in SEEDS
-          for run in ["startup"] + [f"rotation_theta{a}" for a in ANGLES]}
+FABRIC = {
+    ("fabric_table", f"seed={s}, run={run}")
+    for s in SEEDS
+    for run in ["startup"] + [f"rotation_theta{a}" for a in ANGLES]
+}
 SIMULATIONS = {"pack", "startup", "rotate"}
 
 CASES = {
@@ -38,8 +41,11 @@ CASES = {
     "particles.n": (["particles={n: 50}"], PACK, PACK | STARTUP | ROTATE),
     "particles.phi": (["particles={phi: 0.44}"], PACK, PACK | STARTUP | ROTATE),
     "analysis.eps": (["analysis={eps: 0.02}"], FABRIC, set()),
-    "analysis.steady_window": (["analysis={steady_window: [0.15, 0.3]}"],
-                               {("aggregate_startup", ""), ("aggregate_stress_startup", "")}, set()),
+    "analysis.steady_window": (
+        ["analysis={steady_window: [0.15, 0.3]}"],
+        {("aggregate_startup", ""), ("aggregate_stress_startup", "")},
+        set(),
+    ),
     "models.polar_angle_step_deg": (["models={polar_angle_step_deg: 10}"], {("predict", "")}, set()),
     "models.fabric": (["models={fabric: [gw, modified]}"], {("fit_models", "")}, set()),
     "angles_deg (one added)": (
@@ -51,22 +57,42 @@ CASES = {
     ),
     "seeds (one added)": (
         ["seeds=[1, 2, 3]"],
-        {("pack", "seed=3"), ("startup", "seed=3"), ("rotate", "seed=3, angle=0"), ("rotate", "seed=3, angle=90"),
-         *((table, f"seed=3, run={run}") for table in ("fabric_table", "stress_table")
-           for run in ("startup", "rotation_theta0", "rotation_theta90")),
-         ("aggregate_startup", ""), ("aggregate_rotation", ""), ("aggregate_stress_startup", ""),
-         ("aggregate_stress_rotation", "")},
+        {
+            ("pack", "seed=3"),
+            ("startup", "seed=3"),
+            ("rotate", "seed=3, angle=0"),
+            ("rotate", "seed=3, angle=90"),
+            *(
+                (table, f"seed=3, run={run}")
+                for table in ("fabric_table", "stress_table")
+                for run in ("startup", "rotation_theta0", "rotation_theta90")
+            ),
+            ("aggregate_startup", ""),
+            ("aggregate_rotation", ""),
+            ("aggregate_stress_startup", ""),
+            ("aggregate_stress_rotation", ""),
+        },
         {("pack", "seed=3"), ("startup", "seed=3"), ("rotate", "seed=3, angle=0"), ("rotate", "seed=3, angle=90")},
     ),
-    "verdicts.level": (["verdicts={level: 0.9}"],
-                       {("verdicts", ""), ("figure_claims", ""), ("stress_relation", ""), ("benchmark_models", "")},
-                       set()),
-    "verdicts.window": (["verdicts={window: 0.05}"],
-                        {("claims", ""), ("stress_relation", ""), ("benchmark_models", "")}, set()),
+    "verdicts.level": (
+        ["verdicts={level: 0.9}"],
+        {("verdicts", ""), ("figure_claims", ""), ("stress_relation", ""), ("benchmark_models", "")},
+        set(),
+    ),
+    "verdicts.window": (
+        ["verdicts={window: 0.05}"],
+        {("claims", ""), ("stress_relation", ""), ("benchmark_models", "")},
+        set(),
+    ),
     "models.held_out_folds": (["models={held_out_folds: 3}"], {("benchmark_models", "")}, set()),
     "checks, thermo and restart intervals": (
-        ["run={thermo_strain: 0.02, restart_strain: 0.05, max_overlap: 0.02, max_stress_jitter: 0.6, "
-         "max_contact_relaxation_strain: 0.02}"], set(), set()),
+        [
+            "run={thermo_strain: 0.02, restart_strain: 0.05, max_overlap: 0.02, max_stress_jitter: 0.6, "
+            "max_contact_relaxation_strain: 0.02}"
+        ],
+        set(),
+        set(),
+    ),
 }
 
 
@@ -85,23 +111,36 @@ def test_a_config_change_reruns_exactly_the_jobs_that_depend_on_it(study, case):
     roots = {(job["rule"], job["wildcards"]) for job in jobs if own_reason(job["reason"])}
     simulations = {(job["rule"], job["wildcards"]) for job in jobs if job["rule"] in SIMULATIONS}
     assert roots == expected_roots, (sorted(roots - expected_roots), sorted(expected_roots - roots))
-    assert simulations == expected_simulations, (sorted(simulations ^ expected_simulations))
+    assert simulations == expected_simulations, sorted(simulations ^ expected_simulations)
     if not expected_roots:
         assert "Nothing to be done" in result.stdout + result.stderr
 
 
-@pytest.mark.parametrize("rule, override", [
-    ("predict", "run={startup_strain: 0.4}"), ("fit_models", "particles={phi: 0.44}"),
-    ("predict", "models={fabric: [gw, modified]}"), ("benchmark_models", "models={fabric: [gw, modified]}"),
-    ("benchmark_models", "run={startup_strain: 0.4}"), ("benchmark_models", "analysis={steady_window: [0.15, 0.3]}"),
-    ("rotate", "forces={kn: 5.0e+5}"), ("rotate", "run={dt: 5.0e-5}"), ("rotate", "run={table_strain: 0.005}"),
-])
+@pytest.mark.parametrize(
+    "rule, override",
+    [
+        ("predict", "run={startup_strain: 0.4}"),
+        ("fit_models", "particles={phi: 0.44}"),
+        ("predict", "models={fabric: [gw, modified]}"),
+        ("benchmark_models", "models={fabric: [gw, modified]}"),
+        ("benchmark_models", "run={startup_strain: 0.4}"),
+        ("benchmark_models", "analysis={steady_window: [0.15, 0.3]}"),
+        ("rotate", "forces={kn: 5.0e+5}"),
+        ("rotate", "run={dt: 5.0e-5}"),
+        ("rotate", "run={table_strain: 0.005}"),
+    ],
+)
 def test_params_of_downstream_rules(study, rule, override):
     """A key read by a rule downstream of another that reads it too: planning one output of
     that rule alone with the changed key shows 'Params have changed' for it."""
-    target = {"predict": "tables/predictions.csv", "fit_models": "fits.json", "benchmark_models": "tables/leaderboard.csv",
-              "rotate": "seed1/rotation_theta90/trajectory.dump"}[rule]
-    result = snakemake(study, *TEST_CONFIG, "--config", override, "-n", "--allowed-rules", rule,
-                       "--", f"{RESULTS}/{target}")
+    target = {
+        "predict": "tables/predictions.csv",
+        "fit_models": "fits.json",
+        "benchmark_models": "tables/leaderboard.csv",
+        "rotate": "seed1/rotation_theta90/trajectory.dump",
+    }[rule]
+    result = snakemake(
+        study, *TEST_CONFIG, "--config", override, "-n", "--allowed-rules", rule, "--", f"{RESULTS}/{target}"
+    )
     reasons = {job["rule"]: job["reason"] for job in dry_run_jobs(result.stdout + result.stderr)}
     assert "Params have changed" in reasons.get(rule, ""), (result.stdout + result.stderr)[-2000:]

@@ -12,14 +12,16 @@ SNAKEMAKE = Path(sys.executable).with_name("snakemake")
 TEST_CONFIG = ["--configfile", "config/test.yaml"]
 RESULTS = "results/test"
 
+
 def snakemake(workdir, *args, timeout=900):
-    return subprocess.run([str(SNAKEMAKE), "--cores", "2", *args], cwd=workdir, capture_output=True,
-                          text=True, timeout=timeout)
+    return subprocess.run(
+        [str(SNAKEMAKE), "--cores", "2", *args], cwd=workdir, capture_output=True, text=True, timeout=timeout
+    )
 
 
 def job_counts(output: str) -> dict[str, int]:
     """The 'job  count' table that Snakemake prints before running (or in a dry run)."""
-    table = output[output.index("job "):]
+    table = output[output.index("job ") :]
     counts = {}
     for line in table.splitlines()[2:]:
         match = re.fullmatch(r"(\w+)\s+(\d+)", line.strip())
@@ -46,6 +48,7 @@ def dry_run_jobs(output: str) -> list[dict]:
         fields = dict(re.findall(r"^    (\w+): (.*)$", block, flags=re.M))
         # every study rule carries the study's name first (one config may hold several studies)
         study, wildcards = re.fullmatch(r"(?:study=([^,]*)(?:, |$))?(.*)", fields.get("wildcards", "")).groups()
-        jobs.append({"rule": match.group(1), "study": study, "wildcards": wildcards,
-                     "reason": fields.get("reason", "")})
+        jobs.append(
+            {"rule": match.group(1), "study": study, "wildcards": wildcards, "reason": fields.get("reason", "")}
+        )
     return jobs

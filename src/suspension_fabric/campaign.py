@@ -48,8 +48,10 @@ def campaign_points(config: dict) -> dict[str, dict]:
     for key in ("points", "overrides", "not_run"):
         unknown = [name for name in campaign[key] if name not in grid]
         if unknown:
-            raise ConfigError(f"config key 'campaign.{key}': {unknown[0]!r} is not a point of the grid "
-                              f"campaign.phi x campaign.mu (points: {', '.join(grid)})")
+            raise ConfigError(
+                f"config key 'campaign.{key}': {unknown[0]!r} is not a point of the grid "
+                f"campaign.phi x campaign.mu (points: {', '.join(grid)})"
+            )
     selected = [name for name in (campaign["points"] or grid) if name not in campaign["not_run"]]
     if not selected:
         raise ConfigError("config key 'campaign.points': no point left to run (all are in campaign.not_run)")
@@ -63,8 +65,9 @@ def campaign_points(config: dict) -> dict[str, dict]:
         try:
             points[name] = validate_config(point)
         except ConfigError as err:
-            raise ConfigError(f"campaign point {name} (config key 'campaign.overrides.{name}' or the base "
-                              f"study): {err}") from None
+            raise ConfigError(
+                f"campaign point {name} (config key 'campaign.overrides.{name}' or the base study): {err}"
+            ) from None
         points[name]["study"] = f"{config['study']}/{name}"  # its results folder: results/<campaign>/<point>
     return points
 

@@ -30,16 +30,34 @@ import numpy as np
 import pandas as pd
 
 from . import model, tables
-from .model_vs_simulation import fit_both_models
-from .tables import fabric_tensors
 from .frames import rotation_about_gradient, simple_shear_gradient, to_basis
+from .model_vs_simulation import fit_both_models
 from .seed_statistics import LEVEL, decide, seeds_needed, t_interval
+from .tables import fabric_tensors
 from .verdicts import PAPER
 
-__all__ = ["Choice", "study_choices", "Claim", "CLAIMS", "EFFECT", "seed_replicate", "SeedReplicate", "deficit",
-           "transverse_effect", "overshoot_excess", "mean_square", "angle_statistics", "claim_values",
-           "claim_angles", "range_interval", "claim_table", "per_angle_table", "range_edge_table",
-           "study_claim_values", "choices_table"]
+__all__ = [
+    "Choice",
+    "study_choices",
+    "Claim",
+    "CLAIMS",
+    "EFFECT",
+    "seed_replicate",
+    "SeedReplicate",
+    "deficit",
+    "transverse_effect",
+    "overshoot_excess",
+    "mean_square",
+    "angle_statistics",
+    "claim_values",
+    "claim_angles",
+    "range_interval",
+    "claim_table",
+    "per_angle_table",
+    "range_edge_table",
+    "study_claim_values",
+    "choices_table",
+]
 
 MODELS = ("gw", "modified")
 STATES = ("own", "simulated", "steady")
@@ -74,13 +92,21 @@ def study_choices(window: float, rotation_strain: float) -> list[Choice]:
     models' state (simulated, steady), the window (1; and 3 when the runs reach it), the fit on the
     startup curve or the paper's printed parameters, the theta = 0 continuation baseline."""
     primary = Choice("primary", window)
-    choices = [primary, replace(primary, name="state: simulated", state="simulated"),
-               replace(primary, name="state: model steady", state="steady")]
-    choices += [replace(primary, name=f"window {other:g}", window=other)
-                for other in (1.0, 2.0, 3.0) if other != window and other <= rotation_strain + _ANGLE_TOL]
-    choices += [replace(primary, name="fit: startup curve", fit="startup"),
-                replace(primary, name="fit: paper's values", fit="paper"),
-                replace(primary, name="baseline: theta = 0", baseline="continuation")]
+    choices = [
+        primary,
+        replace(primary, name="state: simulated", state="simulated"),
+        replace(primary, name="state: model steady", state="steady"),
+    ]
+    choices += [
+        replace(primary, name=f"window {other:g}", window=other)
+        for other in (1.0, 2.0, 3.0)
+        if other != window and other <= rotation_strain + _ANGLE_TOL
+    ]
+    choices += [
+        replace(primary, name="fit: startup curve", fit="startup"),
+        replace(primary, name="fit: paper's values", fit="paper"),
+        replace(primary, name="baseline: theta = 0", baseline="continuation"),
+    ]
     return choices
 
 
@@ -108,13 +134,15 @@ def _fit(startup: pd.DataFrame, steady: pd.DataFrame, phi: float, fabric0: np.nd
     strains = startup["strain"].to_numpy(dtype=float)
     n11, n12 = startup["n11"].to_numpy(dtype=float), startup["n12"].to_numpy(dtype=float)
     gw = model.fit_startup_curve(strains, {"12": n12}, phi, fabric0, free_A=False, start=(fitted.gw_beta, None))
-    mod = model.fit_startup_curve(strains, {"11": n11, "12": n12}, phi, fabric0, free_A=True,
-                                  start=(fitted.beta, fitted.A))
+    mod = model.fit_startup_curve(
+        strains, {"11": n11, "12": n12}, phi, fabric0, free_A=True, start=(fitted.beta, fitted.A)
+    )
     return {"gw": (gw.beta, None), "modified": (mod.beta, mod.A)}
 
 
-def seed_replicate(startup: pd.DataFrame, rotation: pd.DataFrame, phi: float, steady_window, startup_strain: float,
-                   choice: Choice) -> SeedReplicate:
+def seed_replicate(
+    startup: pd.DataFrame, rotation: pd.DataFrame, phi: float, steady_window, startup_strain: float, choice: Choice
+) -> SeedReplicate:
     """One seed's simulated and predicted post-rotation curves under ``choice``.
 
     ``startup`` and ``rotation`` are that seed's rows of the startup and rotation run tables
@@ -140,12 +168,16 @@ def seed_replicate(startup: pd.DataFrame, rotation: pd.DataFrame, phi: float, st
         if strain is None:
             strain = grid
         elif len(grid) != len(strain) or not np.allclose(grid, strain, rtol=1e-9, atol=1e-9):
-            raise ValueError(f"seed {seed}: the post-rotation strains at theta = {theta:g} differ from those at "
-                             f"theta = {thetas[0]:g}")
+            raise ValueError(
+                f"seed {seed}: the post-rotation strains at theta = {theta:g} differ from those at "
+                f"theta = {thetas[0]:g}"
+            )
         curves[theta] = rows
     if strain[-1] < choice.window - 1e-9:
-        raise ValueError(f"seed {seed}: the rotation runs reach strain {strain[-1]:g}, below the window "
-                         f"{choice.window:g} of choice '{choice.name}'")
+        raise ValueError(
+            f"seed {seed}: the rotation runs reach strain {strain[-1]:g}, below the window "
+            f"{choice.window:g} of choice '{choice.name}'"
+        )
     keep = strain <= choice.window + 1e-9
     strain = strain[keep]
     simulated = np.stack([fabric_tensors(curves[t])[keep] for t in thetas])  # (angles, strains, 3, 3)
@@ -157,8 +189,11 @@ def seed_replicate(startup: pd.DataFrame, rotation: pd.DataFrame, phi: float, st
         if choice.state == "own":
             predicted = model.shear_rotation(np.radians(thetas), strain, beta, A, phi, startup_strain, fabric0)
         else:
-            before = (simulated[:, 0] if choice.state == "simulated"
-                      else to_basis(model.steady_state_ode(beta, A, phi), rotation_about_gradient(np.radians(thetas))))
+            before = (
+                simulated[:, 0]
+                if choice.state == "simulated"
+                else to_basis(model.steady_state_ode(beta, A, phi), rotation_about_gradient(np.radians(thetas)))
+            )
             predicted = model.integrate_fabric(before, simple_shear_gradient(), strain, beta, A, phi)
         models[key] = {"r12": predicted[..., 0, 1] / n12_ss, "r23": predicted[..., 1, 2] / n12_ss}
     return SeedReplicate(seed, n12_ss, params, thetas, strain, sim, models)
@@ -212,8 +247,10 @@ def angle_statistics(replicates: list[SeedReplicate], choice: Choice) -> pd.Data
     after = strain > 0.0
     sim12 = np.stack([rep.sim["r12"] for rep in replicates])
     sim23 = np.stack([rep.sim["r23"] for rep in replicates])
-    s2 = {c: (np.var(x, axis=0, ddof=1)[..., after].mean(axis=-1) if len(replicates) > 1 else np.zeros(len(thetas)))
-          for c, x in (("12", sim12), ("23", sim23))}
+    s2 = {
+        c: (np.var(x, axis=0, ddof=1)[..., after].mean(axis=-1) if len(replicates) > 1 else np.zeros(len(thetas)))
+        for c, x in (("12", sim12), ("23", sim23))
+    }
 
     def base(curve):
         return curve[zero[0]][None, :] if choice.baseline == "continuation" else None
@@ -265,11 +302,23 @@ class Claim(NamedTuple):
 
 
 CLAIMS: tuple[Claim, ...] = (
-    Claim("C1", "G-W overestimates the effect of a rotation on <nn>_12 for pi/4 <~ |theta| <~ 3pi/4",
-          (45.0, 135.0), False, "C1"),
-    Claim("C2", "G-W underestimates the effect on <nn>_23 for pi/2 <~ |theta| <~ pi (recovers much faster)",
-          (90.0, 180.0), True, "C2"),
-    Claim("C3", "modified significantly better than G-W on <nn>'_12 at intermediate angles", (45.0, 135.0), False, "C3"),
+    Claim(
+        "C1",
+        "G-W overestimates the effect of a rotation on <nn>_12 for pi/4 <~ |theta| <~ 3pi/4",
+        (45.0, 135.0),
+        False,
+        "C1",
+    ),
+    Claim(
+        "C2",
+        "G-W underestimates the effect on <nn>_23 for pi/2 <~ |theta| <~ pi (recovers much faster)",
+        (90.0, 180.0),
+        True,
+        "C2",
+    ),
+    Claim(
+        "C3", "modified significantly better than G-W on <nn>'_12 at intermediate angles", (45.0, 135.0), False, "C3"
+    ),
     Claim("C4", "modified significantly better than G-W on <nn>'_23 at large angles", (90.0, 180.0), True, "C4"),
     Claim("C3'", "modified significantly better than G-W on <nn>'_12 over all angles", (0.0, 180.0), False, "C3"),
     Claim("C4'", "modified significantly better than G-W on <nn>'_23 over all angles", (0.0, 180.0), True, "C4"),
@@ -308,8 +357,16 @@ def claim_values(stats: pd.DataFrame) -> pd.DataFrame:
     blocks = []
     for claim in CLAIMS:
         rows = stats if not claim.skip_symmetric else stats[~_symmetric(stats["theta"])]
-        blocks.append(pd.DataFrame({"claim": claim.key, "seed": rows["seed"].to_numpy(), "theta": rows["theta"].to_numpy(),
-                                    "T": claim.values(rows)}))
+        blocks.append(
+            pd.DataFrame(
+                {
+                    "claim": claim.key,
+                    "seed": rows["seed"].to_numpy(),
+                    "theta": rows["theta"].to_numpy(),
+                    "T": claim.values(rows),
+                }
+            )
+        )
     return pd.concat(blocks, ignore_index=True)
 
 
@@ -334,12 +391,27 @@ def range_interval(values: pd.DataFrame, claim: str, thetas, level: float = LEVE
 
 def _row(interval, **keys) -> dict:
     if interval is None:
-        return {**keys, "mean": np.nan, "low": np.nan, "high": np.nan, "se": np.nan, "n_seeds": 0,
-                "verdict": "no angle in range", "seeds_needed": np.nan}
+        return {
+            **keys,
+            "mean": np.nan,
+            "low": np.nan,
+            "high": np.nan,
+            "se": np.nan,
+            "n_seeds": 0,
+            "verdict": "no angle in range",
+            "seeds_needed": np.nan,
+        }
     verdict = decide(interval)
-    return {**keys, "mean": interval.mean, "low": interval.low, "high": interval.high, "se": interval.se,
-            "n_seeds": interval.n, "verdict": verdict,
-            "seeds_needed": seeds_needed(interval) if verdict == "undecided" else np.nan}
+    return {
+        **keys,
+        "mean": interval.mean,
+        "low": interval.low,
+        "high": interval.high,
+        "se": interval.se,
+        "n_seeds": interval.n,
+        "verdict": verdict,
+        "seeds_needed": seeds_needed(interval) if verdict == "undecided" else np.nan,
+    }
 
 
 def _angle_text(thetas) -> str:
@@ -353,16 +425,30 @@ def claim_table(values: pd.DataFrame, level: float = LEVEL) -> pd.DataFrame:
     rows = []
     for claim in CLAIMS:
         inside = claim_angles(claim, thetas)
-        rows.append(_row(range_interval(values, claim.key, inside, level, tables), claim=claim.key, text=claim.text,
-                         statistic=DECISION_STATISTIC[claim.statistic], angles=_angle_text(inside), level=level))
+        rows.append(
+            _row(
+                range_interval(values, claim.key, inside, level, tables),
+                claim=claim.key,
+                text=claim.text,
+                statistic=DECISION_STATISTIC[claim.statistic],
+                angles=_angle_text(inside),
+                level=level,
+            )
+        )
     return pd.DataFrame(rows)
 
 
 def per_angle_table(values: pd.DataFrame, stats: pd.DataFrame, level: float = LEVEL) -> pd.DataFrame:
     """T per claim and angle with its interval and verdict, with the seed means of the
     underlying quantities (simulation and models) for reading."""
-    quantities = {"C1": ("D12", ("sim", *MODELS)), "C2": ("E23", ("sim", *MODELS)), "C3": ("MSE12", MODELS),
-                  "C4": ("MSE23", MODELS), "C5": ("O12", ("modified",)), "C6": ("X12", ("sim", *MODELS))}
+    quantities = {
+        "C1": ("D12", ("sim", *MODELS)),
+        "C2": ("E23", ("sim", *MODELS)),
+        "C3": ("MSE12", MODELS),
+        "C4": ("MSE23", MODELS),
+        "C5": ("O12", ("modified",)),
+        "C6": ("X12", ("sim", *MODELS)),
+    }
     means = stats.groupby("theta").mean(numeric_only=True)
     tables = _seed_by_angle(values)
     rows = []
@@ -370,8 +456,9 @@ def per_angle_table(values: pd.DataFrame, stats: pd.DataFrame, level: float = LE
         if claim.key.endswith("'"):
             continue  # the same T per angle as its ranged claim
         for theta in np.unique(values[values["claim"] == claim.key]["theta"]):
-            row = _row(range_interval(values, claim.key, [theta], level, tables), claim=claim.key, theta=theta,
-                       level=level)
+            row = _row(
+                range_interval(values, claim.key, [theta], level, tables), claim=claim.key, theta=theta, level=level
+            )
             quantity, sources = quantities[claim.statistic]
             row["quantity"] = quantity
             for source in sources:
@@ -394,33 +481,69 @@ def range_edge_table(values: pd.DataFrame, level: float = LEVEL) -> pd.DataFrame
         if not len(inside):
             continue
         lo, hi = np.flatnonzero(np.isin(eligible, inside))[[0, -1]]
-        variants = {"as stated": (lo, hi), "low edge out": (lo - 1, hi), "low edge in": (lo + 1, hi),
-                    "high edge in": (lo, hi - 1), "high edge out": (lo, hi + 1)}
+        variants = {
+            "as stated": (lo, hi),
+            "low edge out": (lo - 1, hi),
+            "low edge in": (lo + 1, hi),
+            "high edge in": (lo, hi - 1),
+            "high edge out": (lo, hi + 1),
+        }
         for name, (a, b) in variants.items():
             if a < 0 or b >= len(eligible) or a > b:
                 continue
-            chosen = eligible[a:b + 1]
+            chosen = eligible[a : b + 1]
             thetas = values["theta"].unique()
             selected = thetas[np.isin(np.abs(thetas), chosen)]
-            rows.append(_row(range_interval(values, claim.key, selected, level, tables), claim=claim.key, edges=name,
-                             angles=_angle_text(selected), level=level))
+            rows.append(
+                _row(
+                    range_interval(values, claim.key, selected, level, tables),
+                    claim=claim.key,
+                    edges=name,
+                    angles=_angle_text(selected),
+                    level=level,
+                )
+            )
     return pd.DataFrame(rows)
 
 
 # ----------------------------------------------------------------------------- studies
-def study_claim_values(startup_runs: pd.DataFrame, rotation_runs: pd.DataFrame, phi: float, steady_window,
-                       startup_strain: float, choice: Choice) -> tuple[pd.DataFrame, pd.DataFrame, pd.DataFrame]:
+def study_claim_values(
+    startup_runs: pd.DataFrame,
+    rotation_runs: pd.DataFrame,
+    phi: float,
+    steady_window,
+    startup_strain: float,
+    choice: Choice,
+) -> tuple[pd.DataFrame, pd.DataFrame, pd.DataFrame]:
     """A study's per-angle statistics, T values and fitted parameters per seed under ``choice``."""
     seeds = sorted(set(startup_runs["seed"]))
     missing = sorted(set(seeds) ^ set(rotation_runs["seed"]))
     if missing:
         raise ValueError(f"seeds {missing} have startup or rotation runs but not both")
-    replicates = [seed_replicate(startup_runs[startup_runs["seed"] == s], rotation_runs[rotation_runs["seed"] == s],
-                                 phi, steady_window, startup_strain, choice) for s in seeds]
+    replicates = [
+        seed_replicate(
+            startup_runs[startup_runs["seed"] == s],
+            rotation_runs[rotation_runs["seed"] == s],
+            phi,
+            steady_window,
+            startup_strain,
+            choice,
+        )
+        for s in seeds
+    ]
     stats = angle_statistics(replicates, choice)
-    params = pd.DataFrame([{"seed": r.seed, "n12_ss": r.n12_ss, "gw_beta": r.params["gw"][0],
-                            "modified_beta": r.params["modified"][0], "modified_A": r.params["modified"][1]}
-                           for r in replicates])
+    params = pd.DataFrame(
+        [
+            {
+                "seed": r.seed,
+                "n12_ss": r.n12_ss,
+                "gw_beta": r.params["gw"][0],
+                "modified_beta": r.params["modified"][0],
+                "modified_A": r.params["modified"][1],
+            }
+            for r in replicates
+        ]
+    )
     return stats, claim_values(stats), params
 
 
@@ -442,8 +565,16 @@ def choices_table(values_by_choice: dict[str, pd.DataFrame], level: float = LEVE
     return table
 
 
-def evaluate_study(startup_runs: pd.DataFrame, rotation_runs: pd.DataFrame, *, phi: float, steady_window,
-                   startup_strain: float, rotation_strain: float, window: float) -> dict[str, pd.DataFrame]:
+def evaluate_study(
+    startup_runs: pd.DataFrame,
+    rotation_runs: pd.DataFrame,
+    *,
+    phi: float,
+    steady_window,
+    startup_strain: float,
+    rotation_strain: float,
+    window: float,
+) -> dict[str, pd.DataFrame]:
     """Every choice of :func:`study_choices` on one study: ``statistics`` (per seed and angle),
     ``values`` (T per claim, seed and angle) and ``fits`` (per-seed parameters), each with a
     ``choice`` column. The theta = 0 baseline is left out when the study has no theta = 0 run."""
@@ -466,8 +597,16 @@ def evaluate_dataset(folder, window: float) -> pd.DataFrame:
     record, startup, rotation = read_fabric_runs(folder)
     config = record["config"]
     if config["run"]["rotation_strain"] < window - 1e-9:
-        raise ValueError(f"the dataset {folder} runs {config['run']['rotation_strain']:g} strain after each rotation, "
-                         f"less than the window verdicts.window = {window:g}")
-    _, values, _ = study_claim_values(startup, rotation, config["particles"]["phi"], config["analysis"]["steady_window"],
-                                      config["run"]["startup_strain"], Choice("primary", window))
+        raise ValueError(
+            f"the dataset {folder} runs {config['run']['rotation_strain']:g} strain after each rotation, "
+            f"less than the window verdicts.window = {window:g}"
+        )
+    _, values, _ = study_claim_values(
+        startup,
+        rotation,
+        config["particles"]["phi"],
+        config["analysis"]["steady_window"],
+        config["run"]["startup_strain"],
+        Choice("primary", window),
+    )
     return values

@@ -16,11 +16,21 @@ import yaml
 from .fabric_models import ModelError, resolve_models
 from .resources import SCHEMA_PATH
 from .scales import (
-    contact_period, contact_relaxation_time, max_dt_explicit, max_dt_implicit,
+    contact_period,
+    contact_relaxation_time,
+    max_dt_explicit,
+    max_dt_implicit,
 )
 
-__all__ = ["SCHEMA_PATH", "ConfigError", "validate_config", "load_config", "angle_label",
-           "simulation_settings", "SIMULATION_RUN_KEYS"]
+__all__ = [
+    "SCHEMA_PATH",
+    "ConfigError",
+    "validate_config",
+    "load_config",
+    "angle_label",
+    "simulation_settings",
+    "SIMULATION_RUN_KEYS",
+]
 
 # velocity Verlet (run.integrator = explicit) must resolve the contact oscillation
 MIN_STEPS_PER_CONTACT_PERIOD = 30
@@ -28,14 +38,20 @@ MIN_STEPS_PER_CONTACT_PERIOD = 30
 
 #: The ``run`` keys that change a simulation's outputs besides its strain (and all of
 #: ``forces``); the others (thermo and restart intervals, failure bounds, MPI ranks) do not.
-SIMULATION_RUN_KEYS = ("integrator", "contact_springs", "preconditioner", "solver_tol", "dt", "dump_strain",
-                       "table_strain")
+SIMULATION_RUN_KEYS = (
+    "integrator",
+    "contact_springs",
+    "preconditioner",
+    "solver_tol",
+    "dt",
+    "dump_strain",
+    "table_strain",
+)
 
 
 def simulation_settings(config: dict) -> dict:
     """The settings of a validated config on which every startup and rotation result depends."""
-    return {"forces": dict(config["forces"]),
-            "run": {key: config["run"][key] for key in SIMULATION_RUN_KEYS}}
+    return {"forces": dict(config["forces"]), "run": {key: config["run"][key] for key in SIMULATION_RUN_KEYS}}
 
 
 class ConfigError(ValueError):
@@ -51,8 +67,11 @@ def _fill_and_validate(config: dict, schema: dict) -> None:
         if isinstance(instance, dict):
             for name, sub in properties.items():
                 if "default" in sub and name not in instance:
-                    instance[name] = sub["default"] if not isinstance(sub["default"], (dict, list)) \
+                    instance[name] = (
+                        sub["default"]
+                        if not isinstance(sub["default"], (dict, list))
                         else type(sub["default"])(sub["default"])
+                    )
         yield from validator_class.VALIDATORS["properties"](validator, properties, instance, schema_)
 
     filling = jsonschema.validators.extend(validator_class, {"properties": set_defaults})
@@ -103,8 +122,9 @@ def validate_config(config: dict, schema_path: str | os.PathLike = SCHEMA_PATH) 
     if particles["d_large"] < particles["d_small"]:
         raise ConfigError("config key 'particles.d_large' must be >= particles.d_small")
     forces = config["forces"]
-    relaxation = contact_relaxation_time(particles["d_large"], particles["d_large"], forces["eta_f"],
-                                         forces["delta"], forces["kn"])
+    relaxation = contact_relaxation_time(
+        particles["d_large"], particles["d_large"], forces["eta_f"], forces["delta"], forces["kn"]
+    )
     if relaxation > run["max_contact_relaxation_strain"]:
         raise ConfigError(
             f"config key 'forces.kn' ({forces['kn']:g}) is too soft for the stiff, rate-independent "
@@ -117,8 +137,10 @@ def validate_config(config: dict, schema_path: str | os.PathLike = SCHEMA_PATH) 
     _check_time_step(run, forces, particles["d_small"])
     _check_output_grid(run)
     if run["integrator"] == "explicit" and run["contact_springs"] == "implicit":
-        raise ConfigError("config key 'run.contact_springs' (implicit) needs run.integrator = implicit: the "
-                          "springs are solved with the implicit hydrodynamics")
+        raise ConfigError(
+            "config key 'run.contact_springs' (implicit) needs run.integrator = implicit: the "
+            "springs are solved with the implicit hydrodynamics"
+        )
     if run["integrator"] == "implicit" and run["mpi_ranks"] > 1:
         raise ConfigError(
             f"config key 'run.mpi_ranks' ({run['mpi_ranks']}): the implicit integrator runs on one MPI "
@@ -127,8 +149,10 @@ def validate_config(config: dict, schema_path: str | os.PathLike = SCHEMA_PATH) 
         )
     window = config["verdicts"]["window"]
     if window > run["rotation_strain"]:
-        raise ConfigError(f"config key 'verdicts.window' ({window}) exceeds run.rotation_strain "
-                          f"({run['rotation_strain']}): the claims integrate over the strain after a rotation")
+        raise ConfigError(
+            f"config key 'verdicts.window' ({window}) exceeds run.rotation_strain "
+            f"({run['rotation_strain']}): the claims integrate over the strain after a rotation"
+        )
     try:
         resolve_models(config["models"]["fabric"])
     except ModelError as error:
@@ -146,26 +170,34 @@ def _check_time_step(run: dict, forces: dict, d_small: float) -> None:
     if integrator == "implicit" and run["contact_springs"] == "implicit":
         tau = contact_relaxation_time(d_small, d_small, forces["eta_f"], forces["delta"], forces["kn"])
         limit = run["max_dt_per_relaxation"] * tau
-        reason = (f"with the contact springs implicit the step must resolve the contact relaxation time "
-                  f"tau = {tau:.3g} (two small spheres at forces.kn = {forces['kn']:g}, "
-                  f"suspension_fabric.scales.contact_relaxation_time): dt <= run.max_dt_per_relaxation "
-                  f"({run['max_dt_per_relaxation']:g}) x tau")
+        reason = (
+            f"with the contact springs implicit the step must resolve the contact relaxation time "
+            f"tau = {tau:.3g} (two small spheres at forces.kn = {forces['kn']:g}, "
+            f"suspension_fabric.scales.contact_relaxation_time): dt <= run.max_dt_per_relaxation "
+            f"({run['max_dt_per_relaxation']:g}) x tau"
+        )
     elif integrator == "implicit":
         limit = max_dt_implicit(d_small, forces["eta_f"], forces["delta"], kt)
-        reason = (f"the explicit tangential contact spring (kt = {kt:g}, damped by the shear "
-                  f"lubrication at the regularised gap) is stable only for dt < {limit:.3g} "
-                  "with run.integrator = implicit (suspension_fabric.scales.max_dt_implicit)")
+        reason = (
+            f"the explicit tangential contact spring (kt = {kt:g}, damped by the shear "
+            f"lubrication at the regularised gap) is stable only for dt < {limit:.3g} "
+            "with run.integrator = implicit (suspension_fabric.scales.max_dt_implicit)"
+        )
     else:
         limit = max_dt_explicit(d_small, forces["eta_f"], forces["delta"])
         period = contact_period(d_small, d_small, forces["kn"])
         if period / MIN_STEPS_PER_CONTACT_PERIOD < limit:
             limit = period / MIN_STEPS_PER_CONTACT_PERIOD
-            reason = (f"velocity Verlet needs {MIN_STEPS_PER_CONTACT_PERIOD} steps per contact "
-                      f"period ({period:.3g} at forces.kn = {forces['kn']:g})")
+            reason = (
+                f"velocity Verlet needs {MIN_STEPS_PER_CONTACT_PERIOD} steps per contact "
+                f"period ({period:.3g} at forces.kn = {forces['kn']:g})"
+            )
         else:
-            reason = (f"run.integrator = explicit integrates the lubrication squeeze explicitly, "
-                      f"stable only for dt <= {limit:.3g} at forces.eta_f = {forces['eta_f']:g}, "
-                      f"forces.delta = {forces['delta']:g} (suspension_fabric.scales.max_dt_explicit)")
+            reason = (
+                f"run.integrator = explicit integrates the lubrication squeeze explicitly, "
+                f"stable only for dt <= {limit:.3g} at forces.eta_f = {forces['eta_f']:g}, "
+                f"forces.delta = {forces['delta']:g} (suspension_fabric.scales.max_dt_explicit)"
+            )
     if dt > limit:
         raise ConfigError(f"config key 'run.dt' ({dt:g}) is too large: {reason}; use dt <= {limit:.3g}")
 
@@ -183,15 +215,19 @@ def _check_output_grid(run: dict) -> None:
     steps_per_strain = 1.0 / run["dt"]
     startup_steps = run["startup_strain"] * steps_per_strain
     if abs(startup_steps - round(startup_steps)) > 1e-6 * startup_steps:
-        raise ConfigError(f"config key 'run.dt' ({run['dt']:g}): run.startup_strain "
-                          f"({run['startup_strain']:g}) is not a whole number of steps "
-                          f"({startup_steps:.6g}); choose dt that divides it")
+        raise ConfigError(
+            f"config key 'run.dt' ({run['dt']:g}): run.startup_strain "
+            f"({run['startup_strain']:g}) is not a whole number of steps "
+            f"({startup_steps:.6g}); choose dt that divides it"
+        )
     for key in ("dump_strain", "table_strain"):
         stride = output_stride(run[key], run["dt"])
         if round(startup_steps) % stride:
-            raise ConfigError(f"config key 'run.{key}' ({run[key]:g}) gives a stride of {stride} steps at "
-                              f"dt = {run['dt']:g}, which does not divide the {round(startup_steps)} steps "
-                              f"of the startup; the rotations would start off the output grid")
+            raise ConfigError(
+                f"config key 'run.{key}' ({run[key]:g}) gives a stride of {stride} steps at "
+                f"dt = {run['dt']:g}, which does not divide the {round(startup_steps)} steps "
+                f"of the startup; the rotations would start off the output grid"
+            )
 
 
 def load_config(path: str | os.PathLike) -> dict:

@@ -17,6 +17,13 @@ config must describe the same simulations (:func:`check_config_matches`).
 
     python -m suspension_fabric.dataset export --config config/paper.yaml --to data/reference
 
+From Python, :func:`load` reads a dataset folder or a finished study's results folder into
+pandas DataFrames with their provenance::
+
+    from suspension_fabric.dataset import load
+    reference = load("data/reference")
+    reference.steady_fabric.set_index("quantity").loc["n12", "mean"]
+
 A campaign config (suspension_fabric.campaign) exports one dataset per point, ``<to>/<point>``;
 ``campaign.datasets: <to>`` then rebuilds the map from them.
 """
@@ -24,6 +31,7 @@ A campaign config (suspension_fabric.campaign) exports one dataset per point, ``
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import gzip
 import hashlib
 import importlib.metadata
@@ -39,13 +47,25 @@ import pandas as pd
 from .campaign import study_configs
 from .config import angle_label, load_config, simulation_settings
 from .lammps.plugin import plugin_sources
-from .stress import read_stress_csv
+from .stress import read_stress_csv, recorded_value_columns
 from .stressio import read_stress_table
-from .tables import read_fabric_table
+from .tables import VALUE_COLUMNS, read_fabric_table, steady_state
 
-__all__ = ["DATASET_FILE", "run_names", "export_dataset", "read_dataset", "check_config_matches",
-           "import_run_table", "has_run_tables", "read_dataset_stress", "read_fabric_runs", "read_stress_runs",
-           "RUN_TABLES"]
+__all__ = [
+    "DATASET_FILE",
+    "run_names",
+    "export_dataset",
+    "read_dataset",
+    "check_config_matches",
+    "import_run_table",
+    "has_run_tables",
+    "read_dataset_stress",
+    "read_fabric_runs",
+    "read_stress_runs",
+    "RUN_TABLES",
+    "Loaded",
+    "load",
+]
 
 DATASET_FILE = "dataset.json"
 #: The analysed per-run tables a dataset carries (datasets exported before the stress parts were
@@ -97,8 +117,9 @@ def read_dataset_stress(path: Path) -> dict[str, np.ndarray]:
     return {name: data[:, k] for k, name in enumerate(names)}
 
 
-def export_dataset(config: dict, results: Path, target: Path, *, repository: Path | None = None,
-                   raw_stress: bool = True) -> dict:
+def export_dataset(
+    config: dict, results: Path, target: Path, *, repository: Path | None = None, raw_stress: bool = True
+) -> dict:
     """Copy the finished runs of a study (``results/<study>``) into the dataset folder ``target``.
 
     ``raw_stress=False`` leaves out each run's raw stress table (``stress.csv.gz``), which no
@@ -149,8 +170,9 @@ def read_dataset(folder: Path) -> dict:
     """The record of a dataset folder; errors name the folder."""
     path = Path(folder) / DATASET_FILE
     if not path.is_file():
-        raise FileNotFoundError(f"dataset record not found: {path} (export one with "
-                                "`python -m suspension_fabric.dataset export`)")
+        raise FileNotFoundError(
+            f"dataset record not found: {path} (export one with `python -m suspension_fabric.dataset export`)"
+        )
     return json.loads(path.read_text())
 
 
@@ -166,10 +188,14 @@ def _what_was_simulated(config: dict) -> dict:
     config = {**config, "run": {**KEYS_BEFORE_RECORDED, **config["run"]}}
     settings = simulation_settings(config)
     return {
-        "seeds": config["seeds"], "angles_deg": config["angles_deg"], "particles": config["particles"],
-        "forces": settings["forces"], **{f"run.{key}": value for key, value in settings["run"].items()},
+        "seeds": config["seeds"],
+        "angles_deg": config["angles_deg"],
+        "particles": config["particles"],
+        "forces": settings["forces"],
+        **{f"run.{key}": value for key, value in settings["run"].items()},
         "run.startup_strain": config["run"]["startup_strain"],
-        "run.rotation_strain": config["run"]["rotation_strain"], "analysis.eps": config["analysis"]["eps"],
+        "run.rotation_strain": config["run"]["rotation_strain"],
+        "analysis.eps": config["analysis"]["eps"],
     }
 
 
@@ -179,11 +205,14 @@ def check_config_matches(config: dict, record: dict, folder: Path) -> None:
     here, there = _what_was_simulated(config), _what_was_simulated(record["config"])
     for key, value in here.items():
         if value != there[key]:
-            raise ValueError(f"config key '{key}' differs from the dataset {folder} "
-                             f"({value!r} here, {there[key]!r} there)")
+            raise ValueError(
+                f"config key '{key}' differs from the dataset {folder} ({value!r} here, {there[key]!r} there)"
+            )
     if record["runs_missing"]:
-        raise ValueError(f"the dataset {folder} lacks {len(record['runs_missing'])} run(s), e.g. "
-                         f"{record['runs_missing'][0]}; export it again once the study has finished")
+        raise ValueError(
+            f"the dataset {folder} lacks {len(record['runs_missing'])} run(s), e.g. "
+            f"{record['runs_missing'][0]}; export it again once the study has finished"
+        )
 
 
 def has_run_tables(record: dict, table: str) -> bool:
@@ -226,8 +255,9 @@ def read_fabric_runs(folder: Path) -> tuple[dict, pd.DataFrame, pd.DataFrame]:
     every file's SHA-256 checked (the run tables of the workflow's ``aggregate_*`` rules)."""
     record = read_dataset(folder)
     if record["runs_missing"]:
-        raise ValueError(f"the dataset {folder} lacks {len(record['runs_missing'])} run(s), e.g. "
-                         f"{record['runs_missing'][0]}")
+        raise ValueError(
+            f"the dataset {folder} lacks {len(record['runs_missing'])} run(s), e.g. {record['runs_missing'][0]}"
+        )
     return (record, *_concatenated_runs(folder, record, "fabric.csv", read_fabric_table))
 
 
@@ -241,6 +271,94 @@ def read_stress_runs(folder: Path, record: dict | None = None) -> tuple[pd.DataF
     return _concatenated_runs(folder, record, "stress.csv", read_stress_csv)
 
 
+@dataclasses.dataclass(frozen=True)
+class Loaded:
+    """A study's tables as DataFrames (:func:`load`). ``fabric_startup``, ``fabric_rotation``: the
+    per-frame fabric of every run (:mod:`suspension_fabric.tables`); ``stress_startup``,
+    ``stress_rotation``: the per-frame stress (:mod:`suspension_fabric.stress`; None if the runs
+    did not record it); ``steady_fabric``, ``steady_stress``: steady states over the config's
+    ``analysis.steady_window`` (:func:`suspension_fabric.tables.steady_state`); ``fits``: the
+    fits.json of the study (a dataset's: the one recorded when it was exported); ``verdicts``:
+    tables/verdicts.csv of a results folder (None for a dataset, whose verdicts its study
+    rebuilds); ``config``: a dataset's validated config (None for a results folder, which does
+    not keep it; its steady states are the study's own tables); ``provenance``: where it came
+    from (folder, kind; a dataset's git commit, software versions, plugin-source hash and export
+    time; a study's fits provenance)."""
+
+    fabric_startup: pd.DataFrame
+    fabric_rotation: pd.DataFrame
+    stress_startup: pd.DataFrame | None
+    stress_rotation: pd.DataFrame | None
+    steady_fabric: pd.DataFrame
+    steady_stress: pd.DataFrame | None
+    fits: dict | None
+    verdicts: pd.DataFrame | None
+    config: dict
+    provenance: dict
+
+
+def _steady(runs: pd.DataFrame, window, columns) -> pd.DataFrame:
+    return steady_state(runs, *window, value_columns=columns)
+
+
+def load(path: str | Path) -> Loaded:
+    """A dataset folder (with ``dataset.json``: every file's SHA-256 checked) or a finished study's
+    results folder (``results/<study>``, with ``tables/`` and ``fits.json``) as :class:`Loaded`.
+    Anything else is an error naming the folder and what was expected."""
+    folder = Path(path)
+    if (folder / DATASET_FILE).is_file():
+        record, fabric_startup, fabric_rotation = read_fabric_runs(folder)
+        stress = read_stress_runs(folder, record)
+        provenance = {
+            "folder": str(folder),
+            "kind": "dataset",
+            "study": record["study"],
+            **{key: record.get(key) for key in ("git_commit", "versions", "plugin_sources_sha256", "exported_utc")},
+        }
+        config, fits, verdicts = record["config"], record.get("fits"), None
+    elif (folder / "tables" / "startup_runs.csv").is_file() and (folder / "fits.json").is_file():
+        tables = folder / "tables"
+        fits = json.loads((folder / "fits.json").read_text())
+        stress = None
+        if (tables / "stress_startup_runs.csv").is_file():
+            stress = tuple(read_stress_csv(tables / f"stress_{kind}_runs.csv") for kind in ("startup", "rotation"))
+        optional = {
+            name: pd.read_csv(tables / name) if (tables / name).is_file() else None
+            for name in ("verdicts.csv", "stress_steady_state.csv")
+        }
+        return Loaded(
+            read_fabric_table(tables / "startup_runs.csv"),
+            read_fabric_table(tables / "rotation_runs.csv"),
+            *(stress or (None, None)),
+            pd.read_csv(tables / "steady_state.csv"),
+            optional["stress_steady_state.csv"],
+            fits,
+            optional["verdicts.csv"],
+            None,
+            {"folder": str(folder), "kind": "results", **fits.get("provenance", {})},
+        )
+    else:
+        raise FileNotFoundError(
+            f"{folder}: neither a dataset (no {DATASET_FILE}) nor a finished study's results "
+            "folder (no tables/startup_runs.csv and fits.json)"
+        )
+    window = config["analysis"]["steady_window"]
+    steady_stress = None
+    if stress is not None:
+        steady_stress = _steady(stress[0], window, recorded_value_columns(stress[0], str(folder)))
+    return Loaded(
+        fabric_startup,
+        fabric_rotation,
+        *(stress or (None, None)),
+        _steady(fabric_startup, window, VALUE_COLUMNS),
+        steady_stress,
+        fits,
+        verdicts,
+        config,
+        provenance,
+    )
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description="Export a finished study's tables as a dataset.")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -248,22 +366,30 @@ def main(argv: list[str] | None = None) -> None:
     export.add_argument("--config", type=Path, required=True, help="the study's config file")
     export.add_argument("--to", type=Path, required=True, help="the dataset folder")
     export.add_argument("--results", type=Path, help="default: results/<study>")
-    export.add_argument("--without-raw-stress", action="store_true",
-                        help="leave out each run's raw stress table (stress.csv.gz), which no rule reads")
+    export.add_argument(
+        "--without-raw-stress",
+        action="store_true",
+        help="leave out each run's raw stress table (stress.csv.gz), which no rule reads",
+    )
     args = parser.parse_args(argv)
     config = load_config(args.config)
     if config["campaign"] and args.results:
         parser.error("--results applies to a single study; a campaign's points are read from results/<study>/<point>")
     # a campaign: one dataset per point, <to>/<point>
-    targets = ({args.to / study["study"].split("/", 1)[1]: study for study in study_configs(config).values()}
-               if config["campaign"] else {args.to: config})
+    targets = (
+        {args.to / study["study"].split("/", 1)[1]: study for study in study_configs(config).values()}
+        if config["campaign"]
+        else {args.to: config}
+    )
     for target, study in targets.items():
         results = args.results or Path("results") / study["study"]
         record = export_dataset(study, results, target, raw_stress=not args.without_raw_stress)
         done = sum(1 for key in record["files"] if key.endswith("/run.json"))
         missing = record["runs_missing"]
-        print(f"{target}: {done} runs exported, {len(missing)} missing"
-              + (f" (no run_complete.json, {' or '.join(RUN_TABLES)} yet, e.g. {missing[0]})" if missing else ""))
+        print(
+            f"{target}: {done} runs exported, {len(missing)} missing"
+            + (f" (no run_complete.json, {' or '.join(RUN_TABLES)} yet, e.g. {missing[0]})" if missing else "")
+        )
 
 
 if __name__ == "__main__":

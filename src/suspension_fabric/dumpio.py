@@ -31,10 +31,10 @@ Reading with MDAnalysis (checked in tests/test_fabric*.py)
 from __future__ import annotations
 
 import os
+from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from itertools import islice
 from pathlib import Path
-from typing import Iterable, Iterator, Sequence
 
 import numpy as np
 
@@ -80,9 +80,7 @@ class TriclinicBox:
     @property
     def edge_vectors(self) -> np.ndarray:
         """Rows a, b, c (float64, simulation frame)."""
-        return np.array(
-            [[self.lx, 0.0, 0.0], [self.xy, self.ly, 0.0], [self.xz, self.yz, self.lz]]
-        )
+        return np.array([[self.lx, 0.0, 0.0], [self.xy, self.ly, 0.0], [self.xz, self.yz, self.lz]])
 
     @property
     def volume(self) -> float:
@@ -146,9 +144,15 @@ def _format_frame(frame: DumpFrame, columns: Sequence[str], float_format: str) -
         types = np.asarray(frame.types, dtype=int)
     scaled = frame.box.to_fractional(positions) if n_atoms else np.zeros((0, 3))
     values = {
-        "id": ids, "type": types, "radius": radii,
-        "x": positions[:, 0], "y": positions[:, 1], "z": positions[:, 2],
-        "xs": scaled[:, 0], "ys": scaled[:, 1], "zs": scaled[:, 2],
+        "id": ids,
+        "type": types,
+        "radius": radii,
+        "x": positions[:, 0],
+        "y": positions[:, 1],
+        "z": positions[:, 2],
+        "xs": scaled[:, 0],
+        "ys": scaled[:, 1],
+        "zs": scaled[:, 2],
     }
     integer_columns = {"id", "type"}
     lines = [
@@ -280,25 +284,22 @@ def scan_dump(path: str | os.PathLike, expected_n_atoms: int | None = None) -> D
             if columns is None:
                 columns = frame_columns
             elif frame_columns != columns:
-                raise ValueError(
-                    f"{path}: atom columns change from {columns} to {frame_columns} at frame {frame}"
-                )
+                raise ValueError(f"{path}: atom columns change from {columns} to {frame_columns} at frame {frame}")
             atom_rows = list(islice(handle, frame_atoms))
             cut = _truncation(atom_rows, frame_atoms)
             if cut:
                 raise ValueError(f"{path}: frame {frame} (step {step}) is truncated: {cut}")
             if steps and step <= steps[-1]:
-                raise ValueError(
-                    f"{path}: steps must increase, frame {frame} has step {step} after {steps[-1]}"
-                )
+                raise ValueError(f"{path}: steps must increase, frame {frame} has step {step} after {steps[-1]}")
             steps.append(step)
             frame += 1
     if not steps:
         raise ValueError(f"{path}: empty trajectory (no frames)")
     if expected_n_atoms is not None and n_atoms != expected_n_atoms:
         raise ValueError(f"{path}: expected {expected_n_atoms} atoms, the dump has {n_atoms}")
-    return DumpSummary(path=path, steps=np.asarray(steps, dtype=np.int64), n_atoms=int(n_atoms),
-                       columns=columns, triclinic=triclinic)
+    return DumpSummary(
+        path=path, steps=np.asarray(steps, dtype=np.int64), n_atoms=int(n_atoms), columns=columns, triclinic=triclinic
+    )
 
 
 def _truncation(rows: list[str], n_atoms: int) -> str | None:
@@ -371,8 +372,10 @@ def iter_dump_frames(path: str | os.PathLike) -> Iterator[DumpFrameData]:
         index = {name: k for k, name in enumerate(columns)}
         table = table[np.argsort(table[:, index["id"]])]
         yield DumpFrameData(
-            step=step, box=box,
-            ids=table[:, index["id"]].astype(int), types=table[:, index["type"]].astype(int),
+            step=step,
+            box=box,
+            ids=table[:, index["id"]].astype(int),
+            types=table[:, index["type"]].astype(int),
             radii=table[:, index["radius"]],
             positions=table[:, [index["x"], index["y"], index["z"]]],
         )
@@ -404,7 +407,5 @@ def _block_step(path, block: list[str], index: int, at_end: bool) -> int:
         return int(block[1])
     except (IndexError, ValueError):
         if at_end and len(block) <= 2:
-            raise ValueError(
-                f"{path}: frame {index} is truncated: the file ends before its step is complete"
-            ) from None
+            raise ValueError(f"{path}: frame {index} is truncated: the file ends before its step is complete") from None
         raise ValueError(f"{path}: frame {index}: no readable step after 'ITEM: TIMESTEP'") from None

@@ -64,7 +64,12 @@ DEFAULT_EPS = 0.01
 #: Names of the six independent fabric components (the column names of the fabric tables)
 #: and their (row, column) indices.
 COMPONENTS: dict[str, tuple[int, int]] = {
-    "n11": (0, 0), "n22": (1, 1), "n33": (2, 2), "n12": (0, 1), "n13": (0, 2), "n23": (1, 2),
+    "n11": (0, 0),
+    "n22": (1, 1),
+    "n33": (2, 2),
+    "n12": (0, 1),
+    "n13": (0, 2),
+    "n23": (1, 2),
 }
 
 # Relative widening of the neighbour-search cutoff: the search runs in float32
@@ -91,9 +96,7 @@ class NearContacts:
 def _check_dimensions(dimensions) -> np.ndarray:
     dims = np.asarray(dimensions, dtype=float)
     if dims.shape != (6,) or not np.all(np.isfinite(dims)):
-        raise ValueError(
-            f"dimensions must be six finite numbers [lx, ly, lz, alpha, beta, gamma], got {dimensions!r}"
-        )
+        raise ValueError(f"dimensions must be six finite numbers [lx, ly, lz, alpha, beta, gamma], got {dimensions!r}")
     if np.any(dims[:3] <= 0) or np.any(dims[3:] <= 0) or np.any(dims[3:] >= 180):
         raise ValueError(f"invalid box dimensions {dims.tolist()}: lengths > 0, 0 < angles < 180")
     return dims
@@ -170,9 +173,7 @@ def near_contact_pairs(positions, radii, dimensions, eps: float = DEFAULT_EPS) -
     fractional = positions @ inverse
     wrapped = (fractional - np.floor(fractional)) @ rows
     search_cutoff = min(max_contact_distance * (1.0 + _SEARCH_CUTOFF_MARGIN), 0.999 * half_width)
-    candidates = self_capped_distance(
-        wrapped, search_cutoff, box=triclinic_box(*rows), return_distances=False
-    )
+    candidates = self_capped_distance(wrapped, search_cutoff, box=triclinic_box(*rows), return_distances=False)
     if len(candidates) == 0:
         return empty
     candidates = np.sort(np.asarray(candidates, dtype=np.intp), axis=1)
@@ -190,9 +191,7 @@ def near_contact_pairs(positions, radii, dimensions, eps: float = DEFAULT_EPS) -
         k = np.flatnonzero(coincident)[0]
         raise ValueError(f"particles {i[k]} and {j[k]} coincide; their contact normal is undefined")
     order = np.lexsort((j[is_contact], i[is_contact]))
-    return NearContacts(
-        candidates[is_contact][order], separations[is_contact][order], gaps[is_contact][order]
-    )
+    return NearContacts(candidates[is_contact][order], separations[is_contact][order], gaps[is_contact][order])
 
 
 def fabric_tensor(positions, radii, dimensions, eps: float = DEFAULT_EPS) -> tuple[np.ndarray, int]:
@@ -244,8 +243,11 @@ def open_dump(path: str | os.PathLike, expected_n_atoms: int | None = None) -> m
         # The dump has no masses; they are irrelevant here.
         warnings.filterwarnings("ignore", message="Guessed all Masses to 1.0")
         return mda.Universe(
-            str(summary.path), format="LAMMPSDUMP", topology_format="LAMMPSDUMP",
-            additional_columns=["radius"], dt=1.0,  # ts.time = LAMMPS step, stated
+            str(summary.path),
+            format="LAMMPSDUMP",
+            topology_format="LAMMPSDUMP",
+            additional_columns=["radius"],
+            dt=1.0,  # ts.time = LAMMPS step, stated
         )
 
 
@@ -304,8 +306,7 @@ class FabricAnalysis(AnalysisBase):
         super().__init__(universe.trajectory, verbose=verbose)
         self.universe = universe
         self.source = getattr(universe.trajectory, "filename", None) or "<universe>"
-        for name, value in (("dt", dt), ("shear_rate", shear_rate), ("eps", eps),
-                            ("flow_angle_deg", flow_angle_deg)):
+        for name, value in (("dt", dt), ("shear_rate", shear_rate), ("eps", eps), ("flow_angle_deg", flow_angle_deg)):
             if not np.isfinite(value):
                 raise ValueError(f"{self.source}: {name} must be finite, got {value}")
         if dt <= 0:
@@ -333,8 +334,7 @@ class FabricAnalysis(AnalysisBase):
     def _prepare(self):
         if "radius" not in self._trajectory.ts.data:
             raise ValueError(
-                f"{self.source}: frames carry no 'radius' column "
-                "(open with additional_columns=['radius'])"
+                f"{self.source}: frames carry no 'radius' column (open with additional_columns=['radius'])"
             )
         self.results.step = np.zeros(self.n_frames, dtype=np.int64)
         self.results.fabric_simulation = np.zeros((self.n_frames, 3, 3))
@@ -368,9 +368,7 @@ class FabricAnalysis(AnalysisBase):
         results = self.results
         results.n_particles = self.n_particles
         results.strain = (results.step - self.shear_start_step) * self.dt * self.shear_rate
-        results.fabric = simulation_to_paper(
-            results.fabric_simulation, np.radians(self.flow_angle_deg)
-        )
+        results.fabric = simulation_to_paper(results.fabric_simulation, np.radians(self.flow_angle_deg))
         for name, values in tensor_components(results.fabric).items():
             results[name] = values
         results.coordination = 2.0 * results.n_pairs / self.n_particles

@@ -26,22 +26,46 @@ instances (:data:`BUILT_IN`); a user's model is named in the config as ``module:
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import Callable, Mapping, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import least_squares
 
 from . import model as paper_models
-from .plugins import load_plugin
 from .frames import rotation_about_gradient, simple_shear_gradient, to_basis
-from .model import (VECTOR_ORDER, as_strains, closure_model_rhs, propagate_affine, split_strain_rate, sym_to_vec,
-                    vec_to_sym)
+from .model import (
+    VECTOR_ORDER,
+    as_strains,
+    closure_model_rhs,
+    propagate_affine,
+    split_strain_rate,
+    sym_to_vec,
+    vec_to_sym,
+)
+from .plugins import load_plugin
 
-__all__ = ["Parameter", "Flow", "flow_of", "FabricModel", "GW", "MODIFIED", "SEPARATE_RATES", "BUILT_IN",
-           "load_model", "resolve_models", "affine_system", "integrate", "steady_state", "fit_steady",
-           "startup_shear", "shear_rotation", "ModelError"]
+__all__ = [
+    "Parameter",
+    "Flow",
+    "flow_of",
+    "FabricModel",
+    "GW",
+    "MODIFIED",
+    "SEPARATE_RATES",
+    "BUILT_IN",
+    "load_model",
+    "resolve_models",
+    "affine_system",
+    "integrate",
+    "steady_state",
+    "fit_steady",
+    "startup_shear",
+    "shear_rotation",
+    "ModelError",
+]
 
 #: Strain to which a model that is not affine is integrated in search of its steady state.
 STEADY_STRAIN = 200.0
@@ -64,8 +88,9 @@ class Parameter:
         if not self.name.isidentifier():
             raise ModelError(f"parameter name {self.name!r} must be an identifier")
         if not (self.lower <= self.start <= self.upper):
-            raise ModelError(f"parameter {self.name}: start {self.start} outside its bounds "
-                             f"[{self.lower}, {self.upper}]")
+            raise ModelError(
+                f"parameter {self.name}: start {self.start} outside its bounds [{self.lower}, {self.upper}]"
+            )
 
 
 class Flow(NamedTuple):
@@ -109,8 +134,10 @@ class FabricModel:
             raise ModelError(f"model {self.key}: parameter names {names} must be distinct and at least one")
         unknown = set(self.steady_targets) - set(VECTOR_ORDER)
         if unknown or len(self.steady_targets) != len(names):
-            raise ModelError(f"model {self.key}: steady_targets {self.steady_targets} must be {len(names)} "
-                             f"fabric components among {VECTOR_ORDER} (one per parameter)")
+            raise ModelError(
+                f"model {self.key}: steady_targets {self.steady_targets} must be {len(names)} "
+                f"fabric components among {VECTOR_ORDER} (one per parameter)"
+            )
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -133,8 +160,9 @@ class FabricModel:
 # --------------------------------------------------------------------------- built-in models
 def _closure_model_rhs(fabric, flow: Flow, rate_break: float, rate_form: float, rate_iso: float, phi: float):
     """:func:`suspension_fabric.model.closure_model_rhs` on a :class:`Flow`."""
-    return closure_model_rhs(np.asarray(fabric, dtype=float), flow.grad_hat, flow.e_ext, flow.e_comp, rate_break,
-                             rate_form, rate_iso, phi)
+    return closure_model_rhs(
+        np.asarray(fabric, dtype=float), flow.grad_hat, flow.e_ext, flow.e_comp, rate_break, rate_form, rate_iso, phi
+    )
 
 
 _BETA = Parameter("beta", 1e-3, 1e4, 10.0)
@@ -151,7 +179,11 @@ def _modified_fit(targets, phi):
 
 #: Gillissen-Wilson (paper Eq. 1): one rate beta for breaking, formation and the isotropic term.
 GW = FabricModel(
-    key="gw", label="G-W (Eq. 1)", parameters=(_BETA,), steady_targets=("12",), affine=True,
+    key="gw",
+    label="G-W (Eq. 1)",
+    parameters=(_BETA,),
+    steady_targets=("12",),
+    affine=True,
     rhs=lambda fabric, flow, p, phi: _closure_model_rhs(fabric, flow, p["beta"], p["beta"], p["beta"], phi),
     steady=lambda p, phi: paper_models.steady_state(p["beta"], None, phi),
     fit=_gw_fit,
@@ -160,13 +192,17 @@ GW = FabricModel(
 
 #: The paper's modified model (Eq. 2): the isotropic creation term has its own rate A.
 MODIFIED = FabricModel(
-    key="modified", label="modified G-W (Eq. 2)", parameters=(_BETA, Parameter("A", 0.0, 1e5, 40.0)),
-    steady_targets=("11", "12"), affine=True,
+    key="modified",
+    label="modified G-W (Eq. 2)",
+    parameters=(_BETA, Parameter("A", 0.0, 1e5, 40.0)),
+    steady_targets=("11", "12"),
+    affine=True,
     rhs=lambda fabric, flow, p, phi: _closure_model_rhs(fabric, flow, p["beta"], p["beta"], p["A"], phi),
     steady=lambda p, phi: paper_models.steady_state(p["beta"], p["A"], phi),
     fit=_modified_fit,
     description="Eq. 1 with the isotropic term's rate A: ... - A (phi/15) Tr(Eh_c) I",
 )
+
 
 def _separate_rates_fit(targets, phi):
     """Exact steady fit of the separate-rates model to <nn>_11, <nn>_33, <nn>_12.
@@ -182,8 +218,9 @@ def _separate_rates_fit(targets, phi):
     def rates(beta_e):
         beta_e = np.asarray(beta_e, dtype=float)
         parts = np.stack(paper_models.shear_steady_parts(beta_e), axis=-1)  # (..., 6, 2): x_form, x_iso
-        coefficients = np.linalg.solve(parts[..., [0, 3], :],
-                                       np.broadcast_to(wanted[:2], beta_e.shape + (2,))[..., None])[..., 0]
+        coefficients = np.linalg.solve(
+            parts[..., [0, 3], :], np.broadcast_to(wanted[:2], beta_e.shape + (2,))[..., None]
+        )[..., 0]
         return coefficients, np.einsum("...k,...k->...", parts[..., 2, :], coefficients) - wanted[2]
 
     found = []
@@ -191,30 +228,44 @@ def _separate_rates_fit(targets, phi):
         (beta_c, A), miss = rates(np.array(beta_e))
         x_form, x_iso = paper_models.shear_steady_parts(beta_e)
         steady = vec_to_sym(phi * (beta_c * x_form + A * x_iso))
-        if (beta_c >= 0 and A >= 0 and abs(miss) < 1e-8 * max(1.0, abs(wanted[2]))
-                and paper_models.is_stable(beta_e) and np.linalg.eigvalsh(steady).min() >= -1e-12):
+        if (
+            beta_c >= 0
+            and A >= 0
+            and abs(miss) < 1e-8 * max(1.0, abs(wanted[2]))
+            and paper_models.is_stable(beta_e)
+            and np.linalg.eigvalsh(steady).min() >= -1e-12
+        ):
             found.append(({"beta_e": float(beta_e), "beta_c": float(beta_c), "A": float(A)}, steady[1, 1]))
     if len(found) > 1 and "22" in targets:
         # several exact solutions: the steady component not fitted, <nn>_22, decides
         found = [min(found, key=lambda solution: abs(solution[1] - targets["22"]))]
     if len(found) != 1:
-        raise ModelError(f"separate_rates: {len(found)} stable, physical solutions (rates >= 0) reproduce the steady "
-                         f"<nn>_11, <nn>_33, <nn>_12 = {targets['11']:.6g}, {targets['33']:.6g}, {targets['12']:.6g} "
-                         f"at phi = {phi}: {[solution for solution, _ in found]}")
+        raise ModelError(
+            f"separate_rates: {len(found)} stable, physical solutions (rates >= 0) reproduce the steady "
+            f"<nn>_11, <nn>_33, <nn>_12 = {targets['11']:.6g}, {targets['33']:.6g}, {targets['12']:.6g} "
+            f"at phi = {phi}: {[solution for solution, _ in found]}"
+        )
     return found[0][0]
 
 
 #: Refinement aimed at the modified model's overshoot: breaking in extension (beta_e), directed
 #: formation in compression (beta_c) and isotropic formation (A) at separate rates.
 SEPARATE_RATES = FabricModel(
-    key="separate_rates", label="separate rates",
-    parameters=(Parameter("beta_e", 1e-3, 1e4, 10.0), Parameter("beta_c", 0.0, 1e4, 10.0),
-                Parameter("A", 0.0, 1e5, 40.0)),
-    steady_targets=("11", "33", "12"), affine=True,
+    key="separate_rates",
+    label="separate rates",
+    parameters=(
+        Parameter("beta_e", 1e-3, 1e4, 10.0),
+        Parameter("beta_c", 0.0, 1e4, 10.0),
+        Parameter("A", 0.0, 1e5, 40.0),
+    ),
+    steady_targets=("11", "33", "12"),
+    affine=True,
     rhs=lambda fabric, flow, p, phi: _closure_model_rhs(fabric, flow, p["beta_e"], p["beta_c"], p["A"], phi),
     fit=_separate_rates_fit,
-    description=("d<nn>/dgamma = Lh.<nn> + <nn>.Lh^T - 2 Lh:<nnnn> - beta_e Eh_e:<nnnn> - beta_c (phi/15) 2 Eh_c"
-                 " - A (phi/15) Tr(Eh_c) I"),
+    description=(
+        "d<nn>/dgamma = Lh.<nn> + <nn>.Lh^T - 2 Lh:<nnnn> - beta_e Eh_e:<nnnn> - beta_c (phi/15) 2 Eh_c"
+        " - A (phi/15) Tr(Eh_c) I"
+    ),
 )
 
 #: Built-in models by key.
@@ -261,8 +312,9 @@ def affine_system(fabric_model: FabricModel, flow: Flow, params, phi):
     return M, b
 
 
-def integrate(fabric_model: FabricModel, fabric0, velocity_gradient, strains, params, phi,
-              rtol=1e-10, atol=1e-12) -> np.ndarray:
+def integrate(
+    fabric_model: FabricModel, fabric0, velocity_gradient, strains, params, phi, rtol=1e-10, atol=1e-12
+) -> np.ndarray:
     """<nn>(gamma) from ``fabric0`` under a constant velocity gradient, shape
     ``batch + (len(strains), 3, 3)`` (``fabric0`` and the gradient broadcast): exact propagation
     for an affine model, ``solve_ivp`` (DOP853) per fabric otherwise."""
@@ -281,9 +333,15 @@ def integrate(fabric_model: FabricModel, fabric0, velocity_gradient, strains, pa
     out = np.empty((len(starts), len(strains), 3, 3))
     for k, start in enumerate(starts):
         one = Flow(*(t[k] for t in flows))
-        solution = solve_ivp(lambda _g, v: _rhs_vec(fabric_model, v, one, params, phi),
-                             (0.0, float(strains.max(initial=0.0))), sym_to_vec(start), t_eval=strains,
-                             method="DOP853", rtol=rtol, atol=atol)
+        solution = solve_ivp(
+            lambda _g, v: _rhs_vec(fabric_model, v, one, params, phi),
+            (0.0, float(strains.max(initial=0.0))),
+            sym_to_vec(start),
+            t_eval=strains,
+            method="DOP853",
+            rtol=rtol,
+            atol=atol,
+        )
         if not solution.success:
             raise ModelError(f"model {fabric_model.key}: integration failed ({solution.message})")
         out[k] = vec_to_sym(solution.y.T)
@@ -334,9 +392,11 @@ def fit_steady(fabric_model: FabricModel, targets: Mapping[str, float], phi) -> 
     bounds = ([p.lower for p in fabric_model.parameters], [p.upper for p in fabric_model.parameters])
     result = least_squares(residual, start, bounds=bounds, x_scale="jac", xtol=1e-14, ftol=1e-14, gtol=1e-14)
     if np.abs(result.fun).max() > 1e-8:
-        raise ModelError(f"model {fabric_model.key}: no parameters reproduce the steady "
-                         f"{dict(zip(fabric_model.steady_targets, wanted))} at phi = {phi} "
-                         f"(best relative residual {np.abs(result.fun).max():.2g})")
+        raise ModelError(
+            f"model {fabric_model.key}: no parameters reproduce the steady "
+            f"{dict(zip(fabric_model.steady_targets, wanted))} at phi = {phi} "
+            f"(best relative residual {np.abs(result.fun).max():.2g})"
+        )
     return fabric_model.check(dict(zip(fabric_model.names, result.x)))
 
 
@@ -346,8 +406,9 @@ def startup_shear(fabric_model: FabricModel, strains, params, phi, fabric0=None)
     return integrate(fabric_model, fabric0, simple_shear_gradient(), strains, params, phi)
 
 
-def shear_rotation(fabric_model: FabricModel, theta, strains, params, phi, startup_strain=5.0,
-                   fabric0=None) -> np.ndarray:
+def shear_rotation(
+    fabric_model: FabricModel, theta, strains, params, phi, startup_strain=5.0, fabric0=None
+) -> np.ndarray:
     """Startup shear to ``startup_strain``, then the shear turned by ``theta`` (radians, scalar or
     1-D) about e2: <nn> in the rotated frame at the post-rotation ``strains``, shape
     theta.shape + (len(strains), 3, 3) (as :func:`suspension_fabric.model.shear_rotation`)."""

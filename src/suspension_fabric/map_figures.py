@@ -1,5 +1,6 @@
 """Figures of the map over the state point (suspension_fabric.state_map): each quantity of the map
-table against phi, one line per friction coefficient (drawn DODGE apart in phi), error bars from the table (seed standard
+table against phi, one line per friction coefficient (drawn DODGE apart in phi), error bars from the table (seed
+standard
 errors, jackknife errors of the fits, t-intervals of the claims). Points that did not reach a
 steady state are drawn with open markers; points not run are absent from the table's numbers.
 """
@@ -12,13 +13,16 @@ import pandas as pd
 from .figures import plt, save_figure
 from .state_map import bgp_viscosities
 
-__all__ = ["figure_map_models", "figure_map_fabric", "figure_map_rheology", "figure_map_model_errors",
-           "MAP_FIGURES"]
+__all__ = ["figure_map_models", "figure_map_fabric", "figure_map_rheology", "figure_map_model_errors", "MAP_FIGURES"]
 
 #: horizontal offset between the mu lines (in phi), so that their error bars stay apart
 DODGE = 0.002
-_FABRIC = {"n11": r"$\langle nn\rangle_{11}$", "n22": r"$\langle nn\rangle_{22}$",
-           "n33": r"$\langle nn\rangle_{33}$", "n12": r"$\langle nn\rangle_{12}$"}
+_FABRIC = {
+    "n11": r"$\langle nn\rangle_{11}$",
+    "n22": r"$\langle nn\rangle_{22}$",
+    "n33": r"$\langle nn\rangle_{33}$",
+    "n12": r"$\langle nn\rangle_{12}$",
+}
 
 
 def _simulated(table: pd.DataFrame) -> pd.DataFrame:
@@ -38,8 +42,9 @@ def _per_mu(ax, table: pd.DataFrame, column: str, error):
             yerr = np.vstack([rows[column] - rows[error[0]], rows[error[1]] - rows[column]])
         else:
             yerr = rows[error].to_numpy()
-        ax.errorbar(rows["phi"], rows[column], yerr=yerr, color=color, marker="none", capsize=2, lw=1,
-                    label=f"$\\mu$ = {mu:g}")
+        ax.errorbar(
+            rows["phi"], rows[column], yerr=yerr, color=color, marker="none", capsize=2, lw=1, label=f"$\\mu$ = {mu:g}"
+        )
         steady = rows["steady"] == "steady"
         ax.plot(rows["phi"][steady], rows[column][steady], "o", color=color, ms=5)
         ax.plot(rows["phi"][~steady], rows[column][~steady], "o", mfc="white", color=color, ms=5)
@@ -69,9 +74,12 @@ def _finish(table: pd.DataFrame, fig, axes):
 
 def figure_map_models(table: pd.DataFrame):
     """G-W beta, modified beta, A and A/beta against phi (jackknife errors over seeds)."""
-    panels = [("gw_beta", "gw_beta_err", r"G-W $\beta$"), ("modified_beta", "modified_beta_err", r"modified $\beta$"),
-              ("modified_A", "modified_A_err", "modified $A$"),
-              ("modified_A_over_beta", "modified_A_over_beta_err", r"modified $A/\beta$")]
+    panels = [
+        ("gw_beta", "gw_beta_err", r"G-W $\beta$"),
+        ("modified_beta", "modified_beta_err", r"modified $\beta$"),
+        ("modified_A", "modified_A_err", "modified $A$"),
+        ("modified_A_over_beta", "modified_A_over_beta_err", r"modified $A/\beta$"),
+    ]
     return _finish(table, *_row(table, panels, (14, 3.3)))
 
 
@@ -83,8 +91,10 @@ def figure_map_fabric(table: pd.DataFrame):
 
 def figure_map_rheology(table: pd.DataFrame):
     """eta_r and Pi against phi (log scale) with the BGP (2011) law for frictional spheres."""
-    panels = [(column, f"{column}_sem", label + r" (units $\eta_f\dot\gamma$)")
-              for column, label in (("eta_r", r"$\eta_r$"), ("Pi", r"$\Pi$"))]
+    panels = [
+        (column, f"{column}_sem", label + r" (units $\eta_f\dot\gamma$)")
+        for column, label in (("eta_r", r"$\eta_r$"), ("Pi", r"$\Pi$"))
+    ]
     fig, axes = _row(table, panels, (9, 3.6))
     phi = np.linspace(max(0.3, table["phi"].min() - 0.02), min(0.575, table["phi"].max() + 0.02), 200)
     for ax, anchor in zip(axes, bgp_viscosities(phi)):
@@ -100,8 +110,10 @@ def figure_map_model_errors(table: pd.DataFrame, level: float):
     missing = [claim for claim in claims if f"{claim}_mean" not in table]
     if missing:
         raise ValueError(f"the map table lacks the statistics of claim(s) {missing}")
-    panels = [(f"{claim}_mean", (f"{claim}_low", f"{claim}_high"), f"{claim}: modified better on {label} (> 0)")
-              for claim, label in claims.items()]
+    panels = [
+        (f"{claim}_mean", (f"{claim}_low", f"{claim}_high"), f"{claim}: modified better on {label} (> 0)")
+        for claim, label in claims.items()
+    ]
     fig, axes = _row(table, panels, (9, 3.4))
     for ax in axes:
         ax.axhline(0.0, color="0.5", lw=0.8)

@@ -22,7 +22,8 @@ after it are reported in the rotated frame (e1', e2, e3').
 Because the right-hand side is affine in <nn> for a fixed flow, a constant-L
 interval is integrated exactly: with the 6-vector v of independent components,
 dv/dgamma = M v + b, so v(gamma) = v_ss + expm(M gamma) (v0 - v_ss) with
-v_ss = -M^{-1} b, evaluated as V exp(Lambda gamma) V^-1 (:func:`propagate_affine`). :func:`integrate_fabric_ode` integrates the same
+v_ss = -M^{-1} b, evaluated as V exp(Lambda gamma) V^-1 (:func:`propagate_affine`).
+:func:`integrate_fabric_ode` integrates the same
 right-hand side numerically (scipy ``solve_ivp``) as an independent reference.
 
 Symmetric tensors are stored as 6-vectors in the order (11, 22, 33, 12, 13, 23)
@@ -148,11 +149,7 @@ def hinch_leal_closure(fabric) -> np.ndarray:
     fabric = np.asarray(fabric, dtype=float)
     eye = np.eye(3)
     trace = np.trace(fabric, axis1=-2, axis2=-1)[..., None, None, None, None]
-    iso = (
-        np.einsum("ij,kl->ijkl", eye, eye)
-        + np.einsum("ik,jl->ijkl", eye, eye)
-        + np.einsum("il,jk->ijkl", eye, eye)
-    )
+    iso = np.einsum("ij,kl->ijkl", eye, eye) + np.einsum("ik,jl->ijkl", eye, eye) + np.einsum("il,jk->ijkl", eye, eye)
     mixed = (
         np.einsum("ij,...kl->...ijkl", eye, fabric)
         + np.einsum("ik,...jl->...ijkl", eye, fabric)
@@ -179,9 +176,7 @@ def contract_closure(tensor, fabric) -> np.ndarray:
     tr_x = np.trace(fabric, axis1=-2, axis2=-1)[..., None, None]
     t_dot_x = np.einsum("...kl,...kl->...", tensor, fabric)[..., None, None]
     eye = np.eye(3)
-    return -tr_x * (tr_t * eye + sym2) / 35.0 + (
-        t_dot_x * eye + sym2 @ fabric + fabric @ sym2 + tr_t * fabric
-    ) / 7.0
+    return -tr_x * (tr_t * eye + sym2) / 35.0 + (t_dot_x * eye + sym2 @ fabric + fabric @ sym2 + tr_t * fabric) / 7.0
 
 
 # ------------------------------------------------------------------- kinematics
@@ -321,8 +316,13 @@ def integrate_fabric_ode(fabric0, velocity_gradient, strains, beta, A=None, phi=
         return sym_to_vec(fabric_rhs(vec_to_sym(v), gradient_at(gamma), beta, A, phi))
 
     sol = solve_ivp(
-        rhs, (0.0, float(strains.max(initial=0.0))), sym_to_vec(fabric0),
-        t_eval=strains, method="DOP853", rtol=rtol, atol=atol,
+        rhs,
+        (0.0, float(strains.max(initial=0.0))),
+        sym_to_vec(fabric0),
+        t_eval=strains,
+        method="DOP853",
+        rtol=rtol,
+        atol=atol,
     )
     if not sol.success:
         raise RuntimeError(f"fabric ODE integration failed: {sol.message}")
@@ -418,8 +418,9 @@ def roots_on_grid(func, grid):
     """All sign changes of a vectorised ``func`` on ``grid``, refined with brentq."""
     values = func(grid)
     roots = []  # may include poles (sign change through infinity); callers verify
-    for i in np.flatnonzero(np.isfinite(values[:-1]) & np.isfinite(values[1:])
-                            & (np.sign(values[:-1]) != np.sign(values[1:]))):
+    for i in np.flatnonzero(
+        np.isfinite(values[:-1]) & np.isfinite(values[1:]) & (np.sign(values[:-1]) != np.sign(values[1:]))
+    ):
         if values[i] == 0.0:
             roots.append(float(grid[i]))
         else:
@@ -474,7 +475,8 @@ def fit_gw(n12, phi) -> float:
         return (x_beta[..., 3] + beta * x_A[..., 3]) * phi - n12
 
     roots = [
-        b for b in roots_on_grid(residual, RATE_GRID)
+        b
+        for b in roots_on_grid(residual, RATE_GRID)
         if _reproduces(b, b, phi, {(0, 1): n12}) and _is_physical(b, b, phi)
     ]
     return float(_pick_unique(roots, "fit_gw", f"<nn>_12 = {n12} at phi = {phi}"))
@@ -514,8 +516,12 @@ def fit_modified(n11, n12, phi) -> ModifiedFit:
     candidates = []
     for beta in roots_on_grid(residual, RATE_GRID):
         A = A_of(beta)
-        if (np.isfinite(A) and A >= 0.0 and _reproduces(beta, A, phi, {(0, 0): n11, (0, 1): n12})
-                and _is_physical(beta, A, phi)):
+        if (
+            np.isfinite(A)
+            and A >= 0.0
+            and _reproduces(beta, A, phi, {(0, 0): n11, (0, 1): n12})
+            and _is_physical(beta, A, phi)
+        ):
             candidates.append((float(beta), float(A)))
     beta, A = _pick_unique(candidates, "fit_modified", f"<nn>_11 = {n11}, <nn>_12 = {n12} at phi = {phi}")
     return ModifiedFit(beta=beta, A=A)

@@ -39,8 +39,17 @@ from .fabric import COMPONENTS
 from .seed_statistics import LEVEL, jackknife, t_interval
 from .tables import fabric_tensors
 
-__all__ = ["SeedCurves", "seed_curves", "model_curves", "fit_global", "global_fit_with_errors", "seed_errors",
-           "angle_folds", "held_out_errors", "leaderboard"]
+__all__ = [
+    "SeedCurves",
+    "seed_curves",
+    "model_curves",
+    "fit_global",
+    "global_fit_with_errors",
+    "seed_errors",
+    "angle_folds",
+    "held_out_errors",
+    "leaderboard",
+]
 
 _ROWS, _COLS = (np.array(index) for index in zip(*COMPONENTS.values()))
 
@@ -73,8 +82,7 @@ def _by_seed(runs: pd.DataFrame, seeds, what: str) -> tuple[np.ndarray, np.ndarr
     return strains, np.stack(tensors)
 
 
-def seed_curves(startup_runs: pd.DataFrame, rotation_runs: pd.DataFrame, window: float,
-                steady_window) -> SeedCurves:
+def seed_curves(startup_runs: pd.DataFrame, rotation_runs: pd.DataFrame, window: float, steady_window) -> SeedCurves:
     """:class:`SeedCurves` from the per-seed run tables (startup_runs.csv, rotation_runs.csv), the
     rotation curves cut at strain ``window``; every seed must have every angle on one grid."""
     seeds = np.array(sorted(set(startup_runs["seed"])), dtype=int)
@@ -82,8 +90,9 @@ def seed_curves(startup_runs: pd.DataFrame, rotation_runs: pd.DataFrame, window:
         raise ValueError(f"seeds differ: startup {sorted(seeds)}, rotation {sorted(set(rotation_runs['seed']))}")
     startup_strains, startup = _by_seed(startup_runs, seeds, "startup")
     thetas = np.array(sorted(rotation_runs["theta"].unique()), dtype=float)
-    per_angle = [_by_seed(rotation_runs[np.isclose(rotation_runs["theta"], t)], seeds, f"rotation theta = {t:g}")
-                 for t in thetas]
+    per_angle = [
+        _by_seed(rotation_runs[np.isclose(rotation_runs["theta"], t)], seeds, f"rotation theta = {t:g}") for t in thetas
+    ]
     rotation_strains = per_angle[0][0]
     for theta, (grid, _) in zip(thetas, per_angle):
         if len(grid) != len(rotation_strains) or not np.allclose(grid, rotation_strains, rtol=1e-9, atol=1e-9):
@@ -94,18 +103,28 @@ def seed_curves(startup_runs: pd.DataFrame, rotation_runs: pd.DataFrame, window:
     rotation = np.stack([tensors for _, tensors in per_angle], axis=1)[:, :, keep]
     low, high = steady_window
     inside = (startup_strains >= low - 1e-9) & (startup_strains <= high + 1e-9)
-    return SeedCurves(seeds, startup_strains, startup, thetas, rotation_strains[keep], rotation,
-                      startup[:, 0].mean(axis=0), float(startup[:, inside, 0, 1].mean()))
+    return SeedCurves(
+        seeds,
+        startup_strains,
+        startup,
+        thetas,
+        rotation_strains[keep],
+        rotation,
+        startup[:, 0].mean(axis=0),
+        float(startup[:, inside, 0, 1].mean()),
+    )
 
 
-def model_curves(fabric_model, params, phi: float, curves: SeedCurves, startup_strain: float,
-                 thetas=None) -> tuple[np.ndarray, np.ndarray]:
+def model_curves(
+    fabric_model, params, phi: float, curves: SeedCurves, startup_strain: float, thetas=None
+) -> tuple[np.ndarray, np.ndarray]:
     """The model's startup (S, 3, 3) and rotation curves (angles, R, 3, 3) on the curves' grids,
     at ``thetas`` (degrees; default all of the curves' angles)."""
     thetas = curves.thetas if thetas is None else np.asarray(thetas, dtype=float)
     startup = fabric_models.startup_shear(fabric_model, curves.startup_strains, params, phi, curves.fabric0)
-    rotation = fabric_models.shear_rotation(fabric_model, np.radians(thetas), curves.rotation_strains, params, phi,
-                                            startup_strain, curves.fabric0)
+    rotation = fabric_models.shear_rotation(
+        fabric_model, np.radians(thetas), curves.rotation_strains, params, phi, startup_strain, curves.fabric0
+    )
     return startup, rotation
 
 
@@ -127,8 +146,9 @@ def _weights(values) -> np.ndarray:
     return 1.0 / np.maximum(sem, floor)
 
 
-def fit_global(fabric_model, curves: SeedCurves, phi: float, startup_strain: float, start: dict,
-               train_thetas=None, seeds=None) -> dict:
+def fit_global(
+    fabric_model, curves: SeedCurves, phi: float, startup_strain: float, start: dict, train_thetas=None, seeds=None
+) -> dict:
     """Weighted least squares of the model on the seed-mean startup curve and the seed-mean
     transients at ``train_thetas`` (default all), over ``seeds`` (default all), from ``start``.
     Returns {"parameters", "chi2", "n_points"}; a failing solver raises ``ValueError``."""
@@ -155,12 +175,14 @@ def fit_global(fabric_model, curves: SeedCurves, phi: float, startup_strain: flo
     result = least_squares(residual, x0, bounds=bounds, x_scale="jac", xtol=1e-10, ftol=1e-10)
     if not result.success:
         raise ValueError(f"model {fabric_model.key}: global fit failed ({result.message})")
-    return {"parameters": fabric_model.check(dict(zip(fabric_model.names, result.x))),
-            "chi2": float(np.sum(result.fun ** 2)), "n_points": int(result.fun.size)}
+    return {
+        "parameters": fabric_model.check(dict(zip(fabric_model.names, result.x))),
+        "chi2": float(np.sum(result.fun**2)),
+        "n_points": int(result.fun.size),
+    }
 
 
-def global_fit_with_errors(fabric_model, curves: SeedCurves, phi: float, startup_strain: float,
-                           start: dict) -> dict:
+def global_fit_with_errors(fabric_model, curves: SeedCurves, phi: float, startup_strain: float, start: dict) -> dict:
     """:func:`fit_global` on every angle with jackknife errors over seeds of the whole fit (NaN for
     fewer than 3 seeds: a leave-one-out fit needs two seeds for its weights)."""
     fitted = fit_global(fabric_model, curves, phi, startup_strain, start)
@@ -172,12 +194,15 @@ def global_fit_with_errors(fabric_model, curves: SeedCurves, phi: float, startup
     def parameter(subset, name):
         key = tuple(subset)
         if key not in cache:
-            cache[key] = fit_global(fabric_model, curves, phi, startup_strain, fitted["parameters"],
-                                    seeds=list(key))["parameters"]
+            cache[key] = fit_global(fabric_model, curves, phi, startup_strain, fitted["parameters"], seeds=list(key))[
+                "parameters"
+            ]
         return cache[key][name]
 
-    fitted["errors"] = {name: jackknife(lambda subset, name=name: parameter(subset, name), curves.seeds)[1]
-                        for name in fabric_model.names}
+    fitted["errors"] = {
+        name: jackknife(lambda subset, name=name: parameter(subset, name), curves.seeds)[1]
+        for name in fabric_model.names
+    }
     return fitted
 
 
@@ -189,7 +214,7 @@ def seed_errors(predicted_rotation, curves: SeedCurves, thetas=None) -> np.ndarr
     predicted = _components(predicted_rotation)[None]
     # claims.mean_square averages over the strains on the last axis: put the components before them
     per_angle = mean_square(np.moveaxis(predicted, -1, -2), np.moveaxis(observed, -1, -2), curves.rotation_strains)
-    return per_angle.mean(axis=1) / curves.n12_ss ** 2
+    return per_angle.mean(axis=1) / curves.n12_ss**2
 
 
 def angle_folds(thetas, k: int) -> list[np.ndarray]:
@@ -202,8 +227,9 @@ def angle_folds(thetas, k: int) -> list[np.ndarray]:
     return [thetas[j::k] for j in range(k)]
 
 
-def held_out_errors(fabric_model, curves: SeedCurves, phi: float, startup_strain: float, start: dict,
-                    folds: int) -> np.ndarray:
+def held_out_errors(
+    fabric_model, curves: SeedCurves, phi: float, startup_strain: float, start: dict, folds: int
+) -> np.ndarray:
     """Per seed and component (seeds, 6): the mean square error of each angle predicted by a
     global fit on the startup and the other folds, averaged over all angles."""
     total = np.zeros((len(curves.seeds), len(COMPONENTS)))
@@ -215,8 +241,16 @@ def held_out_errors(fabric_model, curves: SeedCurves, phi: float, startup_strain
     return total / len(curves.thetas)
 
 
-def leaderboard(models: dict, steady_fits: dict, curves: SeedCurves, phi: float, startup_strain: float,
-                folds: int, reference: str = "gw", level: float = LEVEL) -> tuple[pd.DataFrame, pd.DataFrame]:
+def leaderboard(
+    models: dict,
+    steady_fits: dict,
+    curves: SeedCurves,
+    phi: float,
+    startup_strain: float,
+    folds: int,
+    reference: str = "gw",
+    level: float = LEVEL,
+) -> tuple[pd.DataFrame, pd.DataFrame]:
     """The leaderboard (one row per model, fitting mode and component: in-sample and held-out
     mean square errors with t-intervals over seeds, the paired difference from ``reference`` on
     the held-out errors, the number of parameters, chi^2 and AIC of the in-sample fit) and the
@@ -227,26 +261,50 @@ def leaderboard(models: dict, steady_fits: dict, curves: SeedCurves, phi: float,
     for key, fabric_model in models.items():
         steady = steady_fits[key]["parameters"]
         fitted = global_fit_with_errors(fabric_model, curves, phi, startup_strain, steady)
-        modes = {"steady": (steady, steady_fits[key]["errors"], None),
-                 "global": (fitted["parameters"], fitted["errors"], fitted)}
+        modes = {
+            "steady": (steady, steady_fits[key]["errors"], None),
+            "global": (fitted["parameters"], fitted["errors"], fitted),
+        }
         for mode, (params, errors, fit) in modes.items():
             for name, value in params.items():
-                parameters.append({"model": key, "label": fabric_model.label, "mode": mode, "parameter": name,
-                                   "value": value, "error": errors[name]})
+                parameters.append(
+                    {
+                        "model": key,
+                        "label": fabric_model.label,
+                        "mode": mode,
+                        "parameter": name,
+                        "value": value,
+                        "error": errors[name],
+                    }
+                )
             _, rotation = model_curves(fabric_model, params, phi, curves, startup_strain)
             in_sample = seed_errors(rotation, curves)
-            held = in_sample if mode == "steady" else held_out_errors(fabric_model, curves, phi, startup_strain,
-                                                                     params, folds)
+            held = (
+                in_sample
+                if mode == "steady"
+                else held_out_errors(fabric_model, curves, phi, startup_strain, params, folds)
+            )
             held_by_model[(key, mode)] = held
             chi2 = np.nan if fit is None else fit["chi2"]
             for c, component in enumerate(COMPONENTS):
                 inside, outside = t_interval(in_sample[:, c], level), t_interval(held[:, c], level)
-                rows.append({"model": key, "label": fabric_model.label, "mode": mode, "component": component,
-                             "n_parameters": len(fabric_model.parameters),
-                             "in_sample_mse": inside.mean, "in_sample_low": inside.low, "in_sample_high": inside.high,
-                             "held_out_mse": outside.mean, "held_out_low": outside.low,
-                             "held_out_high": outside.high, "chi2": chi2,
-                             "aic": chi2 + 2 * len(fabric_model.parameters)})
+                rows.append(
+                    {
+                        "model": key,
+                        "label": fabric_model.label,
+                        "mode": mode,
+                        "component": component,
+                        "n_parameters": len(fabric_model.parameters),
+                        "in_sample_mse": inside.mean,
+                        "in_sample_low": inside.low,
+                        "in_sample_high": inside.high,
+                        "held_out_mse": outside.mean,
+                        "held_out_low": outside.low,
+                        "held_out_high": outside.high,
+                        "chi2": chi2,
+                        "aic": chi2 + 2 * len(fabric_model.parameters),
+                    }
+                )
     table = pd.DataFrame(rows)
     for field in ("difference", "difference_low", "difference_high"):
         table[f"held_out_{field}_vs_{reference}"] = np.nan
@@ -255,7 +313,7 @@ def leaderboard(models: dict, steady_fits: dict, curves: SeedCurves, phi: float,
         for index, row in table.iterrows():
             c = list(COMPONENTS).index(row["component"])
             paired = t_interval(held_by_model[(row["model"], row["mode"])][:, c] - base[:, c], level)
-            table.loc[index, [f"held_out_{f}_vs_{reference}" for f in ("difference", "difference_low",
-                                                                        "difference_high")]] = (
-                paired.mean, paired.low, paired.high)
+            table.loc[
+                index, [f"held_out_{f}_vs_{reference}" for f in ("difference", "difference_low", "difference_high")]
+            ] = (paired.mean, paired.low, paired.high)
     return table, pd.DataFrame(parameters)

@@ -29,10 +29,9 @@ from __future__ import annotations
 
 import json
 import os
+import warnings
 from pathlib import Path
 from typing import NamedTuple
-
-import warnings
 
 import numpy as np
 import pandas as pd
@@ -71,8 +70,10 @@ PAPER_MODELS = {"gw": fabric_models.GW, "modified": fabric_models.MODIFIED}
 MODEL_NAMES = {"gw": "G-W (Eq. 1)", "modified": "modified G-W (Eq. 2)"}
 
 #: fits.json's ``fit_errors``: what its parameter errors are.
-FIT_ERRORS = ("jackknife over seeds of the whole fit (leave one seed out); *_propagated: linear propagation "
-              "of the targets' standard errors, ignoring their covariance")
+FIT_ERRORS = (
+    "jackknife over seeds of the whole fit (leave one seed out); *_propagated: linear propagation "
+    "of the targets' standard errors, ignoring their covariance"
+)
 
 
 class FittedParameters(NamedTuple):
@@ -142,17 +143,20 @@ def _check_steady_matches_runs(steady: pd.DataFrame, startup: pd.DataFrame, seed
     errors would belong to another fit)."""
     window = steady[np.isclose(steady["theta"], 0.0)].iloc[0]
     if not (np.isclose(window["strain_min"], strain_min) and np.isclose(window["strain_max"], strain_max)):
-        raise ValueError(f"steady-state table window [{window['strain_min']}, {window['strain_max']}] differs "
-                         f"from the jackknife window [{strain_min}, {strain_max}]")
+        raise ValueError(
+            f"steady-state table window [{window['strain_min']}, {window['strain_max']}] differs "
+            f"from the jackknife window [{strain_min}, {strain_max}]"
+        )
     if int(window["n_seeds"]) != len(seeds):
-        raise ValueError(f"steady-state table has {int(window['n_seeds'])} seeds, the run table {len(seeds)} "
-                         f"({seeds})")
+        raise ValueError(f"steady-state table has {int(window['n_seeds'])} seeds, the run table {len(seeds)} ({seeds})")
     recomputed = tables.steady_state(startup, strain_min, strain_max)
     for quantity in ("n11", "n12"):
         given, again = _steady_value(steady, quantity)[0], _steady_value(recomputed, quantity)[0]
         if not np.isclose(given, again, rtol=1e-9, atol=1e-12):
-            raise ValueError(f"steady-state table {quantity} = {given!r} is not that of the run table "
-                             f"({again!r}) over [{strain_min}, {strain_max}]")
+            raise ValueError(
+                f"steady-state table {quantity} = {given!r} is not that of the run table "
+                f"({again!r}) over [{strain_min}, {strain_max}]"
+            )
 
 
 def _subset_steady(startup: pd.DataFrame, strain_min, strain_max):
@@ -183,8 +187,9 @@ def _jackknife_errors(steady_of, seeds, phi):
                 fitted[key] = np.array(fit_both_models(steady, phi), dtype=float)
             except ValueError as error:
                 left_out = sorted(set(seeds) - set(key))
-                warnings.warn(f"fit without seed(s) {left_out} failed ({error}); its jackknife errors are NaN",
-                              stacklevel=3)
+                warnings.warn(
+                    f"fit without seed(s) {left_out} failed ({error}); its jackknife errors are NaN", stacklevel=3
+                )
                 fitted[key] = np.full(3, np.nan)
         return fitted[key]
 
@@ -203,8 +208,16 @@ def _steady_targets(steady: pd.DataFrame) -> dict[str, float]:
     return {name[1:]: _steady_value(steady, name)[0] for name in COMPONENTS}
 
 
-def fit_listed_models(steady: pd.DataFrame, startup: pd.DataFrame, seeds, strain_min: float, strain_max: float,
-                      phi: float, models: dict, steady_of=None) -> dict:
+def fit_listed_models(
+    steady: pd.DataFrame,
+    startup: pd.DataFrame,
+    seeds,
+    strain_min: float,
+    strain_max: float,
+    phi: float,
+    models: dict,
+    steady_of=None,
+) -> dict:
     """Every model of ``models`` ({key: FabricModel}) fitted to the steady components it names
     (``steady_targets``; :func:`suspension_fabric.fabric_models.fit_steady`), with jackknife
     standard errors over seeds of the whole fit (NaN, with a warning naming the seed, where a
@@ -225,23 +238,35 @@ def fit_listed_models(steady: pd.DataFrame, startup: pd.DataFrame, seeds, strain
                 try:
                     subsets[key_] = fabric_models.fit_steady(fabric_model, _steady_targets(steady_of(key_)), phi)
                 except ValueError as error:
-                    warnings.warn(f"model {fabric_model.key}: fit without seed(s) {sorted(set(seeds) - set(key_))} "
-                                  f"failed ({error}); its jackknife errors are NaN", stacklevel=2)
+                    warnings.warn(
+                        f"model {fabric_model.key}: fit without seed(s) {sorted(set(seeds) - set(key_))} "
+                        f"failed ({error}); its jackknife errors are NaN",
+                        stacklevel=2,
+                    )
                     subsets[key_] = dict.fromkeys(fabric_model.names, np.nan)
             return subsets[key_][name]
 
-        errors = {name: jackknife(lambda subset, name=name: parameter(subset, name), seeds)[1]
-                  for name in fabric_model.names}
+        errors = {
+            name: jackknife(lambda subset, name=name: parameter(subset, name), seeds)[1] for name in fabric_model.names
+        }
         entries[key] = {
-            "label": fabric_model.label, "fitted_to": [f"n{c}" for c in fabric_model.steady_targets],
-            "parameters": fitted, "errors": errors,
+            "label": fabric_model.label,
+            "fitted_to": [f"n{c}" for c in fabric_model.steady_targets],
+            "parameters": fitted,
+            "errors": errors,
             "steady_state": _as_components(fabric_models.steady_state(fabric_model, fitted, phi)),
         }
     return entries
 
 
-def fit_steady_state(steady: pd.DataFrame, phi: float, runs: pd.DataFrame, strain_min: float,
-                     strain_max: float, models: dict | None = None) -> dict:
+def fit_steady_state(
+    steady: pd.DataFrame,
+    phi: float,
+    runs: pd.DataFrame,
+    strain_min: float,
+    strain_max: float,
+    models: dict | None = None,
+) -> dict:
     """Fit both models to the startup (theta = 0) steady state; returns the fits.json content.
 
     ``steady`` is :func:`suspension_fabric.tables.steady_state` of the per-seed startup run
@@ -274,19 +299,36 @@ def fit_steady_state(steady: pd.DataFrame, phi: float, runs: pd.DataFrame, strai
         "n_seeds": int(window["n_seeds"]),
         "fit_errors": FIT_ERRORS,
         "targets": targets,
-        "gw": {"beta": fitted.gw_beta, "beta_err": jackknifed.gw_beta,
-               "beta_err_propagated": propagated.gw_beta, "fitted_to": ["n12"]},
+        "gw": {
+            "beta": fitted.gw_beta,
+            "beta_err": jackknifed.gw_beta,
+            "beta_err_propagated": propagated.gw_beta,
+            "fitted_to": ["n12"],
+        },
         "modified": {
-            "beta": fitted.beta, "beta_err": jackknifed.beta, "beta_err_propagated": propagated.beta,
-            "A": fitted.A, "A_err": jackknifed.A, "A_err_propagated": propagated.A,
-            "beta_A_correlation": correlation, "fitted_to": ["n11", "n12"],
+            "beta": fitted.beta,
+            "beta_err": jackknifed.beta,
+            "beta_err_propagated": propagated.beta,
+            "A": fitted.A,
+            "A_err": jackknifed.A,
+            "A_err_propagated": propagated.A,
+            "beta_A_correlation": correlation,
+            "fitted_to": ["n11", "n12"],
         },
         "model_steady_state": {
             "gw": _as_components(model.steady_state_ode(fitted.gw_beta, None, phi)),
             "modified": _as_components(model.steady_state_ode(fitted.beta, fitted.A, phi)),
         },
-        "models": fit_listed_models(steady, startup, seeds, strain_min, strain_max, phi,
-                                    models if models is not None else PAPER_MODELS, steady_of),
+        "models": fit_listed_models(
+            steady,
+            startup,
+            seeds,
+            strain_min,
+            strain_max,
+            phi,
+            models if models is not None else PAPER_MODELS,
+            steady_of,
+        ),
     }
 
 
@@ -338,8 +380,10 @@ def fitted_models(fits: dict, models: dict) -> dict:
     fitted = {}
     for key, fabric_model in models.items():
         if key not in fits.get("models", {}):
-            raise ValueError(f"fits have no entry for model {key!r} (fitted: {sorted(fits.get('models', {}))}); "
-                             "rerun the fit_models rule with this model in models.fabric")
+            raise ValueError(
+                f"fits have no entry for model {key!r} (fitted: {sorted(fits.get('models', {}))}); "
+                "rerun the fit_models rule with this model in models.fabric"
+            )
         fitted[key] = (fabric_model, fits["models"][key]["parameters"])
     return fitted
 
@@ -352,8 +396,16 @@ def _tidy(key, protocol, theta_deg, strains, tensors) -> pd.DataFrame:
     return frame
 
 
-def predict(fits: dict, models: dict, fabric0, startup_strains, startup_strain: float, thetas_deg, rotation_strains,
-            extra_thetas_deg=()) -> pd.DataFrame:
+def predict(
+    fits: dict,
+    models: dict,
+    fabric0,
+    startup_strains,
+    startup_strain: float,
+    thetas_deg,
+    rotation_strains,
+    extra_thetas_deg=(),
+) -> pd.DataFrame:
     """Tidy predictions of every model of ``models`` ({key: FabricModel}, parameters from fits.json's
     ``models``): startup shear and shear rotations.
 
@@ -368,10 +420,24 @@ def predict(fits: dict, models: dict, fabric0, startup_strains, startup_strain: 
     thetas_deg = np.union1d(np.asarray(thetas_deg, dtype=float), np.asarray(extra_thetas_deg, dtype=float))
     blocks = []
     for key, (fabric_model, params) in fitted_models(fits, models).items():
-        blocks.append(_tidy(key, "startup", 0.0, startup_strains,
-                            fabric_models.startup_shear(fabric_model, startup_strains, params, phi, fabric0)))
-        rotated = fabric_models.shear_rotation(fabric_model, np.radians(thetas_deg), rotation_strains, params, phi,
-                                               startup_strain=startup_strain, fabric0=fabric0)
+        blocks.append(
+            _tidy(
+                key,
+                "startup",
+                0.0,
+                startup_strains,
+                fabric_models.startup_shear(fabric_model, startup_strains, params, phi, fabric0),
+            )
+        )
+        rotated = fabric_models.shear_rotation(
+            fabric_model,
+            np.radians(thetas_deg),
+            rotation_strains,
+            params,
+            phi,
+            startup_strain=startup_strain,
+            fabric0=fabric0,
+        )
         for theta, tensors in zip(thetas_deg, rotated):
             blocks.append(_tidy(key, "rotation", theta, rotation_strains, tensors))
     return pd.concat(blocks, ignore_index=True)
@@ -386,8 +452,9 @@ class PredictionGrids(NamedTuple):
     polar_thetas_deg: np.ndarray
 
 
-def prediction_grids(startup_aggregate: pd.DataFrame, rotation_aggregate: pd.DataFrame,
-                     polar_step_deg: float) -> PredictionGrids:
+def prediction_grids(
+    startup_aggregate: pd.DataFrame, rotation_aggregate: pd.DataFrame, polar_step_deg: float
+) -> PredictionGrids:
     """The strains and angles of the simulations, and a polar grid of angles for the figures.
 
     ``startup_strains``: the strains of the startup seed aggregate; ``thetas_deg``: the
@@ -401,13 +468,17 @@ def prediction_grids(startup_aggregate: pd.DataFrame, rotation_aggregate: pd.Dat
     if startup_aggregate.empty or rotation_aggregate.empty:
         raise ValueError("prediction grids need non-empty startup and rotation aggregate tables")
     thetas = np.unique(rotation_aggregate["theta"].to_numpy(dtype=float))
-    strains = {theta: np.unique(rows["strain"].to_numpy(dtype=float))
-               for theta, rows in rotation_aggregate.groupby("theta", sort=True)}
+    strains = {
+        theta: np.unique(rows["strain"].to_numpy(dtype=float))
+        for theta, rows in rotation_aggregate.groupby("theta", sort=True)
+    }
     rotation_strains = strains[thetas[0]]
     for theta, grid in strains.items():
         if len(grid) != len(rotation_strains) or not np.allclose(grid, rotation_strains, rtol=1e-9, atol=1e-9):
-            raise ValueError(f"rotation aggregate: the strains at theta={theta} ({len(grid)} frames) differ from "
-                             f"those at theta={thetas[0]} ({len(rotation_strains)} frames)")
+            raise ValueError(
+                f"rotation aggregate: the strains at theta={theta} ({len(grid)} frames) differ from "
+                f"those at theta={thetas[0]} ({len(rotation_strains)} frames)"
+            )
     low = -180.0 if thetas.min() < 0 else 0.0
     return PredictionGrids(
         startup_strains=np.unique(startup_aggregate["strain"].to_numpy(dtype=float)),
@@ -417,15 +488,28 @@ def prediction_grids(startup_aggregate: pd.DataFrame, rotation_aggregate: pd.Dat
     )
 
 
-def predict_on_simulation_grids(fits: dict, models: dict, startup_aggregate: pd.DataFrame,
-                                rotation_aggregate: pd.DataFrame, startup_strain: float,
-                                polar_step_deg: float) -> pd.DataFrame:
+def predict_on_simulation_grids(
+    fits: dict,
+    models: dict,
+    startup_aggregate: pd.DataFrame,
+    rotation_aggregate: pd.DataFrame,
+    startup_strain: float,
+    polar_step_deg: float,
+) -> pd.DataFrame:
     """:func:`predict` from the simulated initial fabric (:func:`initial_fabric`) on the
     :func:`prediction_grids` of the seed aggregates: at every simulated strain and angle,
     and at the polar grid of angles (rotation after ``startup_strain`` of startup shear)."""
     grids = prediction_grids(startup_aggregate, rotation_aggregate, polar_step_deg)
-    return predict(fits, models, initial_fabric(startup_aggregate), grids.startup_strains, startup_strain, grids.thetas_deg,
-                   grids.rotation_strains, extra_thetas_deg=grids.polar_thetas_deg)
+    return predict(
+        fits,
+        models,
+        initial_fabric(startup_aggregate),
+        grids.startup_strains,
+        startup_strain,
+        grids.thetas_deg,
+        grids.rotation_strains,
+        extra_thetas_deg=grids.polar_thetas_deg,
+    )
 
 
 def model_errors(simulation: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float, protocol: str) -> pd.DataFrame:
@@ -445,16 +529,23 @@ def model_errors(simulation: pd.DataFrame, predictions: pd.DataFrame, n12_ss: fl
         for theta, sim in simulation.groupby("theta", sort=True):
             pred = mine[np.isclose(mine["theta"], theta)].sort_values("strain")
             sim = sim.sort_values("strain")
-            if len(pred) != len(sim) or not np.allclose(pred["strain"].to_numpy(), sim["strain"].to_numpy(),
-                                                        rtol=1e-9, atol=1e-9):
+            if len(pred) != len(sim) or not np.allclose(
+                pred["strain"].to_numpy(), sim["strain"].to_numpy(), rtol=1e-9, atol=1e-9
+            ):
                 raise ValueError(f"{protocol}: model {key} at theta={theta} is not on the simulation's strain grid")
             for name in (*COMPONENTS, "Z"):
                 diff = (pred[name].to_numpy() - sim[f"{name}_mean"].to_numpy()) / abs(n12_ss)
-                rows.append({
-                    "protocol": protocol, "model": key, "theta": float(theta), "component": name,
-                    "rms_error": float(np.sqrt(np.mean(diff**2))), "max_abs_error": float(np.abs(diff).max()),
-                    "n_strains": len(diff),
-                })
+                rows.append(
+                    {
+                        "protocol": protocol,
+                        "model": key,
+                        "theta": float(theta),
+                        "component": name,
+                        "rms_error": float(np.sqrt(np.mean(diff**2))),
+                        "max_abs_error": float(np.abs(diff).max()),
+                        "n_strains": len(diff),
+                    }
+                )
     return pd.DataFrame(rows)
 
 
@@ -473,13 +564,17 @@ def summarise_errors(errors: pd.DataFrame) -> pd.DataFrame:
     return summary.reset_index()
 
 
-def error_tables(fits: dict, predictions: pd.DataFrame, startup_aggregate: pd.DataFrame,
-                 rotation_aggregate: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]:
+def error_tables(
+    fits: dict, predictions: pd.DataFrame, startup_aggregate: pd.DataFrame, rotation_aggregate: pd.DataFrame
+) -> tuple[pd.DataFrame, pd.DataFrame]:
     """:func:`model_errors` of startup shear and of the rotations (normalised by the fitted
     steady <nn>_12 of ``fits``), concatenated, and their :func:`summarise_errors`."""
     n12_ss = fits["targets"]["n12"]["mean"]
-    errors = pd.concat([
-        model_errors(startup_aggregate, predictions, n12_ss, "startup"),
-        model_errors(rotation_aggregate, predictions, n12_ss, "rotation"),
-    ], ignore_index=True)
+    errors = pd.concat(
+        [
+            model_errors(startup_aggregate, predictions, n12_ss, "startup"),
+            model_errors(rotation_aggregate, predictions, n12_ss, "rotation"),
+        ],
+        ignore_index=True,
+    )
     return errors, summarise_errors(errors)

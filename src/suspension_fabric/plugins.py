@@ -21,8 +21,9 @@ def load_plugin(spec: str, built_in: dict, expected: type, error: type[Exception
         return built_in[spec]
     location, sep, attribute = spec.rpartition(":")
     if not sep or not location or not attribute:
-        raise error(f"{what} {spec!r}: expected a built-in key {sorted(built_in)}, 'module:attribute' or "
-                    f"'file.py:attribute'")
+        raise error(
+            f"{what} {spec!r}: expected a built-in key {sorted(built_in)}, 'module:attribute' or 'file.py:attribute'"
+        )
     if location.endswith(".py"):
         path = Path(location)
         if not path.is_file():
@@ -40,6 +41,8 @@ def load_plugin(spec: str, built_in: dict, expected: type, error: type[Exception
             raise error(f"{what} {spec!r}: cannot import {location} ({failure})") from failure
     found = getattr(module, attribute, None)
     if not isinstance(found, expected):
-        raise error(f"{what} {spec!r}: {attribute} in {location} is {type(found).__name__}, "
-                    f"expected a {expected.__module__}.{expected.__name__}")
+        raise error(
+            f"{what} {spec!r}: {attribute} in {location} is {type(found).__name__}, "
+            f"expected a {expected.__module__}.{expected.__name__}"
+        )
     return found

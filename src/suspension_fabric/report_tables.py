@@ -152,15 +152,18 @@ def fit_parameters_table(fits: dict) -> pd.DataFrame:
             if parameter not in entry:
                 continue
             jackknife_error, propagated_error = _fit_errors(entry, parameter, jackknifed)
-            rows.append({
-                "Model": MODEL_NAMES[key],
-                "Parameter": label,
-                JACKKNIFE_COLUMN: format_value_error(entry[parameter], jackknife_error),
-                PROPAGATED_COLUMN: format_value_error(entry[parameter], propagated_error),
-                "Fitted to (steady state)": _components_label(entry.get("fitted_to", ())),
-            })
-    return pd.DataFrame(rows, columns=["Model", "Parameter", JACKKNIFE_COLUMN, PROPAGATED_COLUMN,
-                                       "Fitted to (steady state)"])
+            rows.append(
+                {
+                    "Model": MODEL_NAMES[key],
+                    "Parameter": label,
+                    JACKKNIFE_COLUMN: format_value_error(entry[parameter], jackknife_error),
+                    PROPAGATED_COLUMN: format_value_error(entry[parameter], propagated_error),
+                    "Fitted to (steady state)": _components_label(entry.get("fitted_to", ())),
+                }
+            )
+    return pd.DataFrame(
+        rows, columns=["Model", "Parameter", JACKKNIFE_COLUMN, PROPAGATED_COLUMN, "Fitted to (steady state)"]
+    )
 
 
 def fit_targets_table(fits: dict) -> pd.DataFrame:
@@ -180,8 +183,12 @@ def fit_targets_table(fits: dict) -> pd.DataFrame:
         fitted_by = [MODEL_NAMES[key] for key in MODEL_NAMES if name in fits.get(key, {}).get("fitted_to", ())]
         row["Fit target of"] = ", ".join(fitted_by) or MISSING
         rows.append(row)
-    columns = ["Quantity", "Simulation (mean ± s.e.)",
-               *(f"{display} steady state" for display in MODEL_NAMES.values()), "Fit target of"]
+    columns = [
+        "Quantity",
+        "Simulation (mean ± s.e.)",
+        *(f"{display} steady state" for display in MODEL_NAMES.values()),
+        "Fit target of",
+    ]
     return pd.DataFrame(rows, columns=columns)
 
 
@@ -209,15 +216,17 @@ def steady_state_table(steady: pd.DataFrame) -> pd.DataFrame:
     The angle column is kept only when the table holds more than one angle; the strain
     window, the same for every row, is left to the caption.
     """
-    frame = pd.DataFrame({
-        "Angle θ (deg)": [f"{t:g}" for t in steady["theta"]],
-        "Quantity": [component_label(q) for q in steady["quantity"]],
-        "Mean ± s.e.": [format_value_error(m, s) for m, s in zip(steady["mean"], steady["sem"])],
-        "s.e. between seeds": [format_number(s, 2) for s in steady["sem_between_seeds"]],
-        "Autocorrelation strain": [format_number(t, 2) for t in steady["tau_strain"]],
-        "Frames per seed": [str(int(n)) for n in steady["n_frames"]],
-        "Seeds": [str(int(n)) for n in steady["n_seeds"]],
-    })
+    frame = pd.DataFrame(
+        {
+            "Angle θ (deg)": [f"{t:g}" for t in steady["theta"]],
+            "Quantity": [component_label(q) for q in steady["quantity"]],
+            "Mean ± s.e.": [format_value_error(m, s) for m, s in zip(steady["mean"], steady["sem"])],
+            "s.e. between seeds": [format_number(s, 2) for s in steady["sem_between_seeds"]],
+            "Autocorrelation strain": [format_number(t, 2) for t in steady["tau_strain"]],
+            "Frames per seed": [str(int(n)) for n in steady["n_frames"]],
+            "Seeds": [str(int(n)) for n in steady["n_seeds"]],
+        }
+    )
     if steady["theta"].nunique() <= 1:
         frame = frame.drop(columns="Angle θ (deg)")
     return frame.reset_index(drop=True)
@@ -228,13 +237,15 @@ def error_summary_table(summary: pd.DataFrame, significant: int = 3, labels: dic
     (in units of |⟨nn⟩₁₂ˢˢ|) per protocol and quantity for every model (``labels``: {key: display
     name}, default the paper's names, else the key), and the ratio G-W / modified when present."""
     labels = {**MODEL_NAMES, **(labels or {})}
-    frame = pd.DataFrame({
-        "Protocol": [_PROTOCOL_LABELS.get(p, p) for p in summary["protocol"]],
-        "Quantity": [component_label(c) for c in summary["component"]],
-    })
+    frame = pd.DataFrame(
+        {
+            "Protocol": [_PROTOCOL_LABELS.get(p, p) for p in summary["protocol"]],
+            "Quantity": [component_label(c) for c in summary["component"]],
+        }
+    )
     for column in summary.columns:
         if column.startswith("rms_"):
-            key = column[len("rms_"):]
+            key = column[len("rms_") :]
             frame[f"rms error, {labels.get(key, key)}"] = [format_number(x, significant) for x in summary[column]]
     if "gw_over_modified" in summary:
         frame["Ratio G-W / modified"] = [format_number(x, significant) for x in summary["gw_over_modified"]]
@@ -256,15 +267,17 @@ p.note { color: #57606a; max-width: 60em; margin: -1.2em 0 1.8em 0; }
 
 
 def _table_html(frame: pd.DataFrame, caption: str, note: str | None) -> str:
-    head = "".join(f"<th scope=\"col\">{html.escape(str(c))}</th>" for c in frame.columns)
+    head = "".join(f'<th scope="col">{html.escape(str(c))}</th>' for c in frame.columns)
     body = "\n".join(
         "<tr>" + "".join(f"<td>{html.escape(str(v))}</td>" for v in row) + "</tr>"
         for row in frame.itertuples(index=False, name=None)
     )
-    text = (f"<table>\n<caption>{html.escape(caption)}</caption>\n<thead><tr>{head}</tr></thead>\n"
-            f"<tbody>\n{body}\n</tbody>\n</table>\n")
+    text = (
+        f"<table>\n<caption>{html.escape(caption)}</caption>\n<thead><tr>{head}</tr></thead>\n"
+        f"<tbody>\n{body}\n</tbody>\n</table>\n"
+    )
     if note:
-        text += f"<p class=\"note\">{html.escape(note)}</p>\n"
+        text += f'<p class="note">{html.escape(note)}</p>\n'
     return text
 
 
@@ -278,9 +291,11 @@ def write_html_tables(path: str | os.PathLike, title: str, tables) -> Path:
     for entry in tables:
         caption, frame, note = (*entry, None)[:3]
         sections.append(_table_html(frame, caption, note))
-    page = ("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-            f"<title>{html.escape(title)}</title>\n<style>{_STYLE}</style>\n</head>\n<body>\n"
-            f"<h1>{html.escape(title)}</h1>\n" + "".join(sections) + "</body>\n</html>\n")
+    page = (
+        '<!DOCTYPE html>\n<html lang="en">\n<head>\n<meta charset="utf-8">\n'
+        f"<title>{html.escape(title)}</title>\n<style>{_STYLE}</style>\n</head>\n<body>\n"
+        f"<h1>{html.escape(title)}</h1>\n" + "".join(sections) + "</body>\n</html>\n"
+    )
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.name}.tmp")
@@ -292,11 +307,13 @@ def write_html_tables(path: str | os.PathLike, title: str, tables) -> Path:
 def _fit_errors_note(fits: dict) -> str:
     """The note under the fitted parameters: what the two errors are, and the correlation of
     the modified model's β and A over the leave-one-out fits."""
-    note = ("1σ errors. Jackknife over seeds: the whole fit repeated with each seed left out, "
-            "σ = √((n−1)/n Σᵢ (pᵢ − p̄)²) over the n leave-one-out fits; it includes the covariance of "
-            f"the fitted ⟨nn⟩₁₁ and ⟨nn⟩₁₂ across seeds ({MISSING} with one seed). Propagated: linear "
-            "propagation of the standard errors of the fit targets, ignoring their covariance "
-            f"({MISSING} where a target ± σ/10 leaves the fittable range).")
+    note = (
+        "1σ errors. Jackknife over seeds: the whole fit repeated with each seed left out, "
+        "σ = √((n−1)/n Σᵢ (pᵢ − p̄)²) over the n leave-one-out fits; it includes the covariance of "
+        f"the fitted ⟨nn⟩₁₁ and ⟨nn⟩₁₂ across seeds ({MISSING} with one seed). Propagated: linear "
+        "propagation of the standard errors of the fit targets, ignoring their covariance "
+        f"({MISSING} where a target ± σ/10 leaves the fittable range)."
+    )
     if "fit_errors" not in fits:
         return note + " This fits.json predates the jackknife: only the propagated errors exist."
     correlation = fits["modified"].get("beta_A_correlation")
@@ -310,40 +327,61 @@ def listed_models_table(fits: dict, significant: int = 4) -> pd.DataFrame:
     rows = []
     for key, entry in fits.get("models", {}).items():
         for name, value in entry["parameters"].items():
-            rows.append({"Model": entry["label"], "Key": key, "Parameter": name,
-                         "Value": format_number(value, significant),
-                         "s.e. (jackknife)": format_number(entry["errors"][name], 2),
-                         "Fitted to": ", ".join(component_label(c) for c in entry["fitted_to"])})
+            rows.append(
+                {
+                    "Model": entry["label"],
+                    "Key": key,
+                    "Parameter": name,
+                    "Value": format_number(value, significant),
+                    "s.e. (jackknife)": format_number(entry["errors"][name], 2),
+                    "Fitted to": ", ".join(component_label(c) for c in entry["fitted_to"]),
+                }
+            )
     return pd.DataFrame(rows, columns=["Model", "Key", "Parameter", "Value", "s.e. (jackknife)", "Fitted to"])
 
 
 def write_fits_page(fits: dict, path: str | os.PathLike) -> Path:
     """The report page of fits.json: fitted parameters, fit targets vs model steady states, settings."""
-    return write_html_tables(path, "Model fits (fits.json)", [
-        ("Fitted model parameters", fit_parameters_table(fits), _fit_errors_note(fits)),
-        ("Every model of models.fabric fitted to the steady state", listed_models_table(fits),
-         "Each model's parameters reproduce the simulated steady components it is fitted to; s.e.: "
-         "jackknife over seeds of the whole fit."),
-        ("Steady state of startup shear: simulation (fit targets) and the fitted models",
-         fit_targets_table(fits),
-         "Simulation: seed mean over the steady-state strain window with its correlation-aware "
-         f"standard error. Models: their own steady state with the fitted parameters ({MISSING}: "
-         "not a model output)."),
-        ("Fit settings", fit_settings(fits)),
-    ])
+    return write_html_tables(
+        path,
+        "Model fits (fits.json)",
+        [
+            ("Fitted model parameters", fit_parameters_table(fits), _fit_errors_note(fits)),
+            (
+                "Every model of models.fabric fitted to the steady state",
+                listed_models_table(fits),
+                "Each model's parameters reproduce the simulated steady components it is fitted to; s.e.: "
+                "jackknife over seeds of the whole fit.",
+            ),
+            (
+                "Steady state of startup shear: simulation (fit targets) and the fitted models",
+                fit_targets_table(fits),
+                "Simulation: seed mean over the steady-state strain window with its correlation-aware "
+                f"standard error. Models: their own steady state with the fitted parameters ({MISSING}: "
+                "not a model output).",
+            ),
+            ("Fit settings", fit_settings(fits)),
+        ],
+    )
 
 
 def write_steady_state_page(steady: pd.DataFrame, path: str | os.PathLike) -> Path:
     """The report page of the steady-state table of :func:`suspension_fabric.tables.steady_state`."""
     low, high = float(steady["strain_min"].iloc[0]), float(steady["strain_max"].iloc[0])
-    return write_html_tables(path, "Steady state of startup shear (steady_state.csv)", [
-        (f"Simulated steady state over the strain window {low:g} ≤ γ ≤ {high:g}",
-         steady_state_table(steady),
-         "s.e.: correlation-aware standard error of the seed average (each seed's variance of the mean "
-         "from its integrated autocorrelation time); s.e. between seeds: from the scatter of the seed "
-         "means, an assumption-free check; autocorrelation strain: the integrated autocorrelation time "
-         "in units of strain (mean over seeds); frames per seed: the fewest of any seed."),
-    ])
+    return write_html_tables(
+        path,
+        "Steady state of startup shear (steady_state.csv)",
+        [
+            (
+                f"Simulated steady state over the strain window {low:g} ≤ γ ≤ {high:g}",
+                steady_state_table(steady),
+                "s.e.: correlation-aware standard error of the seed average (each seed's variance of the mean "
+                "from its integrated autocorrelation time); s.e. between seeds: from the scatter of the seed "
+                "means, an assumption-free check; autocorrelation strain: the integrated autocorrelation time "
+                "in units of strain (mean over seeds); frames per seed: the fewest of any seed.",
+            ),
+        ],
+    )
 
 
 def leaderboard_tables(board: pd.DataFrame, parameters: pd.DataFrame) -> tuple[pd.DataFrame, ...]:
@@ -356,38 +394,77 @@ def leaderboard_tables(board: pd.DataFrame, parameters: pd.DataFrame) -> tuple[p
     for model_key, mode in keys:
         rows = board[(board["model"] == model_key) & (board["mode"] == mode)].set_index("component")
         head = {"Model": rows["label"].iloc[0], "Fit": mode}
-        held.append({**head, **{component_label(c): format_interval(r.held_out_mse, r.held_out_low, r.held_out_high)
-                                for c, r in rows.iterrows()}})
+        held.append(
+            {
+                **head,
+                **{
+                    component_label(c): format_interval(r.held_out_mse, r.held_out_low, r.held_out_high)
+                    for c, r in rows.iterrows()
+                },
+            }
+        )
         if reference:
-            suffix = reference[0][len("held_out_difference"):]
-            paired.append({**head, **{component_label(c): format_interval(
-                r[f"held_out_difference{suffix}"], r[f"held_out_difference_low{suffix}"],
-                r[f"held_out_difference_high{suffix}"]) for c, r in rows.iterrows()}})
+            suffix = reference[0][len("held_out_difference") :]
+            paired.append(
+                {
+                    **head,
+                    **{
+                        component_label(c): format_interval(
+                            r[f"held_out_difference{suffix}"],
+                            r[f"held_out_difference_low{suffix}"],
+                            r[f"held_out_difference_high{suffix}"],
+                        )
+                        for c, r in rows.iterrows()
+                    },
+                }
+            )
         mine = parameters[(parameters["model"] == model_key) & (parameters["mode"] == mode)]
-        inside.append({**head, "Parameters": ", ".join(f"{p.parameter} = {format_value_error(p.value, p.error)}"
-                                                        for p in mine.itertuples()),
-                       "k": int(rows["n_parameters"].iloc[0]),
-                       **{component_label(c): format_interval(r.in_sample_mse, r.in_sample_low, r.in_sample_high)
-                          for c, r in rows.iterrows()},
-                       "AIC": format_number(rows["aic"].iloc[0], 4)})
+        inside.append(
+            {
+                **head,
+                "Parameters": ", ".join(
+                    f"{p.parameter} = {format_value_error(p.value, p.error)}" for p in mine.itertuples()
+                ),
+                "k": int(rows["n_parameters"].iloc[0]),
+                **{
+                    component_label(c): format_interval(r.in_sample_mse, r.in_sample_low, r.in_sample_high)
+                    for c, r in rows.iterrows()
+                },
+                "AIC": format_number(rows["aic"].iloc[0], 4),
+            }
+        )
     return pd.DataFrame(held), pd.DataFrame(paired), pd.DataFrame(inside)
 
 
-def write_leaderboard_page(board: pd.DataFrame, parameters: pd.DataFrame, path: str | os.PathLike,
-                           level: float) -> Path:
+def write_leaderboard_page(
+    board: pd.DataFrame, parameters: pd.DataFrame, path: str | os.PathLike, level: float
+) -> Path:
     """The report page of the fabric-model leaderboard (leaderboard.csv, model_parameters.csv)."""
     held, paired, inside = leaderboard_tables(board, parameters)
     unit = "mean square of (model − seed curve) / ⟨nn⟩₁₂ˢˢ over the strains after the rotation and the angles"
-    return write_html_tables(path, "Fabric models on held-out rotation angles (leaderboard.csv)", [
-        (f"Held-out error per component, seed mean [{level:.0%} t-interval over seeds]", held,
-         f"{unit}. Fit 'steady': fitted to the steady state only, every angle is held out; 'global': "
-         "weighted least squares on the startup curve and the other folds of angles."),
-        (f"Held-out error minus that of G-W fitted to the steady state, per seed [{level:.0%} t-interval]", paired,
-         "< 0: the model predicts the unseen rotations better than the paper's G-W fit (paired per seed)."),
-        (f"In-sample error, parameters (± jackknife over seeds), k and AIC [{level:.0%} t-interval]", inside,
-         "AIC = χ² + 2k of the global fit (frames along a curve are correlated: it ranks, it does not weigh "
-         "evidence); — for the steady fits, which minimise no curve."),
-    ])
+    return write_html_tables(
+        path,
+        "Fabric models on held-out rotation angles (leaderboard.csv)",
+        [
+            (
+                f"Held-out error per component, seed mean [{level:.0%} t-interval over seeds]",
+                held,
+                f"{unit}. Fit 'steady': fitted to the steady state only, every angle is held out; 'global': "
+                "weighted least squares on the startup curve and the other folds of angles.",
+            ),
+            (
+                f"Held-out error minus that of G-W fitted to the steady state, per seed [{level:.0%} t-interval]",
+                paired,
+                "< 0: the model predicts the unseen rotations better than the paper's G-W fit (paired per seed).",
+            ),
+            (
+                f"In-sample error, parameters (± jackknife over seeds), k and AIC [{level:.0%} t-interval]",
+                inside,
+                "AIC = χ² + 2k of the global fit (frames along a curve are correlated: it ranks, it does not weigh "
+                "evidence); — for the steady fits, which minimise no curve.",
+            ),
+        ],
+    )
 
 
 def stress_leaderboard_tables(board: pd.DataFrame, parameters: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]:
@@ -403,45 +480,75 @@ def stress_leaderboard_tables(board: pd.DataFrame, parameters: pd.DataFrame) -> 
         head = {"Relation": rows["label"].iloc[0], "Fit": mode}
         rotation = rows.loc["eta_r rotation"]
         mine = parameters[(parameters["relation"] == key) & (parameters["mode"] == mode)]
-        row = {**head, "η_r after rotation, held out": format_interval(rotation.held_out_mse, rotation.held_out_low,
-                                                                     rotation.held_out_high)}
+        row = {
+            **head,
+            "η_r after rotation, held out": format_interval(
+                rotation.held_out_mse, rotation.held_out_low, rotation.held_out_high
+            ),
+        }
         if reference:
-            suffix = reference[0][len("held_out_difference"):]
-            row["minus G-W"] = format_interval(rotation[f"held_out_difference{suffix}"],
-                                               rotation[f"held_out_difference_low{suffix}"],
-                                               rotation[f"held_out_difference_high{suffix}"])
+            suffix = reference[0][len("held_out_difference") :]
+            row["minus G-W"] = format_interval(
+                rotation[f"held_out_difference{suffix}"],
+                rotation[f"held_out_difference_low{suffix}"],
+                rotation[f"held_out_difference_high{suffix}"],
+            )
         row["Fitted"] = ", ".join(f"{p.parameter} = {format_value_error(p.value, p.error)}" for p in mine.itertuples())
         row["k"] = int(rows["n_fitted"].iloc[0])
         held.append(row)
-        inside.append({**head, **{quantity: f"{format_interval(r.in_sample_mse, r.in_sample_low, r.in_sample_high)}; "
-                                            f"bias {format_interval(r.bias, r.bias_low, r.bias_high)}"
-                                  for quantity, r in rows.iterrows()}})
+        inside.append(
+            {
+                **head,
+                **{
+                    quantity: f"{format_interval(r.in_sample_mse, r.in_sample_low, r.in_sample_high)}; "
+                    f"bias {format_interval(r.bias, r.bias_low, r.bias_high)}"
+                    for quantity, r in rows.iterrows()
+                },
+            }
+        )
     return pd.DataFrame(held), pd.DataFrame(inside)
 
 
-def write_stress_leaderboard_page(board: pd.DataFrame, parameters: pd.DataFrame, path: str | os.PathLike,
-                                  level: float) -> Path:
+def write_stress_leaderboard_page(
+    board: pd.DataFrame, parameters: pd.DataFrame, path: str | os.PathLike, level: float
+) -> Path:
     """The report page of the stress-relation leaderboard (stress_leaderboard.csv, stress_relation_parameters.csv)."""
     held, inside = stress_leaderboard_tables(board, parameters)
-    return write_html_tables(path, "Stress relations on held-out rotation angles (stress_leaderboard.csv)", [
-        (f"Held-out error of η_r after the rotations, seed mean [{level:.0%} t-interval over seeds]", held,
-         "mean square of (relation on the seed's fabric − the seed's η_r) / η_rˢˢ over the strains after the "
-         "rotation and the angles; 'minus G-W' < 0: better than the G-W relation (paired per seed); a_H, a_C "
-         "fitted to the steady σ₁₂ parts, shape parameters (± jackknife over seeds) on the other folds."),
-        (f"In-sample mean square error and signed bias (relation − simulation) / η_rˢˢ [{level:.0%} t-interval]",
-         inside, "Steady N1, N2, Pi: at each seed's steady fabric; a relation whose a_H, a_C absorb its shape "
-         "at the steady state predicts them the same as G-W."),
-    ])
+    return write_html_tables(
+        path,
+        "Stress relations on held-out rotation angles (stress_leaderboard.csv)",
+        [
+            (
+                f"Held-out error of η_r after the rotations, seed mean [{level:.0%} t-interval over seeds]",
+                held,
+                "mean square of (relation on the seed's fabric − the seed's η_r) / η_rˢˢ over the strains after the "
+                "rotation and the angles; 'minus G-W' < 0: better than the G-W relation (paired per seed); a_H, a_C "
+                "fitted to the steady σ₁₂ parts, shape parameters (± jackknife over seeds) on the other folds.",
+            ),
+            (
+                f"In-sample mean square error and signed bias (relation − simulation) / η_rˢˢ [{level:.0%} t-interval]",
+                inside,
+                "Steady N1, N2, Pi: at each seed's steady fabric; a relation whose a_H, a_C absorb its shape "
+                "at the steady state predicts them the same as G-W.",
+            ),
+        ],
+    )
 
 
 def write_error_summary_page(summary: pd.DataFrame, path: str | os.PathLike, labels: dict | None = None) -> Path:
     """The report page of the model-error summary of :func:`suspension_fabric.model_vs_simulation.summarise_errors`."""
-    return write_html_tables(path, "Model versus simulation (model_errors_summary.csv)", [
-        ("Angle-averaged rms error of the models, in units of |⟨nn⟩₁₂ˢˢ|",
-         error_summary_table(summary, labels=labels),
-         "rms over the simulated strains of (model − simulation seed mean) / |⟨nn⟩₁₂ˢˢ|, averaged over "
-         "the simulated angles; ratio > 1: the modified model is closer to the simulation."),
-    ])
+    return write_html_tables(
+        path,
+        "Model versus simulation (model_errors_summary.csv)",
+        [
+            (
+                "Angle-averaged rms error of the models, in units of |⟨nn⟩₁₂ˢˢ|",
+                error_summary_table(summary, labels=labels),
+                "rms over the simulated strains of (model − simulation seed mean) / |⟨nn⟩₁₂ˢˢ|, averaged over "
+                "the simulated angles; ratio > 1: the modified model is closer to the simulation.",
+            ),
+        ],
+    )
 
 
 def _seeds_text(seeds) -> str:
@@ -458,24 +565,35 @@ def _cell(mean, low, high, verdict, seeds) -> str:
 
 def verdicts_display_table(verdicts: pd.DataFrame) -> pd.DataFrame:
     """The paper's claims, each with its decision statistic, interval and verdict."""
-    return pd.DataFrame({
-        "": verdicts["claim"],
-        "claim of the paper": verdicts["text"],
-        "decision statistic T (> 0: as the paper says)": verdicts["statistic"],
-        "angles (deg)": verdicts["angles"],
-        "T [interval]": [format_interval(m, lo, hi) for m, lo, hi in zip(verdicts["mean"], verdicts["low"],
-                                                                          verdicts["high"])],
-        "verdict": verdicts["verdict"].replace("", "(parameter)"),
-        "seeds that would decide": [_seeds_text(n) if v == "undecided" else ""
-                                    for n, v in zip(verdicts["seeds_needed"], verdicts["verdict"])],
-        "criterion": verdicts["criterion"],
-    })
+    return pd.DataFrame(
+        {
+            "": verdicts["claim"],
+            "claim of the paper": verdicts["text"],
+            "decision statistic T (> 0: as the paper says)": verdicts["statistic"],
+            "angles (deg)": verdicts["angles"],
+            "T [interval]": [
+                format_interval(m, lo, hi) for m, lo, hi in zip(verdicts["mean"], verdicts["low"], verdicts["high"])
+            ],
+            "verdict": verdicts["verdict"].replace("", "(parameter)"),
+            "seeds that would decide": [
+                _seeds_text(n) if v == "undecided" else ""
+                for n, v in zip(verdicts["seeds_needed"], verdicts["verdict"])
+            ],
+            "criterion": verdicts["criterion"],
+        }
+    )
 
 
 def choices_display_table(choices: pd.DataFrame) -> pd.DataFrame:
     """Claims by rows, choices (and comparison datasets) by columns: T [interval] and verdict."""
-    cells = choices.assign(cell=[_cell(*row) for row in zip(choices["mean"], choices["low"], choices["high"],
-                                                             choices["verdict"], choices["seeds_needed"])])
+    cells = choices.assign(
+        cell=[
+            _cell(*row)
+            for row in zip(
+                choices["mean"], choices["low"], choices["high"], choices["verdict"], choices["seeds_needed"]
+            )
+        ]
+    )
     wide = cells.pivot(index="claim", columns="choice", values="cell")
     wide = wide.loc[list(dict.fromkeys(choices["claim"])), list(dict.fromkeys(choices["choice"]))]
     robust = choices.drop_duplicates("claim").set_index("claim")["robust"]
@@ -484,86 +602,150 @@ def choices_display_table(choices: pd.DataFrame) -> pd.DataFrame:
 
 def per_angle_display_table(per_angle: pd.DataFrame) -> pd.DataFrame:
     """T per claim and angle with its interval and verdict, and the seed means behind it."""
-    return pd.DataFrame({
-        "claim": per_angle["claim"], "θ (deg)": [format_number(t) for t in per_angle["theta"]],
-        "T [interval]": [format_interval(m, lo, hi) for m, lo, hi in zip(per_angle["mean"], per_angle["low"],
-                                                                          per_angle["high"])],
-        "verdict": per_angle["verdict"], "quantity": per_angle["quantity"],
-        **{name: [format_number(x, 3) for x in per_angle[key]] for key, name in
-           (("sim", "simulation"), ("gw", "G-W"), ("modified", "modified")) if key in per_angle},
-    })
+    return pd.DataFrame(
+        {
+            "claim": per_angle["claim"],
+            "θ (deg)": [format_number(t) for t in per_angle["theta"]],
+            "T [interval]": [
+                format_interval(m, lo, hi) for m, lo, hi in zip(per_angle["mean"], per_angle["low"], per_angle["high"])
+            ],
+            "verdict": per_angle["verdict"],
+            "quantity": per_angle["quantity"],
+            **{
+                name: [format_number(x, 3) for x in per_angle[key]]
+                for key, name in (("sim", "simulation"), ("gw", "G-W"), ("modified", "modified"))
+                if key in per_angle
+            },
+        }
+    )
 
 
-def write_verdicts_page(verdicts: pd.DataFrame, per_angle: pd.DataFrame, edges: pd.DataFrame,
-                        choices: pd.DataFrame, recovery: pd.DataFrame, path: str | os.PathLike) -> Path:
+def write_verdicts_page(
+    verdicts: pd.DataFrame,
+    per_angle: pd.DataFrame,
+    edges: pd.DataFrame,
+    choices: pd.DataFrame,
+    recovery: pd.DataFrame,
+    path: str | os.PathLike,
+) -> Path:
     """The report page of rule verdicts: the verdict table, the choices table, the per-angle and
     range-edge tables, and the recovery strains (description)."""
     level = float(choices["level"].iloc[0])
-    recovery_text = pd.DataFrame({
-        "θ (deg)": [format_number(t) for t in recovery["theta"]],
-        **{label: [format_interval(v, lo, hi) for v, lo, hi in
-                   zip(recovery[key], recovery[f"{key}_low"], recovery[f"{key}_high"])]
-           for key, label in (("sim_steady", "simulation, ⟨nn⟩′₁₂ (steady)"),
-                              ("sim_continuation", "simulation, ⟨nn⟩′₁₂ (θ = 0)"))},
-        "G-W, ⟨nn⟩′₁₂": [format_number(v, 3) for v in recovery["gw_steady"]],
-        "modified, ⟨nn⟩′₁₂": [format_number(v, 3) for v in recovery["modified_steady"]],
-        "simulation, ⟨nn⟩′₂₃": [format_interval(v, lo, hi) for v, lo, hi in
-                                zip(recovery["sim_n23"], recovery["sim_n23_low"], recovery["sim_n23_high"])],
-        "G-W, ⟨nn⟩′₂₃": [format_number(v, 3) for v in recovery["gw_n23"]],
-        "modified, ⟨nn⟩′₂₃": [format_number(v, 3) for v in recovery["modified_n23"]],
-    })
-    edge_text = edges.assign(**{"T [interval]": [format_interval(m, lo, hi) for m, lo, hi in
-                                                 zip(edges["mean"], edges["low"], edges["high"])]})
-    return write_html_tables(path, "The paper's claims (verdicts.csv)", [
-        ("Each claim of the paper, its decision statistic T per seed, the interval over seeds and the verdict",
-         verdicts_display_table(verdicts),
-         f"Shear-rotation claims (C): T computed on each seed alone (own steady state, fit and predictions), "
-         f"averaged over the claim's angles within the seed; {level:.0%} two-sided t-interval over seeds; "
-         "confirmed if it lies above 0, refuted if below (effect sizes built into T: docs/verdict_statistics.md). "
-         "Steady-state claims (S): ± 2 standard errors."),
-        ("The choices each verdict may hinge on (claims by rows, choices by columns)", choices_display_table(choices),
-         "Each cell: T [interval] and verdict under one change from the primary choices (models from their own "
-         "strain-5 state, window 2, steady-state fit, steady baseline); columns after the study's own choices are "
-         "other datasets (config verdicts.comparisons) under the primary choices."),
-        ("T per angle", per_angle_display_table(per_angle),
-         "The seed means of the quantity behind T: D12, E23, X12 (strain units), MSE (in units of (⟨nn⟩₁₂ˢˢ)²), "
-         "O12 the modified model's overshoot."),
-        ("The claims' angle ranges moved by one simulated angle at either edge",
-         edge_text[["claim", "edges", "angles", "T [interval]", "verdict"]], None),
-        ("Recovery strain after a rotation (description: no verdict rests on it)", recovery_text,
-         f"First strain from which ⟨nn⟩′₁₂ stays within 10% of its steady value (steady: startup's ⟨nn⟩₁₂ˢˢ; "
-         f"θ = 0: the same seed's continuation) and ⟨nn⟩′₂₃ within 0.1 |⟨nn⟩₁₂ˢˢ| of 0, on the seed-mean curve; "
-         f"[{level:.0%} seed-bootstrap percentile interval]."),
-    ])
+    recovery_text = pd.DataFrame(
+        {
+            "θ (deg)": [format_number(t) for t in recovery["theta"]],
+            **{
+                label: [
+                    format_interval(v, lo, hi)
+                    for v, lo, hi in zip(recovery[key], recovery[f"{key}_low"], recovery[f"{key}_high"])
+                ]
+                for key, label in (
+                    ("sim_steady", "simulation, ⟨nn⟩′₁₂ (steady)"),
+                    ("sim_continuation", "simulation, ⟨nn⟩′₁₂ (θ = 0)"),
+                )
+            },
+            "G-W, ⟨nn⟩′₁₂": [format_number(v, 3) for v in recovery["gw_steady"]],
+            "modified, ⟨nn⟩′₁₂": [format_number(v, 3) for v in recovery["modified_steady"]],
+            "simulation, ⟨nn⟩′₂₃": [
+                format_interval(v, lo, hi)
+                for v, lo, hi in zip(recovery["sim_n23"], recovery["sim_n23_low"], recovery["sim_n23_high"])
+            ],
+            "G-W, ⟨nn⟩′₂₃": [format_number(v, 3) for v in recovery["gw_n23"]],
+            "modified, ⟨nn⟩′₂₃": [format_number(v, 3) for v in recovery["modified_n23"]],
+        }
+    )
+    edge_text = edges.assign(
+        **{
+            "T [interval]": [
+                format_interval(m, lo, hi) for m, lo, hi in zip(edges["mean"], edges["low"], edges["high"])
+            ]
+        }
+    )
+    return write_html_tables(
+        path,
+        "The paper's claims (verdicts.csv)",
+        [
+            (
+                "Each claim of the paper, its decision statistic T per seed, the interval over seeds and the verdict",
+                verdicts_display_table(verdicts),
+                f"Shear-rotation claims (C): T computed on each seed alone (own steady state, fit and predictions), "
+                f"averaged over the claim's angles within the seed; {level:.0%} two-sided t-interval over seeds; "
+                "confirmed if it lies above 0, refuted if below "
+                "(effect sizes built into T: docs/verdict_statistics.md). "
+                "Steady-state claims (S): ± 2 standard errors.",
+            ),
+            (
+                "The choices each verdict may hinge on (claims by rows, choices by columns)",
+                choices_display_table(choices),
+                "Each cell: T [interval] and verdict under one change from the primary choices (models from their own "
+                "strain-5 state, window 2, steady-state fit, steady baseline); "
+                "columns after the study's own choices are "
+                "other datasets (config verdicts.comparisons) under the primary choices.",
+            ),
+            (
+                "T per angle",
+                per_angle_display_table(per_angle),
+                "The seed means of the quantity behind T: D12, E23, X12 (strain units), MSE (in units of (⟨nn⟩₁₂ˢˢ)²), "
+                "O12 the modified model's overshoot.",
+            ),
+            (
+                "The claims' angle ranges moved by one simulated angle at either edge",
+                edge_text[["claim", "edges", "angles", "T [interval]", "verdict"]],
+                None,
+            ),
+            (
+                "Recovery strain after a rotation (description: no verdict rests on it)",
+                recovery_text,
+                f"First strain from which ⟨nn⟩′₁₂ stays within 10% of its steady value (steady: startup's ⟨nn⟩₁₂ˢˢ; "
+                f"θ = 0: the same seed's continuation) and ⟨nn⟩′₂₃ within 0.1 |⟨nn⟩₁₂ˢˢ| of 0, on the seed-mean curve; "
+                f"[{level:.0%} seed-bootstrap percentile interval].",
+            ),
+        ],
+    )
 
 
-_STRESS_QUANTITY_LABELS = {"eta_r": "ηᵣ = σ₁₂/η_f γ̇", "N1": "N₁", "N2": "N₂", "Pi": "Π (particle pressure)",
-                           "total_23": "σ′₂₃", "contact_12": "σ₁₂ contact", "lubrication_12": "σ₁₂ lubrication"}
+_STRESS_QUANTITY_LABELS = {
+    "eta_r": "ηᵣ = σ₁₂/η_f γ̇",
+    "N1": "N₁",
+    "N2": "N₂",
+    "Pi": "Π (particle pressure)",
+    "total_23": "σ′₂₃",
+    "contact_12": "σ₁₂ contact",
+    "lubrication_12": "σ₁₂ lubrication",
+}
 
 
 def stress_relation_table(relation: pd.DataFrame) -> pd.DataFrame:
     """The fitted stress-relation coefficients per fabric source and the steady stress they predict."""
-    rows = {"Fabric source": [SOURCES.get(s, s) for s in relation["source"]],
-            "a_H": [format_value_error(v, e) for v, e in zip(relation["a_H"], relation["a_H_err"])],
-            "a_C": [format_value_error(v, e) for v, e in zip(relation["a_C"], relation["a_C_err"])]}
+    rows = {
+        "Fabric source": [SOURCES.get(s, s) for s in relation["source"]],
+        "a_H": [format_value_error(v, e) for v, e in zip(relation["a_H"], relation["a_H_err"])],
+        "a_C": [format_value_error(v, e) for v, e in zip(relation["a_C"], relation["a_C_err"])],
+    }
     for name in ("eta_r", "N1", "N2", "Pi"):
-        rows[f"{_STRESS_QUANTITY_LABELS[name]}: relation"] = [format_number(v, 3) for v in relation[f"{name}_predicted"]]
+        rows[f"{_STRESS_QUANTITY_LABELS[name]}: relation"] = [
+            format_number(v, 3) for v in relation[f"{name}_predicted"]
+        ]
         rows[f"{_STRESS_QUANTITY_LABELS[name]}: simulation"] = [
-            format_value_error(v, e) for v, e in zip(relation[f"{name}_simulated"], relation[f"{name}_simulated_sem"])]
+            format_value_error(v, e) for v, e in zip(relation[f"{name}_simulated"], relation[f"{name}_simulated_sem"])
+        ]
     return pd.DataFrame(rows)
 
 
 def stress_error_table(summary: pd.DataFrame, significant: int = 3) -> pd.DataFrame:
     """Angle-averaged rms errors of the stress relation per protocol, quantity and fabric source."""
-    frame = pd.DataFrame({
-        "Protocol": [_PROTOCOL_LABELS.get(p, p) for p in summary["protocol"]],
-        "Quantity": [_STRESS_QUANTITY_LABELS.get(q, q) for q in summary["quantity"]],
-    })
+    frame = pd.DataFrame(
+        {
+            "Protocol": [_PROTOCOL_LABELS.get(p, p) for p in summary["protocol"]],
+            "Quantity": [_STRESS_QUANTITY_LABELS.get(q, q) for q in summary["quantity"]],
+        }
+    )
     for column in summary.columns:
         if column.startswith("rms_"):
-            source = column[len("rms_"):]
-            frame[f"rms error, {SOURCES.get(source, source)}"] = [format_number(x, significant)
-                                                                   for x in summary[column]]
+            source = column[len("rms_") :]
+            frame[f"rms error, {SOURCES.get(source, source)}"] = [
+                format_number(x, significant) for x in summary[column]
+            ]
     return frame
 
 
@@ -591,69 +773,111 @@ def viscosity_transient_table(transients: pd.DataFrame) -> tuple[pd.DataFrame, s
     minimum, its strain and the recovery strain with their seed-bootstrap percentile intervals."""
     window, level = float(transients["window"].iloc[0]), float(transients["level"].iloc[0])
     percent = f"{100 * level:g}%"
-    table = pd.DataFrame({
-        "θ (deg)": [f"{t:g}" for t in transients["theta"]],
-        f"deficit ∫₀^{window:g} (1 − ηᵣ/ηᵣˢˢ) dγ [{percent} t-interval]": [
-            format_interval(v, lo, hi) for v, lo, hi in
-            zip(transients["deficit"], transients["deficit_low"], transients["deficit_high"])],
-        "s.e.": [format_number(x, 2) for x in transients["deficit_se"]],
-        "seeds": [str(int(n)) for n in transients["n_seeds"]],
-        f"min ηᵣ/ηᵣˢˢ [{percent} bootstrap]": [
-            format_interval(v, lo, hi) for v, lo, hi in
-            zip(transients["minimum"], transients["minimum_low"], transients["minimum_high"])],
-        f"at strain [{percent} bootstrap]": [
-            format_interval(v, lo, hi) for v, lo, hi in
-            zip(transients["strain_at_min"], transients["strain_at_min_low"], transients["strain_at_min_high"])],
-        f"recovery strain (10%) [{percent} bootstrap]": [
-            format_interval(v, lo, hi) + ("" if ok else " (not recovered: lower bound)") for v, lo, hi, ok in
-            zip(transients["recovery_strain"], transients["recovery_strain_low"],
-                transients["recovery_strain_high"], transients["recovery_settled"].astype(bool))],
-    })
-    note = (f"Deficit: per seed, ∫ over the first {window:g} strain after the rotation of 1 − ηᵣ/ηᵣˢˢ, with ηᵣˢˢ "
-            "that seed's own steady viscosity (trapezoidal rule on the frames; 0.1 = 10% below steady for one "
-            f"strain); seed mean, its standard error and the two-sided {percent} Student t-interval over the "
-            "seeds (n − 1 degrees of freedom). Minimum, its strain and the recovery strain (first strain from "
-            "which ηᵣ/ηᵣˢˢ stays within 10% of 1): on the seed-mean ηᵣ/ηᵣˢˢ smoothed over "
-            f"{format_number(float(transients['smoothing_strain'].iloc[0]))} strain, with the {percent} percentile "
-            "interval over bootstrap resamples of whole seeds; description only, no verdict rests on them.")
+    table = pd.DataFrame(
+        {
+            "θ (deg)": [f"{t:g}" for t in transients["theta"]],
+            f"deficit ∫₀^{window:g} (1 − ηᵣ/ηᵣˢˢ) dγ [{percent} t-interval]": [
+                format_interval(v, lo, hi)
+                for v, lo, hi in zip(transients["deficit"], transients["deficit_low"], transients["deficit_high"])
+            ],
+            "s.e.": [format_number(x, 2) for x in transients["deficit_se"]],
+            "seeds": [str(int(n)) for n in transients["n_seeds"]],
+            f"min ηᵣ/ηᵣˢˢ [{percent} bootstrap]": [
+                format_interval(v, lo, hi)
+                for v, lo, hi in zip(transients["minimum"], transients["minimum_low"], transients["minimum_high"])
+            ],
+            f"at strain [{percent} bootstrap]": [
+                format_interval(v, lo, hi)
+                for v, lo, hi in zip(
+                    transients["strain_at_min"], transients["strain_at_min_low"], transients["strain_at_min_high"]
+                )
+            ],
+            f"recovery strain (10%) [{percent} bootstrap]": [
+                format_interval(v, lo, hi) + ("" if ok else " (not recovered: lower bound)")
+                for v, lo, hi, ok in zip(
+                    transients["recovery_strain"],
+                    transients["recovery_strain_low"],
+                    transients["recovery_strain_high"],
+                    transients["recovery_settled"].astype(bool),
+                )
+            ],
+        }
+    )
+    note = (
+        f"Deficit: per seed, ∫ over the first {window:g} strain after the rotation of 1 − ηᵣ/ηᵣˢˢ, with ηᵣˢˢ "
+        "that seed's own steady viscosity (trapezoidal rule on the frames; 0.1 = 10% below steady for one "
+        f"strain); seed mean, its standard error and the two-sided {percent} Student t-interval over the "
+        "seeds (n − 1 degrees of freedom). Minimum, its strain and the recovery strain (first strain from "
+        "which ηᵣ/ηᵣˢˢ stays within 10% of 1): on the seed-mean ηᵣ/ηᵣˢˢ smoothed over "
+        f"{format_number(float(transients['smoothing_strain'].iloc[0]))} strain, with the {percent} percentile "
+        "interval over bootstrap resamples of whole seeds; description only, no verdict rests on them."
+    )
     return table, note
 
 
-def write_stress_page(steady: pd.DataFrame, relation: pd.DataFrame, summary: pd.DataFrame,
-                      transients: pd.DataFrame, path: str | os.PathLike) -> Path:
+def write_stress_page(
+    steady: pd.DataFrame,
+    relation: pd.DataFrame,
+    summary: pd.DataFrame,
+    transients: pd.DataFrame,
+    path: str | os.PathLike,
+) -> Path:
     """The report page of the stress: its steady state, the fitted G-W stress relation, the
     relation's errors through startup and rotations, and the viscosity after a rotation per angle
     (:func:`viscosity_transient_table`)."""
-    shown = steady[steady["quantity"].isin(["eta_r", "N1", "N2", "Pi", "contact_12", "lubrication_12",
-                                             "kinetic_12", "total_23"])]
+    shown = steady[
+        steady["quantity"].isin(["eta_r", "N1", "N2", "Pi", "contact_12", "lubrication_12", "kinetic_12", "total_23"])
+    ]
     low, high = float(steady["strain_min"].iloc[0]), float(steady["strain_max"].iloc[0])
-    steady_text = pd.DataFrame({
-        "Quantity": [_STRESS_QUANTITY_LABELS.get(q, q) for q in shown["quantity"]],
-        "Mean ± s.e. (η_f γ̇)": [format_value_error(m, s) for m, s in zip(shown["mean"], shown["sem"])],
-        "s.e. between seeds": [format_number(s, 2) for s in shown["sem_between_seeds"]],
-        "Autocorrelation strain": [format_number(t, 2) for t in shown["tau_strain"]],
-    })
+    steady_text = pd.DataFrame(
+        {
+            "Quantity": [_STRESS_QUANTITY_LABELS.get(q, q) for q in shown["quantity"]],
+            "Mean ± s.e. (η_f γ̇)": [format_value_error(m, s) for m, s in zip(shown["mean"], shown["sem"])],
+            "s.e. between seeds": [format_number(s, 2) for s in shown["sem_between_seeds"]],
+            "Autocorrelation strain": [format_number(t, 2) for t in shown["tau_strain"]],
+        }
+    )
     transient_text, transient_note = viscosity_transient_table(transients)
-    return write_html_tables(path, "Stress (stress_*.csv)", [
-        (f"Steady stress of startup shear over {low:g} ≤ γ ≤ {high:g}, units η_f γ̇", steady_text,
-         "ηᵣ includes the solvent (1) and the Einstein term (2.5 φ); Π is the particle pressure of the contact, "
-         "lubrication and kinetic parts. Errors as in the fabric's steady-state table."),
-        ("G-W stress relation σᵖ/η_f γ̇ = a_H ⟨nnnn⟩:Ê + a_C ⟨nnnn⟩:Ê_c, fitted per fabric source",
-         stress_relation_table(relation),
-         "a_H from the steady lubrication σ₁₂, a_C from the steady contact σ₁₂ (errors: those of the stress "
-         "targets only); the normal stresses and the pressure are then predictions."),
-        ("rms error of the relation, in units of σ₁₂ˢˢ, averaged over angles", stress_error_table(summary)),
-        ("Viscosity after a rotation per angle: the integrated deficit per seed with its t-interval; the "
-         "minimum and the recovery strain as description", transient_text, transient_note),
-    ])
+    return write_html_tables(
+        path,
+        "Stress (stress_*.csv)",
+        [
+            (
+                f"Steady stress of startup shear over {low:g} ≤ γ ≤ {high:g}, units η_f γ̇",
+                steady_text,
+                "ηᵣ includes the solvent (1) and the Einstein term (2.5 φ); Π is the particle pressure of the contact, "
+                "lubrication and kinetic parts. Errors as in the fabric's steady-state table.",
+            ),
+            (
+                "G-W stress relation σᵖ/η_f γ̇ = a_H ⟨nnnn⟩:Ê + a_C ⟨nnnn⟩:Ê_c, fitted per fabric source",
+                stress_relation_table(relation),
+                "a_H from the steady lubrication σ₁₂, a_C from the steady contact σ₁₂ (errors: those of the stress "
+                "targets only); the normal stresses and the pressure are then predictions.",
+            ),
+            ("rms error of the relation, in units of σ₁₂ˢˢ, averaged over angles", stress_error_table(summary)),
+            (
+                "Viscosity after a rotation per angle: the integrated deficit per seed with its t-interval; the "
+                "minimum and the recovery strain as description",
+                transient_text,
+                transient_note,
+            ),
+        ],
+    )
 
 
 #: Map columns shown as "value ± error" (column, error column, heading)
-_MAP_VALUES = (("Z", "Z_sem", "Z"), ("n12", "n12_sem", "<nn>₁₂"), ("eta_r", "eta_r_sem", "η_r"),
-               ("Pi", "Pi_sem", "Π"), ("N1", "N1_sem", "N₁"), ("N2", "N2_sem", "N₂"),
-               ("gw_beta", "gw_beta_err", "G-W β"), ("modified_beta", "modified_beta_err", "modified β"),
-               ("modified_A", "modified_A_err", "modified A"),
-               ("modified_A_over_beta", "modified_A_over_beta_err", "A/β"))
+_MAP_VALUES = (
+    ("Z", "Z_sem", "Z"),
+    ("n12", "n12_sem", "<nn>₁₂"),
+    ("eta_r", "eta_r_sem", "η_r"),
+    ("Pi", "Pi_sem", "Π"),
+    ("N1", "N1_sem", "N₁"),
+    ("N2", "N2_sem", "N₂"),
+    ("gw_beta", "gw_beta_err", "G-W β"),
+    ("modified_beta", "modified_beta_err", "modified β"),
+    ("modified_A", "modified_A_err", "modified A"),
+    ("modified_A_over_beta", "modified_A_over_beta_err", "A/β"),
+)
 #: Claims shown per point: the paired model-error statistics
 _MAP_CLAIMS = ("C3'", "C4'")
 
@@ -671,16 +895,24 @@ def map_display_table(table: pd.DataFrame) -> pd.DataFrame:
             row[heading] = format_value_error(entry.get(column), entry.get(error)) if simulated else MISSING
         for claim in _MAP_CLAIMS:
             mean = entry.get(f"{claim}_mean")
-            row[claim] = (f"{format_interval(mean, entry.get(f'{claim}_low'), entry.get(f'{claim}_high'))} "
-                          f"{entry.get(f'{claim}_verdict')}") if simulated and not _is_missing(mean) else MISSING
+            row[claim] = (
+                (
+                    f"{format_interval(mean, entry.get(f'{claim}_low'), entry.get(f'{claim}_high'))} "
+                    f"{entry.get(f'{claim}_verdict')}"
+                )
+                if simulated and not _is_missing(mean)
+                else MISSING
+            )
         rows.append(row)
     return pd.DataFrame(rows)
 
 
 def write_map_page(table: pd.DataFrame, path: str | os.PathLike) -> Path:
     """The map over the state point as an HTML page."""
-    note = ("Steady values: mean over the steady window, ± the standard error from the scatter of the seed "
-            "means; fits ± jackknife errors over seeds; claims: seed mean [t-interval] and verdict "
-            "(docs/verdict_statistics.md). Steady state: relative drift of <nn>₁₂ and η_r between the halves "
-            "of the steady window within ±10% at the 95% level (suspension_fabric.state_map).")
+    note = (
+        "Steady values: mean over the steady window, ± the standard error from the scatter of the seed "
+        "means; fits ± jackknife errors over seeds; claims: seed mean [t-interval] and verdict "
+        "(docs/verdict_statistics.md). Steady state: relative drift of <nn>₁₂ and η_r between the halves "
+        "of the steady window within ±10% at the 95% level (suspension_fabric.state_map)."
+    )
     return write_html_tables(path, "Map over the state point", [("Per state point", map_display_table(table), note)])

@@ -25,8 +25,14 @@ import os
 from pathlib import Path
 from urllib.parse import unquote, urlparse
 
-__all__ = ["SCHEMA_PATH", "LAMMPS_SCRIPTS_DIR", "PLUGIN_SOURCE_DIR", "PLUGIN_BUILD_DIR",
-           "PLUGIN_LIBRARY_NAME", "editable_checkout"]
+__all__ = [
+    "SCHEMA_PATH",
+    "LAMMPS_SCRIPTS_DIR",
+    "PLUGIN_SOURCE_DIR",
+    "PLUGIN_BUILD_DIR",
+    "PLUGIN_LIBRARY_NAME",
+    "editable_checkout",
+]
 
 PLUGIN_LIBRARY_NAME = "libsuspension_fabric_lammps.so"
 
@@ -65,5 +71,6 @@ def _located(packaged: str, in_checkout: str) -> Path:
 SCHEMA_PATH = _located("config/schema.yaml", "config/schema.yaml")
 LAMMPS_SCRIPTS_DIR = _located("lammps", "workflow/lammps")
 PLUGIN_SOURCE_DIR = _located("plugin", "workflow/plugin")
-PLUGIN_BUILD_DIR = Path(os.environ.get("SUSPENSION_FABRIC_BUILD_DIR")
-                        or ((editable_checkout() or Path.cwd()) / "build" / "plugin")).resolve()
+PLUGIN_BUILD_DIR = Path(
+    os.environ.get("SUSPENSION_FABRIC_BUILD_DIR") or ((editable_checkout() or Path.cwd()) / "build" / "plugin")
+).resolve()

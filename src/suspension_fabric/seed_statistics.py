@@ -17,8 +17,21 @@ from typing import NamedTuple
 import numpy as np
 from scipy import stats
 
-__all__ = ["LEVEL", "CONFIRMED", "REFUTED", "UNDECIDED", "Interval", "t_interval", "welch_interval", "decide",
-           "seeds_needed", "jackknife", "seed_bootstrap", "bootstrap_means", "seed_bootstrap_of_mean"]
+__all__ = [
+    "LEVEL",
+    "CONFIRMED",
+    "REFUTED",
+    "UNDECIDED",
+    "Interval",
+    "t_interval",
+    "welch_interval",
+    "decide",
+    "seeds_needed",
+    "jackknife",
+    "seed_bootstrap",
+    "bootstrap_means",
+    "seed_bootstrap_of_mean",
+]
 
 #: Default confidence level of every interval (two-sided); config key ``verdicts.level``.
 LEVEL = 0.95
@@ -93,6 +106,7 @@ def seeds_needed(interval: Interval, max_seeds: int = 10_000) -> float:
         return 2.0 if interval.mean != 0.0 else np.inf  # no spread: two seeds already decide
     if interval.mean == 0.0:
         return np.inf
+
     def decides(n: int) -> bool:
         return _t_quantile(interval.level, n - 1) * sd / np.sqrt(n) < abs(interval.mean)
 
@@ -164,8 +178,9 @@ def bootstrap_means(per_seed) -> np.ndarray:
     return (counts @ per_seed.reshape(n, -1) / n).reshape((len(indices), *per_seed.shape[1:]))
 
 
-def seed_bootstrap_of_mean(statistic, per_seed, level: float = LEVEL, *,
-                           vectorized: bool = False) -> tuple[float, float, float]:
+def seed_bootstrap_of_mean(
+    statistic, per_seed, level: float = LEVEL, *, vectorized: bool = False
+) -> tuple[float, float, float]:
     """:func:`seed_bootstrap` of a statistic of the seed mean, statistic(mean over seeds of
     ``per_seed``), with the resampled means computed at once (same resamples, same result up to
     the order of a floating-point sum): (value, low, high). ``vectorized``: the statistic takes

@@ -26,8 +26,15 @@ import pandas as pd
 from .seed_statistics import LEVEL, t_interval
 from .stress import DERIVED_COLUMNS
 
-__all__ = ["BGP_PARAMETERS", "bgp_viscosities", "DRIFT_MARGIN", "steady_state_drift", "point_row", "map_table",
-           "MAP_QUANTITIES"]
+__all__ = [
+    "BGP_PARAMETERS",
+    "bgp_viscosities",
+    "DRIFT_MARGIN",
+    "steady_state_drift",
+    "point_row",
+    "map_table",
+    "MAP_QUANTITIES",
+]
 
 #: Boyer, Guazzelli and Pouliquen (2011), frictional spheres
 BGP_PARAMETERS = {"mu1": 0.32, "mu2": 0.7, "J0": 0.005, "phi_m": 0.585}
@@ -50,8 +57,7 @@ def bgp_viscosities(phi, parameters: dict = BGP_PARAMETERS) -> tuple[np.ndarray,
     return friction / j, 1.0 / j
 
 
-def steady_state_drift(runs: pd.DataFrame, quantity: str, window, steady_value: float,
-                       level: float = LEVEL) -> dict:
+def steady_state_drift(runs: pd.DataFrame, quantity: str, window, steady_value: float, level: float = LEVEL) -> dict:
     """Relative drift of ``quantity`` across the steady window of the startup runs (module
     docstring): per seed (second-half mean - first-half mean) / steady_value; its t-interval
     over seeds and the verdict."""
@@ -75,15 +81,30 @@ def steady_state_drift(runs: pd.DataFrame, quantity: str, window, steady_value: 
     return {"mean": interval.mean, "low": interval.low, "high": interval.high, "verdict": verdict}
 
 
-def point_row(point: str, study: dict, steady: pd.DataFrame, stress_steady: pd.DataFrame, fits: dict,
-              verdicts: pd.DataFrame, startup_runs: pd.DataFrame, stress_runs: pd.DataFrame,
-              level: float = LEVEL) -> dict:
+def point_row(
+    point: str,
+    study: dict,
+    steady: pd.DataFrame,
+    stress_steady: pd.DataFrame,
+    fits: dict,
+    verdicts: pd.DataFrame,
+    startup_runs: pd.DataFrame,
+    stress_runs: pd.DataFrame,
+    level: float = LEVEL,
+) -> dict:
     """One campaign point as a row of the map table: its state and engine, every steady
     quantity with its standard error, the fits with their jackknife errors, the steady-state
     check, and each claim's seed-mean statistic with its interval and verdict."""
-    row = {"point": point, "phi": study["particles"]["phi"], "mu": study["forces"]["mu"],
-           "n": study["particles"]["n"], "seeds": len(study["seeds"]), "kn": study["forces"]["kn"],
-           "dt": study["run"]["dt"], "startup_strain": study["run"]["startup_strain"]}
+    row = {
+        "point": point,
+        "phi": study["particles"]["phi"],
+        "mu": study["forces"]["mu"],
+        "n": study["particles"]["n"],
+        "seeds": len(study["seeds"]),
+        "kn": study["forces"]["kn"],
+        "dt": study["run"]["dt"],
+        "startup_strain": study["run"]["startup_strain"],
+    }
     for table, quantities in ((steady, FABRIC_QUANTITIES), (stress_steady, STRESS_QUANTITIES)):
         indexed = table.set_index("quantity")
         for quantity in quantities:
@@ -98,7 +119,8 @@ def point_row(point: str, study: dict, steady: pd.DataFrame, stress_steady: pd.D
     rel_a, rel_b = fits["modified"]["A_err"] / ratio[0], fits["modified"]["beta_err"] / ratio[1]
     rho = fits["modified"].get("beta_A_correlation", 0.0) or 0.0
     row["modified_A_over_beta_err"] = abs(row["modified_A_over_beta"]) * np.sqrt(
-        max(rel_a ** 2 + rel_b ** 2 - 2 * rho * rel_a * rel_b, 0.0))
+        max(rel_a**2 + rel_b**2 - 2 * rho * rel_a * rel_b, 0.0)
+    )
     window = study["analysis"]["steady_window"]
     checks = {"n12": (startup_runs, row["n12"]), "eta_r": (stress_runs, row["eta_r"])}
     verdicts_steady = []
@@ -107,8 +129,13 @@ def point_row(point: str, study: dict, steady: pd.DataFrame, stress_steady: pd.D
         for key in ("mean", "low", "high", "verdict"):
             row[f"drift_{quantity}_{key}"] = drift[key]
         verdicts_steady.append(drift["verdict"])
-    row["steady"] = ("steady" if all(v == "steady" for v in verdicts_steady)
-                     else "drifting" if "drifting" in verdicts_steady else "not resolved")
+    row["steady"] = (
+        "steady"
+        if all(v == "steady" for v in verdicts_steady)
+        else "drifting"
+        if "drifting" in verdicts_steady
+        else "not resolved"
+    )
     for claim in verdicts.itertuples():
         if isinstance(claim.verdict, str) and claim.verdict:
             row[f"{claim.claim}_mean"], row[f"{claim.claim}_low"] = claim.mean, claim.low
@@ -121,6 +148,6 @@ def map_table(rows: list[dict], not_run: dict[str, str]) -> pd.DataFrame:
     in ``steady`` (``not run: <reason>``) and its phi, mu from the name."""
     extra = []
     for point, reason in not_run.items():
-        phi, mu = (float(part[len(prefix):]) for part, prefix in zip(point.split("_"), ("phi", "mu")))
+        phi, mu = (float(part[len(prefix) :]) for part, prefix in zip(point.split("_"), ("phi", "mu")))
         extra.append({"point": point, "phi": phi, "mu": mu, "steady": f"not run: {reason}"})
     return pd.DataFrame(rows + extra).sort_values(["mu", "phi"], ignore_index=True)

@@ -38,7 +38,8 @@ What each reported quantity contains (solvent, Einstein term, dipoles or stressl
 combination the figures, the steady-state table and the G-W stress relation use is stated in
 docs/gw_stress_relation.md, section 2.5, with how to compare with LF_DEM (no Einstein term,
 stresslets with their trace). Which lubrication stress the study's tables use from the seed
-aggregates on is the config key ``analysis.lubrication_stress`` (:func:`with_lubrication_stress`): ``dipole`` (the default) keeps
+aggregates on is the config key ``analysis.lubrication_stress`` (:func:`with_lubrication_stress`): ``dipole``
+(the default) keeps
 the per-run tables as they are; ``stresslet`` puts the stresslets in the ``lubrication`` part
 and the total, and recomputes eta_r, N1, N2 and Pi (the stresslets add nothing to Pi).
 
@@ -95,13 +96,14 @@ ALTERNATIVE_PARTS: tuple[str, ...] = ("stresslet",)
 PAPER_COMPONENTS: tuple[str, ...] = VECTOR_ORDER
 DERIVED_COLUMNS: tuple[str, ...] = ("eta_r", "N1", "N2", "Pi")
 STRESS_VALUE_COLUMNS: tuple[str, ...] = (
-    *DERIVED_COLUMNS, *(f"{part}_{c}" for part in (*PARTS, *ALTERNATIVE_PARTS) for c in PAPER_COMPONENTS))
+    *DERIVED_COLUMNS,
+    *(f"{part}_{c}" for part in (*PARTS, *ALTERNATIVE_PARTS) for c in PAPER_COMPONENTS),
+)
 #: The values of the config key analysis.lubrication_stress (:func:`with_lubrication_stress`).
 LUBRICATION_STRESSES: tuple[str, ...] = ("dipole", "stresslet")
 #: Columns that older per-run CSVs lack; :func:`read_stress_csv` gives them as NaN.
 OPTIONAL_COLUMNS: tuple[str, ...] = tuple(f"{part}_{c}" for part in ALTERNATIVE_PARTS for c in PAPER_COMPONENTS)
-STRESS_TABLE_COLUMNS: tuple[str, ...] = ("seed", "theta", "N", "phi", "step", "strain", "n_rows",
-                                         *STRESS_VALUE_COLUMNS)
+STRESS_TABLE_COLUMNS: tuple[str, ...] = ("seed", "theta", "N", "phi", "step", "strain", "n_rows", *STRESS_VALUE_COLUMNS)
 EINSTEIN_COEFFICIENT = 2.5
 #: Significant digits of the per-run stress CSV: far below the stress's frame-to-frame noise
 #: (~1e-2 relative), and half the size of full round-trip precision.
@@ -114,11 +116,12 @@ def pressure_tensors(table: dict[str, np.ndarray], prefix: str = "") -> np.ndarr
     names = [f"{prefix}{name}" for name in _LAMMPS_ORDER]
     missing = [name for name in names if name not in table]
     if missing:
-        raise ValueError(f"stress table lacks column(s) {missing}: written before the stress "
-                         "parts were recorded in full; rerun the simulation")
+        raise ValueError(
+            f"stress table lacks column(s) {missing}: written before the stress "
+            "parts were recorded in full; rerun the simulation"
+        )
     xx, yy, zz, xy, xz, yz = (np.asarray(table[name], dtype=float) for name in names)
-    return np.stack([np.stack([xx, xy, xz], -1), np.stack([xy, yy, yz], -1),
-                     np.stack([xz, yz, zz], -1)], -2)
+    return np.stack([np.stack([xx, xy, xz], -1), np.stack([xy, yy, yz], -1), np.stack([xz, yz, zz], -1)], -2)
 
 
 def symmetric_contact_pressure(table: dict[str, np.ndarray]) -> np.ndarray:
@@ -144,8 +147,9 @@ def _imposed_strain_rate(rows: int, flow_angle: float) -> np.ndarray:
     return np.broadcast_to(twice_e, (rows, 3, 3)).copy()
 
 
-def stress_parts(table: dict[str, np.ndarray], *, eta_f: float, rate: float, phi: float,
-                 theta_deg: float) -> dict[str, np.ndarray]:
+def stress_parts(
+    table: dict[str, np.ndarray], *, eta_f: float, rate: float, phi: float, theta_deg: float
+) -> dict[str, np.ndarray]:
     """Every part (and the total, and the alternative parts) per table row as (n, 3, 3) arrays in
     the paper frame of the shear with flow angle ``theta_deg``, in units of eta_f gammadot."""
     if not (eta_f > 0 and rate > 0):
@@ -164,8 +168,7 @@ def stress_parts(table: dict[str, np.ndarray], *, eta_f: float, rate: float, phi
     parts = {name: simulation_to_paper(value, angle) for name, value in sim.items()}
     parts["total"] = sum(parts[name] for name in sim)
     # absent columns (tables from before the stresslets were recorded) give NaN like the stock model
-    stresslet = (pressure_tensors(table, "stresslet_") if "stresslet_pxx" in table
-                 else np.full((rows, 3, 3), np.nan))
+    stresslet = pressure_tensors(table, "stresslet_") if "stresslet_pxx" in table else np.full((rows, 3, 3), np.nan)
     parts["stresslet"] = simulation_to_paper(scale * stresslet, angle)
     return parts
 
@@ -181,8 +184,16 @@ def derived_quantities(frame: pd.DataFrame) -> pd.DataFrame:
     return frame
 
 
-def stress_on_frames(table: dict[str, np.ndarray], frame_steps, *, first_step: int, eta_f: float,
-                     rate: float, phi: float, theta_deg: float) -> pd.DataFrame:
+def stress_on_frames(
+    table: dict[str, np.ndarray],
+    frame_steps,
+    *,
+    first_step: int,
+    eta_f: float,
+    rate: float,
+    phi: float,
+    theta_deg: float,
+) -> pd.DataFrame:
     """Window means of every part's paper-frame components at each frame step (module docstring).
 
     Columns: step, n_rows (table rows averaged), ``<part>_<ij>`` for every part and component,
@@ -215,8 +226,13 @@ def stress_on_frames(table: dict[str, np.ndarray], frame_steps, *, first_step: i
     return derived_quantities(pd.DataFrame({**columns, **values}))
 
 
-def run_stress_table(stress_table: str | os.PathLike, marker: str | os.PathLike,
-                     fabric_table: str | os.PathLike, *, eta_f: float | None = None) -> pd.DataFrame:
+def run_stress_table(
+    stress_table: str | os.PathLike,
+    marker: str | os.PathLike,
+    fabric_table: str | os.PathLike,
+    *,
+    eta_f: float | None = None,
+) -> pd.DataFrame:
     """Stress per trajectory frame of one finished run (columns ``STRESS_TABLE_COLUMNS``).
 
     The frames, seed, theta, N and phi (for the Einstein part) are those of the run's fabric
@@ -229,12 +245,20 @@ def run_stress_table(stress_table: str | os.PathLike, marker: str | os.PathLike,
         raise ValueError(f"{marker}: the run record has no variables.eta_f")
     fabric = read_fabric_table(fabric_table)
     if not np.allclose(fabric["theta"], info.theta_deg):
-        raise ValueError(f"{fabric_table}: theta {fabric['theta'].iloc[0]} differs from the run "
-                         f"record's {info.theta_deg} ({marker})")
+        raise ValueError(
+            f"{fabric_table}: theta {fabric['theta'].iloc[0]} differs from the run record's {info.theta_deg} ({marker})"
+        )
     phi = float(fabric["phi"].mean())
     table = read_stress_table(stress_table)
-    frames = stress_on_frames(table, fabric["step"].to_numpy(), first_step=info.first_step, eta_f=eta_f,
-                              rate=info.rate, phi=phi, theta_deg=info.theta_deg)
+    frames = stress_on_frames(
+        table,
+        fabric["step"].to_numpy(),
+        first_step=info.first_step,
+        eta_f=eta_f,
+        rate=info.rate,
+        phi=phi,
+        theta_deg=info.theta_deg,
+    )
     meta = fabric[["seed", "theta", "N", "phi", "step", "strain"]].reset_index(drop=True)
     out = pd.concat([meta, frames.drop(columns="step")], axis=1)
     return out[list(STRESS_TABLE_COLUMNS)]
@@ -253,9 +277,11 @@ def with_lubrication_stress(frame: pd.DataFrame, choice: str, source: str = "str
         return frame
     values = frame[list(OPTIONAL_COLUMNS)]
     if values.isna().any().any():
-        raise ValueError(f"{source}: analysis.lubrication_stress = stresslet, but {int(values.isna().any(axis=1).sum())} "
-                         "row(s) have no pair stresslets (runs of the stock force model, or from before the "
-                         "stresslets were recorded); rerun them or use dipole")
+        raise ValueError(
+            f"{source}: analysis.lubrication_stress = stresslet, but {int(values.isna().any(axis=1).sum())} "
+            "row(s) have no pair stresslets (runs of the stock force model, or from before the "
+            "stresslets were recorded); rerun them or use dipole"
+        )
     frame = frame.copy()
     for c in PAPER_COMPONENTS:
         frame[f"total_{c}"] += frame[f"stresslet_{c}"] - frame[f"lubrication_{c}"]
@@ -274,8 +300,10 @@ def recorded_value_columns(frame: pd.DataFrame, source: str = "stress tables") -
             missing.append(column)
         elif absent.any():
             seeds = sorted(frame.loc[absent, "seed"].unique().tolist()) if "seed" in frame else []
-            raise ValueError(f"{source}: {column} is recorded in some runs but not in others (missing for seeds "
-                             f"{seeds}); rerun those runs so that all record it")
+            raise ValueError(
+                f"{source}: {column} is recorded in some runs but not in others (missing for seeds "
+                f"{seeds}); rerun those runs so that all record it"
+            )
     return tuple(c for c in STRESS_VALUE_COLUMNS if c not in missing)
 
 

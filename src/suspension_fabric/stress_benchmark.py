@@ -39,8 +39,17 @@ from .seed_statistics import LEVEL, jackknife, t_interval
 from .stress_relations import RelationError, StressRelation, coefficients, relation_stress
 from .tables import fabric_tensors
 
-__all__ = ["StressCurves", "stress_curves", "relation_predictions", "seed_scores", "fit_shape", "held_out_scores",
-           "relation_leaderboard", "STEADY_QUANTITIES", "SCORED"]
+__all__ = [
+    "StressCurves",
+    "stress_curves",
+    "relation_predictions",
+    "seed_scores",
+    "fit_shape",
+    "held_out_scores",
+    "relation_leaderboard",
+    "STEADY_QUANTITIES",
+    "SCORED",
+]
 
 STEADY_QUANTITIES = ("N1", "N2", "Pi")
 #: The scored quantities, in the leaderboard's order.
@@ -75,8 +84,10 @@ def _joined(fabric: pd.DataFrame, stress: pd.DataFrame, what: str) -> pd.DataFra
     keys = ["seed", "theta", "step"]
     joined = fabric.merge(stress[[*keys, *_STEADY_COLUMNS]], on=keys, how="inner", validate="one_to_one")
     if len(joined) != len(fabric) or len(joined) != len(stress):
-        raise ValueError(f"{what}: the fabric ({len(fabric)} frames) and stress ({len(stress)} frames) tables "
-                         f"share only {len(joined)} (seed, theta, step) frames")
+        raise ValueError(
+            f"{what}: the fabric ({len(fabric)} frames) and stress ({len(stress)} frames) tables "
+            f"share only {len(joined)} (seed, theta, step) frames"
+        )
     return joined
 
 
@@ -94,8 +105,14 @@ def _per_seed(rows: pd.DataFrame, seeds, what: str) -> tuple[np.ndarray, np.ndar
     return strains, np.stack(fabrics), np.stack(etas)
 
 
-def stress_curves(startup_fabric: pd.DataFrame, rotation_fabric: pd.DataFrame, startup_stress: pd.DataFrame,
-                  rotation_stress: pd.DataFrame, window: float, steady_window) -> StressCurves:
+def stress_curves(
+    startup_fabric: pd.DataFrame,
+    rotation_fabric: pd.DataFrame,
+    startup_stress: pd.DataFrame,
+    rotation_stress: pd.DataFrame,
+    window: float,
+    steady_window,
+) -> StressCurves:
     """:class:`StressCurves` from the study's per-seed run tables (startup_runs.csv, rotation_runs.csv,
     stress_startup_runs.csv, stress_rotation_runs.csv), the rotations cut at strain ``window``."""
     startup = _joined(startup_fabric, startup_stress, "startup")
@@ -107,7 +124,9 @@ def stress_curves(startup_fabric: pd.DataFrame, rotation_fabric: pd.DataFrame, s
         raise ValueError("the stress-relation benchmark needs at least two seeds (its intervals are over seeds)")
     startup_strains, startup_fab, startup_eta = _per_seed(startup, seeds, "startup")
     thetas = np.array(sorted(rotation["theta"].unique()), dtype=float)
-    per_angle = [_per_seed(rotation[np.isclose(rotation["theta"], t)], seeds, f"rotation theta = {t:g}") for t in thetas]
+    per_angle = [
+        _per_seed(rotation[np.isclose(rotation["theta"], t)], seeds, f"rotation theta = {t:g}") for t in thetas
+    ]
     strains = per_angle[0][0]
     for theta, (grid, _, _) in zip(thetas, per_angle):
         if len(grid) != len(strains) or not np.allclose(grid, strains, rtol=1e-9, atol=1e-9):
@@ -121,10 +140,19 @@ def stress_curves(startup_fabric: pd.DataFrame, rotation_fabric: pd.DataFrame, s
         raise ValueError(f"the steady window {steady_window} holds {inside.sum()} startup frame(s), need 2")
     window_rows = startup[(startup["strain"] >= low - 1e-9) & (startup["strain"] <= high + 1e-9)]
     steady = window_rows.groupby("seed")[list(_STEADY_COLUMNS)].mean().loc[seeds]
-    return StressCurves(seeds, float(startup["phi"].mean()), startup_strains, startup_fab, startup_eta, thetas,
-                        strains[keep], np.stack([p[1] for p in per_angle], axis=1)[:, :, keep],
-                        np.stack([p[2] for p in per_angle], axis=1)[:, :, keep], startup_fab[:, inside].mean(axis=1),
-                        steady)
+    return StressCurves(
+        seeds,
+        float(startup["phi"].mean()),
+        startup_strains,
+        startup_fab,
+        startup_eta,
+        thetas,
+        strains[keep],
+        np.stack([p[1] for p in per_angle], axis=1)[:, :, keep],
+        np.stack([p[2] for p in per_angle], axis=1)[:, :, keep],
+        startup_fab[:, inside].mean(axis=1),
+        steady,
+    )
 
 
 def _select(curves: StressCurves, seeds=None) -> np.ndarray:
@@ -137,16 +165,24 @@ def relation_predictions(relation: StressRelation, params, curves: StressCurves,
     the steady N1, N2, Pi (seeds,)."""
     select = _select(curves, seeds)
     steady = curves.steady.loc[curves.seeds[select]]
-    coefficient = coefficients(relation, curves.steady_fabric[select].mean(axis=0), steady["lubrication_12"].mean(),
-                               steady["contact_12"].mean(), params)
+    coefficient = coefficients(
+        relation,
+        curves.steady_fabric[select].mean(axis=0),
+        steady["lubrication_12"].mean(),
+        steady["contact_12"].mean(),
+        params,
+    )
 
     def stress(fabric):
         return relation_stress(relation, fabric, coefficient, params, curves.phi)
 
     at_steady = stress(curves.steady_fabric)
-    return {"coefficients": coefficient, "eta_r startup": stress(curves.startup_fabric)["eta_r"],
-            "eta_r rotation": stress(curves.rotation_fabric)["eta_r"],
-            **{f"{q} steady": at_steady[q] for q in STEADY_QUANTITIES}}
+    return {
+        "coefficients": coefficient,
+        "eta_r startup": stress(curves.startup_fabric)["eta_r"],
+        "eta_r rotation": stress(curves.rotation_fabric)["eta_r"],
+        **{f"{q} steady": at_steady[q] for q in STEADY_QUANTITIES},
+    }
 
 
 def _angle_mask(curves: StressCurves, thetas=None) -> np.ndarray:
@@ -162,14 +198,17 @@ def seed_scores(predicted: dict, curves: StressCurves, thetas=None) -> dict[str,
     angle = _angle_mask(curves, thetas)
     after_rotation = curves.rotation_strains > 0.0
     after_start = curves.startup_strains > 0.0
-    rotation = (predicted["eta_r rotation"][:, angle][..., after_rotation]
-                - curves.rotation_eta[:, angle][..., after_rotation]) / scale
+    rotation = (
+        predicted["eta_r rotation"][:, angle][..., after_rotation] - curves.rotation_eta[:, angle][..., after_rotation]
+    ) / scale
     startup = (predicted["eta_r startup"][:, after_start] - curves.startup_eta[:, after_start]) / scale
-    scores = {"eta_r rotation": ((rotation ** 2).mean(axis=(1, 2)), rotation.mean(axis=(1, 2))),
-              "eta_r startup": ((startup ** 2).mean(axis=1), startup.mean(axis=1))}
+    scores = {
+        "eta_r rotation": ((rotation**2).mean(axis=(1, 2)), rotation.mean(axis=(1, 2))),
+        "eta_r startup": ((startup**2).mean(axis=1), startup.mean(axis=1)),
+    }
     for q in STEADY_QUANTITIES:
         error = (predicted[f"{q} steady"] - curves.steady[q].to_numpy()) / scale
-        scores[f"{q} steady"] = (error ** 2, error)
+        scores[f"{q} steady"] = (error**2, error)
     return scores
 
 
@@ -187,11 +226,17 @@ def _objective(relation: StressRelation, curves: StressCurves, train_thetas, see
                 predicted = relation_predictions(relation, params, curves, curves.seeds[select])
             except RelationError:
                 return np.inf
-            rotation = ((predicted["eta_r rotation"][select][:, angle][..., after_rotation]
-                         - curves.rotation_eta[select][:, angle][..., after_rotation]) ** 2).mean(axis=-1)
-            startup = ((predicted["eta_r startup"][select][:, after_start]
-                        - curves.startup_eta[select][:, after_start]) ** 2).mean(axis=-1)
-            total = float(np.concatenate([rotation, startup[:, None]], axis=1).mean()) / curves.eta_ss ** 2
+            rotation = (
+                (
+                    predicted["eta_r rotation"][select][:, angle][..., after_rotation]
+                    - curves.rotation_eta[select][:, angle][..., after_rotation]
+                )
+                ** 2
+            ).mean(axis=-1)
+            startup = (
+                (predicted["eta_r startup"][select][:, after_start] - curves.startup_eta[select][:, after_start]) ** 2
+            ).mean(axis=-1)
+            total = float(np.concatenate([rotation, startup[:, None]], axis=1).mean()) / curves.eta_ss**2
         return total if np.isfinite(total) else np.inf
 
     return value
@@ -211,8 +256,9 @@ def fit_shape(relation: StressRelation, curves: StressCurves, train_thetas=None,
         result = minimize(objective, [p.start for p in relation.parameters], method="Powell", bounds=bounds)
         x = result.x
     if not np.isfinite(objective(x)):
-        raise RelationError(f"stress relation {relation.key}: no finite fit of {list(relation.names)} within "
-                            f"their bounds")
+        raise RelationError(
+            f"stress relation {relation.key}: no finite fit of {list(relation.names)} within their bounds"
+        )
     return relation.check(dict(zip(relation.names, np.atleast_1d(x))))
 
 
@@ -229,8 +275,9 @@ def held_out_scores(relation: StressRelation, curves: StressCurves, folds: int) 
     return squares / len(curves.thetas), signed / len(curves.thetas)
 
 
-def relation_leaderboard(relations: dict, curves: StressCurves, folds: int, reference: str = "gw",
-                         level: float = LEVEL) -> tuple[pd.DataFrame, pd.DataFrame]:
+def relation_leaderboard(
+    relations: dict, curves: StressCurves, folds: int, reference: str = "gw", level: float = LEVEL
+) -> tuple[pd.DataFrame, pd.DataFrame]:
     """The stress-relation leaderboard (one row per relation, mode and scored quantity: in-sample
     and, for eta_r after rotation, held-out mean square errors and signed biases with t-intervals
     over seeds, the paired held-out difference from ``reference``, the number of fitted values)
@@ -245,25 +292,47 @@ def relation_leaderboard(relations: dict, curves: StressCurves, folds: int, refe
             predicted = relation_predictions(relation, params, curves)
             errors = dict.fromkeys(relation.names, np.nan)
             if mode == "global" and len(curves.seeds) >= 3:
-                errors = {name: jackknife(lambda subset, name=name: fit_shape(relation, curves, seeds=subset)[name],
-                                          curves.seeds)[1] for name in relation.names}
+                errors = {
+                    name: jackknife(
+                        lambda subset, name=name: fit_shape(relation, curves, seeds=subset)[name], curves.seeds
+                    )[1]
+                    for name in relation.names
+                }
             for name, value in {**predicted["coefficients"], **params}.items():
-                parameters.append({"relation": key, "label": relation.label, "mode": mode, "parameter": name,
-                                   "value": value, "error": errors.get(name, np.nan)})
+                parameters.append(
+                    {
+                        "relation": key,
+                        "label": relation.label,
+                        "mode": mode,
+                        "parameter": name,
+                        "value": value,
+                        "error": errors.get(name, np.nan),
+                    }
+                )
             scores = seed_scores(predicted, curves)
             held = scores["eta_r rotation"] if mode == "steady" else held_out_scores(relation, curves, folds)
             held_by[key] = held[0]
             for quantity in SCORED:
                 square, bias = scores[quantity]
                 inside, drift = t_interval(square, level), t_interval(bias, level)
-                row = {"relation": key, "label": relation.label, "mode": mode, "quantity": quantity,
-                       "n_fitted": 2 + len(relation.parameters), "in_sample_mse": inside.mean,
-                       "in_sample_low": inside.low, "in_sample_high": inside.high, "bias": drift.mean,
-                       "bias_low": drift.low, "bias_high": drift.high}
+                row = {
+                    "relation": key,
+                    "label": relation.label,
+                    "mode": mode,
+                    "quantity": quantity,
+                    "n_fitted": 2 + len(relation.parameters),
+                    "in_sample_mse": inside.mean,
+                    "in_sample_low": inside.low,
+                    "in_sample_high": inside.high,
+                    "bias": drift.mean,
+                    "bias_low": drift.low,
+                    "bias_high": drift.high,
+                }
                 outside = t_interval(held[0], level) if quantity == "eta_r rotation" else None
                 for field in ("mse", "low", "high"):
-                    row[f"held_out_{field}"] = np.nan if outside is None else getattr(outside, "mean" if field == "mse"
-                                                                                      else field)
+                    row[f"held_out_{field}"] = (
+                        np.nan if outside is None else getattr(outside, "mean" if field == "mse" else field)
+                    )
                 rows.append(row)
     table = pd.DataFrame(rows)
     names = [f"held_out_difference{suffix}_vs_{reference}" for suffix in ("", "_low", "_high")]

@@ -38,16 +38,15 @@ intervals.
 
 from __future__ import annotations
 
-
 import numpy as np
 import pandas as pd
 
 from . import model
 from .fabric import COMPONENTS
 from .frames import simple_shear_gradient
+from .seed_statistics import LEVEL, bootstrap_means, t_interval
 from .stress import EINSTEIN_COEFFICIENT
 from .tables import fabric_tensors, steady_state
-from .seed_statistics import LEVEL, bootstrap_means, t_interval
 from .verdicts import TOLERANCE, settle_strain
 
 __all__ = [
@@ -71,8 +70,19 @@ __all__ = [
 #: Fabric sources of the stress relation, with display names.
 SOURCES = {"simulation": "simulated <nn>", "gw": "G-W fabric (Eq. 1)", "modified": "modified G-W fabric (Eq. 2)"}
 #: Quantities a prediction gives, each in units of eta_f gammadot.
-PREDICTED_COLUMNS = ("eta_r", "N1", "N2", "Pi", "total_12", "total_23", "total_13",
-                     "contact_12", "contact_23", "lubrication_12", "lubrication_23")
+PREDICTED_COLUMNS = (
+    "eta_r",
+    "N1",
+    "N2",
+    "Pi",
+    "total_12",
+    "total_23",
+    "total_13",
+    "contact_12",
+    "contact_23",
+    "lubrication_12",
+    "lubrication_23",
+)
 _E_HAT = model.split_strain_rate(simple_shear_gradient())
 
 
@@ -83,17 +93,28 @@ def relation_terms(fabric) -> tuple[np.ndarray, np.ndarray]:
     return model.contract_closure(e_hat, fabric), model.contract_closure(e_comp, fabric)
 
 
-def fit_relation(steady_fabric, lubrication_12: float, contact_12: float,
-                 lubrication_12_sem: float = np.nan, contact_12_sem: float = np.nan) -> dict:
+def fit_relation(
+    steady_fabric,
+    lubrication_12: float,
+    contact_12: float,
+    lubrication_12_sem: float = np.nan,
+    contact_12_sem: float = np.nan,
+) -> dict:
     """a_H and a_C (with the errors of the stress targets) from a steady fabric and the
     steady lubrication and contact shear stresses (units eta_f gammadot)."""
     hydro, contact = relation_terms(steady_fabric)
     h12, c12 = float(hydro[0, 1]), float(contact[0, 1])
     if not (h12 > 0 and c12 > 0):
-        raise ValueError(f"the steady fabric gives (<nnnn>:E^)_12 = {h12:.4g} and (<nnnn>:E^_c)_12 = {c12:.4g}; "
-                         "both must be positive to fit the relation")
-    return {"a_H": lubrication_12 / h12, "a_H_err": lubrication_12_sem / h12,
-            "a_C": contact_12 / c12, "a_C_err": contact_12_sem / c12}
+        raise ValueError(
+            f"the steady fabric gives (<nnnn>:E^)_12 = {h12:.4g} and (<nnnn>:E^_c)_12 = {c12:.4g}; "
+            "both must be positive to fit the relation"
+        )
+    return {
+        "a_H": lubrication_12 / h12,
+        "a_H_err": lubrication_12_sem / h12,
+        "a_C": contact_12 / c12,
+        "a_C_err": contact_12_sem / c12,
+    }
 
 
 def steady_value(stress_steady: pd.DataFrame, quantity: str) -> tuple[float, float]:
@@ -108,9 +129,10 @@ def source_steady_fabrics(fits: dict) -> dict[str, np.ndarray]:
     """The steady fabric of each source: the simulated targets and the own steady state of each
     model of fits.json's ``models`` (models.fabric)."""
     simulated = fabric_tensors({name: value["mean"] for name, value in fits["targets"].items() if name in COMPONENTS})
-    return {"simulation": simulated,
-            **{key: fabric_tensors(entry["steady_state"]) for key, entry in fits["models"].items()}}
-
+    return {
+        "simulation": simulated,
+        **{key: fabric_tensors(entry["steady_state"]) for key, entry in fits["models"].items()},
+    }
 
 
 def relation_stress(fabric, coefficients: dict, phi: float) -> pd.DataFrame:
@@ -123,15 +145,21 @@ def relation_stress(fabric, coefficients: dict, phi: float) -> pd.DataFrame:
     total = particle.copy()
     total[:, 0, 1] += 1.0 + EINSTEIN_COEFFICIENT * phi
     total[:, 1, 0] = total[:, 0, 1]
-    columns = pd.DataFrame({
-        "eta_r": total[:, 0, 1],
-        "N1": total[:, 0, 0] - total[:, 1, 1],
-        "N2": total[:, 1, 1] - total[:, 2, 2],
-        "Pi": -np.trace(particle, axis1=1, axis2=2) / 3.0,
-        "total_12": total[:, 0, 1], "total_23": total[:, 1, 2], "total_13": total[:, 0, 2],
-        "contact_12": contacts[:, 0, 1], "contact_23": contacts[:, 1, 2],
-        "lubrication_12": lubrication[:, 0, 1], "lubrication_23": lubrication[:, 1, 2],
-    })
+    columns = pd.DataFrame(
+        {
+            "eta_r": total[:, 0, 1],
+            "N1": total[:, 0, 0] - total[:, 1, 1],
+            "N2": total[:, 1, 1] - total[:, 2, 2],
+            "Pi": -np.trace(particle, axis1=1, axis2=2) / 3.0,
+            "total_12": total[:, 0, 1],
+            "total_23": total[:, 1, 2],
+            "total_13": total[:, 0, 2],
+            "contact_12": contacts[:, 0, 1],
+            "contact_23": contacts[:, 1, 2],
+            "lubrication_12": lubrication[:, 0, 1],
+            "lubrication_23": lubrication[:, 1, 2],
+        }
+    )
     return columns[list(PREDICTED_COLUMNS)]
 
 
@@ -154,8 +182,13 @@ def relation_fits(stress_steady: pd.DataFrame, fits: dict) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def stress_predictions(relation: pd.DataFrame, startup_aggregate: pd.DataFrame, rotation_aggregate: pd.DataFrame,
-                       predictions: pd.DataFrame, phi: float) -> pd.DataFrame:
+def stress_predictions(
+    relation: pd.DataFrame,
+    startup_aggregate: pd.DataFrame,
+    rotation_aggregate: pd.DataFrame,
+    predictions: pd.DataFrame,
+    phi: float,
+) -> pd.DataFrame:
     """The relation's stress along startup and every rotation, per source (module docstring).
 
     ``startup_aggregate`` and ``rotation_aggregate`` are the seed aggregates of the fabric
@@ -181,8 +214,9 @@ def stress_predictions(relation: pd.DataFrame, startup_aggregate: pd.DataFrame, 
     return pd.concat(blocks, ignore_index=True)
 
 
-def relation_errors(stress_startup: pd.DataFrame, stress_rotation: pd.DataFrame, predicted: pd.DataFrame,
-                    sigma12_ss: float) -> pd.DataFrame:
+def relation_errors(
+    stress_startup: pd.DataFrame, stress_rotation: pd.DataFrame, predicted: pd.DataFrame, sigma12_ss: float
+) -> pd.DataFrame:
     """rms and max |prediction - simulation| / sigma12_ss per source, protocol, angle and quantity
     (eta_r, N1, N2, total_23, contact_12, lubrication_12) over the simulated strains (seed means;
     the relation is evaluated at the same strains, matched to 1e-9)."""
@@ -196,14 +230,23 @@ def relation_errors(stress_startup: pd.DataFrame, stress_rotation: pd.DataFrame,
                 strains, predicted_strains = sim["strain"].to_numpy(), pred["strain"].to_numpy()
                 nearest = np.searchsorted(predicted_strains, strains).clip(0, max(len(pred) - 1, 0))
                 if len(pred) == 0 or not np.allclose(predicted_strains[nearest], strains, rtol=1e-9, atol=1e-9):
-                    raise ValueError(f"{protocol}: source {source} at theta={theta} is not on the simulation's "
-                                     f"strain grid")
+                    raise ValueError(
+                        f"{protocol}: source {source} at theta={theta} is not on the simulation's strain grid"
+                    )
                 on_grid = pred.iloc[nearest]
                 for name in ("eta_r", "N1", "N2", "total_23", "contact_12", "lubrication_12"):
                     diff = (on_grid[name].to_numpy() - sim[f"{name}_mean"].to_numpy()) / abs(sigma12_ss)
-                    rows.append({"protocol": protocol, "source": source, "theta": float(theta), "quantity": name,
-                                 "rms_error": float(np.sqrt(np.mean(diff ** 2))),
-                                 "max_abs_error": float(np.abs(diff).max()), "n_strains": len(diff)})
+                    rows.append(
+                        {
+                            "protocol": protocol,
+                            "source": source,
+                            "theta": float(theta),
+                            "quantity": name,
+                            "rms_error": float(np.sqrt(np.mean(diff**2))),
+                            "max_abs_error": float(np.abs(diff).max()),
+                            "n_strains": len(diff),
+                        }
+                    )
     return pd.DataFrame(rows)
 
 
@@ -231,8 +274,10 @@ def seed_steady_viscosity(startup_runs: pd.DataFrame, steady_window) -> pd.Serie
     with fewer than 2 frames in the window is an error."""
     if startup_runs["theta"].nunique() != 1:
         raise ValueError(f"startup stress runs hold several angles: {sorted(startup_runs['theta'].unique())}")
-    values = {int(seed): float(steady_state(rows, *steady_window, value_columns=("eta_r",))["mean"].iloc[0])
-              for seed, rows in startup_runs.groupby("seed", sort=True)}
+    values = {
+        int(seed): float(steady_state(rows, *steady_window, value_columns=("eta_r",))["mean"].iloc[0])
+        for seed, rows in startup_runs.groupby("seed", sort=True)
+    }
     return pd.Series(values, name="eta_ss_seed").rename_axis("seed")
 
 
@@ -252,8 +297,10 @@ def _window_integral(strain: np.ndarray, values: np.ndarray, window: float, thet
     if abs(strain[0]) > tolerance:
         raise ValueError(f"theta={theta}: seed {seed}'s run starts at strain {strain[0]:g} after the rotation, not 0")
     if strain[-1] < window - tolerance:
-        raise ValueError(f"theta={theta}: seed {seed}'s run ends at strain {strain[-1]:g} after the rotation, "
-                         f"shorter than the window {window:g}")
+        raise ValueError(
+            f"theta={theta}: seed {seed}'s run ends at strain {strain[-1]:g} after the rotation, "
+            f"shorter than the window {window:g}"
+        )
     inside = strain < window - tolerance
     x = np.append(strain[inside], window)
     y = np.append(values[inside], np.interp(window, strain, values))
@@ -279,10 +326,12 @@ def viscosity_deficits(stress_runs: pd.DataFrame, eta_ss, window: float) -> pd.D
         if np.any(np.diff(strain) <= 0.0):
             raise ValueError(f"theta={theta}: seed {seed} has duplicated strain values")
         eta_ss_seed = _seed_eta_ss(eta_ss, [seed])[int(seed)]
-        deficit = _window_integral(strain, 1.0 - run["eta_r"].to_numpy(dtype=float) / eta_ss_seed, window,
-                                   float(theta), int(seed))
-        rows.append({"seed": int(seed), "theta": float(theta), "window": window, "eta_ss_seed": eta_ss_seed,
-                     "deficit": deficit})
+        deficit = _window_integral(
+            strain, 1.0 - run["eta_r"].to_numpy(dtype=float) / eta_ss_seed, window, float(theta), int(seed)
+        )
+        rows.append(
+            {"seed": int(seed), "theta": float(theta), "window": window, "eta_ss_seed": eta_ss_seed, "deficit": deficit}
+        )
     return pd.DataFrame(rows, columns=["seed", "theta", "window", "eta_ss_seed", "deficit"])
 
 
@@ -295,8 +344,14 @@ def _with_interval(statistic, whole: np.ndarray, resampled: np.ndarray | None, l
     return float(statistic(whole)), float(low), float(high)
 
 
-def viscosity_transients(stress_runs: pd.DataFrame, eta_ss, window: float, level: float = LEVEL,
-                         tolerance: float = TOLERANCE, smoothing_strain: float = 0.1) -> pd.DataFrame:
+def viscosity_transients(
+    stress_runs: pd.DataFrame,
+    eta_ss,
+    window: float,
+    level: float = LEVEL,
+    tolerance: float = TOLERANCE,
+    smoothing_strain: float = 0.1,
+) -> pd.DataFrame:
     """Per angle, the integrated viscosity deficit with its t-interval over seeds (the deciding
     number), and the viscosity minimum, its strain and the recovery strain as description.
 
@@ -327,7 +382,9 @@ def viscosity_transients(stress_runs: pd.DataFrame, eta_ss, window: float, level
         for seed, rows_ in curves.items():
             other = rows_["strain"].to_numpy(dtype=float)
             if len(other) != len(strain) or not np.allclose(other, strain, rtol=1e-9, atol=1e-12):
-                raise ValueError(f"theta={theta}: the strains of seed {seed} differ from those of seed {next(iter(curves))}")
+                raise ValueError(
+                    f"theta={theta}: the strains of seed {seed} differ from those of seed {next(iter(curves))}"
+                )
         eta = {seed: rows_["eta_r"].to_numpy(dtype=float) for seed, rows_ in curves.items()}
         steady = _seed_eta_ss(eta_ss, curves)
 
@@ -344,9 +401,16 @@ def viscosity_transients(stress_runs: pd.DataFrame, eta_ss, window: float, level
         at = _with_interval(lambda c: float(strain[np.argmin(c)]), whole, resampled, level)
         recovery = _with_interval(lambda c: settle_strain(strain, c - 1.0, tolerance)[0], whole, resampled, level)
         interval = t_interval(deficits.loc[deficits["theta"] == theta, "deficit"], level)
-        row = {"theta": float(theta), "window": float(window), "deficit": interval.mean, "deficit_se": interval.se,
-               "deficit_low": interval.low, "deficit_high": interval.high, "n_seeds": interval.n,
-               "level": level}
+        row = {
+            "theta": float(theta),
+            "window": float(window),
+            "deficit": interval.mean,
+            "deficit_se": interval.se,
+            "deficit_low": interval.low,
+            "deficit_high": interval.high,
+            "n_seeds": interval.n,
+            "level": level,
+        }
         for name, (value, low, high) in (("minimum", minimum), ("strain_at_min", at), ("recovery_strain", recovery)):
             row.update({name: value, f"{name}_low": low, f"{name}_high": high})
         row["recovery_settled"] = settle_strain(strain, whole - 1.0, tolerance)[1]

@@ -31,8 +31,8 @@ A user's relation is a :class:`StressRelation` named in the config (``models.str
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import Callable, Mapping
 
 import numpy as np
 import pandas as pd
@@ -42,8 +42,18 @@ from .plugins import load_plugin
 from .stress import EINSTEIN_COEFFICIENT
 from .stress_model import relation_terms
 
-__all__ = ["RelationError", "StressRelation", "GW_RELATION", "GW_JAMMING", "BUILT_IN", "load_relation",
-           "resolve_relations", "coefficients", "relation_stress", "STRESS_QUANTITIES"]
+__all__ = [
+    "RelationError",
+    "StressRelation",
+    "GW_RELATION",
+    "GW_JAMMING",
+    "BUILT_IN",
+    "load_relation",
+    "resolve_relations",
+    "coefficients",
+    "relation_stress",
+    "STRESS_QUANTITIES",
+]
 
 #: What :func:`relation_stress` returns per fabric, in units of eta_f gammadot.
 STRESS_QUANTITIES = ("eta_r", "N1", "N2", "Pi", "lubrication_12", "contact_12")
@@ -69,8 +79,10 @@ class StressRelation:
             raise RelationError(f"stress relation key {self.key!r} must be an identifier (it names table rows)")
         names = [p.name for p in self.parameters]
         if len(set(names)) != len(names) or {"a_H", "a_C"} & set(names):
-            raise RelationError(f"stress relation {self.key}: shape parameter names {names} must be distinct "
-                                "and not a_H or a_C (the coefficients fitted on the steady state)")
+            raise RelationError(
+                f"stress relation {self.key}: shape parameter names {names} must be distinct "
+                "and not a_H or a_C (the coefficients fitted on the steady state)"
+            )
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -79,8 +91,9 @@ class StressRelation:
     def check(self, params: Mapping[str, float]) -> dict[str, float]:
         """``params`` as {name: float} with every shape parameter, finite and within its bounds."""
         if set(params) != set(self.names):
-            raise RelationError(f"stress relation {self.key}: parameters {sorted(params)} given, "
-                                f"expected {list(self.names)}")
+            raise RelationError(
+                f"stress relation {self.key}: parameters {sorted(params)} given, expected {list(self.names)}"
+            )
         checked = {}
         for p in self.parameters:
             value = float(params[p.name])
@@ -106,12 +119,18 @@ def _jamming_forms(fabric, params):
 
 
 GW_RELATION = StressRelation(
-    key="gw", label="G-W stress relation", forms=_gw_forms,
-    description="sigma^p = a_H <nnnn>:E^ + a_C <nnnn>:E^_c (Gillissen and Wilson 2018)")
+    key="gw",
+    label="G-W stress relation",
+    forms=_gw_forms,
+    description="sigma^p = a_H <nnnn>:E^ + a_C <nnnn>:E^_c (Gillissen and Wilson 2018)",
+)
 GW_JAMMING = StressRelation(
-    key="gw_jamming", label="G-W, contact coefficient diverging at Z_J", forms=_jamming_forms,
+    key="gw_jamming",
+    label="G-W, contact coefficient diverging at Z_J",
+    forms=_jamming_forms,
     parameters=(Parameter("Z_J", 2.0, 12.0, 6.0),),
-    description="sigma^p = a_H <nnnn>:E^ + a_C <nnnn>:E^_c / (1 - Z/Z_J)^2, Z = 2 Tr<nn> (this project's form)")
+    description="sigma^p = a_H <nnnn>:E^ + a_C <nnnn>:E^_c / (1 - Z/Z_J)^2, Z = 2 Tr<nn> (this project's form)",
+)
 
 #: Built-in relations by key.
 BUILT_IN = {r.key: r for r in (GW_RELATION, GW_JAMMING)}
@@ -134,31 +153,49 @@ def resolve_relations(specs) -> dict[str, StressRelation]:
     return relations
 
 
-def coefficients(relation: StressRelation, steady_fabric, lubrication_12: float, contact_12: float,
-                 params: Mapping[str, float]) -> dict[str, float]:
+def coefficients(
+    relation: StressRelation, steady_fabric, lubrication_12: float, contact_12: float, params: Mapping[str, float]
+) -> dict[str, float]:
     """a_H and a_C that reproduce the steady lubrication and contact sigma_12 at the steady fabric."""
     hydro, contact = relation.forms(np.asarray(steady_fabric, dtype=float), relation.check(params))
     h12, c12 = float(hydro[0, 1]), float(contact[0, 1])
     if not (0.0 < h12 < math.inf and 0.0 < c12 < math.inf):
-        raise RelationError(f"stress relation {relation.key} at {dict(params)}: the steady fabric gives H_12 = "
-                            f"{h12:.4g} and C_12 = {c12:.4g}; both must be positive and finite")
+        raise RelationError(
+            f"stress relation {relation.key} at {dict(params)}: the steady fabric gives H_12 = "
+            f"{h12:.4g} and C_12 = {c12:.4g}; both must be positive and finite"
+        )
     return {"a_H": lubrication_12 / h12, "a_C": contact_12 / c12}
 
 
-def relation_stress(relation: StressRelation, fabric, coefficient: Mapping[str, float], params: Mapping[str, float],
-                    phi: float) -> dict[str, np.ndarray]:
+def relation_stress(
+    relation: StressRelation, fabric, coefficient: Mapping[str, float], params: Mapping[str, float], phi: float
+) -> dict[str, np.ndarray]:
     """:data:`STRESS_QUANTITIES` for fabrics (..., 3, 3): eta_r with the solvent and Einstein
     terms, the normal stress differences and the particle pressure of the relation."""
     hydro, contact = relation.forms(np.asarray(fabric, dtype=float), relation.check(params))
     lubrication, contacts = coefficient["a_H"] * hydro, coefficient["a_C"] * contact
     particle = lubrication + contacts
     eta = particle[..., 0, 1] + 1.0 + EINSTEIN_COEFFICIENT * phi
-    return {"eta_r": eta, "N1": particle[..., 0, 0] - particle[..., 1, 1],
-            "N2": particle[..., 1, 1] - particle[..., 2, 2], "Pi": -np.trace(particle, axis1=-2, axis2=-1) / 3.0,
-            "lubrication_12": lubrication[..., 0, 1], "contact_12": contacts[..., 0, 1]}
+    return {
+        "eta_r": eta,
+        "N1": particle[..., 0, 0] - particle[..., 1, 1],
+        "N2": particle[..., 1, 1] - particle[..., 2, 2],
+        "Pi": -np.trace(particle, axis1=-2, axis2=-1) / 3.0,
+        "lubrication_12": lubrication[..., 0, 1],
+        "contact_12": contacts[..., 0, 1],
+    }
 
 
 def describe(relations: Mapping[str, StressRelation]) -> pd.DataFrame:
     """One row per relation: key, label, shape parameters, description (for the report)."""
-    return pd.DataFrame([{"relation": r.key, "label": r.label, "shape_parameters": ", ".join(r.names) or "none",
-                          "description": r.description} for r in relations.values()])
+    return pd.DataFrame(
+        [
+            {
+                "relation": r.key,
+                "label": r.label,
+                "shape_parameters": ", ".join(r.names) or "none",
+                "description": r.description,
+            }
+            for r in relations.values()
+        ]
+    )

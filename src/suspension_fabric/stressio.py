@@ -24,8 +24,12 @@ __all__ = ["read_stress_table", "iter_table_rows", "UNRECORDED_COLUMNS"]
 
 #: Columns a force model may leave NaN because it cannot record them: the stock stand-in
 #: (forces_stock.lmp) cannot tell the contact torque from its lubrication's.
-UNRECORDED_COLUMNS = ("contact_torque_x", "contact_torque_y", "contact_torque_z",
-                      *(f"stresslet_p{c}" for c in ("xx", "yy", "zz", "xy", "xz", "yz")))
+UNRECORDED_COLUMNS = (
+    "contact_torque_x",
+    "contact_torque_y",
+    "contact_torque_z",
+    *(f"stresslet_p{c}" for c in ("xx", "yy", "zz", "xy", "xz", "yz")),
+)
 
 
 def read_stress_table(path: str | os.PathLike) -> dict[str, np.ndarray]:

@@ -105,16 +105,21 @@ def fabric_table(analysis, *, seed: int, phi: float | None = None) -> pd.DataFra
     return table[list(TABLE_COLUMNS)]
 
 
-def run_fabric_table(dump: str | os.PathLike, marker: str | os.PathLike, *, seed: int,
-                     eps: float = DEFAULT_EPS) -> pd.DataFrame:
+def run_fabric_table(
+    dump: str | os.PathLike, marker: str | os.PathLike, *, seed: int, eps: float = DEFAULT_EPS
+) -> pd.DataFrame:
     """Per-run tidy table of a finished shear run: its trajectory ``dump`` analysed with the
     time step, shear rate, first step and flow angle recorded in its completion ``marker``
     (:func:`suspension_fabric.runinfo.read_run_info`), near contacts at gap < ``eps`` d_min.
     """
     info = read_run_info(marker)
     analysis = FabricAnalysis.from_dump(
-        dump, dt=info.dt, shear_rate=info.rate, shear_start_step=info.first_step,
-        flow_angle_deg=info.theta_deg, eps=eps,
+        dump,
+        dt=info.dt,
+        shear_rate=info.rate,
+        shear_start_step=info.first_step,
+        flow_angle_deg=info.theta_deg,
+        eps=eps,
     ).run()
     return fabric_table(analysis, seed=seed)
 

@@ -34,8 +34,17 @@ import pandas as pd
 
 from .seed_statistics import CONFIRMED, LEVEL, REFUTED, UNDECIDED, seed_bootstrap_of_mean
 
-__all__ = ["TOLERANCE", "PAPER", "settle_strain", "recovery_table", "rms_error_table", "overshoot_table",
-           "steady_state_verdicts", "verdict_table", "descriptive_tables"]
+__all__ = [
+    "TOLERANCE",
+    "PAPER",
+    "settle_strain",
+    "recovery_table",
+    "rms_error_table",
+    "overshoot_table",
+    "steady_state_verdicts",
+    "verdict_table",
+    "descriptive_tables",
+]
 
 TOLERANCE = 0.1
 # the paper's fitted parameters (its Sec. 3)
@@ -74,8 +83,9 @@ def _bootstrap(row: dict, key: str, statistic, per_seed: dict, level: float, vec
     its seed-bootstrap interval (``per_seed``: seed -> curve; ``vectorized``: the statistic takes
     the resampled curves stacked, resamples first)."""
     curves = np.stack([per_seed[s] for s in sorted(per_seed)])
-    row[key], row[f"{key}_low"], row[f"{key}_high"] = seed_bootstrap_of_mean(statistic, curves, level,
-                                                                             vectorized=vectorized)
+    row[key], row[f"{key}_low"], row[f"{key}_high"] = seed_bootstrap_of_mean(
+        statistic, curves, level, vectorized=vectorized
+    )
 
 
 def _curves(runs: pd.DataFrame, theta: float, column: str) -> tuple[np.ndarray, dict]:
@@ -89,8 +99,11 @@ def _curves(runs: pd.DataFrame, theta: float, column: str) -> tuple[np.ndarray, 
 
 
 def _model_series(predictions: pd.DataFrame, model: str, theta: float) -> pd.DataFrame:
-    rows = predictions[(predictions["model"] == model) & (predictions["protocol"] == "rotation")
-                       & np.isclose(predictions["theta"], theta)]
+    rows = predictions[
+        (predictions["model"] == model)
+        & (predictions["protocol"] == "rotation")
+        & np.isclose(predictions["theta"], theta)
+    ]
     return rows.sort_values("strain")
 
 
@@ -112,8 +125,9 @@ def _ratio_curves(runs: pd.DataFrame, theta: float, n12_ss: float) -> tuple[np.n
     }
 
 
-def recovery_table(runs: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float,
-                   tolerance: float = TOLERANCE, level: float = LEVEL) -> pd.DataFrame:
+def recovery_table(
+    runs: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float, tolerance: float = TOLERANCE, level: float = LEVEL
+) -> pd.DataFrame:
     """Recovery strains of <nn>'_12 (steady and theta = 0 baselines) and <nn>'_23 per angle:
     simulation (seed-mean curve, with ``_low``/``_high`` its seed-bootstrap interval) and both
     models; ``*_settled`` is False where the curve never settles within the run (then its last
@@ -128,8 +142,10 @@ def recovery_table(runs: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float,
         for model in MODELS:
             series = _model_series(predictions, model, theta)
             model_strain = series["strain"].to_numpy()
-            for key, deviation in (("steady", series["n12"].to_numpy() / n12_ss - 1.0),
-                                   ("n23", series["n23"].to_numpy() / n12_ss)):
+            for key, deviation in (
+                ("steady", series["n12"].to_numpy() / n12_ss - 1.0),
+                ("n23", series["n23"].to_numpy() / n12_ss),
+            ):
                 row[f"{model}_{key}"], row[f"{model}_{key}_settled"] = settle_strain(model_strain, deviation, tolerance)
         rows.append(row)
     return pd.DataFrame(rows)
@@ -152,14 +168,21 @@ def rms_error_table(runs: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float
             for model in MODELS:
                 _bootstrap(row, f"{model}_rms", lambda means, m=model: rms(m, means), curves, level, vectorized=True)
             with np.errstate(divide="ignore", invalid="ignore"):  # both models exact: no ratio (nan)
-                _bootstrap(row, "ratio", lambda means: rms("gw", means) / rms("modified", means), curves, level,
-                           vectorized=True)
+                _bootstrap(
+                    row,
+                    "ratio",
+                    lambda means: rms("gw", means) / rms("modified", means),
+                    curves,
+                    level,
+                    vectorized=True,
+                )
             rows.append(row)
     return pd.DataFrame(rows)
 
 
-def overshoot_table(runs: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float,
-                    half_window: float = 0.25, level: float = LEVEL) -> pd.DataFrame:
+def overshoot_table(
+    runs: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float, half_window: float = 0.25, level: float = LEVEL
+) -> pd.DataFrame:
     """Per angle: each model's largest <nn>'_12 / n12_ss - 1 and the strain where it occurs; the
     simulation's mean of <nn>'_12 / baseline - 1 over that strain +- ``half_window`` (seed-mean
     curve, seed-bootstrap interval; steady and theta = 0 baselines). Description only."""
@@ -181,8 +204,15 @@ def overshoot_table(runs: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float
 
 
 def _claim(text: str, number: str, value: float, error: float, verdict: str, criterion: str) -> dict:
-    return {"text": text, "statistic": number, "mean": value, "low": value - 2 * error, "high": value + 2 * error,
-            "verdict": verdict, "criterion": criterion}
+    return {
+        "text": text,
+        "statistic": number,
+        "mean": value,
+        "low": value - 2 * error,
+        "high": value + 2 * error,
+        "verdict": verdict,
+        "criterion": criterion,
+    }
 
 
 def steady_state_verdicts(fits: dict) -> list[dict]:
@@ -190,29 +220,57 @@ def steady_state_verdicts(fits: dict) -> list[dict]:
     each model's own steady state)."""
     targets, model_ss = fits["targets"], fits["model_steady_state"]
     rows = [
-        _claim(f"{label} (paper {name} ~ {PAPER[f'{model}_{name}']:g})", f"{model.replace('gw', 'G-W')} {name}",
-               fits[model][name], fits[model][f"{name}_err"], "",
-               f"fitted value +- 2 jackknife errors over seeds; paper {PAPER[f'{model}_{name}']:g}")
-        for model, name, label in (("gw", "beta", "G-W fitted on <nn>_12"),
-                                   ("modified", "beta", "modified fitted on <nn>_11, <nn>_12"),
-                                   ("modified", "A", "modified fitted on <nn>_11, <nn>_12"))
+        _claim(
+            f"{label} (paper {name} ~ {PAPER[f'{model}_{name}']:g})",
+            f"{model.replace('gw', 'G-W')} {name}",
+            fits[model][name],
+            fits[model][f"{name}_err"],
+            "",
+            f"fitted value +- 2 jackknife errors over seeds; paper {PAPER[f'{model}_{name}']:g}",
+        )
+        for model, name, label in (
+            ("gw", "beta", "G-W fitted on <nn>_12"),
+            ("modified", "beta", "modified fitted on <nn>_11, <nn>_12"),
+            ("modified", "A", "modified fitted on <nn>_11, <nn>_12"),
+        )
     ]
     differences = {c: (model_ss["gw"][c] - targets[c]["mean"], targets[c]["sem"]) for c in ("n11", "n22", "n33")}
     worst = max(differences.values(), key=lambda d: d[0] / d[1])  # the least negative in sigma
     verdicts = {_verdict(d, s, -1) for d, s in differences.values()}
     verdict = CONFIRMED if verdicts == {CONFIRMED} else REFUTED if REFUTED in verdicts else UNDECIDED
-    rows.append(_claim("G-W underestimates the diagonal components",
-                       "largest of G-W - simulation over <nn>_11, _22, _33", worst[0], worst[1], verdict,
-                       "confirmed if all three lie below the simulation by > 2 sem"))
+    rows.append(
+        _claim(
+            "G-W underestimates the diagonal components",
+            "largest of G-W - simulation over <nn>_11, _22, _33",
+            worst[0],
+            worst[1],
+            verdict,
+            "confirmed if all three lie below the simulation by > 2 sem",
+        )
+    )
     d22, s22 = model_ss["modified"]["n22"] - targets["n22"]["mean"], targets["n22"]["sem"]
     relative = abs(d22) / abs(targets["n22"]["mean"])
-    rows.append(_claim("modified captures <nn>_22", "modified - simulation, <nn>_22", d22, s22,
-                       CONFIRMED if relative <= TOLERANCE else REFUTED,
-                       f"confirmed if within {TOLERANCE:.0%} of the simulation (here {relative:.1%}; "
-                       f"{abs(d22) / s22:.0f} sem)"))
+    rows.append(
+        _claim(
+            "modified captures <nn>_22",
+            "modified - simulation, <nn>_22",
+            d22,
+            s22,
+            CONFIRMED if relative <= TOLERANCE else REFUTED,
+            f"confirmed if within {TOLERANCE:.0%} of the simulation (here {relative:.1%}; {abs(d22) / s22:.0f} sem)",
+        )
+    )
     d33, s33 = model_ss["modified"]["n33"] - targets["n33"]["mean"], targets["n33"]["sem"]
-    rows.append(_claim("modified overestimates <nn>_33", "modified - simulation, <nn>_33", d33, s33,
-                       _verdict(d33, s33, +1), "confirmed if above the simulation by > 2 sem"))
+    rows.append(
+        _claim(
+            "modified overestimates <nn>_33",
+            "modified - simulation, <nn>_33",
+            d33,
+            s33,
+            _verdict(d33, s33, +1),
+            "confirmed if above the simulation by > 2 sem",
+        )
+    )
     return [{"claim": f"S{k}", **row} for k, row in enumerate(rows, start=1)]
 
 
@@ -221,18 +279,35 @@ def verdict_table(fits: dict, rotation_claims: pd.DataFrame) -> pd.DataFrame:
     (:func:`suspension_fabric.claims.claim_table`), in one table: claim, text, statistic, angles,
     mean, low, high, level, verdict, seeds_needed, criterion."""
     steady = pd.DataFrame(steady_state_verdicts(fits)).assign(angles="", level=np.nan, seeds_needed=np.nan)
-    rotation = rotation_claims.assign(criterion=[
-        f"confirmed if the {level:.0%} t-interval over {n} seeds lies above 0, refuted if below"
-        for level, n in zip(rotation_claims["level"], rotation_claims["n_seeds"])])
-    columns = ["claim", "text", "statistic", "angles", "mean", "low", "high", "level", "verdict", "seeds_needed",
-               "criterion"]
+    rotation = rotation_claims.assign(
+        criterion=[
+            f"confirmed if the {level:.0%} t-interval over {n} seeds lies above 0, refuted if below"
+            for level, n in zip(rotation_claims["level"], rotation_claims["n_seeds"])
+        ]
+    )
+    columns = [
+        "claim",
+        "text",
+        "statistic",
+        "angles",
+        "mean",
+        "low",
+        "high",
+        "level",
+        "verdict",
+        "seeds_needed",
+        "criterion",
+    ]
     return pd.concat([steady[columns], rotation[columns]], ignore_index=True)
 
 
-def descriptive_tables(fits: dict, runs: pd.DataFrame, predictions: pd.DataFrame,
-                       level: float = LEVEL) -> dict[str, pd.DataFrame]:
+def descriptive_tables(
+    fits: dict, runs: pd.DataFrame, predictions: pd.DataFrame, level: float = LEVEL
+) -> dict[str, pd.DataFrame]:
     """The recovery, rms-error and overshoot tables (description; no verdict rests on them)."""
     n12_ss = fits["targets"]["n12"]["mean"]
-    return {"recovery": recovery_table(runs, predictions, n12_ss, level=level),
-            "rms": rms_error_table(runs, predictions, n12_ss, level=level),
-            "overshoot": overshoot_table(runs, predictions, n12_ss, level=level)}
+    return {
+        "recovery": recovery_table(runs, predictions, n12_ss, level=level),
+        "rms": rms_error_table(runs, predictions, n12_ss, level=level),
+        "overshoot": overshoot_table(runs, predictions, n12_ss, level=level),
+    }

@@ -2,6 +2,7 @@
 fabric or the stress (rules aggregate_startup, aggregate_rotation, aggregate_stress_startup and
 aggregate_stress_rotation; params.kind, params.quantity and, for the stress,
 params.lubrication_stress)."""
+
 from functools import partial
 
 import pandas as pd
@@ -9,8 +10,10 @@ import pandas as pd
 from suspension_fabric import stress, tables
 from suspension_fabric.workflow_io import logged
 
-READERS = {"fabric": (tables.read_fabric_table, tables.VALUE_COLUMNS),
-           "stress": (stress.read_stress_csv, stress.STRESS_VALUE_COLUMNS)}
+READERS = {
+    "fabric": (tables.read_fabric_table, tables.VALUE_COLUMNS),
+    "stress": (stress.read_stress_csv, stress.STRESS_VALUE_COLUMNS),
+}
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):

@@ -1,5 +1,6 @@
 """Snakemake: stress relations scored on the steady normal stresses and held-out viscosity transients
 (rule benchmark_stress_relations)."""
+
 import pandas as pd
 
 from suspension_fabric import report_tables, stress_benchmark, tables
@@ -9,11 +10,16 @@ from suspension_fabric.workflow_io import logged
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
     curves = stress_benchmark.stress_curves(
-        tables.read_fabric_table(sm.input.startup_runs), tables.read_fabric_table(sm.input.rotation_runs),
-        pd.read_csv(sm.input.stress_startup_runs), pd.read_csv(sm.input.stress_rotation_runs),
-        sm.params.window, sm.params.steady_window)
-    board, parameters = stress_benchmark.relation_leaderboard(resolve_relations(sm.params.relations), curves,
-                                                              sm.params.folds, level=sm.params.level)
+        tables.read_fabric_table(sm.input.startup_runs),
+        tables.read_fabric_table(sm.input.rotation_runs),
+        pd.read_csv(sm.input.stress_startup_runs),
+        pd.read_csv(sm.input.stress_rotation_runs),
+        sm.params.window,
+        sm.params.steady_window,
+    )
+    board, parameters = stress_benchmark.relation_leaderboard(
+        resolve_relations(sm.params.relations), curves, sm.params.folds, level=sm.params.level
+    )
     board.to_csv(sm.output.leaderboard, index=False)
     parameters.to_csv(sm.output.parameters, index=False)
     print(report_tables.write_stress_leaderboard_page(board, parameters, sm.output.page, sm.params.level))

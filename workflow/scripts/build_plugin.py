@@ -4,6 +4,7 @@ Snakemake deletes the output before the job, so the library is rebuilt when the 
 the repository's own library; a workflow run elsewhere (e.g. the tests) gets a copy and
 leaves the repository's library as it is if it is up to date.
 """
+
 from suspension_fabric.lammps.plugin import install_plugin
 from suspension_fabric.workflow_io import logged
 

@@ -1,4 +1,5 @@
 """Snakemake: the map figures against phi, one line per mu (rule campaign_figures)."""
+
 from pathlib import Path
 
 import pandas as pd

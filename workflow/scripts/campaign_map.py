@@ -1,4 +1,5 @@
 """Snakemake: the map table over a campaign's state points and its report page (rule campaign_map)."""
+
 import json
 
 import pandas as pd
@@ -12,10 +13,19 @@ with logged(sm.log[0]):
     studies = study_configs(sm.config)
     rows = []
     for k, (point, study) in enumerate(sm.params.points.items()):
-        rows.append(state_map.point_row(
-            point, studies[study], pd.read_csv(sm.input.steady[k]), pd.read_csv(sm.input.stress_steady[k]),
-            json.loads(open(sm.input.fits[k]).read()), pd.read_csv(sm.input.verdicts[k]),
-            pd.read_csv(sm.input.startup_runs[k]), pd.read_csv(sm.input.stress_runs[k]), sm.params.level))
+        rows.append(
+            state_map.point_row(
+                point,
+                studies[study],
+                pd.read_csv(sm.input.steady[k]),
+                pd.read_csv(sm.input.stress_steady[k]),
+                json.loads(open(sm.input.fits[k]).read()),
+                pd.read_csv(sm.input.verdicts[k]),
+                pd.read_csv(sm.input.startup_runs[k]),
+                pd.read_csv(sm.input.stress_runs[k]),
+                sm.params.level,
+            )
+        )
     table = state_map.map_table(rows, sm.params.not_run)
     table.to_csv(sm.output.table, index=False)
     report_tables.write_map_page(table, sm.output.page)

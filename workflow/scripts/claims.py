@@ -1,4 +1,5 @@
 """Snakemake: every seed's claim statistics under every choice (rule claims)."""
+
 import pandas as pd
 
 from suspension_fabric import claims
@@ -7,9 +8,13 @@ from suspension_fabric.workflow_io import logged
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
     results = claims.evaluate_study(
-        pd.read_csv(sm.input.startup), pd.read_csv(sm.input.rotation), phi=sm.params.phi,
-        steady_window=sm.params.steady_window, startup_strain=sm.params.startup_strain,
-        rotation_strain=sm.params.rotation_strain, window=sm.params.window,
+        pd.read_csv(sm.input.startup),
+        pd.read_csv(sm.input.rotation),
+        phi=sm.params.phi,
+        steady_window=sm.params.steady_window,
+        startup_strain=sm.params.startup_strain,
+        rotation_strain=sm.params.rotation_strain,
+        window=sm.params.window,
     )
     for key in ("statistics", "values", "fits"):
         results[key].to_csv(sm.output[key], index=False)

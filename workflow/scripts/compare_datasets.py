@@ -1,4 +1,5 @@
 """Snakemake: the study against its comparison datasets, quantity by quantity (rule compare_datasets)."""
+
 import pandas as pd
 
 from suspension_fabric.dataset import read_fabric_runs, read_stress_runs
@@ -9,14 +10,25 @@ sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
     window, steady_window = sm.params.window, sm.params.steady_window
     study = sm.wildcards.study
-    per_seed = {study: (sm.params.n, per_seed_statistics(
-        pd.read_csv(sm.input.startup), pd.read_csv(sm.input.stress_startup), pd.read_csv(sm.input.stress_rotation),
-        steady_window, window))}
+    per_seed = {
+        study: (
+            sm.params.n,
+            per_seed_statistics(
+                pd.read_csv(sm.input.startup),
+                pd.read_csv(sm.input.stress_startup),
+                pd.read_csv(sm.input.stress_rotation),
+                steady_window,
+                window,
+            ),
+        )
+    }
     for label, folder in sm.params.comparisons.items():
         record, startup, _ = read_fabric_runs(folder)
         stress = read_stress_runs(folder, record) or (None, None)
-        per_seed[label] = (record["config"]["particles"]["n"],
-                           per_seed_statistics(startup, *stress, steady_window, window))
+        per_seed[label] = (
+            record["config"]["particles"]["n"],
+            per_seed_statistics(startup, *stress, steady_window, window),
+        )
     table = comparison_table(per_seed, study, sm.params.level)
     table.to_csv(sm.output[0], index=False)
     print(table.to_string())

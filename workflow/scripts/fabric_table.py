@@ -1,4 +1,5 @@
 """Snakemake: near-contact fabric table of one run (rule fabric_table)."""
+
 from suspension_fabric import tables
 from suspension_fabric.workflow_io import logged
 

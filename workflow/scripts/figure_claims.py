@@ -1,4 +1,5 @@
 """Snakemake: Fig. 5, the quantities the shear-rotation claims rest on, per angle (rule figure_claims)."""
+
 from pathlib import Path
 
 import pandas as pd

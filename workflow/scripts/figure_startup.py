@@ -1,4 +1,5 @@
 """Snakemake: paper Fig. 1 (rule figure_startup)."""
+
 from pathlib import Path
 
 import pandas as pd
@@ -8,6 +9,7 @@ from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
-    fig = figures.figure_startup(pd.read_csv(sm.input.startup), pd.read_csv(sm.input.predictions),
-                                 model_vs_simulation.read_fits(sm.input.fits))
+    fig = figures.figure_startup(
+        pd.read_csv(sm.input.startup), pd.read_csv(sm.input.predictions), model_vs_simulation.read_fits(sm.input.fits)
+    )
     print(figures.save_figure(fig, Path(sm.output.pdf).with_suffix("")))

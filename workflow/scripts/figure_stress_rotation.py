@@ -1,4 +1,5 @@
 """Snakemake: Fig. 4, the stress after shear rotations (rule figure_stress_rotation)."""
+
 from pathlib import Path
 
 import pandas as pd
@@ -10,6 +11,7 @@ from suspension_fabric.workflow_io import logged
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
     sigma12_ss = steady_value(pd.read_csv(sm.input.steady), "eta_r")[0]
-    fig = figures.figure_stress_rotation(pd.read_csv(sm.input.stress), pd.read_csv(sm.input.predictions),
-                                         pd.read_csv(sm.input.transients), sigma12_ss)
+    fig = figures.figure_stress_rotation(
+        pd.read_csv(sm.input.stress), pd.read_csv(sm.input.predictions), pd.read_csv(sm.input.transients), sigma12_ss
+    )
     print(figures.save_figure(fig, Path(sm.output.pdf).with_suffix("")))

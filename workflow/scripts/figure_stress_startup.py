@@ -1,4 +1,5 @@
 """Snakemake: Fig. 3, the stress in startup shear (rule figure_stress_startup)."""
+
 from pathlib import Path
 
 import pandas as pd
@@ -8,6 +9,7 @@ from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
-    fig = figures.figure_stress_startup(pd.read_csv(sm.input.stress), pd.read_csv(sm.input.predictions),
-                                        pd.read_csv(sm.input.relation))
+    fig = figures.figure_stress_startup(
+        pd.read_csv(sm.input.stress), pd.read_csv(sm.input.predictions), pd.read_csv(sm.input.relation)
+    )
     print(figures.save_figure(fig, Path(sm.output.pdf).with_suffix("")))

@@ -1,5 +1,6 @@
 """Snakemake: fit G-W and the modified model to the simulated steady state, with jackknife errors
 over the seeds of the startup runs (rule fit_models)."""
+
 import pandas as pd
 
 from suspension_fabric import model_vs_simulation, tables
@@ -8,17 +9,32 @@ from suspension_fabric.workflow_io import job_study_config, logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
-    fits = model_vs_simulation.fit_steady_state(pd.read_csv(sm.input.steady), sm.params.phi,
-                                                tables.read_fabric_table(sm.input.runs), *sm.params.steady_window,
-                                                models=resolve_models(sm.params.models))
+    fits = model_vs_simulation.fit_steady_state(
+        pd.read_csv(sm.input.steady),
+        sm.params.phi,
+        tables.read_fabric_table(sm.input.runs),
+        *sm.params.steady_window,
+        models=resolve_models(sm.params.models),
+    )
     study = job_study_config(sm)
-    fits["provenance"] = {"study": study["study"], "seeds": study["seeds"], "N": study["particles"]["n"],
-                          "steady_state_table": sm.input.steady, "runs_table": sm.input.runs}
+    fits["provenance"] = {
+        "study": study["study"],
+        "seeds": study["seeds"],
+        "N": study["particles"]["n"],
+        "steady_state_table": sm.input.steady,
+        "runs_table": sm.input.runs,
+    }
     model_vs_simulation.write_fits(fits, sm.output[0])
     for key, parameter in (("gw", "beta"), ("modified", "beta"), ("modified", "A")):
         entry = fits[key]
-        print(f"{key} {parameter} = {entry[parameter]:.4g} ± {entry[f'{parameter}_err']:.2g} (jackknife over seeds), "
-              f"± {entry[f'{parameter}_err_propagated']:.2g} (propagated)")
+        print(
+            f"{key} {parameter} = {entry[parameter]:.4g} ± {entry[f'{parameter}_err']:.2g} (jackknife over seeds), "
+            f"± {entry[f'{parameter}_err_propagated']:.2g} (propagated)"
+        )
     for key, entry in fits["models"].items():
-        print(f"{key}: " + ", ".join(f"{name} = {value:.4g} ± {entry['errors'][name]:.2g}"
-                                    for name, value in entry["parameters"].items()))
+        print(
+            f"{key}: "
+            + ", ".join(
+                f"{name} = {value:.4g} ± {entry['errors'][name]:.2g}" for name, value in entry["parameters"].items()
+            )
+        )

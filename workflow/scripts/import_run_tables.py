@@ -1,5 +1,6 @@
 """Snakemake: every run's fabric (and stress) table of a study from its reference dataset
 (rule import_run_tables), each file's SHA-256 checked."""
+
 from pathlib import Path
 
 from suspension_fabric.dataset import import_run_table

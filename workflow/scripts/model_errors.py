@@ -1,4 +1,5 @@
 """Snakemake: model-versus-simulation error table and its summary (rule model_errors)."""
+
 import pandas as pd
 
 from suspension_fabric import model_vs_simulation
@@ -7,8 +8,10 @@ from suspension_fabric.workflow_io import logged
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
     errors, summary = model_vs_simulation.error_tables(
-        model_vs_simulation.read_fits(sm.input.fits), pd.read_csv(sm.input.predictions),
-        pd.read_csv(sm.input.startup), pd.read_csv(sm.input.rotation),
+        model_vs_simulation.read_fits(sm.input.fits),
+        pd.read_csv(sm.input.predictions),
+        pd.read_csv(sm.input.startup),
+        pd.read_csv(sm.input.rotation),
     )
     errors.to_csv(sm.output.table, index=False)
     summary.to_csv(sm.output.summary, index=False)

@@ -1,4 +1,5 @@
 """Snakemake: model predictions at the simulated strains and angles plus a polar grid (rule predict)."""
+
 import pandas as pd
 
 from suspension_fabric import model_vs_simulation
@@ -8,9 +9,12 @@ from suspension_fabric.workflow_io import logged
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
     predictions = model_vs_simulation.predict_on_simulation_grids(
-        model_vs_simulation.read_fits(sm.input.fits), resolve_models(sm.params.models),
-        pd.read_csv(sm.input.startup), pd.read_csv(sm.input.rotation),
-        sm.params.startup_strain, sm.params.polar_step,
+        model_vs_simulation.read_fits(sm.input.fits),
+        resolve_models(sm.params.models),
+        pd.read_csv(sm.input.startup),
+        pd.read_csv(sm.input.rotation),
+        sm.params.startup_strain,
+        sm.params.polar_step,
     )
     predictions.to_csv(sm.output[0], index=False)
     print(f"{len(predictions)} rows")

@@ -1,4 +1,5 @@
 """Snakemake: the stress tables as a report page (rule report_stress)."""
+
 import pandas as pd
 
 from suspension_fabric import report_tables
@@ -6,6 +7,12 @@ from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
-    print(report_tables.write_stress_page(pd.read_csv(sm.input.steady), pd.read_csv(sm.input.relation),
-                                          pd.read_csv(sm.input.summary), pd.read_csv(sm.input.transients),
-                                          sm.output[0]))
+    print(
+        report_tables.write_stress_page(
+            pd.read_csv(sm.input.steady),
+            pd.read_csv(sm.input.relation),
+            pd.read_csv(sm.input.summary),
+            pd.read_csv(sm.input.transients),
+            sm.output[0],
+        )
+    )

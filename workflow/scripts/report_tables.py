@@ -1,7 +1,8 @@
 """Snakemake: readable HTML tables of fits.json, the steady state and the error summary (rule report_tables)."""
+
 import pandas as pd
 
-from suspension_fabric import report_tables, model_vs_simulation
+from suspension_fabric import model_vs_simulation, report_tables
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
@@ -9,5 +10,8 @@ with logged(sm.log[0]):
     fits = model_vs_simulation.read_fits(sm.input.fits)
     print(report_tables.write_fits_page(fits, sm.output.fits))
     print(report_tables.write_steady_state_page(pd.read_csv(sm.input.steady), sm.output.steady))
-    print(report_tables.write_error_summary_page(pd.read_csv(sm.input.errors), sm.output.errors,
-                                                 model_vs_simulation.model_labels(fits)))
+    print(
+        report_tables.write_error_summary_page(
+            pd.read_csv(sm.input.errors), sm.output.errors, model_vs_simulation.model_labels(fits)
+        )
+    )

@@ -1,4 +1,5 @@
 """Snakemake: the stress per dumped frame of one run (rule stress_table)."""
+
 from suspension_fabric.stress import STRESS_FLOAT_FORMAT, run_stress_table
 from suspension_fabric.workflow_io import logged
 

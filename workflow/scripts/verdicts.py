@@ -1,5 +1,6 @@
 """Snakemake: the verdict on each of the paper's claims, per angle, at the range edges, under each
 choice and comparison dataset, and the descriptive tables (rule verdicts)."""
+
 import pandas as pd
 
 from suspension_fabric import claims, model_vs_simulation, report_tables, verdicts

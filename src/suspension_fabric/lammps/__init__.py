@@ -22,12 +22,35 @@ from ..dumpio import iter_dump_frames  # noqa: E402
 from ..stressio import read_stress_table  # noqa: E402
 from .checks import max_overlap_in_dump, stress_jitter  # noqa: E402
 from .runner import (  # noqa: E402
-    COMPLETION_MARKER, PACK_FILES, RUN_FILES, ForceModel, LammpsRunError, PackResult, ShearRunResult,
-    ShearSettings, is_complete, pack, run_rotation, run_startup,
+    COMPLETION_MARKER,
+    PACK_FILES,
+    RUN_FILES,
+    ForceModel,
+    LammpsRunError,
+    PackResult,
+    ShearRunResult,
+    ShearSettings,
+    is_complete,
+    pack,
+    run_rotation,
+    run_startup,
 )
 
 __all__ += [
-    "COMPLETION_MARKER", "PACK_FILES", "RUN_FILES", "ForceModel", "LammpsRunError", "PackResult",
-    "ShearRunResult", "ShearSettings", "is_complete", "iter_dump_frames", "max_overlap_in_dump",
-    "pack", "read_stress_table", "run_rotation", "run_startup", "stress_jitter",
+    "COMPLETION_MARKER",
+    "PACK_FILES",
+    "RUN_FILES",
+    "ForceModel",
+    "LammpsRunError",
+    "PackResult",
+    "ShearRunResult",
+    "ShearSettings",
+    "is_complete",
+    "iter_dump_frames",
+    "max_overlap_in_dump",
+    "pack",
+    "read_stress_table",
+    "run_rotation",
+    "run_startup",
+    "stress_jitter",
 ]

@@ -7,7 +7,7 @@ Their bounds are the study settings ``run.max_overlap`` and ``run.max_stress_jit
 from __future__ import annotations
 
 import os
-from typing import Mapping
+from collections.abc import Mapping
 
 import numpy as np
 
@@ -36,8 +36,9 @@ def max_overlap_in_dump(path: str | os.PathLike) -> tuple[float, int]:
     return largest, frames
 
 
-def stress_jitter(table: Mapping[str, np.ndarray], window_rows: int = 50,
-                  skip_strain: float = 0.005) -> tuple[float, float, float]:
+def stress_jitter(
+    table: Mapping[str, np.ndarray], window_rows: int = 50, skip_strain: float = 0.005
+) -> tuple[float, float, float]:
     """Largest row-to-row jitter of the pressure tensor, and the strain window where it occurs.
 
     For consecutive windows of ``window_rows`` rows of a stress table: the 95th percentile

@@ -53,9 +53,7 @@ def mpi_include_dir() -> Path:
         candidate = Path(prefix) / "include"
         if (candidate / "mpi.h").is_file():
             return candidate
-    raise PluginBuildError(
-        f"mpi.h not found under {sys.prefix}/include; install the PyPI package 'mpich'"
-    )
+    raise PluginBuildError(f"mpi.h not found under {sys.prefix}/include; install the PyPI package 'mpich'")
 
 
 def _sources() -> list[Path]:
@@ -138,8 +136,7 @@ def build_plugin(force: bool = False) -> Path:
     compiler = os.environ.get("CXX", "g++")
     if shutil.which(compiler) is None:
         raise PluginBuildError(
-            f"C++ compiler '{compiler}' not found; install g++ (e.g. apt-get install g++) "
-            "or set CXX"
+            f"C++ compiler '{compiler}' not found; install g++ (e.g. apt-get install g++) or set CXX"
         )
     PLUGIN_BUILD_DIR.mkdir(parents=True, exist_ok=True)
     sources_ns = _newest_source_ns()  # before compiling: a later edit makes the result stale
@@ -150,12 +147,7 @@ def build_plugin(force: bool = False) -> Path:
         command = _compile_command(tmp)
         result = subprocess.run(command, capture_output=True, text=True)
         if result.returncode != 0:
-            raise PluginBuildError(
-                "compiling the LAMMPS plugin failed:\n  "
-                + " ".join(command)
-                + "\n"
-                + result.stderr
-            )
+            raise PluginBuildError("compiling the LAMMPS plugin failed:\n  " + " ".join(command) + "\n" + result.stderr)
         os.replace(tmp, PLUGIN_LIBRARY)
     finally:
         tmp.unlink(missing_ok=True)

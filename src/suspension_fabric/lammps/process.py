@@ -15,13 +15,18 @@ import shutil
 import subprocess
 import sys
 import time
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable, Mapping
 
 __all__ = [
-    "ProgressCallback", "ThermoWatcher", "LaunchResult", "lammps_executable", "lammps_command",
-    "launch", "print_progress",
+    "ProgressCallback",
+    "ThermoWatcher",
+    "LaunchResult",
+    "lammps_executable",
+    "lammps_command",
+    "launch",
+    "print_progress",
 ]
 
 #: ``progress(label, strain, strain_total, elapsed_s)``
@@ -78,8 +83,9 @@ def _mpi_launcher() -> Path:
     raise FileNotFoundError("ranks > 1 needs mpirun or mpiexec (pip install mpich)")
 
 
-def lammps_command(script: Path, variables: Mapping[str, str], ranks: int = 1,
-                   log_file: str = "log.lammps") -> list[str]:
+def lammps_command(
+    script: Path, variables: Mapping[str, str], ranks: int = 1, log_file: str = "log.lammps"
+) -> list[str]:
     """Command line running ``script`` with ``-var NAME VALUE`` for each variable."""
     if ranks < 1:
         raise ValueError(f"ranks must be >= 1, got {ranks}")
@@ -98,7 +104,8 @@ def print_progress(label: str, strain: float, strain_total: float, elapsed: floa
     print(
         f"[{label}] strain {strain:.4f} / {strain_total:.4f} ({100 * share:5.1f}%), "
         f"{elapsed:7.1f} s elapsed, ~{eta:7.1f} s left",
-        file=sys.stderr, flush=True,
+        file=sys.stderr,
+        flush=True,
     )
 
 
@@ -157,8 +164,14 @@ class LaunchResult:
     wall_time: float
 
 
-def launch(command: list[str], cwd: Path, label: str = "lammps", strain_total: float | None = None,
-           progress: ProgressCallback | None = None, progress_interval: float = 10.0) -> LaunchResult:
+def launch(
+    command: list[str],
+    cwd: Path,
+    label: str = "lammps",
+    strain_total: float | None = None,
+    progress: ProgressCallback | None = None,
+    progress_interval: float = 10.0,
+) -> LaunchResult:
     """Run ``command`` in ``cwd`` to its end (or its first NaN in thermo), reporting progress."""
     watcher = ThermoWatcher()
     start = time.monotonic()
@@ -166,8 +179,14 @@ def launch(command: list[str], cwd: Path, label: str = "lammps", strain_total: f
     rows_reported = 0
     with open(Path(cwd) / SCREEN_FILE, "w") as screen:
         process = subprocess.Popen(
-            command, cwd=cwd, env=_lammps_environment(), stdout=subprocess.PIPE,
-            stderr=subprocess.STDOUT, text=True, bufsize=1, start_new_session=True,
+            command,
+            cwd=cwd,
+            env=_lammps_environment(),
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
+            bufsize=1,
+            start_new_session=True,
         )
         try:
             assert process.stdout is not None
@@ -179,9 +198,13 @@ def launch(command: list[str], cwd: Path, label: str = "lammps", strain_total: f
                     break
                 strain = watcher.strain
                 now = time.monotonic()
-                if (progress is not None and strain is not None and strain_total
-                        and watcher.rows_seen > rows_reported
-                        and now - last_report >= progress_interval):
+                if (
+                    progress is not None
+                    and strain is not None
+                    and strain_total
+                    and watcher.rows_seen > rows_reported
+                    and now - last_report >= progress_interval
+                ):
                     progress(label, strain, strain_total, now - start)
                     last_report, rows_reported = now, watcher.rows_seen
             returncode = process.wait()

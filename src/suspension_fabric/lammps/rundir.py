@@ -23,15 +23,14 @@ import shutil
 import sys
 import tempfile
 import time
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable, Iterable, Iterator
 
 from ..dumpio import iter_frame_blocks
 from ..stressio import iter_table_rows
 
-__all__ = ["COMPLETION_MARKER", "ResumePoint", "PartialRun", "is_complete", "partial_dir",
-           "failed_dir", "publish"]
+__all__ = ["COMPLETION_MARKER", "ResumePoint", "PartialRun", "is_complete", "partial_dir", "failed_dir", "publish"]
 
 #: File written last into a finished run directory (JSON: parameters, wall time, results).
 COMPLETION_MARKER = "run_complete.json"
@@ -72,8 +71,9 @@ class ResumePoint:
 class PartialRun:
     """The working directory of one run, ``.<name>.partial`` next to its output directory."""
 
-    def __init__(self, output_dir: Path, settings: dict, restart_names: Iterable[str] = (),
-                 table_name: str | None = None):
+    def __init__(
+        self, output_dir: Path, settings: dict, restart_names: Iterable[str] = (), table_name: str | None = None
+    ):
         self.output_dir = Path(output_dir).resolve()
         self.path = partial_dir(self.output_dir)
         self.settings = json.loads(json.dumps(settings, default=str))
@@ -101,13 +101,16 @@ class PartialRun:
         number = 1 + (int(existing[-1].name.split("-")[1]) if existing else 0)
         segment = self.path / f"segment-{number:02d}"
         segment.mkdir()
-        self._write_record(segment, {
-            "parent": resume.segment.name if resume else None,
-            "start_step": resume.step if resume else None,
-            "resume_file": str(resume.restart_file) if resume else None,
-            "started_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
-            "status": "running",
-        })
+        self._write_record(
+            segment,
+            {
+                "parent": resume.segment.name if resume else None,
+                "start_step": resume.step if resume else None,
+                "resume_file": str(resume.restart_file) if resume else None,
+                "started_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
+                "status": "running",
+            },
+        )
         return segment
 
     def finish_segment(self, segment: Path, status: str, wall_time: float) -> None:
@@ -141,8 +144,9 @@ class PartialRun:
             changed = sorted(_changed_keys(recorded or {}, self.settings))
             self.discard(f"it was started with other settings (changed: {', '.join(changed) or 'all'})")
             return None
-        candidates = [segment / name for segment in self.segments() for name in self.restart_names
-                      if (segment / name).is_file()]
+        candidates = [
+            segment / name for segment in self.segments() for name in self.restart_names if (segment / name).is_file()
+        ]
         candidates.sort(key=lambda path: path.stat().st_mtime_ns, reverse=True)
         for restart in candidates:
             try:
@@ -177,17 +181,23 @@ class PartialRun:
             header = handle.readline()
         with open(target, "w") as out:
             out.write(header)
-            for step, line in self._select(last, name, first_step, stride, iter_table_rows):
+            for _step, line in self._select(last, name, first_step, stride, iter_table_rows):
                 out.write(line)
 
     def stitch_dump(self, last: Path, name: str, first_step: int, stride: int, target: Path) -> None:
         """Trajectory of the whole run, stitched like :meth:`stitch_table`."""
         with open(target, "w") as out:
-            for step, lines in self._select(last, name, first_step, stride, iter_frame_blocks):
+            for _step, lines in self._select(last, name, first_step, stride, iter_frame_blocks):
                 out.writelines(lines)
 
-    def _select(self, last: Path, name: str, first_step: int, stride: int,
-                reader: Callable[[Path], Iterator[tuple[int, object]]]) -> Iterator[tuple[int, object]]:
+    def _select(
+        self,
+        last: Path,
+        name: str,
+        first_step: int,
+        stride: int,
+        reader: Callable[[Path], Iterator[tuple[int, object]]],
+    ) -> Iterator[tuple[int, object]]:
         links = self.chain(last)
         for k, (segment, start) in enumerate(links):
             end = links[k + 1][1] if k + 1 < len(links) else None

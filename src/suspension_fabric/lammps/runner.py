@@ -21,9 +21,9 @@ import math
 import os
 import shutil
 import tempfile
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Mapping
 
 import numpy as np
 
@@ -37,8 +37,17 @@ from .process import ProgressCallback, failure_reason, lammps_command, launch, p
 from .rundir import COMPLETION_MARKER, PartialRun, ResumePoint, is_complete, publish
 
 __all__ = [
-    "COMPLETION_MARKER", "ForceModel", "ShearSettings", "LammpsRunError", "PackResult",
-    "ShearRunResult", "pack", "run_startup", "run_rotation", "is_complete", "RUN_FILES",
+    "COMPLETION_MARKER",
+    "ForceModel",
+    "ShearSettings",
+    "LammpsRunError",
+    "PackResult",
+    "ShearRunResult",
+    "pack",
+    "run_startup",
+    "run_rotation",
+    "is_complete",
+    "RUN_FILES",
 ]
 
 # Output file names inside a run directory (LAMMPS writes them in its working directory).
@@ -50,8 +59,12 @@ CHECKPOINT_FILE = "checkpoint.rst"
 RESTART_FILES = ("restart.a.rst", "restart.b.rst")
 LOG_FILE = "log.lammps"
 #: The files of a finished shear run, by role (the workflow's rule outputs).
-RUN_FILES = {"trajectory": DUMP_FILE, "stress": TABLE_FILE, "checkpoint": CHECKPOINT_FILE,
-             "run_complete": COMPLETION_MARKER}
+RUN_FILES = {
+    "trajectory": DUMP_FILE,
+    "stress": TABLE_FILE,
+    "checkpoint": CHECKPOINT_FILE,
+    "run_complete": COMPLETION_MARKER,
+}
 PACK_FILES = {"data": PACK_DATA, "report": PACK_REPORT}
 
 
@@ -93,11 +106,16 @@ class ForceModel:
     solver_tol: float = schema_default("run", "solver_tol")
 
     @classmethod
-    def from_config(cls, config: Mapping, plugin: str | os.PathLike | None = None) -> "ForceModel":
+    def from_config(cls, config: Mapping, plugin: str | os.PathLike | None = None) -> ForceModel:
         """The force model of a validated study config (sections ``forces`` and ``run``)."""
-        return cls(plugin=plugin, integrator=config["run"]["integrator"],
-                   contact_springs=config["run"]["contact_springs"],
-                   preconditioner=config["run"]["preconditioner"], solver_tol=config["run"]["solver_tol"], **config["forces"])
+        return cls(
+            plugin=plugin,
+            integrator=config["run"]["integrator"],
+            contact_springs=config["run"]["contact_springs"],
+            preconditioner=config["run"]["preconditioner"],
+            solver_tol=config["run"]["solver_tol"],
+            **config["forces"],
+        )
 
     def variables(self) -> dict[str, str]:
         if self.lubrication not in ("sf", "stock"):
@@ -109,16 +127,24 @@ class ForceModel:
         if self.contact_springs not in ("implicit", "explicit"):
             raise ValueError(f"contact_springs must be 'implicit' or 'explicit', got {self.contact_springs!r}")
         if self.contact_springs == "implicit" and self.integrator != "implicit":
-            raise ValueError("contact_springs='implicit' needs integrator='implicit' (the springs are "
-                             "solved with the implicit hydrodynamics)")
+            raise ValueError(
+                "contact_springs='implicit' needs integrator='implicit' (the springs are "
+                "solved with the implicit hydrodynamics)"
+            )
         if self.preconditioner not in ("jacobi", "dilu"):
             raise ValueError(f"preconditioner must be 'jacobi' or 'dilu', got {self.preconditioner!r}")
         kt = 2.0 / 7.0 * self.kn if self.kt is None else self.kt
         return {
-            "lubrication": self.lubrication, "eta_f": _number(self.eta_f), "kn": _number(self.kn),
-            "mu": _number(self.mu), "kt": _number(kt), "delta": _number(self.delta),
-            "h_out": _number(self.h_out), "newton_pair": self.newton_pair,
-            "integrator": self.integrator, "contact_springs": self.contact_springs,
+            "lubrication": self.lubrication,
+            "eta_f": _number(self.eta_f),
+            "kn": _number(self.kn),
+            "mu": _number(self.mu),
+            "kt": _number(kt),
+            "delta": _number(self.delta),
+            "h_out": _number(self.h_out),
+            "newton_pair": self.newton_pair,
+            "integrator": self.integrator,
+            "contact_springs": self.contact_springs,
             "preconditioner": self.preconditioner,
             "solver_tol": _number(self.solver_tol),
             "plugin": str(_plugin_library(self.plugin)),
@@ -151,10 +177,17 @@ class ShearSettings:
     ranks: int = schema_default("run", "mpi_ranks")
 
     @classmethod
-    def from_config(cls, config: Mapping) -> "ShearSettings":
+    def from_config(cls, config: Mapping) -> ShearSettings:
         run = config["run"]
-        names = ("dt", "dump_strain", "table_strain", "thermo_strain", "restart_strain",
-                 "max_overlap", "max_stress_jitter")
+        names = (
+            "dt",
+            "dump_strain",
+            "table_strain",
+            "thermo_strain",
+            "restart_strain",
+            "max_overlap",
+            "max_stress_jitter",
+        )
         return cls(ranks=run["mpi_ranks"], **{name: run[name] for name in names})
 
     def __post_init__(self):
@@ -232,11 +265,13 @@ def _plugin_library(plugin: str | os.PathLike | None) -> Path:
 
 
 def _failure(label: str, reason: str, command: list[str], where: str, tail: str = "") -> LammpsRunError:
-    return LammpsRunError(f"LAMMPS {label} run failed: {reason}\n  command: {' '.join(command)}\n"
-                          f"  {where}\n  last output lines:\n{tail}")
+    return LammpsRunError(
+        f"LAMMPS {label} run failed: {reason}\n  command: {' '.join(command)}\n  {where}\n  last output lines:\n{tail}"
+    )
 
 
 # ---------------------------------------------------------------------------- packing
+
 
 def pack(
     output_dir: str | os.PathLike,
@@ -274,10 +309,16 @@ def pack(
         raise FileExistsError(f"{output_dir} exists; pass overwrite=True to replace it")
     variables = {
         "lammps_dir": str(LAMMPS_SCRIPTS_DIR),
-        "n_particles": str(int(n_particles)), "phi": _number(phi), "seed": str(int(seed)),
-        "split": split, "fraction_large": _number(fraction_large),
-        "d_small": _number(d_small), "d_large": _number(d_large), "gap_margin": _number(gap_margin),
-        "data_file": PACK_DATA, "report_file": PACK_REPORT,
+        "n_particles": str(int(n_particles)),
+        "phi": _number(phi),
+        "seed": str(int(seed)),
+        "split": split,
+        "fraction_large": _number(fraction_large),
+        "d_small": _number(d_small),
+        "d_large": _number(d_large),
+        "gap_margin": _number(gap_margin),
+        "data_file": PACK_DATA,
+        "report_file": PACK_REPORT,
     }
     variables.update({k: str(v) for k, v in (extra_variables or {}).items()})
     command = lammps_command(LAMMPS_SCRIPTS_DIR / "pack.lmp", variables, ranks, LOG_FILE)
@@ -300,16 +341,28 @@ def pack(
         def fill(target: Path) -> dict:
             for name in (PACK_DATA, PACK_REPORT, LOG_FILE):
                 shutil.copy2(work / name, target / name)
-            return {"label": "pack", "script": "pack.lmp", "variables": variables, "ranks": ranks,
-                    "command": command, "wall_time_s": result.wall_time, "results": report}
+            return {
+                "label": "pack",
+                "script": "pack.lmp",
+                "variables": variables,
+                "ranks": ranks,
+                "command": command,
+                "wall_time_s": result.wall_time,
+                "results": report,
+            }
 
         publish(output_dir, fill, overwrite)
     finally:
         shutil.rmtree(work, ignore_errors=True)
     return PackResult(
-        output_dir=output_dir, data_file=output_dir / PACK_DATA, phi=report["phi"],
-        max_overlap=report["max_overlap"], n_small=int(report["n_small"]),
-        n_large=int(report["n_large"]), box_length=report["box_length"], wall_time=result.wall_time,
+        output_dir=output_dir,
+        data_file=output_dir / PACK_DATA,
+        phi=report["phi"],
+        max_overlap=report["max_overlap"],
+        n_small=int(report["n_small"]),
+        n_large=int(report["n_large"]),
+        box_length=report["box_length"],
+        wall_time=result.wall_time,
     )
 
 
@@ -320,37 +373,56 @@ def _parent(output_dir: Path) -> Path:
 
 # ---------------------------------------------------------------------------- shear runs
 
+
 def _probe_restart(plugin: str, scratch: Path):
     """A probe reading a restart file with LAMMPS (restart_probe.lmp); returns its step."""
+
     def probe(restart_file: Path) -> int:
         scratch.mkdir(parents=True, exist_ok=True)
-        command = lammps_command(LAMMPS_SCRIPTS_DIR / "restart_probe.lmp",
-                                 {"plugin": plugin, "restart_file": str(restart_file)}, 1, "none")
+        command = lammps_command(
+            LAMMPS_SCRIPTS_DIR / "restart_probe.lmp", {"plugin": plugin, "restart_file": str(restart_file)}, 1, "none"
+        )
         result = launch(command, scratch, "restart probe")
         reason = failure_reason(result, "RESTART_PROBE")
         if reason is not None:
             raise ValueError(reason)
         return int(result.watcher.line_starting("RESTART_PROBE").split()[2])
+
     return probe
 
 
-def _shear_run(script: str, label: str, variables: dict[str, str], output_dir, strain_total: float,
-               settings: ShearSettings, overwrite: bool, resume: bool,
-               progress: ProgressCallback | None, progress_interval: float) -> ShearRunResult:
+def _shear_run(
+    script: str,
+    label: str,
+    variables: dict[str, str],
+    output_dir,
+    strain_total: float,
+    settings: ShearSettings,
+    overwrite: bool,
+    resume: bool,
+    progress: ProgressCallback | None,
+    progress_interval: float,
+) -> ShearRunResult:
     output_dir = Path(output_dir).resolve()
     if output_dir.exists() and not overwrite:
         raise FileExistsError(f"{output_dir} exists; pass overwrite=True to replace it")
     if strain_total <= 0:
         raise ValueError(f"strain_total must be positive, got {strain_total}")
     run_variables = {
-        "lammps_dir": str(LAMMPS_SCRIPTS_DIR), **variables, **settings.variables(),
-        "strain_total": _number(strain_total), "dump_file": DUMP_FILE, "table_file": TABLE_FILE,
-        "checkpoint_file": CHECKPOINT_FILE, "restart_file_a": RESTART_FILES[0],
+        "lammps_dir": str(LAMMPS_SCRIPTS_DIR),
+        **variables,
+        **settings.variables(),
+        "strain_total": _number(strain_total),
+        "dump_file": DUMP_FILE,
+        "table_file": TABLE_FILE,
+        "checkpoint_file": CHECKPOINT_FILE,
+        "restart_file_a": RESTART_FILES[0],
         "restart_file_b": RESTART_FILES[1],
     }
     _parent(output_dir)
-    partial = PartialRun(output_dir, {"script": script, "variables": run_variables},
-                         restart_names=RESTART_FILES, table_name=TABLE_FILE)
+    partial = PartialRun(
+        output_dir, {"script": script, "variables": run_variables}, restart_names=RESTART_FILES, table_name=TABLE_FILE
+    )
     point: ResumePoint | None = None
     if resume:
         point = partial.resume_point(_probe_restart(run_variables["plugin"], partial.path / "probe"))
@@ -369,9 +441,14 @@ def _shear_run(script: str, label: str, variables: dict[str, str], output_dir, s
     reason = failure_reason(result, "SHEAR_RUN_COMPLETE")
     partial.finish_segment(segment, "failed" if reason else "complete", result.wall_time)
     if reason is not None:
-        raise _failure(label, reason, command,
-                       f"partial run kept in {partial.path}: running it again with the same settings "
-                       "continues from its latest restart file", result.watcher.tail())
+        raise _failure(
+            label,
+            reason,
+            command,
+            f"partial run kept in {partial.path}: running it again with the same settings "
+            "continues from its latest restart file",
+            result.watcher.tail(),
+        )
 
     # "SHEAR_RUN_COMPLETE step <last> first_step <first> strain <strain>"
     completion = result.watcher.line_starting("SHEAR_RUN_COMPLETE").split()
@@ -379,16 +456,26 @@ def _shear_run(script: str, label: str, variables: dict[str, str], output_dir, s
     segments = partial.segment_summary(segment)
 
     def fill(target: Path) -> dict:
-        partial.stitch_dump(segment, DUMP_FILE, first_step, settings.steps_between(settings.dump_strain),
-                            target / DUMP_FILE)
-        partial.stitch_table(segment, TABLE_FILE, first_step,
-                             settings.steps_between(settings.table_strain), target / TABLE_FILE)
+        partial.stitch_dump(
+            segment, DUMP_FILE, first_step, settings.steps_between(settings.dump_strain), target / DUMP_FILE
+        )
+        partial.stitch_table(
+            segment, TABLE_FILE, first_step, settings.steps_between(settings.table_strain), target / TABLE_FILE
+        )
         partial.concatenate_logs(segment, LOG_FILE, target / LOG_FILE)
         shutil.copy2(segment / CHECKPOINT_FILE, target / CHECKPOINT_FILE)
         results = _check_shear_outputs(target, first_step, last_step, strain_total, settings)
         wall_time = sum(s.get("wall_time_s", 0.0) for s in segments if math.isfinite(s.get("wall_time_s", 0.0)))
-        return {"label": label, "script": script, "variables": run_variables, "ranks": settings.ranks,
-                "command": command, "wall_time_s": wall_time, "segments": segments, "results": results}
+        return {
+            "label": label,
+            "script": script,
+            "variables": run_variables,
+            "ranks": settings.ranks,
+            "command": command,
+            "wall_time_s": wall_time,
+            "segments": segments,
+            "results": results,
+        }
 
     try:
         marker = publish(output_dir, fill, overwrite)
@@ -399,16 +486,23 @@ def _shear_run(script: str, label: str, variables: dict[str, str], output_dir, s
     if progress is not None:
         progress(label, marker["results"]["strain"], strain_total, marker["wall_time_s"])
     return ShearRunResult(
-        output_dir=output_dir, dump_file=output_dir / DUMP_FILE, table_file=output_dir / TABLE_FILE,
-        checkpoint_file=output_dir / CHECKPOINT_FILE, log_file=output_dir / LOG_FILE,
-        first_step=first_step, last_step=last_step, strain=marker["results"]["strain"],
-        max_overlap=marker["results"]["max_overlap"], wall_time=marker["wall_time_s"],
+        output_dir=output_dir,
+        dump_file=output_dir / DUMP_FILE,
+        table_file=output_dir / TABLE_FILE,
+        checkpoint_file=output_dir / CHECKPOINT_FILE,
+        log_file=output_dir / LOG_FILE,
+        first_step=first_step,
+        last_step=last_step,
+        strain=marker["results"]["strain"],
+        max_overlap=marker["results"]["max_overlap"],
+        wall_time=marker["wall_time_s"],
         segments=len(segments),
     )
 
 
-def _check_shear_outputs(run_dir: Path, first_step: int, last_step: int, strain_total: float,
-                         settings: ShearSettings) -> dict:
+def _check_shear_outputs(
+    run_dir: Path, first_step: int, last_step: int, strain_total: float, settings: ShearSettings
+) -> dict:
     """Outputs complete and continuous, finite, no blow-up; the results for the marker."""
     table = read_stress_table(run_dir / TABLE_FILE)
     checked = [values for name, values in table.items() if name not in UNRECORDED_COLUMNS]
@@ -417,10 +511,16 @@ def _check_shear_outputs(run_dir: Path, first_step: int, last_step: int, strain_
     strain = (last_step - first_step) * settings.dt * settings.rate
     if abs(strain - strain_total) > 0.5 * settings.dt * settings.rate:
         raise LammpsRunError(f"reached strain {strain}, expected {strain_total}")
-    _check_grid(TABLE_FILE, table["step"].astype(np.int64), first_step, last_step,
-                settings.steps_between(settings.table_strain))
-    _check_grid(DUMP_FILE, scan_dump(run_dir / DUMP_FILE).steps, first_step, last_step,
-                settings.steps_between(settings.dump_strain))
+    _check_grid(
+        TABLE_FILE, table["step"].astype(np.int64), first_step, last_step, settings.steps_between(settings.table_strain)
+    )
+    _check_grid(
+        DUMP_FILE,
+        scan_dump(run_dir / DUMP_FILE).steps,
+        first_step,
+        last_step,
+        settings.steps_between(settings.dump_strain),
+    )
     largest, frames = max_overlap_in_dump(run_dir / DUMP_FILE)
     if settings.max_stress_jitter is not None and settings.table_strain <= 0.002:
         jitter, lo, hi = stress_jitter(table)
@@ -434,8 +534,13 @@ def _check_shear_outputs(run_dir: Path, first_step: int, last_step: int, strain_
         raise LammpsRunError(
             f"largest overlap {largest:.3g} d in {DUMP_FILE} exceeds the bound {settings.max_overlap} d"
         )
-    return {"first_step": first_step, "last_step": last_step, "strain": strain,
-            "max_overlap": largest, "dump_frames": frames}
+    return {
+        "first_step": first_step,
+        "last_step": last_step,
+        "strain": strain,
+        "max_overlap": largest,
+        "dump_frames": frames,
+    }
 
 
 def _check_grid(name: str, steps: np.ndarray, first_step: int, last_step: int, stride: int) -> None:
@@ -474,8 +579,18 @@ def run_startup(
     if not data_file.is_file():
         raise FileNotFoundError(f"packing data file not found: {data_file}")
     variables = {"data_file": str(data_file), **force_model.variables()}
-    return _shear_run("startup.lmp", "startup", variables, output_dir, strain_total, settings,
-                      overwrite, resume, progress, progress_interval)
+    return _shear_run(
+        "startup.lmp",
+        "startup",
+        variables,
+        output_dir,
+        strain_total,
+        settings,
+        overwrite,
+        resume,
+        progress,
+        progress_interval,
+    )
 
 
 def run_rotation(
@@ -509,7 +624,16 @@ def run_rotation(
             f"{restart_file} is not in a finished run directory (no {COMPLETION_MARKER}); "
             "pass require_complete_source=False to use it anyway"
         )
-    variables = {"restart_file": str(restart_file), "theta_deg": _number(theta_deg),
-                 **force_model.variables()}
-    return _shear_run("rotate.lmp", f"rotate {theta_deg:g} deg", variables, output_dir, strain_total,
-                      settings, overwrite, resume, progress, progress_interval)
+    variables = {"restart_file": str(restart_file), "theta_deg": _number(theta_deg), **force_model.variables()}
+    return _shear_run(
+        "rotate.lmp",
+        f"rotate {theta_deg:g} deg",
+        variables,
+        output_dir,
+        strain_total,
+        settings,
+        overwrite,
+        resume,
+        progress,
+        progress_interval,
+    )
