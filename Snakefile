@@ -16,6 +16,9 @@ if not workflow.overwrite_configfiles:
 validate_config(config)  # schema + cross-key checks, before any job; fills defaults
 
 
+report: "workflow/report/workflow.rst"
+
+
 include: "workflow/rules/common.smk"
 
 
