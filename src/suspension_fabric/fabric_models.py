@@ -45,7 +45,7 @@ from .model import (
     sym_to_vec,
     vec_to_sym,
 )
-from .plugins import load_plugin
+from .plugins import load_plugin, resolve_plugins
 
 __all__ = [
     "Parameter",
@@ -58,6 +58,7 @@ __all__ = [
     "BUILT_IN",
     "load_model",
     "resolve_models",
+    "check_parameters",
     "affine_system",
     "integrate",
     "steady_state",
@@ -91,6 +92,21 @@ class Parameter:
             raise ModelError(
                 f"parameter {self.name}: start {self.start} outside its bounds [{self.lower}, {self.upper}]"
             )
+
+
+def check_parameters(parameters, params: Mapping[str, float], owner: str, error: type[Exception]) -> dict[str, float]:
+    """``params`` as {name: float} with every one of ``parameters``, finite and within its bounds;
+    otherwise ``error`` naming ``owner`` (e.g. "model gw")."""
+    names = [p.name for p in parameters]
+    if set(params) != set(names):
+        raise error(f"{owner}: parameters {sorted(params)} given, expected {names}")
+    checked = {}
+    for p in parameters:
+        value = float(params[p.name])
+        if not (math.isfinite(value) and p.lower <= value <= p.upper):
+            raise error(f"{owner}: {p.name} = {value} outside [{p.lower}, {p.upper}]")
+        checked[p.name] = value
+    return checked
 
 
 class Flow(NamedTuple):
@@ -145,16 +161,7 @@ class FabricModel:
 
     def check(self, params: Mapping[str, float]) -> dict[str, float]:
         """``params`` as a {name: float} dict with every parameter, finite and within its bounds."""
-        missing, unknown = set(self.names) - set(params), set(params) - set(self.names)
-        if missing or unknown:
-            raise ModelError(f"model {self.key}: parameters {sorted(params)} given, expected {list(self.names)}")
-        checked = {}
-        for p in self.parameters:
-            value = float(params[p.name])
-            if not (math.isfinite(value) and p.lower <= value <= p.upper):
-                raise ModelError(f"model {self.key}: {p.name} = {value} outside [{p.lower}, {p.upper}]")
-            checked[p.name] = value
-        return checked
+        return check_parameters(self.parameters, params, f"model {self.key}", ModelError)
 
 
 # --------------------------------------------------------------------------- built-in models
@@ -281,13 +288,7 @@ def load_model(spec: str) -> FabricModel:
 
 def resolve_models(specs) -> dict[str, FabricModel]:
     """Models of a config's list of entries, by key (keys must be distinct)."""
-    models = {}
-    for spec in specs:
-        found = load_model(spec)
-        if found.key in models:
-            raise ModelError(f"models: two entries have the key {found.key!r}")
-        models[found.key] = found
-    return models
+    return resolve_plugins(specs, load_model, ModelError, "models.fabric")
 
 
 # --------------------------------------------------------------------------- dynamics

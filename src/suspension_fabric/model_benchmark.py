@@ -40,6 +40,7 @@ from .seed_statistics import LEVEL, jackknife, t_interval
 from .tables import fabric_tensors
 
 __all__ = [
+    "by_seed",
     "SeedCurves",
     "seed_curves",
     "model_curves",
@@ -69,8 +70,10 @@ class SeedCurves(NamedTuple):
     n12_ss: float
 
 
-def _by_seed(runs: pd.DataFrame, seeds, what: str) -> tuple[np.ndarray, np.ndarray]:
-    strains, tensors = None, []
+def by_seed(runs: pd.DataFrame, seeds, what: str, values=fabric_tensors) -> tuple[np.ndarray, np.ndarray]:
+    """(strains, values of each seed stacked) of a run table: ``values(rows)`` of each seed's rows
+    sorted by strain (the fabric tensors by default); every seed must share one strain grid."""
+    strains, stacked = None, []
     for seed in seeds:
         rows = runs[runs["seed"] == seed].sort_values("strain")
         grid = rows["strain"].to_numpy(dtype=float)
@@ -78,8 +81,8 @@ def _by_seed(runs: pd.DataFrame, seeds, what: str) -> tuple[np.ndarray, np.ndarr
             strains = grid
         elif len(grid) != len(strains) or not np.allclose(grid, strains, rtol=1e-9, atol=1e-9):
             raise ValueError(f"{what}: seed {seed} has other strains than seed {seeds[0]}")
-        tensors.append(fabric_tensors(rows))
-    return strains, np.stack(tensors)
+        stacked.append(values(rows))
+    return strains, np.stack(stacked)
 
 
 def seed_curves(startup_runs: pd.DataFrame, rotation_runs: pd.DataFrame, window: float, steady_window) -> SeedCurves:
@@ -88,10 +91,10 @@ def seed_curves(startup_runs: pd.DataFrame, rotation_runs: pd.DataFrame, window:
     seeds = np.array(sorted(set(startup_runs["seed"])), dtype=int)
     if set(rotation_runs["seed"]) != set(seeds):
         raise ValueError(f"seeds differ: startup {sorted(seeds)}, rotation {sorted(set(rotation_runs['seed']))}")
-    startup_strains, startup = _by_seed(startup_runs, seeds, "startup")
+    startup_strains, startup = by_seed(startup_runs, seeds, "startup")
     thetas = np.array(sorted(rotation_runs["theta"].unique()), dtype=float)
     per_angle = [
-        _by_seed(rotation_runs[np.isclose(rotation_runs["theta"], t)], seeds, f"rotation theta = {t:g}") for t in thetas
+        by_seed(rotation_runs[np.isclose(rotation_runs["theta"], t)], seeds, f"rotation theta = {t:g}") for t in thetas
     ]
     rotation_strains = per_angle[0][0]
     for theta, (grid, _) in zip(thetas, per_angle):

@@ -11,7 +11,7 @@ import importlib
 import importlib.util
 from pathlib import Path
 
-__all__ = ["load_plugin"]
+__all__ = ["load_plugin", "resolve_plugins"]
 
 
 def load_plugin(spec: str, built_in: dict, expected: type, error: type[Exception], what: str):
@@ -45,4 +45,16 @@ def load_plugin(spec: str, built_in: dict, expected: type, error: type[Exception
             f"{what} {spec!r}: {attribute} in {location} is {type(found).__name__}, "
             f"expected a {expected.__module__}.{expected.__name__}"
         )
+    return found
+
+
+def resolve_plugins(specs, load, error: type[Exception], config_key: str) -> dict:
+    """The objects of a config list (``config_key``, e.g. "models.fabric") loaded with ``load``,
+    by their ``key`` (keys must be distinct)."""
+    found = {}
+    for spec in specs:
+        plugin = load(spec)
+        if plugin.key in found:
+            raise error(f"{config_key}: two entries have the key {plugin.key!r}")
+        found[plugin.key] = plugin
     return found

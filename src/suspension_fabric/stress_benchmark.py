@@ -34,10 +34,9 @@ import numpy as np
 import pandas as pd
 from scipy.optimize import minimize, minimize_scalar
 
-from .model_benchmark import angle_folds
+from .model_benchmark import angle_folds, by_seed
 from .seed_statistics import LEVEL, jackknife, t_interval
 from .stress_relations import RelationError, StressRelation, coefficients, relation_stress
-from .tables import fabric_tensors
 
 __all__ = [
     "StressCurves",
@@ -92,17 +91,9 @@ def _joined(fabric: pd.DataFrame, stress: pd.DataFrame, what: str) -> pd.DataFra
 
 
 def _per_seed(rows: pd.DataFrame, seeds, what: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    strains, fabrics, etas = None, [], []
-    for seed in seeds:
-        mine = rows[rows["seed"] == seed].sort_values("strain")
-        grid = mine["strain"].to_numpy(dtype=float)
-        if strains is None:
-            strains = grid
-        elif len(grid) != len(strains) or not np.allclose(grid, strains, rtol=1e-9, atol=1e-9):
-            raise ValueError(f"{what}: seed {seed} has other strains than seed {seeds[0]}")
-        fabrics.append(fabric_tensors(mine))
-        etas.append(mine["eta_r"].to_numpy(dtype=float))
-    return strains, np.stack(fabrics), np.stack(etas)
+    strains, fabrics = by_seed(rows, seeds, what)
+    _, etas = by_seed(rows, seeds, what, lambda mine: mine["eta_r"].to_numpy(dtype=float))
+    return strains, fabrics, etas
 
 
 def stress_curves(

@@ -37,8 +37,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from .fabric_models import Parameter
-from .plugins import load_plugin
+from .fabric_models import Parameter, check_parameters
+from .plugins import load_plugin, resolve_plugins
 from .stress import EINSTEIN_COEFFICIENT
 from .stress_model import relation_terms
 
@@ -90,17 +90,7 @@ class StressRelation:
 
     def check(self, params: Mapping[str, float]) -> dict[str, float]:
         """``params`` as {name: float} with every shape parameter, finite and within its bounds."""
-        if set(params) != set(self.names):
-            raise RelationError(
-                f"stress relation {self.key}: parameters {sorted(params)} given, expected {list(self.names)}"
-            )
-        checked = {}
-        for p in self.parameters:
-            value = float(params[p.name])
-            if not (math.isfinite(value) and p.lower <= value <= p.upper):
-                raise RelationError(f"stress relation {self.key}: {p.name} = {value} outside [{p.lower}, {p.upper}]")
-            checked[p.name] = value
-        return checked
+        return check_parameters(self.parameters, params, f"stress relation {self.key}", RelationError)
 
     def start(self) -> dict[str, float]:
         return {p.name: p.start for p in self.parameters}
@@ -144,13 +134,7 @@ def load_relation(spec: str) -> StressRelation:
 
 def resolve_relations(specs) -> dict[str, StressRelation]:
     """Relations of a config's list of entries, by key (keys must be distinct)."""
-    relations = {}
-    for spec in specs:
-        found = load_relation(spec)
-        if found.key in relations:
-            raise RelationError(f"models.stress: two entries have the key {found.key!r}")
-        relations[found.key] = found
-    return relations
+    return resolve_plugins(specs, load_relation, RelationError, "models.stress")
 
 
 def coefficients(
