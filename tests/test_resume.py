@@ -246,7 +246,7 @@ def test_snakemake_killed_with_its_simulation_resumes_it(tmp_path):
     kill_after_restarts(process, killed / "results/resume/seed1/.startup.partial", also_kill_group=True)
     assert not (killed / target).exists()
 
-    # a hard kill leaves Snakemake's lock behind: the README's recovery is --unlock, then rerun
+    # a hard kill leaves Snakemake's lock behind: the recovery in docs/workflow.md is --unlock, then rerun
     assert snakemake(killed, "--configfile", "config/resume.yaml", "--unlock").returncode == 0
     rerun = snakemake(killed, "--configfile", "config/resume.yaml", "--", target)
     assert rerun.returncode == 0, rerun.stderr[-3000:]

@@ -1,4 +1,4 @@
-"""The study on a real SLURM cluster through Snakemake's SLURM executor: the README's cluster
+"""The study on a real SLURM cluster through Snakemake's SLURM executor: docs/workflow.md's cluster
 command (profiles/slurm, account and partition from SBATCH_ACCOUNT and SBATCH_PARTITION) on the
 test study, checked against SLURM's accounting (sacct) and against a local run; and one
 simulation on two MPI ranks as a two-task SLURM job.
@@ -49,7 +49,7 @@ def cluster():
 
 
 def run_on_slurm(workdir, *args):
-    """The README's cluster command (no --cores: each job's threads are its own)."""
+    """The cluster command of docs/workflow.md (no --cores: each job's threads are its own)."""
     started = datetime.now() - timedelta(minutes=1)
     result = subprocess.run(
         [str(SNAKEMAKE), *TEST_CONFIG, *PROFILE, *args], cwd=workdir, capture_output=True, text=True, timeout=1800

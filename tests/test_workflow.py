@@ -1,5 +1,5 @@
 """The Snakemake workflow end to end: a real run of config/test.yaml (real LAMMPS, real
-MDAnalysis, real fits), the README's rerun commands as dry runs, the DAG, the report,
+MDAnalysis, real fits), the rerun commands of docs/workflow.md as dry runs, the DAG, the report,
 the linter and the schema errors.
 
 The workflow files are copied into a temporary folder so the test never touches the
@@ -186,7 +186,7 @@ def test_nothing_left_to_do_after_a_run(study):
 
 
 def test_rerun_one_angle_one_seed(study):
-    """README: rerun theta = 90 for seed 1 and everything downstream; no startup, no other angle."""
+    """docs/workflow.md: rerun theta = 90 for seed 1 and everything downstream; no startup, no other angle."""
     result = snakemake(study, *TEST_CONFIG, "-n", "-R", f"{RESULTS}/seed1/rotation_theta90/trajectory.dump")
     counts = job_counts(result.stdout)
     assert counts["rotate"] == 1 and counts["fabric_table"] == 1
@@ -205,7 +205,7 @@ def test_rerun_one_angle_all_seeds(study):
 
 
 def test_regenerate_figures_only(study):
-    """README: regenerate the figures from existing results, nothing else."""
+    """docs/workflow.md: regenerate the figures from existing results, nothing else."""
     counts = job_counts(snakemake(study, *TEST_CONFIG, "-n", "-R", "figure_startup", "figure_rotation").stdout)
     assert set(counts) == {"figure_startup", "figure_rotation", "all", "total"}
 

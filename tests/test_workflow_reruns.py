@@ -1,6 +1,6 @@
 """Which jobs a config change reruns: every rule receives exactly the settings that change its
 result. On the finished test study (seeds 1, 2; angles 0, 90), each case changes config keys
-with --config on top of --configfile config/test.yaml (the override idiom the README gives),
+with --config on top of --configfile config/test.yaml (the override idiom docs/workflow.md gives),
 dry-runs, and checks (a) the jobs rerun for a reason of their own (their params, a missing
 output, a changed set of inputs), not merely because an upstream job reruns, and (b) every
 simulation job (pack, startup, rotate) in the plan. Everything else in the plan is downstream
@@ -8,7 +8,8 @@ of (a). Snakemake names only the first reason of a job whose inputs an upstream 
 so a key read by two rules in a chain (the force model and time step: startup and rotate;
 run.startup_strain: startup and predict; particles.phi: pack and fit_models) shows the
 upstream one (models.fabric: fit_models, not predict or benchmark_models);
-test_params_of_downstream_rules checks the downstream rule on its own. The table is the rerun matrix of the README."""
+test_params_of_downstream_rules checks the downstream rule on its own. The table is the rerun matrix of
+docs/workflow.md."""
 
 import pytest
 
