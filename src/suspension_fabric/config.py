@@ -21,6 +21,7 @@ from .scales import (
     max_dt_explicit,
     max_dt_implicit,
 )
+from .stress_relations import RelationError, resolve_relations
 
 __all__ = [
     "SCHEMA_PATH",
@@ -102,11 +103,53 @@ def _coerce_command_line_text(value, schema: dict):
     return value
 
 
+#: Larger numbers overflow the derived scales (a float holds up to ~1.8e308).
+LARGEST_NUMBER = 1e300
+
+
+def _check_numbers(value, path: str = "") -> None:
+    """Every number of the config is finite and of a size floats can hold: NaN passes the
+    schema's range checks (comparisons with NaN are false) and inf or 10**400 overflow the derived
+    scales, so they are stopped here, naming the key."""
+    if isinstance(value, dict):
+        for key, item in value.items():
+            _check_numbers(item, f"{path}.{key}" if path else str(key))
+    elif isinstance(value, list):
+        for index, item in enumerate(value):
+            _check_numbers(item, f"{path}.{index}")
+    elif isinstance(value, (int, float)) and not isinstance(value, bool):
+        # an int is compared as such: float(10**400) itself overflows
+        if not (
+            abs(value) <= LARGEST_NUMBER
+            if isinstance(value, int)
+            else math.isfinite(value) and abs(value) <= LARGEST_NUMBER
+        ):
+            shown = str(value) if len(str(value)) <= 24 else f"{str(value)[:20]}... ({len(str(value))} digits)"
+            raise ConfigError(
+                f"config key '{path or '<top level>'}': {shown} is not a finite number below {LARGEST_NUMBER:g} in size"
+            )
+
+
 def validate_config(config: dict, schema_path: str | os.PathLike = SCHEMA_PATH) -> dict:
     """Validate ``config`` in place against the schema (filling defaults), then cross-check keys."""
     schema = yaml.safe_load(Path(schema_path).read_text())
     config.update(_coerce_command_line_text(dict(config), schema))
+    _check_numbers(config)
     _fill_and_validate(config, schema)
+    try:
+        _cross_check(config)
+    except (ArithmeticError, ValueError) as err:  # derived scales of extreme but valid numbers
+        if isinstance(err, ConfigError):
+            raise
+        raise ConfigError(
+            f"config key 'run.dt': the sizes, forces and time step give no usable time scales "
+            f"({type(err).__name__}: {err})"
+        ) from None
+    return config
+
+
+def _cross_check(config: dict) -> None:
+    """The checks across keys that the schema cannot state."""
     run, analysis, particles = config["run"], config["analysis"], config["particles"]
     lo, hi = analysis["steady_window"]
     if not 0 <= lo < hi <= run["startup_strain"]:
@@ -157,10 +200,13 @@ def validate_config(config: dict, schema_path: str | os.PathLike = SCHEMA_PATH) 
         resolve_models(config["models"]["fabric"])
     except ModelError as error:
         raise ConfigError(f"config key 'models.fabric': {error}") from None
+    try:
+        resolve_relations(config["models"]["stress"])
+    except RelationError as error:
+        raise ConfigError(f"config key 'models.stress': {error}") from None
     labels = [angle_label(a) for a in config["angles_deg"]]
     if len(set(labels)) != len(labels):
         raise ConfigError(f"config key 'angles_deg': angles collide after formatting: {labels}")
-    return config
 
 
 def _check_time_step(run: dict, forces: dict, d_small: float) -> None:

@@ -173,7 +173,13 @@ def read_dataset(folder: Path) -> dict:
         raise FileNotFoundError(
             f"dataset record not found: {path} (export one with `python -m suspension_fabric.dataset export`)"
         )
-    return json.loads(path.read_text())
+    try:
+        record = json.loads(path.read_text())
+    except (json.JSONDecodeError, UnicodeDecodeError) as err:
+        raise ValueError(f"{path}: not a readable dataset record ({type(err).__name__}: {err})") from None
+    if not isinstance(record, dict) or not {"config", "files", "runs_missing"} <= set(record):
+        raise ValueError(f"{path}: not a dataset record (expected config, files and runs_missing)")
+    return record
 
 
 #: ``run`` keys added after datasets were exported, with the value those datasets were made with

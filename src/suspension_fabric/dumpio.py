@@ -217,6 +217,14 @@ def _expect_item(line: str, item: str, path: Path, frame: int) -> None:
 
 
 def scan_dump(path: str | os.PathLike, expected_n_atoms: int | None = None) -> DumpSummary:
+    """See :func:`_scan_dump`; bytes that are not text are a ``ValueError`` naming the file too."""
+    try:
+        return _scan_dump(path, expected_n_atoms)
+    except UnicodeDecodeError as err:
+        raise ValueError(f"{path}: not a text dump ({err})") from None
+
+
+def _scan_dump(path: str | os.PathLike, expected_n_atoms: int | None = None) -> DumpSummary:
     """Read and check the frame headers of a LAMMPS text dump, skipping the atom lines.
 
     Raises ``FileNotFoundError`` for a missing file and ``ValueError`` naming the file
@@ -334,51 +342,72 @@ def iter_dump_frames(path: str | os.PathLike) -> Iterator[DumpFrameData]:
     """Frames of a ``dump custom ... id type radius x y z`` text dump, in float64, atoms sorted by id.
 
     Raises ``ValueError`` naming the file, frame and step for a malformed or truncated
-    frame; the frames before it are yielded first.
+    frame (or bytes that are not text); the frames before it are yielded first.
     """
-    for frame_index, (step, lines) in enumerate(iter_frame_blocks(path)):
-        # a step line without its newline is the end of a file cut inside the step number
-        step_known = len(lines) > 1 and lines[1].endswith("\n")
-        where = f"{path}: frame {frame_index}" + (f" (step {step})" if step_known else "")
-        if len(lines) < 9:
-            if not lines[-1].endswith("\n"):  # only the file's last line lacks one
-                raise ValueError(f"{where} is truncated: the file ends inside its header")
-            raise ValueError(f"{where} is truncated: incomplete header ({len(lines)} of 9 lines)")
-        n_atoms = int(lines[3])
-        box_header = lines[4]
-        if "xy" not in box_header.split():
-            raise ValueError(f"{where}: expected a triclinic box")
-        bounds = [[float(v) for v in line.split()] for line in lines[5:8]]
-        (xlo_b, xhi_b, xy), (ylo_b, yhi_b, xz), (zlo, zhi, yz) = bounds
-        xlo = xlo_b - min(0.0, xy, xz, xy + xz)
-        xhi = xhi_b - max(0.0, xy, xz, xy + xz)
-        ylo = ylo_b - min(0.0, yz)
-        yhi = yhi_b - max(0.0, yz)
-        box = TriclinicBox(xhi - xlo, yhi - ylo, zhi - zlo, xy, xz, yz, (xlo, ylo, zlo))
-        columns = lines[8].split()[2:]
-        rows = lines[9:]
-        if len(rows) == n_atoms + 1 and not rows[-1].endswith("\n"):
-            # iter_frame_blocks appends a cut-off first line of the next frame to this one
+    blocks = iter_frame_blocks(path)
+    frame_index = 0
+    while True:
+        try:
+            step, lines = next(blocks)
+        except StopIteration:
+            return
+        except UnicodeDecodeError as err:
+            raise ValueError(f"{path}: frame {frame_index}: not a text dump ({err})") from None
+        try:
+            yield _parse_frame(path, frame_index, step, lines)
+        except (ValueError, IndexError, KeyError) as err:
+            if str(path) in str(err):
+                raise
             raise ValueError(
-                f"{path}: frame {frame_index + 1} (after step {step}) is truncated: "
-                f"the file ends inside its first line {rows[-1]!r}"
-            )
-        if len(rows) > n_atoms:
-            raise ValueError(f"{where}: {len(rows)} atom lines for {n_atoms} atoms")
-        cut = _truncation(rows, n_atoms)
-        if cut:
-            raise ValueError(f"{where} is truncated: {cut}")
-        table = np.loadtxt(rows, ndmin=2)
-        index = {name: k for k, name in enumerate(columns)}
-        table = table[np.argsort(table[:, index["id"]])]
-        yield DumpFrameData(
-            step=step,
-            box=box,
-            ids=table[:, index["id"]].astype(int),
-            types=table[:, index["type"]].astype(int),
-            radii=table[:, index["radius"]],
-            positions=table[:, [index["x"], index["y"], index["z"]]],
+                f"{path}: frame {frame_index} (step {step}) is malformed ({type(err).__name__}: {err})"
+            ) from None
+        frame_index += 1
+
+
+def _parse_frame(path, frame_index: int, step: int, lines: list[str]) -> DumpFrameData:
+    """One frame's block of :func:`iter_frame_blocks` (see :func:`iter_dump_frames`)."""
+    # a step line without its newline is the end of a file cut inside the step number
+    step_known = len(lines) > 1 and lines[1].endswith("\n")
+    where = f"{path}: frame {frame_index}" + (f" (step {step})" if step_known else "")
+    if len(lines) < 9:
+        if not lines[-1].endswith("\n"):  # only the file's last line lacks one
+            raise ValueError(f"{where} is truncated: the file ends inside its header")
+        raise ValueError(f"{where} is truncated: incomplete header ({len(lines)} of 9 lines)")
+    n_atoms = int(lines[3])
+    box_header = lines[4]
+    if "xy" not in box_header.split():
+        raise ValueError(f"{where}: expected a triclinic box")
+    bounds = [[float(v) for v in line.split()] for line in lines[5:8]]
+    (xlo_b, xhi_b, xy), (ylo_b, yhi_b, xz), (zlo, zhi, yz) = bounds
+    xlo = xlo_b - min(0.0, xy, xz, xy + xz)
+    xhi = xhi_b - max(0.0, xy, xz, xy + xz)
+    ylo = ylo_b - min(0.0, yz)
+    yhi = yhi_b - max(0.0, yz)
+    box = TriclinicBox(xhi - xlo, yhi - ylo, zhi - zlo, xy, xz, yz, (xlo, ylo, zlo))
+    columns = lines[8].split()[2:]
+    rows = lines[9:]
+    if len(rows) == n_atoms + 1 and not rows[-1].endswith("\n"):
+        # iter_frame_blocks appends a cut-off first line of the next frame to this one
+        raise ValueError(
+            f"{path}: frame {frame_index + 1} (after step {step}) is truncated: "
+            f"the file ends inside its first line {rows[-1]!r}"
         )
+    if len(rows) > n_atoms:
+        raise ValueError(f"{where}: {len(rows)} atom lines for {n_atoms} atoms")
+    cut = _truncation(rows, n_atoms)
+    if cut:
+        raise ValueError(f"{where} is truncated: {cut}")
+    table = np.loadtxt(rows, ndmin=2)
+    index = {name: k for k, name in enumerate(columns)}
+    table = table[np.argsort(table[:, index["id"]])]
+    return DumpFrameData(
+        step=step,
+        box=box,
+        ids=table[:, index["id"]].astype(int),
+        types=table[:, index["type"]].astype(int),
+        radii=table[:, index["radius"]],
+        positions=table[:, [index["x"], index["y"], index["z"]]],
+    )
 
 
 def iter_frame_blocks(path: str | os.PathLike) -> Iterator[tuple[int, list[str]]]:

@@ -40,7 +40,7 @@ from .model import (
     VECTOR_ORDER,
     as_strains,
     closure_model_rhs,
-    propagate_affine,
+    solve_affine,
     split_strain_rate,
     sym_to_vec,
     vec_to_sym,
@@ -325,9 +325,7 @@ def integrate(
     fabric0 = np.asarray(fabric0, dtype=float)
     if fabric_model.affine:
         M, b = affine_system(fabric_model, flow, params, phi)
-        v_ss = -np.linalg.solve(M, b[..., None])[..., 0]
-        deviation = sym_to_vec(fabric0) - v_ss
-        return vec_to_sym(v_ss[..., None, :] + propagate_affine(M, deviation, strains))
+        return vec_to_sym(solve_affine(M, b, sym_to_vec(fabric0), strains))
     batch = np.broadcast_shapes(fabric0.shape[:-2], flow.grad_hat.shape[:-2])
     starts = np.broadcast_to(fabric0, batch + (3, 3)).reshape(-1, 3, 3)
     flows = [np.broadcast_to(t, batch + (3, 3)).reshape(-1, 3, 3) for t in flow]

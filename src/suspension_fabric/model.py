@@ -50,6 +50,7 @@ __all__ = [
     "affine_rhs",
     "integrate_fabric",
     "propagate_affine",
+    "solve_affine",
     "closure_model_rhs",
     "shear_steady_parts",
     "roots_on_grid",
@@ -286,20 +287,42 @@ def propagate_affine(M, deviation, strains) -> np.ndarray:
     return np.einsum("...sij,...j->...si", propagators, deviation)
 
 
+#: Above this condition number of M the fixed point -M^-1 b is not used (it may not exist: a
+#: stability exchange of the flow) and the augmented exponential propagates v instead.
+SINGULAR_CONDITION = 1e8
+
+
+def solve_affine(M, b, v0, strains) -> np.ndarray:
+    """v(gamma) of dv/dgamma = M v + b from v0 at every strain, shape batch + (strains, 6) (M, b,
+    v0 broadcast): v_ss + expm(M gamma)(v0 - v_ss) with v_ss = -M^-1 b when M is well
+    conditioned, else the exponential of the augmented matrix [[M, b], [0, 0]] applied to (v0, 1),
+    which needs no inverse (exact for a singular M too)."""
+    M, b, v0 = (np.asarray(x, dtype=float) for x in (M, b, v0))
+    if np.all(np.linalg.cond(M) < SINGULAR_CONDITION):
+        v_ss = -np.linalg.solve(M, b[..., None])[..., 0]
+        # one decomposition per flow; fabrics sharing a flow share it (cheap angle grids)
+        return v_ss[..., None, :] + propagate_affine(M, v0 - v_ss, strains)
+    batch = np.broadcast_shapes(M.shape[:-2], b.shape[:-1])
+    augmented = np.zeros(batch + (7, 7))
+    augmented[..., :6, :6] = M
+    augmented[..., :6, 6] = b
+    start = np.concatenate([v0, np.ones(v0.shape[:-1] + (1,))], axis=-1)
+    propagators = scipy.linalg.expm(augmented[..., None, :, :] * strains[:, None, None])
+    return np.einsum("...sij,...j->...si", propagators, start)[..., :6]
+
+
 def integrate_fabric(fabric0, velocity_gradient, strains, beta, A=None, phi=0.45) -> np.ndarray:
     """Exact fabric <nn>(gamma) under a constant velocity gradient.
 
     Uses v(gamma) = v_ss + expm(M gamma)(v0 - v_ss) for the affine system of
-    :func:`affine_rhs`. ``fabric0`` (..., 3, 3) and ``velocity_gradient`` (..., 3, 3)
-    broadcast; ``strains`` is 1-D (strain since the initial fabric). Returns an
-    array of shape ``batch + (len(strains), 3, 3)``.
+    :func:`affine_rhs` (:func:`solve_affine`, which also takes a singular M). ``fabric0``
+    (..., 3, 3) and ``velocity_gradient`` (..., 3, 3) broadcast; ``strains`` is 1-D (strain
+    since the initial fabric). Returns an array of shape ``batch + (len(strains), 3, 3)``.
     """
     fabric0 = _check_fabric("fabric0", fabric0)
     strains = as_strains(strains)
     M, b = affine_rhs(velocity_gradient, beta, A, phi)
-    v_ss = -np.linalg.solve(M, b[..., None])[..., 0]
-    # One decomposition per flow; fabrics sharing a flow share it (cheap angle grids).
-    return vec_to_sym(v_ss[..., None, :] + propagate_affine(M, sym_to_vec(fabric0) - v_ss, strains))
+    return vec_to_sym(solve_affine(M, b, sym_to_vec(fabric0), strains))
 
 
 def integrate_fabric_ode(fabric0, velocity_gradient, strains, beta, A=None, phi=0.45, rtol=1e-10, atol=1e-12):

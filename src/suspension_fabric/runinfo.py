@@ -42,8 +42,12 @@ def read_run_info(marker: str | os.PathLike) -> RunInfo:
         raise FileNotFoundError(f"run completion marker not found: {path}")
     try:
         content = json.loads(path.read_text())
-    except json.JSONDecodeError as err:
+    except (json.JSONDecodeError, UnicodeDecodeError) as err:
         raise ValueError(f"{path}: not valid JSON ({err})") from None
+    if not isinstance(content, dict):
+        raise ValueError(f"{path}: expected a JSON object, got {type(content).__name__}")
+    # a rotation's record must state its angle: the startup's default 0 would be silently wrong
+    rotated = str(content.get("script", "")).startswith("rotate")
 
     def entry(section: str, key: str, convert, default=None):
         part = content.get(section) if isinstance(content, dict) else None
@@ -61,6 +65,6 @@ def read_run_info(marker: str | os.PathLike) -> RunInfo:
         dt=entry("variables", "dt", float),
         rate=entry("variables", "rate", float),
         first_step=entry("results", "first_step", int),
-        theta_deg=entry("variables", "theta_deg", float, default=0.0),
+        theta_deg=entry("variables", "theta_deg", float, default=None if rotated else 0.0),
         eta_f=entry("variables", "eta_f", float) if "eta_f" in content.get("variables", {}) else None,
     )

@@ -65,7 +65,7 @@ from .frames import simulation_to_paper
 from .model import VECTOR_ORDER, sym_to_vec
 from .runinfo import read_run_info
 from .stressio import read_stress_table
-from .tables import read_fabric_table
+from .tables import read_fabric_table, read_table_csv
 
 __all__ = [
     "PARTS",
@@ -314,9 +314,7 @@ def read_stress_csv(path: str | os.PathLike, lubrication_stress: str = "dipole")
     ``lubrication_stress`` as in :func:`with_lubrication_stress`.
     """
     path = Path(path)
-    if not path.is_file():
-        raise FileNotFoundError(f"stress table not found: {path}")
-    frame = pd.read_csv(path)
+    frame = read_table_csv(path, "stress table", unrecorded_ok=OPTIONAL_COLUMNS)
     for column in OPTIONAL_COLUMNS:
         if column not in frame.columns:
             frame[column] = np.nan

@@ -33,14 +33,26 @@ UNRECORDED_COLUMNS = (
 
 
 def read_stress_table(path: str | os.PathLike) -> dict[str, np.ndarray]:
-    """The stress/tilt table of a shear run as {column: array}."""
+    """The stress/tilt table of a shear run as {column: array}; a last row without its newline (a
+    killed run) is left out; errors name the file."""
     path = Path(path)
-    with open(path) as handle:
-        header = handle.readline()
-    if not header.startswith("#"):
+    try:
+        text = path.read_text()
+    except UnicodeDecodeError as err:
+        raise ValueError(f"{path}: not a text table ({err})") from None
+    lines = text.splitlines(keepends=True)
+    if not lines or not lines[0].startswith("#"):
         raise ValueError(f"{path}: expected a '# step strain ...' header line")
-    names = header[1:].split()
-    data = np.loadtxt(path, comments="#", ndmin=2)
+    if not lines[0].endswith("\n"):
+        raise ValueError(f"{path}: the file ends inside its header line")
+    names = lines[0][1:].split()
+    rows = [line for line in lines[1:] if line.strip() and not line.startswith("#")]
+    if rows and not rows[-1].endswith("\n"):  # a row cut by a killed run, as iter_table_rows
+        rows = rows[:-1]
+    try:
+        data = np.loadtxt(rows, ndmin=2) if rows else np.empty((0, len(names)))
+    except ValueError as err:
+        raise ValueError(f"{path}: a malformed row ({err})") from None
     if data.shape[1] != len(names):
         raise ValueError(f"{path}: {data.shape[1]} columns but header names {len(names)}")
     return {name: data[:, k] for k, name in enumerate(names)}

@@ -41,6 +41,7 @@ Steady state (:func:`steady_state`)
 from __future__ import annotations
 
 import os
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -146,12 +147,53 @@ def write_fabric_table(table: pd.DataFrame, path: str | os.PathLike) -> Path:
     return path
 
 
-def read_fabric_table(path: str | os.PathLike) -> pd.DataFrame:
-    """Read a fabric-table CSV, checking the columns; errors name the file."""
+def read_table_csv(path: str | os.PathLike, what: str, unrecorded_ok=()) -> pd.DataFrame:
+    """A per-frame table CSV (fabric or stress) as written by pandas, its structure checked: the
+    whole file ends with a newline (a cut file is refused, not read with a cut number), every
+    header name is distinct and named, every row has the header's fields, every column is
+    numeric and finite (the columns ``unrecorded_ok`` may instead be empty in every row).
+    ``ValueError`` naming the file otherwise; ``FileNotFoundError`` if absent."""
     path = Path(path)
     if not path.is_file():
-        raise FileNotFoundError(f"fabric table not found: {path}")
-    table = pd.read_csv(path)
+        raise FileNotFoundError(f"{what} not found: {path}")
+    raw = path.read_bytes()
+    if not raw.endswith(b"\n"):
+        raise ValueError(f"{path}: the {what} does not end with a newline (cut or incomplete)")
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", pd.errors.ParserWarning)  # a row longer than the header
+            table = pd.read_csv(path, index_col=False, encoding="utf-8")
+    except (
+        pd.errors.ParserError,
+        pd.errors.ParserWarning,
+        pd.errors.EmptyDataError,
+        UnicodeDecodeError,
+        ValueError,
+    ) as err:
+        raise ValueError(f"{path}: not a readable {what} ({type(err).__name__}: {err})") from None
+    names = list(table.columns)
+    bad = [str(n) for n in names if str(n).startswith("Unnamed:") or "." in str(n) and str(n).split(".")[0] in names]
+    if bad or len(set(names)) != len(names):
+        raise ValueError(f"{path}: the {what}'s header has empty or repeated column names {bad}")
+    if len(raw.splitlines()) - 1 != len(table):
+        raise ValueError(f"{path}: {len(raw.splitlines()) - 1} rows but {len(table)} read (blank or broken lines)")
+    text = [str(c) for c in names if not pd.api.types.is_numeric_dtype(table[c])]
+    if text:
+        raise ValueError(f"{path}: non-numeric values in column(s) {text} of the {what}")
+    missing = [
+        str(c)
+        for c in names
+        if not np.isfinite(table[c].to_numpy(dtype=float)).all() and not (c in unrecorded_ok and table[c].isna().all())
+    ]
+    if missing:
+        raise ValueError(f"{path}: empty or non-finite values in column(s) {missing} of the {what}")
+    return table
+
+
+def read_fabric_table(path: str | os.PathLike) -> pd.DataFrame:
+    """Read a fabric-table CSV, checking its structure (:func:`read_table_csv`) and columns; errors
+    name the file."""
+    table = read_table_csv(path, "fabric table")
     return _check_table(table, str(path))[list(TABLE_COLUMNS)]
 
 
