@@ -303,6 +303,7 @@ def test_report_shows_the_tables(study):
         "model_errors_summary.html",
         "verdicts.html",
         "stress.html",
+        "stress_leaderboard.html",
         "leaderboard.html",
     }, set(pages)
     for caption in (

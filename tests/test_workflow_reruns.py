@@ -77,15 +77,31 @@ CASES = {
     ),
     "verdicts.level": (
         ["verdicts={level: 0.9}"],
-        {("verdicts", ""), ("figure_claims", ""), ("stress_relation", ""), ("benchmark_models", "")},
+        {
+            ("verdicts", ""),
+            ("figure_claims", ""),
+            ("stress_relation", ""),
+            ("benchmark_models", ""),
+            ("benchmark_stress_relations", ""),
+        },
         set(),
     ),
     "verdicts.window": (
         ["verdicts={window: 0.05}"],
-        {("claims", ""), ("stress_relation", ""), ("benchmark_models", "")},
+        {("claims", ""), ("stress_relation", ""), ("benchmark_models", ""), ("benchmark_stress_relations", "")},
         set(),
     ),
-    "models.held_out_folds": (["models={held_out_folds: 3}"], {("benchmark_models", "")}, set()),
+    "models.held_out_folds": (
+        ["models={held_out_folds: 3}"],
+        {("benchmark_models", ""), ("benchmark_stress_relations", "")},
+        set(),
+    ),
+    "models.stress": (["models={stress: [gw]}"], {("benchmark_stress_relations", "")}, set()),
+    "analysis.lubrication_stress": (
+        ["analysis={steady_window: [0.1, 0.3], lubrication_stress: stresslet}"],
+        {("aggregate_stress_startup", ""), ("aggregate_stress_rotation", "")},
+        set(),
+    ),
     "checks, thermo and restart intervals": (
         [
             "run={thermo_strain: 0.02, restart_strain: 0.05, max_overlap: 0.02, max_stress_jitter: 0.6, "
