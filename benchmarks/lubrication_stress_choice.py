@@ -27,7 +27,10 @@ from suspension_fabric.seed_statistics import t_interval
 QUANTITIES = ("eta_r", "N1", "N2", "Pi", "lubrication_12")
 
 
-def seed_steady(study: Path, window=(2.0, 5.0)) -> pd.DataFrame:
+def seed_steady(study: Path) -> pd.DataFrame:
+    """Each seed's mean of QUANTITIES over the study's own steady window (its steady-state table's)."""
+    steady = pd.read_csv(study / "tables/stress_steady_state.csv")
+    window = (steady["strain_min"].iloc[0], steady["strain_max"].iloc[0])
     runs = pd.read_csv(study / "tables/stress_startup_runs.csv")
     inside = runs[(runs["strain"] >= window[0]) & (runs["strain"] <= window[1])]
     return inside.groupby("seed")[list(QUANTITIES)].mean()

@@ -18,7 +18,7 @@ import pytest
 from scipy import stats
 from scipy.optimize import brentq
 
-from suspension_fabric import frames, model, stress_model, tables
+from suspension_fabric import frames, model, stress_model, stress_relations, tables
 from suspension_fabric.stress import EINSTEIN_COEFFICIENT
 
 RNG = np.random.default_rng(20240611)
@@ -76,7 +76,7 @@ def explicit_terms(fabric) -> tuple[np.ndarray, np.ndarray]:
 def test_strain_rate_parts_of_simple_shear():
     """split_strain_rate(e1 e2) gives E^ = (e1e2 + e2e1)/2 and E^_c = -(1/2) v_c v_c,
     v_c = (e1 - e2)/sqrt 2, gammadot = 1: the kinematics the module evaluates the relation on."""
-    _, e_hat, e_ext, e_comp, gammadot = stress_model._E_HAT
+    _, e_hat, e_ext, e_comp, gammadot = stress_relations._E_HAT
     np.testing.assert_allclose(e_hat, E_HAT, atol=1e-15)
     np.testing.assert_allclose(e_comp, E_COMP, atol=1e-15)
     np.testing.assert_allclose(e_ext, E_EXT, atol=1e-15)

@@ -41,6 +41,7 @@ from .tables import fabric_tensors
 
 __all__ = [
     "by_seed",
+    "angle_mask",
     "SeedCurves",
     "seed_curves",
     "model_curves",
@@ -135,7 +136,7 @@ def _components(tensors) -> np.ndarray:
     return tensors[..., _ROWS, _COLS]
 
 
-def _angle_mask(curves: SeedCurves, thetas=None) -> np.ndarray:
+def angle_mask(curves, thetas=None) -> np.ndarray:
     """Which of the curves' angles are among ``thetas`` (degrees; default all)."""
     if thetas is None:
         return np.ones(len(curves.thetas), dtype=bool)
@@ -158,7 +159,7 @@ def fit_global(
     select = np.isin(curves.seeds, curves.seeds if seeds is None else seeds)
     if select.sum() < 2:
         raise ValueError("a global fit needs at least two seeds (the weights are their standard errors)")
-    angle = _angle_mask(curves, train_thetas)
+    angle = angle_mask(curves, train_thetas)
     startup = _components(curves.startup[select])
     rotation = _components(curves.rotation[select][:, angle])
     targets = (startup.mean(axis=0), rotation.mean(axis=0))
@@ -213,7 +214,7 @@ def seed_errors(predicted_rotation, curves: SeedCurves, thetas=None) -> np.ndarr
     """Per seed and component (seeds, 6): mean over the angles ``thetas`` (default all) and the
     strains of (0, W] of (model - seed curve)^2 / (<nn>_12^ss)^2; ``predicted_rotation`` is
     (angles, R, 3, 3) at those angles."""
-    observed = _components(curves.rotation[:, _angle_mask(curves, thetas)])  # (seeds, angles, R, 6)
+    observed = _components(curves.rotation[:, angle_mask(curves, thetas)])  # (seeds, angles, R, 6)
     predicted = _components(predicted_rotation)[None]
     # claims.mean_square averages over the strains on the last axis: put the components before them
     per_angle = mean_square(np.moveaxis(predicted, -1, -2), np.moveaxis(observed, -1, -2), curves.rotation_strains)

@@ -38,10 +38,10 @@ What each reported quantity contains (solvent, Einstein term, dipoles or stressl
 combination the figures, the steady-state table and the G-W stress relation use is stated in
 docs/gw_stress_relation.md, section 2.5, with how to compare with LF_DEM (no Einstein term,
 stresslets with their trace). Which lubrication stress the study's tables use from the seed
-aggregates on is the config key ``analysis.lubrication_stress`` (:func:`with_lubrication_stress`): ``dipole``
-(the default) keeps
-the per-run tables as they are; ``stresslet`` puts the stresslets in the ``lubrication`` part
-and the total, and recomputes eta_r, N1, N2 and Pi (the stresslets add nothing to Pi).
+aggregates on is the config key ``analysis.lubrication_stress`` (:func:`with_lubrication_stress`):
+``dipole`` (the default) keeps the per-run tables as they are; ``stresslet`` puts the stresslets
+in the ``lubrication`` part and the total, and recomputes eta_r, N1, N2 and Pi (the stresslets
+add nothing to Pi).
 
 Each value at a frame is the mean of the table rows within half a frame interval of it
 (rows with step in (s - h, s + h], h = half the frame spacing in steps; only rows after the

@@ -34,7 +34,7 @@ import numpy as np
 import pandas as pd
 from scipy.optimize import minimize, minimize_scalar
 
-from .model_benchmark import angle_folds, by_seed
+from .model_benchmark import angle_folds, angle_mask, by_seed
 from .seed_statistics import LEVEL, jackknife, t_interval
 from .stress_relations import RelationError, StressRelation, coefficients, relation_stress
 
@@ -176,17 +176,11 @@ def relation_predictions(relation: StressRelation, params, curves: StressCurves,
     }
 
 
-def _angle_mask(curves: StressCurves, thetas=None) -> np.ndarray:
-    if thetas is None:
-        return np.ones(len(curves.thetas), dtype=bool)
-    return np.array([np.any(np.isclose(t, np.asarray(thetas, dtype=float))) for t in curves.thetas])
-
-
 def seed_scores(predicted: dict, curves: StressCurves, thetas=None) -> dict[str, tuple[np.ndarray, np.ndarray]]:
     """Per scored quantity, (mean square error, mean signed error) per seed (module docstring), the
     rotation over ``thetas`` (default all)."""
     scale = curves.eta_ss
-    angle = _angle_mask(curves, thetas)
+    angle = angle_mask(curves, thetas)
     after_rotation = curves.rotation_strains > 0.0
     after_start = curves.startup_strains > 0.0
     rotation = (
@@ -204,10 +198,10 @@ def seed_scores(predicted: dict, curves: StressCurves, thetas=None) -> dict[str,
 
 
 def _objective(relation: StressRelation, curves: StressCurves, train_thetas, seeds):
-    """Mean over the selected seeds and curves (startup and each training angle) of eta_r's mean square error."""
+    """Mean over the selected seeds and curves (startup and each training angle) of eta_r's mean
+    square error (:func:`seed_scores`)."""
     select = _select(curves, seeds)
-    angle = _angle_mask(curves, train_thetas)
-    after_rotation, after_start = curves.rotation_strains > 0.0, curves.startup_strains > 0.0
+    n_angles = int(angle_mask(curves, train_thetas).sum())
 
     def value(x) -> float:
         params = dict(zip(relation.names, np.atleast_1d(x)))
@@ -217,17 +211,9 @@ def _objective(relation: StressRelation, curves: StressCurves, train_thetas, see
                 predicted = relation_predictions(relation, params, curves, curves.seeds[select])
             except RelationError:
                 return np.inf
-            rotation = (
-                (
-                    predicted["eta_r rotation"][select][:, angle][..., after_rotation]
-                    - curves.rotation_eta[select][:, angle][..., after_rotation]
-                )
-                ** 2
-            ).mean(axis=-1)
-            startup = (
-                (predicted["eta_r startup"][select][:, after_start] - curves.startup_eta[select][:, after_start]) ** 2
-            ).mean(axis=-1)
-            total = float(np.concatenate([rotation, startup[:, None]], axis=1).mean()) / curves.eta_ss**2
+            scores = seed_scores(predicted, curves, train_thetas)
+            per_seed = (n_angles * scores["eta_r rotation"][0] + scores["eta_r startup"][0]) / (n_angles + 1)
+            total = float(per_seed[select].mean())
         return total if np.isfinite(total) else np.inf
 
     return value
@@ -289,7 +275,8 @@ def relation_leaderboard(
                     )[1]
                     for name in relation.names
                 }
-            for name, value in {**predicted["coefficients"], **params}.items():
+            fitted = {name: predicted["coefficients"][name] for name in ("a_H", "a_C")}
+            for name, value in {**fitted, **params}.items():
                 parameters.append(
                     {
                         "relation": key,

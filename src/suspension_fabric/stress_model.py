@@ -41,11 +41,10 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from . import model
+from . import stress_relations as relations
 from .fabric import COMPONENTS
-from .frames import simple_shear_gradient
 from .seed_statistics import LEVEL, bootstrap_means, t_interval
-from .stress import EINSTEIN_COEFFICIENT
+from .stress_relations import relation_terms
 from .tables import fabric_tensors, steady_state
 from .verdicts import TOLERANCE, settle_strain
 
@@ -83,14 +82,6 @@ PREDICTED_COLUMNS = (
     "lubrication_12",
     "lubrication_23",
 )
-_E_HAT = model.split_strain_rate(simple_shear_gradient())
-
-
-def relation_terms(fabric) -> tuple[np.ndarray, np.ndarray]:
-    """(<nnnn>:E^, <nnnn>:E^_c) of simple shear e1 e2 for fabric(s) of shape (..., 3, 3)."""
-    _, e_hat, _, e_comp, _ = _E_HAT
-    fabric = np.asarray(fabric, dtype=float)
-    return model.contract_closure(e_hat, fabric), model.contract_closure(e_comp, fabric)
 
 
 def fit_relation(
@@ -101,20 +92,11 @@ def fit_relation(
     contact_12_sem: float = np.nan,
 ) -> dict:
     """a_H and a_C (with the errors of the stress targets) from a steady fabric and the
-    steady lubrication and contact shear stresses (units eta_f gammadot)."""
-    hydro, contact = relation_terms(steady_fabric)
-    h12, c12 = float(hydro[0, 1]), float(contact[0, 1])
-    if not (h12 > 0 and c12 > 0):
-        raise ValueError(
-            f"the steady fabric gives (<nnnn>:E^)_12 = {h12:.4g} and (<nnnn>:E^_c)_12 = {c12:.4g}; "
-            "both must be positive to fit the relation"
-        )
-    return {
-        "a_H": lubrication_12 / h12,
-        "a_H_err": lubrication_12_sem / h12,
-        "a_C": contact_12 / c12,
-        "a_C_err": contact_12_sem / c12,
-    }
+    steady lubrication and contact shear stresses (units eta_f gammadot): the G-W relation's
+    :func:`suspension_fabric.stress_relations.coefficients`."""
+    return relations.coefficients(
+        relations.GW_RELATION, steady_fabric, lubrication_12, contact_12, {}, lubrication_12_sem, contact_12_sem
+    )
 
 
 def steady_value(stress_steady: pd.DataFrame, quantity: str) -> tuple[float, float]:
@@ -136,31 +118,12 @@ def source_steady_fabrics(fits: dict) -> dict[str, np.ndarray]:
 
 
 def relation_stress(fabric, coefficients: dict, phi: float) -> pd.DataFrame:
-    """The relation's stress for fabric(s) (..., 3, 3) in the paper frame of simple shear e1 e2:
-    one row per fabric with :data:`PREDICTED_COLUMNS`."""
-    hydro, contact = relation_terms(np.atleast_3d(np.asarray(fabric, dtype=float)).reshape(-1, 3, 3))
-    lubrication = coefficients["a_H"] * hydro
-    contacts = coefficients["a_C"] * contact
-    particle = lubrication + contacts
-    total = particle.copy()
-    total[:, 0, 1] += 1.0 + EINSTEIN_COEFFICIENT * phi
-    total[:, 1, 0] = total[:, 0, 1]
-    columns = pd.DataFrame(
-        {
-            "eta_r": total[:, 0, 1],
-            "N1": total[:, 0, 0] - total[:, 1, 1],
-            "N2": total[:, 1, 1] - total[:, 2, 2],
-            "Pi": -np.trace(particle, axis1=1, axis2=2) / 3.0,
-            "total_12": total[:, 0, 1],
-            "total_23": total[:, 1, 2],
-            "total_13": total[:, 0, 2],
-            "contact_12": contacts[:, 0, 1],
-            "contact_23": contacts[:, 1, 2],
-            "lubrication_12": lubrication[:, 0, 1],
-            "lubrication_23": lubrication[:, 1, 2],
-        }
-    )
-    return columns[list(PREDICTED_COLUMNS)]
+    """The G-W relation's stress for fabric(s) (..., 3, 3) in the paper frame of simple shear e1 e2:
+    one row per fabric with :data:`PREDICTED_COLUMNS` (:func:`suspension_fabric.stress_relations.relation_stress`)."""
+    fabrics = np.asarray(fabric, dtype=float).reshape(-1, 3, 3)
+    return pd.DataFrame(relations.relation_stress(relations.GW_RELATION, fabrics, coefficients, {}, phi))[
+        list(PREDICTED_COLUMNS)
+    ]
 
 
 def relation_fits(stress_steady: pd.DataFrame, fits: dict) -> pd.DataFrame:

@@ -35,12 +35,12 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
-import pandas as pd
 
+from . import model
 from .fabric_models import Parameter, check_parameters
+from .frames import simple_shear_gradient
 from .plugins import load_plugin, resolve_plugins
 from .stress import EINSTEIN_COEFFICIENT
-from .stress_model import relation_terms
 
 __all__ = [
     "RelationError",
@@ -53,10 +53,23 @@ __all__ = [
     "coefficients",
     "relation_stress",
     "STRESS_QUANTITIES",
+    "relation_terms",
 ]
 
 #: What :func:`relation_stress` returns per fabric, in units of eta_f gammadot.
-STRESS_QUANTITIES = ("eta_r", "N1", "N2", "Pi", "lubrication_12", "contact_12")
+STRESS_QUANTITIES = (
+    "eta_r",
+    "N1",
+    "N2",
+    "Pi",
+    "total_12",
+    "total_23",
+    "total_13",
+    "contact_12",
+    "contact_23",
+    "lubrication_12",
+    "lubrication_23",
+)
 
 
 class RelationError(ValueError):
@@ -73,6 +86,8 @@ class StressRelation:
     forms: Callable
     parameters: tuple[Parameter, ...] = ()
     description: str = field(default="", compare=False)
+    #: how messages name the two forms
+    term_names: tuple[str, str] = ("H", "C")
 
     def __post_init__(self):
         if not self.key.isidentifier():
@@ -96,6 +111,16 @@ class StressRelation:
         return {p.name: p.start for p in self.parameters}
 
 
+_E_HAT = model.split_strain_rate(simple_shear_gradient())
+
+
+def relation_terms(fabric) -> tuple[np.ndarray, np.ndarray]:
+    """(<nnnn>:E^, <nnnn>:E^_c) of simple shear e1 e2 for fabric(s) of shape (..., 3, 3)."""
+    _, e_hat, _, e_comp, _ = _E_HAT
+    fabric = np.asarray(fabric, dtype=float)
+    return model.contract_closure(e_hat, fabric), model.contract_closure(e_comp, fabric)
+
+
 def _gw_forms(fabric, params):
     return relation_terms(fabric)
 
@@ -112,6 +137,7 @@ GW_RELATION = StressRelation(
     key="gw",
     label="G-W stress relation",
     forms=_gw_forms,
+    term_names=("<nnnn>:E^", "<nnnn>:E^_c"),
     description="sigma^p = a_H <nnnn>:E^ + a_C <nnnn>:E^_c (Gillissen and Wilson 2018)",
 )
 GW_JAMMING = StressRelation(
@@ -138,24 +164,38 @@ def resolve_relations(specs) -> dict[str, StressRelation]:
 
 
 def coefficients(
-    relation: StressRelation, steady_fabric, lubrication_12: float, contact_12: float, params: Mapping[str, float]
+    relation: StressRelation,
+    steady_fabric,
+    lubrication_12: float,
+    contact_12: float,
+    params: Mapping[str, float],
+    lubrication_12_sem: float = np.nan,
+    contact_12_sem: float = np.nan,
 ) -> dict[str, float]:
-    """a_H and a_C that reproduce the steady lubrication and contact sigma_12 at the steady fabric."""
+    """a_H and a_C that reproduce the steady lubrication and contact sigma_12 at the steady fabric,
+    with the errors the targets' standard errors give them (a_H_err, a_C_err)."""
     hydro, contact = relation.forms(np.asarray(steady_fabric, dtype=float), relation.check(params))
     h12, c12 = float(hydro[0, 1]), float(contact[0, 1])
     if not (0.0 < h12 < math.inf and 0.0 < c12 < math.inf):
         raise RelationError(
-            f"stress relation {relation.key} at {dict(params)}: the steady fabric gives H_12 = "
-            f"{h12:.4g} and C_12 = {c12:.4g}; both must be positive and finite"
+            f"stress relation {relation.key} at {dict(params)}: the steady fabric gives "
+            f"({relation.term_names[0]})_12 = {h12:.4g} and ({relation.term_names[1]})_12 = {c12:.4g}; both must "
+            "be positive and finite"
         )
-    return {"a_H": lubrication_12 / h12, "a_C": contact_12 / c12}
+    return {
+        "a_H": lubrication_12 / h12,
+        "a_H_err": lubrication_12_sem / h12,
+        "a_C": contact_12 / c12,
+        "a_C_err": contact_12_sem / c12,
+    }
 
 
 def relation_stress(
     relation: StressRelation, fabric, coefficient: Mapping[str, float], params: Mapping[str, float], phi: float
 ) -> dict[str, np.ndarray]:
-    """:data:`STRESS_QUANTITIES` for fabrics (..., 3, 3): eta_r with the solvent and Einstein
-    terms, the normal stress differences and the particle pressure of the relation."""
+    """:data:`STRESS_QUANTITIES` for fabrics (..., 3, 3), each of shape (...): eta_r (= total_12,
+    with the solvent and Einstein terms), the normal stress differences, the particle pressure
+    and the shear components of the total and of both terms."""
     hydro, contact = relation.forms(np.asarray(fabric, dtype=float), relation.check(params))
     lubrication, contacts = coefficient["a_H"] * hydro, coefficient["a_C"] * contact
     particle = lubrication + contacts
@@ -165,21 +205,11 @@ def relation_stress(
         "N1": particle[..., 0, 0] - particle[..., 1, 1],
         "N2": particle[..., 1, 1] - particle[..., 2, 2],
         "Pi": -np.trace(particle, axis1=-2, axis2=-1) / 3.0,
-        "lubrication_12": lubrication[..., 0, 1],
+        "total_12": eta,
+        "total_23": particle[..., 1, 2],
+        "total_13": particle[..., 0, 2],
         "contact_12": contacts[..., 0, 1],
+        "contact_23": contacts[..., 1, 2],
+        "lubrication_12": lubrication[..., 0, 1],
+        "lubrication_23": lubrication[..., 1, 2],
     }
-
-
-def describe(relations: Mapping[str, StressRelation]) -> pd.DataFrame:
-    """One row per relation: key, label, shape parameters, description (for the report)."""
-    return pd.DataFrame(
-        [
-            {
-                "relation": r.key,
-                "label": r.label,
-                "shape_parameters": ", ".join(r.names) or "none",
-                "description": r.description,
-            }
-            for r in relations.values()
-        ]
-    )

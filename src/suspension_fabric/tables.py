@@ -40,6 +40,7 @@ Steady state (:func:`steady_state`)
 
 from __future__ import annotations
 
+import io
 import os
 import warnings
 from pathlib import Path
@@ -162,7 +163,7 @@ def read_table_csv(path: str | os.PathLike, what: str, unrecorded_ok=()) -> pd.D
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("error", pd.errors.ParserWarning)  # a row longer than the header
-            table = pd.read_csv(path, index_col=False, encoding="utf-8")
+            table = pd.read_csv(io.BytesIO(raw), index_col=False, encoding="utf-8")  # the bytes checked above
     except (
         pd.errors.ParserError,
         pd.errors.ParserWarning,
