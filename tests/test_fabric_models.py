@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from suspension_fabric import fabric_models as fm
-from suspension_fabric import model
+from suspension_fabric import frames, model
 from suspension_fabric.frames import simple_shear_gradient
 
 PHI = 0.45
@@ -19,7 +19,7 @@ STRAINS = np.linspace(0.0, 3.0, 7)
 THETAS = np.radians([0.0, 45.0, 90.0, 135.0])
 SHEAR = simple_shear_gradient()
 STUDY = {"study": "s", "seeds": [1], "angles_deg": [0]}
-FABRIC0 = model.vec_to_sym([0.03, 0.025, 0.028, -0.004, 0.001, 0.0])
+FABRIC0 = frames.vec_to_sym([0.03, 0.025, 0.028, -0.004, 0.001, 0.0])
 
 
 def relaxation(target):
@@ -28,7 +28,7 @@ def relaxation(target):
 
 
 def relaxation_model(affine, **changes):
-    target = model.vec_to_sym([0.05, 0.03, 0.04, -0.02, 0.0, 0.0])
+    target = frames.vec_to_sym([0.05, 0.03, 0.04, -0.02, 0.0, 0.0])
     return fm.FabricModel(
         key="relax",
         label="relaxation",

@@ -38,11 +38,11 @@ CON_12, CON_12_SEM = 2.36, 0.78
 
 
 def tensor(components: dict) -> np.ndarray:
-    return model.vec_to_sym([components[f"n{c}"] for c in model.VECTOR_ORDER])
+    return frames.vec_to_sym([components[f"n{c}"] for c in frames.VECTOR_ORDER])
 
 
 def shear_fabric(x11, x22, x33, x12) -> np.ndarray:
-    return model.vec_to_sym([x11, x22, x33, x12, 0.0, 0.0])
+    return frames.vec_to_sym([x11, x22, x33, x12, 0.0, 0.0])
 
 
 def random_fabric(scale=0.3) -> np.ndarray:
@@ -428,9 +428,9 @@ def fabric_curve(start: np.ndarray, end: np.ndarray, tau: float) -> np.ndarray:
 
 
 def fabric_rows(fabrics: np.ndarray, theta: float, suffix: str = "", **extra) -> pd.DataFrame:
-    vectors = model.sym_to_vec(fabrics)
+    vectors = frames.sym_to_vec(fabrics)
     data = {"theta": theta, "strain": STRAIN, **extra}
-    for k, name in enumerate(model.VECTOR_ORDER):
+    for k, name in enumerate(frames.VECTOR_ORDER):
         data[f"n{name}{suffix}"] = vectors[:, k]
     return pd.DataFrame(data)
 
@@ -466,7 +466,7 @@ def simulated_stress(aggregate: pd.DataFrame, relation: pd.DataFrame) -> pd.Data
     coefficients = relation.set_index("source").loc["simulation"]
     rows = []
     for _, row in aggregate.iterrows():
-        fabric = tensor({f"n{c}": row[f"n{c}_mean"] for c in model.VECTOR_ORDER})
+        fabric = tensor({f"n{c}": row[f"n{c}_mean"] for c in frames.VECTOR_ORDER})
         h, c = explicit_terms(fabric)
         lub, con = coefficients["a_H"] * h, coefficients["a_C"] * c
         total = lub + con
@@ -503,14 +503,14 @@ def test_stress_predictions_layout_and_values():
             if source == "simulation":
                 table = startup if protocol == "startup" else rotation
                 rows = table[table["theta"] == theta]
-                fabrics = model.vec_to_sym(rows[[f"n{c}_mean" for c in model.VECTOR_ORDER]].to_numpy())
+                fabrics = frames.vec_to_sym(rows[[f"n{c}_mean" for c in frames.VECTOR_ORDER]].to_numpy())
             else:
                 rows = predictions[
                     (predictions["model"] == source)
                     & (predictions["protocol"] == protocol)
                     & (predictions["theta"] == theta)
                 ]
-                fabrics = model.vec_to_sym(rows[[f"n{c}" for c in model.VECTOR_ORDER]].to_numpy())
+                fabrics = frames.vec_to_sym(rows[[f"n{c}" for c in frames.VECTOR_ORDER]].to_numpy())
             expected = stress_model.relation_stress(fabrics, coefficients.loc[source], PHI)
             np.testing.assert_allclose(
                 block[list(stress_model.PREDICTED_COLUMNS)].to_numpy(float),

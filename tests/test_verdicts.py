@@ -12,7 +12,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from suspension_fabric import verdicts
+from suspension_fabric import tables, verdicts
 
 N12_SS = -0.1
 STRAIN = np.round(np.arange(0.0, 2.0 + 1e-9, 0.02), 10)
@@ -59,11 +59,11 @@ def first_grid_strain_after(value: float) -> float:
 
 def test_settle_strain_and_censoring():
     deviation = np.array([0.5, 0.05, 0.2, 0.05, 0.0])
-    assert verdicts.settle_strain(np.arange(5.0), deviation) == (3.0, True)
-    assert verdicts.settle_strain(np.arange(3.0), np.array([0.0, 0.0, 0.3])) == (2.0, False)
+    assert tables.settle_strain(np.arange(5.0), deviation) == (3.0, True)
+    assert tables.settle_strain(np.arange(3.0), np.array([0.0, 0.0, 0.3])) == (2.0, False)
     with pytest.raises(ValueError, match="lengths"):
-        verdicts.settle_strain(np.arange(5.0), np.zeros(3))
-    assert verdicts.settle_strain(np.arange(3.0), np.zeros(3)) == (0.0, True)
+        tables.settle_strain(np.arange(5.0), np.zeros(3))
+    assert tables.settle_strain(np.arange(3.0), np.zeros(3)) == (0.0, True)
 
 
 def test_recovery_strains_follow_tau_ln_10a():

@@ -3,7 +3,8 @@
 Every seed is a replicate of the whole study (:func:`seed_replicate`): its own steady state
 (<nn>_12^ss,s normalises its curves), its own model fits and its own model predictions. The
 functionals of the curves (:func:`deficit`, :func:`transverse_effect`, :func:`overshoot_excess`,
-:func:`mean_square`) are computed per seed and angle (:func:`angle_statistics`); each claim
+:func:`suspension_fabric.model_benchmark.mean_square`) are computed per seed and angle
+(:func:`angle_statistics`); each claim
 (:data:`CLAIMS`) turns them into a decision statistic T per seed and angle whose sign is the
 claim, effect size included (:func:`claim_values`); a claim's T per seed is the mean over its
 angles within the seed, and the seeds give the t-interval and the verdict
@@ -31,6 +32,7 @@ import pandas as pd
 
 from . import model, tables
 from .frames import rotation_about_gradient, simple_shear_gradient, to_basis
+from .model_benchmark import mean_square
 from .model_vs_simulation import fit_both_models
 from .seed_statistics import LEVEL, decide, seeds_needed, t_interval
 from .tables import fabric_tensors
@@ -47,7 +49,6 @@ __all__ = [
     "deficit",
     "transverse_effect",
     "overshoot_excess",
-    "mean_square",
     "angle_statistics",
     "claim_values",
     "claim_angles",
@@ -221,14 +222,6 @@ def overshoot_excess(r12, strain, inside, baseline=None) -> np.ndarray:
     overshoot window: where its own r12 exceeds its baseline); baseline 1 unless a curve is given."""
     difference = np.asarray(r12, dtype=float) - (1.0 if baseline is None else baseline)
     return _integral(np.where(inside, difference, 0.0), strain)
-
-
-def mean_square(predicted, observed, strain) -> np.ndarray:
-    """Mean over the strains of (0, W] of (predicted - observed)^2 (the rotation frame itself,
-    strain 0, left out)."""
-    after = np.asarray(strain) > 0.0
-    difference = np.asarray(predicted, dtype=float) - np.asarray(observed, dtype=float)
-    return np.mean(difference[..., after] ** 2, axis=-1)
 
 
 def angle_statistics(replicates: list[SeedReplicate], choice: Choice) -> pd.DataFrame:

@@ -20,6 +20,7 @@ from .scales import (
     contact_relaxation_time,
     max_dt_explicit,
     max_dt_implicit,
+    output_stride,
 )
 from .stress_relations import RelationError, resolve_relations
 
@@ -246,12 +247,6 @@ def _check_time_step(run: dict, forces: dict, d_small: float) -> None:
             )
     if dt > limit:
         raise ConfigError(f"config key 'run.dt' ({dt:g}) is too large: {reason}; use dt <= {limit:.3g}")
-
-
-def output_stride(strain: float, dt: float, rate: float = 1.0) -> int:
-    """Steps between outputs every ``strain``, as shear_run.lmp computes them (at least 1;
-    LAMMPS's round() takes halves away from zero, Python's to even)."""
-    return max(1, math.floor(strain / (dt * rate) + 0.5))
 
 
 def _check_output_grid(run: dict) -> None:

@@ -35,16 +35,8 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import least_squares
 
 from . import model as paper_models
-from .frames import rotation_about_gradient, simple_shear_gradient, to_basis
-from .model import (
-    VECTOR_ORDER,
-    as_strains,
-    closure_model_rhs,
-    solve_affine,
-    split_strain_rate,
-    sym_to_vec,
-    vec_to_sym,
-)
+from .frames import VECTOR_ORDER, rotation_about_gradient, simple_shear_gradient, sym_to_vec, to_basis, vec_to_sym
+from .model import as_strains, closure_model_rhs, solve_affine, split_strain_rate
 from .plugins import load_plugin, resolve_plugins
 
 __all__ = [

@@ -1,4 +1,5 @@
-"""Frames and rotations shared by the models and the simulation analysis.
+"""Frames and rotations shared by the models and the simulation analysis, and the 6-vector
+storage of symmetric tensors.
 
 Paper frame: e1 flow, e2 gradient, e3 = e1 x e2 vorticity.
 Simulation frame: LAMMPS box axes x, y, z with z the gradient direction; a shear
@@ -20,6 +21,9 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = [
+    "VECTOR_ORDER",
+    "sym_to_vec",
+    "vec_to_sym",
     "rotation_about_gradient",
     "paper_basis_in_simulation_frame",
     "to_basis",
@@ -27,6 +31,29 @@ __all__ = [
     "paper_to_simulation",
     "simple_shear_gradient",
 ]
+
+
+#: Order of the independent components of a symmetric tensor in the 6-vectors of
+#: :func:`sym_to_vec` and :func:`vec_to_sym` (the names of the fabric components in
+#: tables are :data:`suspension_fabric.fabric.COMPONENTS`).
+VECTOR_ORDER = ("11", "22", "33", "12", "13", "23")
+_ROWS = np.array([0, 1, 2, 0, 0, 1])
+_COLS = np.array([0, 1, 2, 1, 2, 2])
+
+
+def sym_to_vec(tensor) -> np.ndarray:
+    """Symmetric tensor(s) (..., 3, 3) -> 6-vectors (..., 6) in :data:`VECTOR_ORDER` order."""
+    tensor = np.asarray(tensor, dtype=float)
+    return tensor[..., _ROWS, _COLS]
+
+
+def vec_to_sym(vec) -> np.ndarray:
+    """6-vectors (..., 6) -> symmetric tensors (..., 3, 3)."""
+    vec = np.asarray(vec, dtype=float)
+    out = np.empty(vec.shape[:-1] + (3, 3))
+    out[..., _ROWS, _COLS] = vec
+    out[..., _COLS, _ROWS] = vec
+    return out
 
 
 def rotation_about_gradient(theta) -> np.ndarray:

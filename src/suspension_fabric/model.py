@@ -27,7 +27,7 @@ v_ss = -M^{-1} b, evaluated as V exp(Lambda gamma) V^-1 (:func:`propagate_affine
 right-hand side numerically (scipy ``solve_ivp``) as an independent reference.
 
 Symmetric tensors are stored as 6-vectors in the order (11, 22, 33, 12, 13, 23)
-(see :data:`VECTOR_ORDER`).
+(:data:`suspension_fabric.frames.VECTOR_ORDER`).
 """
 
 from __future__ import annotations
@@ -39,10 +39,9 @@ import scipy.linalg
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, least_squares
 
-from .frames import rotation_about_gradient, simple_shear_gradient, to_basis
+from .frames import VECTOR_ORDER, rotation_about_gradient, simple_shear_gradient, sym_to_vec, to_basis, vec_to_sym
 
 __all__ = [
-    "VECTOR_ORDER",
     "hinch_leal_closure",
     "contract_closure",
     "split_strain_rate",
@@ -65,37 +64,13 @@ __all__ = [
     "fit_startup_curve",
     "startup_shear",
     "shear_rotation",
-    "sym_to_vec",
-    "vec_to_sym",
 ]
 
-#: Order of the independent components of a symmetric tensor in the 6-vectors of
-#: :func:`sym_to_vec` and :func:`vec_to_sym` (the names of the fabric components in
-#: tables are :data:`suspension_fabric.fabric.COMPONENTS`).
-VECTOR_ORDER = ("11", "22", "33", "12", "13", "23")
-_ROWS = np.array([0, 1, 2, 0, 0, 1])
-_COLS = np.array([0, 1, 2, 1, 2, 2])
 
 # Bracket (and grid) for the rate root searches of the fits (beta is a strain-scale ratio of
 # order 1-100 in the literature; outside this range the fabric is degenerate).
 _BETA_SEARCH = (1e-3, 1e4)
 RATE_GRID = np.geomspace(*_BETA_SEARCH, 4000)
-
-
-# --------------------------------------------------------------------------- utils
-def sym_to_vec(tensor) -> np.ndarray:
-    """Symmetric tensor(s) (..., 3, 3) -> 6-vectors (..., 6) in :data:`VECTOR_ORDER` order."""
-    tensor = np.asarray(tensor, dtype=float)
-    return tensor[..., _ROWS, _COLS]
-
-
-def vec_to_sym(vec) -> np.ndarray:
-    """6-vectors (..., 6) -> symmetric tensors (..., 3, 3)."""
-    vec = np.asarray(vec, dtype=float)
-    out = np.empty(vec.shape[:-1] + (3, 3))
-    out[..., _ROWS, _COLS] = vec
-    out[..., _COLS, _ROWS] = vec
-    return out
 
 
 def _check_finite(name: str, value) -> np.ndarray:

@@ -34,7 +34,6 @@ import pandas as pd
 from scipy.optimize import least_squares
 
 from . import fabric_models
-from .claims import mean_square
 from .fabric import COMPONENTS
 from .seed_statistics import LEVEL, jackknife, t_interval
 from .tables import fabric_tensors
@@ -42,6 +41,7 @@ from .tables import fabric_tensors
 __all__ = [
     "by_seed",
     "angle_mask",
+    "mean_square",
     "SeedCurves",
     "seed_curves",
     "model_curves",
@@ -54,6 +54,14 @@ __all__ = [
 ]
 
 _ROWS, _COLS = (np.array(index) for index in zip(*COMPONENTS.values()))
+
+
+def mean_square(predicted, observed, strain) -> np.ndarray:
+    """Mean over the strains of (0, W] of (predicted - observed)^2 (the rotation frame itself,
+    strain 0, left out)."""
+    after = np.asarray(strain) > 0.0
+    difference = np.asarray(predicted, dtype=float) - np.asarray(observed, dtype=float)
+    return np.mean(difference[..., after] ** 2, axis=-1)
 
 
 class SeedCurves(NamedTuple):
@@ -216,7 +224,7 @@ def seed_errors(predicted_rotation, curves: SeedCurves, thetas=None) -> np.ndarr
     (angles, R, 3, 3) at those angles."""
     observed = _components(curves.rotation[:, angle_mask(curves, thetas)])  # (seeds, angles, R, 6)
     predicted = _components(predicted_rotation)[None]
-    # claims.mean_square averages over the strains on the last axis: put the components before them
+    # mean_square averages over the strains on the last axis: put the components before them
     per_angle = mean_square(np.moveaxis(predicted, -1, -2), np.moveaxis(observed, -1, -2), curves.rotation_strains)
     return per_angle.mean(axis=1) / curves.n12_ss**2
 

@@ -1,4 +1,5 @@
-"""Time scales of the force model, in units of the inverse shear rate (time = strain).
+"""Time scales of the force model, in units of the inverse shear rate (time = strain), and the
+step strides of the output.
 
 Contact relaxation: an overlap o pushes a pair apart with kn o, resisted by the lubrication
 squeeze at contact, X = 6 pi eta_f a*^2 / h_r (a* = a_i a_j / (a_i + a_j),
@@ -80,3 +81,9 @@ def max_dt_implicit(d: float, eta_f: float, delta: float, kt: float, density: fl
     damping = math.pi * eta_f * d * math.log(1.0 / delta) / 2.0
     mass = (2.0 / 7.0) * 0.5 * _mass(d, density)
     return (damping + math.sqrt(damping**2 + 4.0 * kt * mass)) / kt
+
+
+def output_stride(strain: float, dt: float, rate: float = 1.0) -> int:
+    """Steps between outputs every ``strain``, as shear_run.lmp computes them (at least 1;
+    LAMMPS's round() takes halves away from zero, Python's to even)."""
+    return max(1, math.floor(strain / (dt * rate) + 0.5))

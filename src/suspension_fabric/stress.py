@@ -61,8 +61,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .frames import simulation_to_paper
-from .model import VECTOR_ORDER, sym_to_vec
+from .frames import VECTOR_ORDER, simulation_to_paper, sym_to_vec
 from .runinfo import read_run_info
 from .stressio import read_stress_table
 from .tables import read_fabric_table, read_table_csv

@@ -45,8 +45,7 @@ from . import stress_relations as relations
 from .fabric import COMPONENTS
 from .seed_statistics import LEVEL, bootstrap_means, t_interval
 from .stress_relations import relation_terms
-from .tables import fabric_tensors, steady_state
-from .verdicts import TOLERANCE, settle_strain
+from .tables import TOLERANCE, fabric_tensors, settle_strain, steady_state
 
 __all__ = [
     "SOURCES",

@@ -62,12 +62,17 @@ __all__ = [
     "aggregate_seeds",
     "integrated_autocorrelation_time",
     "steady_state",
+    "TOLERANCE",
+    "settle_strain",
     "fabric_tensors",
 ]
 
 METADATA_COLUMNS: tuple[str, ...] = ("seed", "theta", "N", "phi")
 VALUE_COLUMNS: tuple[str, ...] = (*COMPONENTS, "Z")
 TABLE_COLUMNS: tuple[str, ...] = (*METADATA_COLUMNS, "step", "strain", *VALUE_COLUMNS)
+#: The relative band of "settled" and "agrees": a series has settled when its relative deviation
+#: stays within it, and a steady value agrees with the simulation when within it.
+TOLERANCE = 0.1
 
 
 def fabric_tensors(values, suffix: str = "") -> np.ndarray:
@@ -336,3 +341,17 @@ def steady_state(
                 }
             )
     return pd.DataFrame(rows)
+
+
+def settle_strain(strain: np.ndarray, deviation: np.ndarray, tolerance: float = TOLERANCE) -> tuple[float, bool]:
+    """First strain from which |deviation| <= tolerance to the end; (strain, settled).
+
+    A series still outside the band at its last point is censored: (last strain, False).
+    """
+    strain, outside = np.asarray(strain, float), np.abs(np.asarray(deviation, float)) > tolerance
+    if strain.shape != outside.shape:
+        raise ValueError(f"strain and deviation lengths differ: {strain.shape} and {outside.shape}")
+    if outside[-1]:
+        return float(strain[-1]), False
+    last_outside = np.flatnonzero(outside)
+    return (float(strain[last_outside[-1] + 1]) if len(last_outside) else float(strain[0])), True

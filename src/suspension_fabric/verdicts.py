@@ -33,11 +33,10 @@ import numpy as np
 import pandas as pd
 
 from .seed_statistics import CONFIRMED, LEVEL, REFUTED, UNDECIDED, seed_bootstrap_of_mean
+from .tables import TOLERANCE, settle_strain
 
 __all__ = [
-    "TOLERANCE",
     "PAPER",
-    "settle_strain",
     "recovery_table",
     "rms_error_table",
     "overshoot_table",
@@ -46,24 +45,9 @@ __all__ = [
     "descriptive_tables",
 ]
 
-TOLERANCE = 0.1
 # the paper's fitted parameters (its Sec. 3)
 PAPER = {"gw_beta": 10.9, "modified_beta": 9.4, "modified_A": 42.4}
 MODELS = ("gw", "modified")
-
-
-def settle_strain(strain: np.ndarray, deviation: np.ndarray, tolerance: float = TOLERANCE) -> tuple[float, bool]:
-    """First strain from which |deviation| <= tolerance to the end; (strain, settled).
-
-    A series still outside the band at its last point is censored: (last strain, False).
-    """
-    strain, outside = np.asarray(strain, float), np.abs(np.asarray(deviation, float)) > tolerance
-    if strain.shape != outside.shape:
-        raise ValueError(f"strain and deviation lengths differ: {strain.shape} and {outside.shape}")
-    if outside[-1]:
-        return float(strain[-1]), False
-    last_outside = np.flatnonzero(outside)
-    return (float(strain[last_outside[-1] + 1]) if len(last_outside) else float(strain[0])), True
 
 
 def _verdict(value: float, error: float, paper_sign: int) -> str:

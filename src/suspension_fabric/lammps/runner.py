@@ -27,9 +27,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..config import output_stride
 from ..dumpio import scan_dump
 from ..resources import LAMMPS_SCRIPTS_DIR
+from ..scales import output_stride
 from ..schema import schema_default
 from ..stressio import UNRECORDED_COLUMNS, read_stress_table
 from .checks import max_overlap_in_dump, stress_jitter
@@ -196,7 +196,7 @@ class ShearSettings:
                 raise ValueError(f"ShearSettings.{name} must be positive, got {getattr(self, name)}")
 
     def steps_between(self, strain: float) -> int:
-        """Steps between outputs every ``strain`` (:func:`suspension_fabric.config.output_stride`)."""
+        """Steps between outputs every ``strain`` (:func:`suspension_fabric.scales.output_stride`)."""
         return output_stride(strain, self.dt, self.rate)
 
     def variables(self) -> dict[str, str]:
