@@ -1,7 +1,7 @@
 # Shear-rotation fabric study: LAMMPS simulations -> MDAnalysis fabric -> G-W models -> figures.
 # Default study: config/config.yaml; pick another with --configfile config/<name>.yaml. A config
 # with a `campaign` section runs one study per state point and maps them (config/campaign.yaml).
-from suspension_fabric.config import validate_config
+from suspension_fabric.study.config import validate_config
 
 
 # Without --configfile the default study, with any --config overrides on top of it; a study

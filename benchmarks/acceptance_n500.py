@@ -19,7 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
-from suspension_fabric.lammps import (
+from suspension_fabric.analysis.tables import run_fabric_table, steady_state
+from suspension_fabric.models.gillissen_wilson import fit_gw, fit_modified
+from suspension_fabric.simulation.lammps import (
     PACK_FILES,
     RUN_FILES,
     ForceModel,
@@ -29,8 +31,6 @@ from suspension_fabric.lammps import (
     run_rotation,
     run_startup,
 )
-from suspension_fabric.model import fit_gw, fit_modified
-from suspension_fabric.tables import run_fabric_table, steady_state
 
 COLUMNS = ("n11", "n22", "n33", "n12", "n13", "n23", "Z")
 # the run documented in BENCHMARKS.md used explicit integration (benchmarks/engine_accuracy.py

@@ -38,7 +38,7 @@ import platform
 import re
 from pathlib import Path
 
-from suspension_fabric.lammps import (
+from suspension_fabric.simulation.lammps import (
     PACK_FILES,
     RUN_FILES,
     ForceModel,

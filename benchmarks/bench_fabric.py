@@ -27,9 +27,9 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from suspension_fabric.dumpio import DumpFrame, TriclinicBox, write_lammps_dump  # noqa: E402
-from suspension_fabric.fabric import FabricAnalysis, fabric_tensor, near_contact_pairs  # noqa: E402
-from suspension_fabric.fabric_reference import brute_force_fabric_tensor  # noqa: E402
+from suspension_fabric.analysis.fabric import FabricAnalysis, fabric_tensor, near_contact_pairs  # noqa: E402
+from suspension_fabric.analysis.fabric_reference import brute_force_fabric_tensor  # noqa: E402
+from suspension_fabric.io.dumpio import DumpFrame, TriclinicBox, write_lammps_dump  # noqa: E402
 
 
 def relaxed_configuration(n, phi=0.45, seed=0, max_overlap=1e-3, max_sweeps=500):

@@ -28,7 +28,7 @@ import numpy as np
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
-from suspension_fabric.lammps.plugin import new_lammps  # noqa: E402
+from suspension_fabric.simulation.lammps.plugin import new_lammps  # noqa: E402
 
 N_ATOMS = 500
 PHI = 0.45

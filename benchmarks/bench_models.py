@@ -21,7 +21,8 @@ import time  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from suspension_fabric import frames, model  # noqa: E402
+from suspension_fabric.analysis import frames  # noqa: E402
+from suspension_fabric.models import gillissen_wilson as model  # noqa: E402
 
 THETAS = np.deg2rad(np.linspace(-180.0, 180.0, 73))  # every 5 degrees
 STRAINS = np.linspace(0.0, 5.0, 200)

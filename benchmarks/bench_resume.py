@@ -28,14 +28,14 @@ from pathlib import Path
 
 import numpy as np
 
-from suspension_fabric.lammps import ForceModel, ShearSettings, pack, read_stress_table, run_startup
-from suspension_fabric.lammps.plugin import plugin_path
-from suspension_fabric.lammps.process import lammps_processes_in
+from suspension_fabric.simulation.lammps import ForceModel, ShearSettings, pack, read_stress_table, run_startup
+from suspension_fabric.simulation.lammps.plugin import plugin_path
+from suspension_fabric.simulation.lammps.process import lammps_processes_in
 
 STRAIN = 5.0
 KILLED_RUN = f"""
 import sys
-from suspension_fabric.lammps import ForceModel, run_startup
+from suspension_fabric.simulation.lammps import ForceModel, run_startup
 run_startup(sys.argv[1], sys.argv[2], {STRAIN}, force_model=ForceModel(plugin=sys.argv[3]), progress=None)
 """
 

@@ -22,11 +22,11 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from suspension_fabric.campaign import campaign_points
-from suspension_fabric.config import load_config
-from suspension_fabric.lammps import ForceModel, ShearSettings, pack, run_startup
-from suspension_fabric.stress import stress_parts
-from suspension_fabric.stressio import read_stress_table
+from suspension_fabric.analysis.stress import stress_parts
+from suspension_fabric.io.stressio import read_stress_table
+from suspension_fabric.simulation.lammps import ForceModel, ShearSettings, pack, run_startup
+from suspension_fabric.study.campaign import campaign_points
+from suspension_fabric.study.config import load_config
 
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parent

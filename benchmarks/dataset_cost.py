@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from suspension_fabric.dataset import DATASET_FILE, read_dataset
+from suspension_fabric.study.dataset import DATASET_FILE, read_dataset
 
 
 def dataset_cost(folder: Path) -> dict:

@@ -40,7 +40,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from suspension_fabric.lammps import (
+from suspension_fabric.analysis.tables import run_fabric_table, steady_state
+from suspension_fabric.io.resources import LAMMPS_SCRIPTS_DIR
+from suspension_fabric.simulation.lammps import (
     ForceModel,
     ShearSettings,
     is_complete,
@@ -50,8 +52,6 @@ from suspension_fabric.lammps import (
     run_startup,
     runner,
 )
-from suspension_fabric.resources import LAMMPS_SCRIPTS_DIR
-from suspension_fabric.tables import run_fabric_table, steady_state
 
 N_PARTICLES = 500
 PHI = 0.45

@@ -41,7 +41,7 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
-from suspension_fabric.tables import steady_state
+from suspension_fabric.analysis.tables import steady_state
 
 STEADY_WINDOW = (2.0, 5.0)
 FABRIC = ("n11", "n22", "n33", "n12", "n13", "n23", "Z")

@@ -30,9 +30,9 @@ import pandas as pd
 from engine_ladder import bin_means  # same directory: the ladder's strain binning
 from scipy import stats
 
-from suspension_fabric import tables
-from suspension_fabric.lammps import ForceModel, ShearSettings, run_rotation
-from suspension_fabric.stress import STRESS_FLOAT_FORMAT, run_stress_table
+from suspension_fabric.analysis import tables
+from suspension_fabric.analysis.stress import STRESS_FLOAT_FORMAT, run_stress_table
+from suspension_fabric.simulation.lammps import ForceModel, ShearSettings, run_rotation
 
 ANGLES = (90, 180)
 ROTATION_STRAIN = 1.0

@@ -43,9 +43,9 @@ from pathlib import Path
 import numpy as np
 from stresslet_vs_dipole import ENGINE, ETA_F, startup_run
 
-from suspension_fabric.fabric import FabricAnalysis
-from suspension_fabric.stress import stress_parts
-from suspension_fabric.stressio import read_stress_table
+from suspension_fabric.analysis.fabric import FabricAnalysis
+from suspension_fabric.analysis.stress import stress_parts
+from suspension_fabric.io.stressio import read_stress_table
 
 STRAIN, WINDOW = 3.0, (1.5, 3.0)
 PEER_COMMIT = "00fa7cc0"

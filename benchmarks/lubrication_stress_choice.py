@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from suspension_fabric.seed_statistics import t_interval
+from suspension_fabric.analysis.seed_statistics import t_interval
 
 QUANTITIES = ("eta_r", "N1", "N2", "Pi", "lubrication_12")
 

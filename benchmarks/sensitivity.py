@@ -21,9 +21,10 @@ from pathlib import Path
 
 import pandas as pd
 
-from suspension_fabric import model_vs_simulation, tables
-from suspension_fabric.lammps import ForceModel, ShearSettings, pack, run_startup
-from suspension_fabric.lammps.plugin import plugin_path
+from suspension_fabric.analysis import tables
+from suspension_fabric.models import model_vs_simulation
+from suspension_fabric.simulation.lammps import ForceModel, ShearSettings, pack, run_startup
+from suspension_fabric.simulation.lammps.plugin import plugin_path
 
 DATA = Path(__file__).parent / "data" / "sensitivity"
 SEEDS = (1, 2)

@@ -8,7 +8,7 @@ eta_f = 223, mu = 0.5, delta = 1e-3, for each (kn, dt, h_out) in RUNS. Runs alre
 complete in --out are reused. Prints, per run, the near-contact fabric (gap < 0.01 d_min)
 averaged over the last unit of strain, the pressure P, the shear stress and the contact share
 of it, overlaps, the stress jitter (lammps.checks.stress_jitter) and the contact relaxation time
-(suspension_fabric.scales), then <nn>_12 versus strain. Failure checks are off on purpose
+(suspension_fabric.simulation.scales), then <nn>_12 versus strain. Failure checks are off on purpose
 (the soft and the too-large-dt runs are the point); ~8 min per run at N = 100 and dt = 2e-7.
 The explicit integrator throughout, as when the tables in BENCHMARKS.md were made.
 --only-h-out runs just the two lubrication ranges at the default kn and dt (for more seeds).
@@ -22,8 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from suspension_fabric.fabric import FabricAnalysis, near_contact_pairs
-from suspension_fabric.lammps import (
+from suspension_fabric.analysis.fabric import FabricAnalysis, near_contact_pairs
+from suspension_fabric.simulation.lammps import (
     ForceModel,
     ShearSettings,
     is_complete,
@@ -33,7 +33,7 @@ from suspension_fabric.lammps import (
     run_startup,
     stress_jitter,
 )
-from suspension_fabric.scales import contact_relaxation_time
+from suspension_fabric.simulation.scales import contact_relaxation_time
 
 # (kn, dt, h_out): the stiffness ladder, the time step, and the lubrication range
 RUNS = [

@@ -23,9 +23,9 @@ from pathlib import Path
 
 import numpy as np
 
-from suspension_fabric.lammps.plugin import plugin_path
-from suspension_fabric.lammps.process import lammps_command, launch
-from suspension_fabric.stressio import read_stress_table
+from suspension_fabric.io.stressio import read_stress_table
+from suspension_fabric.simulation.lammps.plugin import plugin_path
+from suspension_fabric.simulation.lammps.process import lammps_command, launch
 
 REPO = Path(__file__).resolve().parents[1]
 ETA_F = 223.0

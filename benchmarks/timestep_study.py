@@ -17,8 +17,8 @@ import argparse
 import json
 from pathlib import Path
 
-from suspension_fabric.fabric import FabricAnalysis
-from suspension_fabric.lammps import (
+from suspension_fabric.analysis.fabric import FabricAnalysis
+from suspension_fabric.simulation.lammps import (
     ForceModel,
     ShearSettings,
     is_complete,

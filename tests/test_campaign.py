@@ -1,4 +1,4 @@
-"""The campaign over the state point (suspension_fabric.campaign, state_map): the grid of studies a
+"""The campaign over the state point (suspension_fabric.study.campaign, state_map): the grid of studies a
 config expands into, the map's statistics and anchor against values worked out by hand, and a
 real Snakemake run of a two-point campaign whose map is rebuilt from its exported datasets."""
 
@@ -12,9 +12,9 @@ import pandas as pd
 import pytest
 import yaml
 
-from suspension_fabric.campaign import campaign_points, point_name, study_configs
-from suspension_fabric.config import ConfigError, validate_config
-from suspension_fabric.state_map import bgp_viscosities, map_table, steady_state_drift
+from suspension_fabric.reporting.state_map import bgp_viscosities, map_table, steady_state_drift
+from suspension_fabric.study.campaign import campaign_points, point_name, study_configs
+from suspension_fabric.study.config import ConfigError, validate_config
 from workflow_helpers import REPO, copy_workflow, dry_run_jobs, job_counts, snakemake
 
 BASE = {"study": "grid", "seeds": [1, 2], "angles_deg": [0, 90], "forces": {"kn": 1.25e8}}
@@ -162,7 +162,7 @@ def test_a_campaign_runs_by_the_study_rules_and_its_map_rebuilds_from_its_datase
         [
             sys.executable,
             "-m",
-            "suspension_fabric.dataset",
+            "suspension_fabric.study.dataset",
             "export",
             "--config",
             "config/tcamp.yaml",
@@ -202,7 +202,7 @@ def test_a_campaign_runs_by_the_study_rules_and_its_map_rebuilds_from_its_datase
         [
             sys.executable,
             "-m",
-            "suspension_fabric.dataset",
+            "suspension_fabric.study.dataset",
             "export",
             "--config",
             "config/tcamp.yaml",

@@ -1,4 +1,4 @@
-"""Known-answer tests of suspension_fabric.claims (docs/verdict_statistics.md, Secs. 2-6).
+"""Known-answer tests of suspension_fabric.reporting.claims (docs/verdict_statistics.md, Secs. 2-6).
 
 1. The functionals (deficit, transverse effect, overshoot excess, mean square) on analytic curves.
 2. angle_statistics / claim_values / claim_table on hand-made SeedReplicate objects whose answers are
@@ -23,9 +23,11 @@ import pandas as pd
 import pytest
 from scipy import stats
 
-from suspension_fabric import claims, model, model_benchmark
-from suspension_fabric.claims import Choice, SeedReplicate
-from suspension_fabric.fabric import COMPONENTS
+from suspension_fabric.analysis.fabric import COMPONENTS
+from suspension_fabric.models import gillissen_wilson as model
+from suspension_fabric.models import model_benchmark
+from suspension_fabric.reporting import claims
+from suspension_fabric.reporting.claims import Choice, SeedReplicate
 
 # ============================================================================ 1. functionals
 H_FINE = 0.001
@@ -475,7 +477,7 @@ ROTATION = np.round(np.arange(0.0, 2.0 + 1e-9, 0.02), 10)
 
 
 def _rows(seed, theta, strain, fabric) -> pd.DataFrame:
-    """A run table (suspension_fabric.tables): seed, theta, N, phi, step, strain, n11 ... n23, Z = 2 Tr<nn>."""
+    """A run table (suspension_fabric.analysis.tables): seed, theta, N, phi, step, strain, n11 ... n23, Z = 2 Tr<nn>."""
     table = pd.DataFrame(
         {"seed": seed, "theta": theta, "N": 500, "phi": PHI, "step": np.arange(len(strain)) * 100, "strain": strain}
     )

@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from suspension_fabric import claims
+from suspension_fabric.reporting import claims
 
 STRAIN = np.round(np.arange(0.0, 2.0 + 1e-9, 0.02), 10)
 THETAS = np.array([0.0, 45.0, 90.0, 135.0, 180.0])

@@ -4,9 +4,9 @@ import math
 
 import pytest
 
-from suspension_fabric.config import ConfigError, angle_label, load_config, validate_config
-from suspension_fabric.lammps import ForceModel, ShearSettings
-from suspension_fabric.scales import max_dt_explicit, max_dt_implicit
+from suspension_fabric.simulation.lammps import ForceModel, ShearSettings
+from suspension_fabric.simulation.scales import max_dt_explicit, max_dt_implicit
+from suspension_fabric.study.config import ConfigError, angle_label, load_config, validate_config
 
 MINIMAL = {"study": "s", "seeds": [1], "angles_deg": [0, 90]}
 
@@ -58,7 +58,7 @@ def test_angle_labels():
 
 def test_paper_kn_is_rejected_as_too_soft_with_the_relaxation_strain():
     """The paper's printed kn = 1.25e5 at eta_f = 223, delta = 1e-3: a large-large contact
-    unloads in tau = (X + c/2)/kn = 5.9 strain (suspension_fabric.scales), far from stiff."""
+    unloads in tau = (X + c/2)/kn = 5.9 strain (suspension_fabric.simulation.scales), far from stiff."""
     with pytest.raises(ConfigError, match=r"forces.kn' \(125000\).*5\.9\d* strain"):
         validate_config({**MINIMAL, "forces": {"kn": 1.25e5}})
     loosened = {**MINIMAL, "forces": {"kn": 1.25e5}, "run": {"max_contact_relaxation_strain": 10.0}}

@@ -11,8 +11,9 @@ import pandas as pd
 import pytest
 import yaml
 
-from suspension_fabric.config import load_config
-from suspension_fabric.dataset import (
+from suspension_fabric.io.stressio import read_stress_table
+from suspension_fabric.study.config import load_config
+from suspension_fabric.study.dataset import (
     export_dataset,
     has_run_tables,
     import_run_table,
@@ -20,7 +21,6 @@ from suspension_fabric.dataset import (
     read_dataset_stress,
     run_names,
 )
-from suspension_fabric.stressio import read_stress_table
 from workflow_helpers import REPO, RESULTS, copy_workflow, dry_run_jobs, snakemake
 
 pytestmark = pytest.mark.workflow
@@ -58,7 +58,7 @@ def test_export_holds_every_run_with_checksums_and_fits(study, dataset):
 def test_export_without_raw_stress_keeps_what_rules_read(study, tmp_path):
     """--without-raw-stress: every run's fabric.csv, stress.csv and run.json with checksums, no
     stress.csv.gz (no rule reads it); the fabric tables read back through read_fabric_runs."""
-    from suspension_fabric.dataset import read_fabric_runs
+    from suspension_fabric.study.dataset import read_fabric_runs
 
     config = load_config(study / "config/test.yaml")
     record = export_dataset(config, study / RESULTS, tmp_path / "light", raw_stress=False)
@@ -147,8 +147,8 @@ def test_load_reads_a_dataset_and_a_results_folder_alike(study, dataset, tmp_pat
     tables and steady states; the results folder adds its verdicts, the dataset its config and
     provenance (git commit, versions); a changed file and a folder that is neither are errors
     naming the folder; the module docstring's example runs as written (on a copy of data/default)."""
-    from suspension_fabric import dataset as dataset_module
-    from suspension_fabric.dataset import load
+    from suspension_fabric.study import dataset as dataset_module
+    from suspension_fabric.study.dataset import load
 
     exported, results = load(dataset), load(study / RESULTS)
     pd.testing.assert_frame_equal(exported.fabric_startup, results.fabric_startup, check_exact=False, rtol=1e-12)

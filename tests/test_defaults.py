@@ -7,9 +7,9 @@ import re
 
 import pytest
 
-from suspension_fabric.lammps import ForceModel, ShearSettings, run_rotation, run_startup
-from suspension_fabric.resources import LAMMPS_SCRIPTS_DIR
-from suspension_fabric.schema import schema_default
+from suspension_fabric.io.resources import LAMMPS_SCRIPTS_DIR
+from suspension_fabric.io.schema import schema_default
+from suspension_fabric.simulation.lammps import ForceModel, ShearSettings, run_rotation, run_startup
 
 
 def script_defaults(name: str) -> dict[str, str]:
@@ -92,7 +92,7 @@ def test_the_two_shear_scripts_share_their_defaults():
 
 def test_the_scripts_default_plugin_path_is_the_workflows():
     """Run by hand from the repository root, the scripts load the library the workflow builds."""
-    from suspension_fabric.resources import PLUGIN_LIBRARY_NAME
+    from suspension_fabric.io.resources import PLUGIN_LIBRARY_NAME
 
     assert SHARED["plugin"] == f"build/plugin/{PLUGIN_LIBRARY_NAME}"
     assert script_defaults("restart_probe.lmp")["plugin"] == SHARED["plugin"]

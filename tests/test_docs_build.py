@@ -20,6 +20,6 @@ def test_docs_build_strict(tmp_path):
     )
     assert result.returncode == 0, result.stderr[-3000:]
     api = (tmp_path / "site" / "api" / "index.html").read_text()
-    assert "suspension_fabric.stress_relations" in api and "with_lubrication_stress" in api
+    assert "suspension_fabric.models.stress_relations" in api and "with_lubrication_stress" in api
     assert "Pair stresslets against force dipoles" in (tmp_path / "site" / "benchmarks" / "index.html").read_text()
     assert "&lt;nn&gt;" in (tmp_path / "site" / "results" / "index.html").read_text()

@@ -1,4 +1,4 @@
-"""Near-contact detection, fabric tensors and the trajectory analysis (suspension_fabric.fabric)."""
+"""Near-contact detection, fabric tensors and the trajectory analysis (suspension_fabric.analysis.fabric)."""
 
 from __future__ import annotations
 
@@ -6,16 +6,16 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from suspension_fabric.dumpio import DumpFrame, TriclinicBox, scan_dump, write_lammps_dump
-from suspension_fabric.fabric import (
+from suspension_fabric.analysis.fabric import (
     FabricAnalysis,
     fabric_tensor,
     near_contact_pairs,
     open_dump,
 )
-from suspension_fabric.fabric_reference import brute_force_fabric_tensor, brute_force_near_contacts
-from suspension_fabric.frames import simulation_to_paper
-from suspension_fabric.tables import TABLE_COLUMNS, fabric_table, read_fabric_table, write_fabric_table
+from suspension_fabric.analysis.fabric_reference import brute_force_fabric_tensor, brute_force_near_contacts
+from suspension_fabric.analysis.frames import simulation_to_paper
+from suspension_fabric.analysis.tables import TABLE_COLUMNS, fabric_table, read_fabric_table, write_fabric_table
+from suspension_fabric.io.dumpio import DumpFrame, TriclinicBox, scan_dump, write_lammps_dump
 
 EPS = 0.01
 

@@ -1,5 +1,5 @@
-"""The fabric-model interface (suspension_fabric.fabric_models): the built-in models through the
-interface equal the paper's equations (suspension_fabric.model), the general ODE path equals the
+"""The fabric-model interface (suspension_fabric.models.fabric_models): the built-in models through the
+interface equal the paper's equations (suspension_fabric.models.gillissen_wilson), the general ODE path equals the
 exact affine propagation and a relaxation law's analytic solution, the generic steady fit recovers
 known parameters, and bad models or entries stop with an error naming them."""
 
@@ -10,9 +10,10 @@ import dataclasses
 import numpy as np
 import pytest
 
-from suspension_fabric import fabric_models as fm
-from suspension_fabric import frames, model
-from suspension_fabric.frames import simple_shear_gradient
+from suspension_fabric.analysis import frames
+from suspension_fabric.analysis.frames import simple_shear_gradient
+from suspension_fabric.models import fabric_models as fm
+from suspension_fabric.models import gillissen_wilson as model
 
 PHI = 0.45
 STRAINS = np.linspace(0.0, 3.0, 7)
@@ -132,9 +133,9 @@ def test_parameters_are_checked_by_name_and_bounds():
 
 def test_models_load_from_a_key_a_module_or_a_file(tmp_path):
     assert fm.load_model("gw") is fm.GW
-    assert fm.load_model("suspension_fabric.fabric_models:SEPARATE_RATES") is fm.SEPARATE_RATES
+    assert fm.load_model("suspension_fabric.models.fabric_models:SEPARATE_RATES") is fm.SEPARATE_RATES
     (tmp_path / "mine.py").write_text(
-        "import dataclasses\nfrom suspension_fabric import fabric_models as fm\n"
+        "import dataclasses\nfrom suspension_fabric.models import fabric_models as fm\n"
         "MINE = dataclasses.replace(fm.GW, key='mine', label='my G-W copy')\nNOT_A_MODEL = 3\n"
     )
     mine = fm.load_model(f"{tmp_path}/mine.py:MINE")
@@ -149,11 +150,11 @@ def test_models_load_from_a_key_a_module_or_a_file(tmp_path):
         with pytest.raises(fm.ModelError, match=message):
             fm.load_model(spec)
     with pytest.raises(fm.ModelError, match="two entries have the key 'gw'"):
-        fm.resolve_models(["gw", "suspension_fabric.fabric_models:GW"])
+        fm.resolve_models(["gw", "suspension_fabric.models.fabric_models:GW"])
 
 
 def test_the_config_names_a_bad_model_entry_before_anything_runs(tmp_path):
-    from suspension_fabric.config import ConfigError, validate_config
+    from suspension_fabric.study.config import ConfigError, validate_config
 
     assert validate_config({**STUDY})["models"]["fabric"] == ["gw", "modified", "separate_rates"]
     with pytest.raises(ConfigError, match=r"config key 'models.fabric': model 'gw_typo': expected a built-in key"):

@@ -1,4 +1,4 @@
-"""Tidy fabric tables: CSV format, seed aggregation, steady-state estimator (suspension_fabric.tables)."""
+"""Tidy fabric tables: CSV format, seed aggregation, steady-state estimator (suspension_fabric.analysis.tables)."""
 
 from __future__ import annotations
 
@@ -8,9 +8,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from suspension_fabric.dumpio import DumpFrame, TriclinicBox, write_lammps_dump
-from suspension_fabric.fabric import FabricAnalysis
-from suspension_fabric.tables import (
+from suspension_fabric.analysis.fabric import FabricAnalysis
+from suspension_fabric.analysis.tables import (
     TABLE_COLUMNS,
     VALUE_COLUMNS,
     aggregate_seeds,
@@ -21,6 +20,7 @@ from suspension_fabric.tables import (
     steady_state,
     write_fabric_table,
 )
+from suspension_fabric.io.dumpio import DumpFrame, TriclinicBox, write_lammps_dump
 
 
 def make_table(seed, theta, strain, values, n_particles=500, phi=0.45):

@@ -10,8 +10,8 @@ from pathlib import Path
 import pytest
 import yaml
 
-from suspension_fabric.lammps import ForceModel, pack
-from suspension_fabric.lammps.plugin import PluginBuildError, plugin_path, plugin_sources
+from suspension_fabric.simulation.lammps import ForceModel, pack
+from suspension_fabric.simulation.lammps.plugin import PluginBuildError, plugin_path, plugin_sources
 from workflow_helpers import RESULTS, TEST_CONFIG, copy_workflow, snakemake
 
 pytestmark = pytest.mark.workflow

@@ -1,4 +1,4 @@
-"""What the paper's figures plot (suspension_fabric.figures), read back from the matplotlib artists.
+"""What the paper's figures plot (suspension_fabric.reporting.figures), read back from the matplotlib artists.
 
 Small synthetic seed aggregates and prediction tables, with a different known function for
 every component, model and protocol, go into figure_startup / figure_rotation; the tests read
@@ -13,7 +13,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from suspension_fabric import figures
+from suspension_fabric.reporting import figures
 
 FITS = {
     "phi": 0.45,

@@ -1,4 +1,4 @@
-"""Errors of the fitted parameters (suspension_fabric.model_vs_simulation.fit_steady_state): a
+"""Errors of the fitted parameters (suspension_fabric.models.model_vs_simulation.fit_steady_state): a
 jackknife over seeds of the whole fit, next to the linear propagation of the targets' errors.
 
 Synthetic per-seed startup run tables are built from a KNOWN model steady state (the modified
@@ -14,8 +14,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from suspension_fabric import model, model_vs_simulation, tables
-from suspension_fabric.fabric import COMPONENTS
+from suspension_fabric.analysis import tables
+from suspension_fabric.analysis.fabric import COMPONENTS
+from suspension_fabric.models import gillissen_wilson as model
+from suspension_fabric.models import model_vs_simulation
 
 BETA, A, PHI = 9.4, 42.4, 0.45
 WINDOW = (2.0, 5.0)
@@ -253,10 +255,10 @@ def test_steady_table_must_be_that_of_the_runs():
 
 
 def test_the_listed_models_section_repeats_the_paper_fits_and_fits_any_model(five_seeds):
-    """fits.json's ``models`` (the plug-in interface, suspension_fabric.fabric_models) gives G-W and
+    """fits.json's ``models`` (the plug-in interface, suspension_fabric.models.fabric_models) gives G-W and
     the modified model the same parameters and jackknife errors as the paper's entries; a model
     with three parameters (separate rates) reproduces its three steady targets."""
-    from suspension_fabric import fabric_models
+    from suspension_fabric.models import fabric_models
 
     runs, fits = noisy_runs(5), five_seeds[1]
     for key, name in PARAMETERS:

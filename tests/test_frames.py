@@ -1,10 +1,10 @@
-"""Tests of the frame conventions (suspension_fabric.frames), as stated in the package
+"""Tests of the frame conventions (suspension_fabric.analysis.frames), as stated in the package
 docstring (src/suspension_fabric/__init__.py)."""
 
 import numpy as np
 import pytest
 
-from suspension_fabric import frames
+from suspension_fabric.analysis import frames
 
 ANGLES = np.deg2rad([0.0, 30.0, 90.0, 135.0, -60.0])
 

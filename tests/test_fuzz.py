@@ -95,14 +95,16 @@ from hypothesis import HealthCheck, Phase, assume, event, given, note, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
-from suspension_fabric import fabric_models, frames, model
-from suspension_fabric.config import SCHEMA_PATH, ConfigError, load_config, validate_config
-from suspension_fabric.dataset import load, read_dataset
-from suspension_fabric.dumpio import DumpFrame, TriclinicBox, iter_dump_frames, scan_dump, write_lammps_dump
-from suspension_fabric.runinfo import read_run_info
-from suspension_fabric.stress import read_stress_csv
-from suspension_fabric.stressio import read_stress_table
-from suspension_fabric.tables import read_fabric_table
+from suspension_fabric.analysis import frames
+from suspension_fabric.analysis.stress import read_stress_csv
+from suspension_fabric.analysis.tables import read_fabric_table
+from suspension_fabric.io.dumpio import DumpFrame, TriclinicBox, iter_dump_frames, scan_dump, write_lammps_dump
+from suspension_fabric.io.runinfo import read_run_info
+from suspension_fabric.io.stressio import read_stress_table
+from suspension_fabric.models import fabric_models
+from suspension_fabric.models import gillissen_wilson as model
+from suspension_fabric.study.config import SCHEMA_PATH, ConfigError, load_config, validate_config
+from suspension_fabric.study.dataset import load, read_dataset
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT / "data" / "default"

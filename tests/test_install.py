@@ -19,9 +19,9 @@ pytestmark = pytest.mark.lammps
 
 PROBE = """
 import json
-from suspension_fabric import resources
-from suspension_fabric.lammps import ShearSettings, pack, run_startup
-from suspension_fabric.lammps.plugin import plugin_path
+from suspension_fabric.io import resources
+from suspension_fabric.simulation.lammps import ShearSettings, pack, run_startup
+from suspension_fabric.simulation.lammps.plugin import plugin_path
 packing = pack("packing", 20, seed=1)
 run = run_startup("startup", packing.data_file, 0.002, progress=None,
                   settings=ShearSettings(dump_strain=0.001, table_strain=0.001, thermo_strain=0.001,

@@ -11,8 +11,8 @@ import pytest
 from test_lammps_implicit import IMPLICIT_PAIR, atom_array
 from test_lammps_plugin import DELTA, ETA_F, H_OUT, make_system
 
-from suspension_fabric.fabric import FabricAnalysis
-from suspension_fabric.lammps import (
+from suspension_fabric.analysis.fabric import FabricAnalysis
+from suspension_fabric.simulation.lammps import (
     ForceModel,
     ShearSettings,
     iter_dump_frames,
@@ -20,9 +20,9 @@ from suspension_fabric.lammps import (
     read_stress_table,
     run_startup,
 )
-from suspension_fabric.lammps.checks import max_overlap_in_dump
-from suspension_fabric.lammps.plugin import plugin_path
-from suspension_fabric.scales import contact_relaxation_time
+from suspension_fabric.simulation.lammps.checks import max_overlap_in_dump
+from suspension_fabric.simulation.lammps.plugin import plugin_path
+from suspension_fabric.simulation.scales import contact_relaxation_time
 
 pytestmark = pytest.mark.lammps
 
@@ -78,7 +78,7 @@ def test_implicit_springs_run_far_above_the_explicit_spring_limit(tmp_path, touc
     """With the springs explicit, m x'' = -k x - c x' is linearly stable iff
     k dt^2 < 4 m + 2 c dt: for the tangential spring of two small spheres (kt = 3.6e8,
     c = Y_A(delta) ~ 2.4e3, m = 2/7 of the reduced mass) dt < 3.7e-5
-    (suspension_fabric.scales.max_dt_implicit). Solved implicitly the springs have no such
+    (suspension_fabric.simulation.scales.max_dt_implicit). Solved implicitly the springs have no such
     limit: at dt = 4e-4 (11x above; the explicit normal spring, damped by the squeeze
     X(delta), allows 2 X(delta)/kn = 8.4e-4), 0.1 strain of a touching N = 60 packing passes
     every runner check, overlaps stay below 5e-3 d (measured 1.3e-3: the normal spring lags

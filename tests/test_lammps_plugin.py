@@ -9,8 +9,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from suspension_fabric.lammps.plugin import new_lammps, plugin_path
-from suspension_fabric.scales import contact_relaxation_time
+from suspension_fabric.simulation.lammps.plugin import new_lammps, plugin_path
+from suspension_fabric.simulation.scales import contact_relaxation_time
 
 pytestmark = pytest.mark.lammps
 
@@ -302,7 +302,7 @@ def test_overlap_relaxes_on_the_contact_relaxation_time(size_ratio):
     """Two overlapping spheres in still fluid with contact + lubrication + drag: the overlap
     decays as o(t) = o_0 exp(-t / tau), tau = (X(delta) + c_i c_j / (c_i + c_j)) / kn.
     X = 6 pi eta a*^2 / h_r is the squeeze resistance at contact (a* = a_i a_j/(a_i + a_j),
-    h_r = (a_i + a_j) delta / 2), c = 3 pi eta d the drags (suspension_fabric.scales). This is
+    h_r = (a_i + a_j) delta / 2), c = 3 pi eta d the drags (suspension_fabric.simulation.scales). This is
     the time a contact needs to unload; a stiff (rate-independent) suspension needs
     tau * gammadot << 1, which the paper's kn = 1.25e5 at eta_f = 223 misses (tau = 4.2)."""
     eta, kn, overlap0, dt = 1.0, 1.0e4, 0.004, 1.0e-5

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from suspension_fabric.lammps import (
+from suspension_fabric.simulation.lammps import (
     COMPLETION_MARKER,
     ForceModel,
     LammpsRunError,
@@ -27,8 +27,8 @@ from suspension_fabric.lammps import (
     run_startup,
     stress_jitter,
 )
-from suspension_fabric.lammps.plugin import plugin_path
-from suspension_fabric.lammps.process import ThermoWatcher
+from suspension_fabric.simulation.lammps.plugin import plugin_path
+from suspension_fabric.simulation.lammps.process import ThermoWatcher
 
 pytestmark = pytest.mark.lammps
 
@@ -348,8 +348,8 @@ def test_overlap_check_agrees_with_brute_force_and_handles_tiny_boxes(tmp_path, 
     """max_overlap_in_dump equals an all-pairs, all-images computation on a dump of
     random overlapping spheres in a tilted box (one box large enough for the neighbour
     search, one too small for it); an 8-particle LAMMPS run is checked end to end."""
-    from suspension_fabric.dumpio import DumpFrame, TriclinicBox, write_lammps_dump
-    from suspension_fabric.lammps import max_overlap_in_dump
+    from suspension_fabric.io.dumpio import DumpFrame, TriclinicBox, write_lammps_dump
+    from suspension_fabric.simulation.lammps import max_overlap_in_dump
 
     generator = np.random.default_rng(11)
     for n_atoms, length in ((80, 6.0), (6, 2.4)):

@@ -41,7 +41,7 @@ from lammps import LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR
 from test_lammps_plugin import DELTA, ETA_F, H_OUT, make_system
 from test_lubrication_values import LEVI_CIVITA, jeffrey_onishi_resistance, unit
 
-from suspension_fabric.lammps import plugin_path
+from suspension_fabric.simulation.lammps import plugin_path
 
 pytestmark = pytest.mark.lammps
 

@@ -35,7 +35,7 @@ import numpy as np
 import pytest
 from test_lammps_plugin import DELTA, ETA_F, H_OUT, make_system
 
-from suspension_fabric.lammps import plugin_path
+from suspension_fabric.simulation.lammps import plugin_path
 
 pytestmark = pytest.mark.lammps
 

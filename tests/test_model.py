@@ -1,4 +1,4 @@
-"""Tests of the G-W and modified G-W fabric models (suspension_fabric.model).
+"""Tests of the G-W and modified G-W fabric models (suspension_fabric.models.gillissen_wilson).
 
 Every expected value is either an analytic identity stated in the test docstring or
 an independent computation (the explicit fourth-rank closure, scipy's solve_ivp).
@@ -9,7 +9,8 @@ import itertools
 import numpy as np
 import pytest
 
-from suspension_fabric import frames, model
+from suspension_fabric.analysis import frames
+from suspension_fabric.models import gillissen_wilson as model
 
 RNG = np.random.default_rng(20261121)
 PARAMS = [(10.9, None, 0.45), (9.4, 42.4, 0.45), (5.0, 20.0, 0.30), (3.5, 1.0, 0.55), (30.0, 2.0, 0.40)]

@@ -1,4 +1,4 @@
-"""The model benchmark (suspension_fabric.model_benchmark) on synthetic studies whose answer is
+"""The model benchmark (suspension_fabric.models.model_benchmark) on synthetic studies whose answer is
 known: seeds made by the modified model (beta 9.4, A 42.4, phi 0.45) plus independent Gaussian
 noise of standard deviation sigma on every component of every frame. Then
 - the global weighted fit recovers (beta, A) within a few of its jackknife errors;
@@ -10,9 +10,9 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from suspension_fabric import fabric_models as fm
-from suspension_fabric import model_benchmark as mb
-from suspension_fabric.fabric import COMPONENTS
+from suspension_fabric.analysis.fabric import COMPONENTS
+from suspension_fabric.models import fabric_models as fm
+from suspension_fabric.models import model_benchmark as mb
 
 PHI, BETA, A, SIGMA = 0.45, 9.4, 42.4, 0.002
 STARTUP = np.linspace(0.0, 5.0, 101)

@@ -1,4 +1,4 @@
-"""A fabric model given only in the config runs through every rule (suspension_fabric.fabric_models).
+"""A fabric model given only in the config runs through every rule (suspension_fabric.models.fabric_models).
 
 On a copy of the session's finished test study, a toy model in a Python file of the work folder
 is added to models.fabric with --config: only the model rules and those downstream rerun (no
@@ -27,7 +27,7 @@ pytestmark = pytest.mark.workflow
 
 TOY = """
 import numpy as np
-from suspension_fabric.fabric_models import FabricModel, Parameter
+from suspension_fabric.models.fabric_models import FabricModel, Parameter
 
 TOY = FabricModel(
     key="toy", label="toy relaxation", parameters=(Parameter("s", 0.0, 10.0, 0.5),), steady_targets=("12",),
@@ -35,7 +35,7 @@ TOY = FabricModel(
     affine=False,
 )
 
-from suspension_fabric.stress_relations import StressRelation
+from suspension_fabric.models.stress_relations import StressRelation
 
 
 def toy_forms(fabric, p):

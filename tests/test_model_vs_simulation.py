@@ -1,4 +1,4 @@
-"""Models versus simulation (suspension_fabric.model_vs_simulation) on synthetic 'simulations'
+"""Models versus simulation (suspension_fabric.models.model_vs_simulation) on synthetic 'simulations'
 drawn from a known model.
 
 Per-run tables are generated from the modified model with known (beta, A) plus
@@ -13,9 +13,12 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from suspension_fabric import figures, model, model_vs_simulation, tables
-from suspension_fabric.fabric import COMPONENTS
-from suspension_fabric.model_vs_simulation import PAPER_MODELS
+from suspension_fabric.analysis import tables
+from suspension_fabric.analysis.fabric import COMPONENTS
+from suspension_fabric.models import gillissen_wilson as model
+from suspension_fabric.models import model_vs_simulation
+from suspension_fabric.models.model_vs_simulation import PAPER_MODELS
+from suspension_fabric.reporting import figures
 
 BETA, A, PHI = 9.4, 42.4, 0.45
 STARTUP = np.linspace(0.0, 20.0, 201)  # long enough that the window below is steady (slowest rate 0.64)

@@ -1,4 +1,4 @@
-"""Uncertainties and error summaries of models versus simulation (suspension_fabric.model_vs_simulation).
+"""Uncertainties and error summaries of models versus simulation (suspension_fabric.models.model_vs_simulation).
 
 propagated_fit_errors gives 1-sigma parameter errors by linear propagation of the standard
 errors of the steady-state targets (fits.json's *_err_propagated; the *_err are a jackknife over
@@ -13,9 +13,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from suspension_fabric import model, model_vs_simulation
-from suspension_fabric.fabric import COMPONENTS
-from suspension_fabric.tables import VALUE_COLUMNS
+from suspension_fabric.analysis.fabric import COMPONENTS
+from suspension_fabric.analysis.tables import VALUE_COLUMNS
+from suspension_fabric.models import gillissen_wilson as model
+from suspension_fabric.models import model_vs_simulation
 
 BETA, A, PHI = 9.4, 42.4, 0.45
 N_DRAWS = 200

@@ -1,4 +1,4 @@
-"""When suspension_fabric.lammps.plugin.build_plugin recompiles the plugin.
+"""When suspension_fabric.simulation.lammps.plugin.build_plugin recompiles the plugin.
 
 build_plugin decides from file times and a stamp: the library is stale when it or its stamp
 is missing, when the stamp's compile-command fingerprint differs from the current command
@@ -20,7 +20,7 @@ from types import SimpleNamespace
 
 import pytest
 
-import suspension_fabric.lammps.plugin as plugin_module
+import suspension_fabric.simulation.lammps.plugin as plugin_module
 
 OLD = time.time() - 1000.0  # mtimes set explicitly: no dependence on the clock resolution
 

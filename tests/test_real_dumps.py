@@ -47,11 +47,11 @@ import numpy as np
 import pytest
 from MDAnalysis.lib.mdamath import triclinic_vectors
 
-from suspension_fabric.dumpio import iter_dump_frames, scan_dump
-from suspension_fabric.fabric import FabricAnalysis, near_contact_pairs, open_dump
-from suspension_fabric.fabric_reference import brute_force_near_contacts
-from suspension_fabric.lammps import ForceModel, ShearSettings, pack, run_rotation, run_startup
-from suspension_fabric.lammps.plugin import plugin_path
+from suspension_fabric.analysis.fabric import FabricAnalysis, near_contact_pairs, open_dump
+from suspension_fabric.analysis.fabric_reference import brute_force_near_contacts
+from suspension_fabric.io.dumpio import iter_dump_frames, scan_dump
+from suspension_fabric.simulation.lammps import ForceModel, ShearSettings, pack, run_rotation, run_startup
+from suspension_fabric.simulation.lammps.plugin import plugin_path
 
 pytestmark = pytest.mark.lammps
 

@@ -15,10 +15,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from suspension_fabric.config import load_config
-from suspension_fabric.dataset import check_config_matches, has_run_tables, read_dataset, run_names
-from suspension_fabric.figures import polar_cell_errors
-from suspension_fabric.stress import OPTIONAL_COLUMNS, read_stress_csv
+from suspension_fabric.analysis.stress import OPTIONAL_COLUMNS, read_stress_csv
+from suspension_fabric.reporting.figures import polar_cell_errors
+from suspension_fabric.study.config import load_config
+from suspension_fabric.study.dataset import check_config_matches, has_run_tables, read_dataset, run_names
 from workflow_helpers import REPO, copy_workflow, dry_run_jobs, snakemake
 
 pytestmark = pytest.mark.workflow

@@ -7,8 +7,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from suspension_fabric import model_vs_simulation
-from suspension_fabric import report_tables as rt
+from suspension_fabric.models import model_vs_simulation
+from suspension_fabric.reporting import report_tables as rt
 
 
 @pytest.mark.parametrize(

@@ -24,10 +24,10 @@ import numpy as np
 import pytest
 import yaml
 
-from suspension_fabric.dumpio import iter_dump_frames
-from suspension_fabric.lammps import ForceModel, ShearSettings, pack, read_stress_table, run_startup
-from suspension_fabric.lammps.plugin import plugin_path
-from suspension_fabric.lammps.process import lammps_processes_in
+from suspension_fabric.io.dumpio import iter_dump_frames
+from suspension_fabric.simulation.lammps import ForceModel, ShearSettings, pack, read_stress_table, run_startup
+from suspension_fabric.simulation.lammps.plugin import plugin_path
+from suspension_fabric.simulation.lammps.process import lammps_processes_in
 from workflow_helpers import copy_workflow, snakemake
 
 pytestmark = pytest.mark.lammps
@@ -57,7 +57,7 @@ def uninterrupted(tmp_path_factory, packing):
 
 RUNNER = f"""
 import sys
-from suspension_fabric.lammps import ForceModel, ShearSettings, run_startup
+from suspension_fabric.simulation.lammps import ForceModel, ShearSettings, run_startup
 run_startup(sys.argv[1], sys.argv[2], {STRAIN}, force_model=ForceModel(plugin=sys.argv[3], **{FORCES}),
             settings=ShearSettings(**{SETTINGS}), overwrite=True, progress=None)
 """

@@ -1,4 +1,4 @@
-"""Reading a finished run's metadata from its completion marker (suspension_fabric.runinfo)."""
+"""Reading a finished run's metadata from its completion marker (suspension_fabric.io.runinfo)."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import json
 
 import pytest
 
-from suspension_fabric.runinfo import RunInfo, read_run_info
+from suspension_fabric.io.runinfo import RunInfo, read_run_info
 
 
 def write_marker(path, variables, results):

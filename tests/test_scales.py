@@ -1,11 +1,16 @@
-"""Force-model time scales (suspension_fabric.scales); the LAMMPS check of the same formula
+"""Force-model time scales (suspension_fabric.simulation.scales); the LAMMPS check of the same formula
 is tests/test_lammps_plugin.py::test_overlap_relaxes_on_the_contact_relaxation_time."""
 
 import math
 
 import pytest
 
-from suspension_fabric.scales import contact_period, contact_relaxation_time, max_dt_explicit, max_dt_implicit
+from suspension_fabric.simulation.scales import (
+    contact_period,
+    contact_relaxation_time,
+    max_dt_explicit,
+    max_dt_implicit,
+)
 
 
 def test_paper_values_give_four_strain_units_for_small_spheres():

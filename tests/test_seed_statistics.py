@@ -1,4 +1,4 @@
-"""Known-answer tests of suspension_fabric.seed_statistics (docs/verdict_statistics.md, Secs. 1 and 4).
+"""Known-answer tests of suspension_fabric.analysis.seed_statistics (docs/verdict_statistics.md, Secs. 1 and 4).
 
 Every expected value is computed here independently of the module: means and standard deviations
 by hand or by their formulas, Student quantiles from scipy.stats.t (and two from a printed table),
@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from suspension_fabric import seed_statistics as ss
-from suspension_fabric.seed_statistics import Interval
+from suspension_fabric.analysis import seed_statistics as ss
+from suspension_fabric.analysis.seed_statistics import Interval
 
 
 def _sd(values) -> float:
@@ -282,7 +282,7 @@ def test_seed_bootstrap_rejects_bad_level():
 def test_bootstrap_of_the_mean_takes_the_same_resamples_as_seed_bootstrap(n):
     """seed_bootstrap_of_mean(f, curves) = seed_bootstrap(f(mean of the resample's curves)): every
     resample at n = 3 (27), 20 000 drawn at n = 7; vectorized or not."""
-    from suspension_fabric.seed_statistics import seed_bootstrap, seed_bootstrap_of_mean
+    from suspension_fabric.analysis.seed_statistics import seed_bootstrap, seed_bootstrap_of_mean
 
     curves = np.random.default_rng(n).normal(size=(n, 11))
     seeds = list(range(10, 10 + n))

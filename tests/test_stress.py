@@ -1,6 +1,6 @@
-"""Unit tests of suspension_fabric.stress on synthetic stress tables (no LAMMPS).
+"""Unit tests of suspension_fabric.analysis.stress on synthetic stress tables (no LAMMPS).
 
-Conventions checked (module docstring of suspension_fabric.stress): a table holds LAMMPS
+Conventions checked (module docstring of suspension_fabric.analysis.stress): a table holds LAMMPS
 pressure tensors P in the order xx yy zz xy xz yz (total, ``kinetic_``, ``contact_``,
 ``lubrication_``), the summed contact torque ``contact_torque_x/y/z`` and the box volume
 ``vol``; each part of the stress is sigma = -P / (eta_f gammadot) (the contact one after
@@ -16,8 +16,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from suspension_fabric import stress
-from suspension_fabric.stress import (
+from suspension_fabric.analysis import stress
+from suspension_fabric.analysis.stress import (
     PAPER_COMPONENTS,
     PARTS,
     STRESS_TABLE_COLUMNS,

@@ -1,6 +1,6 @@
 """The stress of a shear run from real LAMMPS: symmetrised virials, dilute limit, frame rotation.
 
-suspension_fabric.stress turns the stress table of a shear run (workflow/lammps/shear_run.lmp)
+suspension_fabric.analysis.stress turns the stress table of a shear run (workflow/lammps/shear_run.lmp)
 into symmetric stress parts in the paper frame. These tests check, with the project's plugin
 (built on demand by plugin_path()), the pieces it relies on:
 
@@ -29,17 +29,17 @@ from test_lammps_plugin import DELTA, ETA_F, H_OUT, make_system
 from test_lammps_runs import read_data_atoms
 from test_lubrication_values import jeffrey_onishi_resistance
 
-from suspension_fabric.lammps import ForceModel, ShearSettings, pack, run_rotation, run_startup
-from suspension_fabric.lammps.plugin import new_lammps, plugin_path
-from suspension_fabric.stress import (
+from suspension_fabric.analysis.stress import (
     STRESS_VALUE_COLUMNS,
     pressure_tensors,
     run_stress_table,
     stress_parts,
     symmetric_contact_pressure,
 )
-from suspension_fabric.stressio import read_stress_table
-from suspension_fabric.tables import run_fabric_table, write_fabric_table
+from suspension_fabric.analysis.tables import run_fabric_table, write_fabric_table
+from suspension_fabric.io.stressio import read_stress_table
+from suspension_fabric.simulation.lammps import ForceModel, ShearSettings, pack, run_rotation, run_startup
+from suspension_fabric.simulation.lammps.plugin import new_lammps, plugin_path
 
 pytestmark = pytest.mark.lammps
 
@@ -155,7 +155,7 @@ thermo 1000
     )
     assert abs(r[0] * force[2] - r[2] * force[0]) > 0.1 * abs(r[0] * force[2])
 
-    # (iii) the symmetrisation of suspension_fabric.stress
+    # (iii) the symmetrisation of suspension_fabric.analysis.stress
     table = {f"contact_{name}": np.array([value]) for name, value in zip(LAMMPS_ORDER, pc)}
     table.update({f"contact_torque_{k}": np.array([ct[i]]) for i, k in enumerate("xyz")})
     table["vol"] = np.array([volume])

@@ -1,4 +1,4 @@
-"""Tests of the Gillissen-Wilson stress relation (suspension_fabric.stress_model), no LAMMPS.
+"""Tests of the Gillissen-Wilson stress relation (suspension_fabric.models.stress_model), no LAMMPS.
 
 The relation is sigma^p / (eta_f gammadot) = a_H <nnnn>:E^ + a_C <nnnn>:E^_c for simple shear
 e1 e2 in the paper frame: E^ = (e1 e2 + e2 e1)/2 and E^_c = -(1/2) v_c v_c with
@@ -18,8 +18,10 @@ import pytest
 from scipy import stats
 from scipy.optimize import brentq
 
-from suspension_fabric import frames, model, stress_model, stress_relations, tables
-from suspension_fabric.stress import EINSTEIN_COEFFICIENT
+from suspension_fabric.analysis import frames, tables
+from suspension_fabric.analysis.stress import EINSTEIN_COEFFICIENT
+from suspension_fabric.models import gillissen_wilson as model
+from suspension_fabric.models import stress_model, stress_relations
 
 RNG = np.random.default_rng(20240611)
 PHI = 0.45

@@ -1,7 +1,7 @@
-"""Stress relations as plug-ins (suspension_fabric.stress_relations) and their benchmark
-(suspension_fabric.stress_benchmark), against answers known by construction.
+"""Stress relations as plug-ins (suspension_fabric.models.stress_relations) and their benchmark
+(suspension_fabric.models.stress_benchmark), against answers known by construction.
 
-Forms: gw is H = <nnnn>:E^, C = <nnnn>:E^_c (suspension_fabric.stress_model.relation_terms);
+Forms: gw is H = <nnnn>:E^, C = <nnnn>:E^_c (suspension_fabric.models.stress_model.relation_terms);
 gw_jamming multiplies C by (1 - Z/Z_J)^-2 with Z = 2 Tr<nn>, infinite for Z >= Z_J.
 Coefficients: a_H = sigma^lub_12 / H_12(<nn>^ss) and a_C = sigma^con_12 / C_12(<nn>^ss), so the
 relation reproduces the steady sigma_12 parts exactly, and eta_r = 1 + 2.5 phi + their sum.
@@ -15,11 +15,11 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from suspension_fabric import fabric_models as fm
-from suspension_fabric import stress_benchmark as sb
-from suspension_fabric import stress_relations as sr
-from suspension_fabric.fabric import COMPONENTS
-from suspension_fabric.stress_model import relation_terms
+from suspension_fabric.analysis.fabric import COMPONENTS
+from suspension_fabric.models import fabric_models as fm
+from suspension_fabric.models import stress_benchmark as sb
+from suspension_fabric.models import stress_relations as sr
+from suspension_fabric.models.stress_model import relation_terms
 
 PHI, Z_J, SIGMA = 0.45, 5.0, 0.02
 A_H, A_C = 25.0, 20.0
@@ -83,12 +83,14 @@ def test_relation_errors_name_the_problem(tmp_path):
     with pytest.raises(sr.RelationError, match="expected a built-in key"):
         sr.load_relation("jamming")
     (tmp_path / "mine.py").write_text("NOT_A_RELATION = 3\n")
-    with pytest.raises(sr.RelationError, match="is int, expected a suspension_fabric.stress_relations.StressRelation"):
+    with pytest.raises(
+        sr.RelationError, match="is int, expected a suspension_fabric.models.stress_relations.StressRelation"
+    ):
         sr.load_relation(f"{tmp_path / 'mine.py'}:NOT_A_RELATION")
     with pytest.raises(sr.RelationError, match="not found"):
         sr.load_relation(f"{tmp_path / 'absent.py'}:X")
     with pytest.raises(sr.RelationError, match="two entries have the key 'gw'"):
-        sr.resolve_relations(["gw", "suspension_fabric.stress_relations:GW_RELATION"])
+        sr.resolve_relations(["gw", "suspension_fabric.models.stress_relations:GW_RELATION"])
     assert list(sr.resolve_relations(["gw", "gw_jamming"])) == ["gw", "gw_jamming"]
 
 

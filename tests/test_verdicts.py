@@ -12,7 +12,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from suspension_fabric import tables, verdicts
+from suspension_fabric.analysis import tables
+from suspension_fabric.reporting import verdicts
 
 N12_SS = -0.1
 STRAIN = np.round(np.arange(0.0, 2.0 + 1e-9, 0.02), 10)

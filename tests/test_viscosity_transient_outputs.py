@@ -11,7 +11,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from suspension_fabric import figures, report_tables, stress_model
+from suspension_fabric.models import stress_model
+from suspension_fabric.reporting import figures, report_tables
 
 STRAIN = np.round(np.arange(0.0, 2.0 + 1e-9, 0.05), 10)
 THETAS = (0.0, 90.0, 180.0)

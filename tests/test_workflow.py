@@ -288,7 +288,7 @@ def test_report_shows_the_tables(study):
     import base64
     import html as html_module
 
-    from suspension_fabric.report_tables import format_value_error
+    from suspension_fabric.reporting.report_tables import format_value_error
 
     result = snakemake(study, *TEST_CONFIG, "--report", "report_tables.html", timeout=300)
     assert result.returncode == 0, result.stderr[-3000:]

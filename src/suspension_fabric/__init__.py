@@ -34,40 +34,27 @@ Fabric
     <nn>_ij = (1/N) sum over near-contact pairs (each once) of n_i n_j, with N the
     number of particles; hence Tr<nn> = Z/2, Z the near-contact coordination.
 
-Modules
-    frames       -- paper/simulation/rotated frame bases and tensor rotations
-    model        -- G-W and modified G-W models: closure, rhs, exact integration,
-                    steady states, fits, shear-rotation predictions
-    resources    -- where the schema, the LAMMPS scripts and the plugin sources live
-    schema       -- the study schema and its defaults (the one source of every default)
-    lammps       -- the project's LAMMPS plugin (build, load) and the runners of the
-                    workflow/lammps scripts (pack, startup shear, shear rotation):
-                    plugin, process (launch, watch), checks, rundir (partial runs,
-                    resume, publishing), runner (the public runs)
-    dumpio       -- LAMMPS triclinic boxes and dump files (writer, reader, header checks)
-    stressio     -- the per-run stress table
-    fabric       -- near-contact detection and per-frame fabric (MDAnalysis)
-    fabric_reference -- brute-force O(N^2) near-contact search: fallback of the overlap
-                    check for small boxes, reference of the tests
-    runinfo      -- a finished run's time step, rate, first step, flow angle and eta_f (from
-                    its completion marker)
-    tables       -- per-run fabric tables, seed aggregates, steady states (of any per-frame table)
-    stress       -- the stress per frame: symmetric contact, lubrication, kinetic, solvent and
-                    Einstein parts in the paper frame of the current shear, eta_r, N1, N2, Pi
-    stress_model -- the G-W stress relation: fits per fabric source, predictions, errors,
-                    the viscosity deficit after a rotation per seed (minimum, recovery as description)
-    model_vs_simulation -- models versus simulation: fits to the simulated steady
-                    state, predictions at the simulated strains and angles, errors
-    seed_statistics -- the seeds as independent units: t-intervals, the three-way decision
-                    rule, seeds needed, jackknife and seed bootstrap
-    claims       -- the shear-rotation claims decided per seed: each seed's own fits and
-                    predictions under a choice, linear statistics, verdicts, choices table
-    verdicts     -- the steady-state claims; recovery, rms and overshoot tables (description)
-    figures      -- the paper's Fig. 1 and Fig. 2; the stress figures 3 and 4; Fig. 5 (claims)
-    report_tables -- fits, steady state, error summary, verdicts and stress as HTML tables for the report
-    dataset      -- reference datasets: a finished study's tables, committed, rebuilt without simulating
-    config       -- study configuration: schema validation, cross-key checks
-    workflow_io  -- logging helper of the Snakemake scripts
+Layout (by the workflow's stages, lowest first; a module imports only its own stage and the
+stages under it, checked by tests/test_layout.py)
+    io          -- files: resources (where the schema, LAMMPS scripts and plugin sources live),
+                   schema (the one source of every default), runinfo (a finished run's record),
+                   dumpio (LAMMPS boxes and dumps), stressio (the per-run stress table)
+    analysis    -- frames (bases, rotations, 6-vector storage), fabric (near contacts, <nn>;
+                   MDAnalysis), fabric_reference (brute-force search), tables (per-run and seed
+                   tables, steady states), stress (the stress per frame and its parts),
+                   seed_statistics (the seeds as independent units)
+    simulation  -- scales (time scales, output strides), lammps (the plugin, launching lmp,
+                   resumable run directories, post-run checks, the public runs); imports analysis
+                   for the overlap check
+    models      -- gillissen_wilson (G-W and modified G-W: closure, exact integration, steady
+                   states, fits, rotations), fabric_models and stress_relations (the plug-in
+                   interfaces; plugins loads user files), model_vs_simulation, stress_model (the
+                   G-W stress relation), model_benchmark and stress_benchmark (held-out scores)
+    study       -- config (schema validation, cross-key checks), campaign (state points),
+                   dataset (reference datasets: load, rebuild)
+    reporting   -- verdicts, claims, figures, report_tables, state_map, map_figures,
+                   dataset_comparison
+    workflow_io -- logging helper of the Snakemake scripts
 """
 
 __version__ = "0.1.0"

@@ -28,7 +28,7 @@ def logged(log_path: str | os.PathLike):
 
 def job_study_config(snakemake_object) -> dict:
     """The validated config of the study a job belongs to (its ``study`` wildcard): the workflow's
-    config itself, or one point of its campaign (suspension_fabric.campaign)."""
-    from .campaign import study_configs
+    config itself, or one point of its campaign (suspension_fabric.study.campaign)."""
+    from suspension_fabric.study.campaign import study_configs
 
     return study_configs(snakemake_object.config)[snakemake_object.wildcards.study]

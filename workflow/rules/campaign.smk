@@ -1,6 +1,6 @@
-# The map over a campaign's state points (suspension_fabric.state_map): one row per point from its
+# The map over a campaign's state points (suspension_fabric.reporting.state_map): one row per point from its
 # own study's tables, then the map figures. Every map output depends on every point's rules.
-from suspension_fabric.map_figures import MAP_FIGURES
+from suspension_fabric.reporting.map_figures import MAP_FIGURES
 
 CAMPAIGN_RESULTS = f"results/{config['study']}"
 POINTS = {name.split("/", 1)[1]: name for name in STUDIES}  # point name -> its study

@@ -3,14 +3,14 @@
 # writes the tables and the report page.
 import os
 
-from suspension_fabric.dataset import read_dataset, run_names
+from suspension_fabric.study.dataset import read_dataset, run_names
 
 COMPARISON_FILES = {}  # per study: every fabric table of the datasets it is compared with
 for _study, _config in STUDIES.items():
     for _label, _folder in _config["verdicts"]["comparisons"].items():  # named early: stops before any job
         if not os.path.isfile(os.path.join(_folder, "dataset.json")):
             raise ValueError(f"config key 'verdicts.comparisons': '{_label}' names {_folder}, which holds no "
-                             "dataset.json (a reference dataset folder, suspension_fabric.dataset)")
+                             "dataset.json (a reference dataset folder, suspension_fabric.study.dataset)")
     COMPARISON_FILES[_study] = [
         f"{folder}/{name}/fabric.csv"
         for folder in _config["verdicts"]["comparisons"].values()

@@ -1,13 +1,13 @@
 # Shared names: the studies of this config, their output roots, and the lists the aggregate rules expand.
-# One config is one study, or a campaign of studies (one per state point, suspension_fabric.campaign):
+# One config is one study, or a campaign of studies (one per state point, suspension_fabric.study.campaign):
 # every rule carries the {study} wildcard and reads its settings from STUDIES[study].
 import re
 
-from suspension_fabric.campaign import study_configs
-from suspension_fabric.config import angle_label, simulation_settings
-from suspension_fabric.lammps import PACK_FILES, RUN_FILES
-from suspension_fabric.lammps.plugin import plugin_sources
-from suspension_fabric.resources import PLUGIN_LIBRARY_NAME
+from suspension_fabric.study.campaign import study_configs
+from suspension_fabric.study.config import angle_label, simulation_settings
+from suspension_fabric.simulation.lammps import PACK_FILES, RUN_FILES
+from suspension_fabric.simulation.lammps.plugin import plugin_sources
+from suspension_fabric.io.resources import PLUGIN_LIBRARY_NAME
 
 STUDIES = study_configs(config)
 RESULTS = "results/{study}"

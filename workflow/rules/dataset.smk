@@ -1,6 +1,6 @@
 # Studies built on a reference dataset (config key `dataset`): the fabric and stress tables come
 # from the dataset's files (their SHA-256 checked) instead of simulations; no LAMMPS job exists.
-from suspension_fabric.dataset import check_config_matches, has_run_tables, read_dataset, run_names
+from suspension_fabric.study.dataset import check_config_matches, has_run_tables, read_dataset, run_names
 
 for _name in DATASET_STUDIES:
     _study = STUDIES[_name]

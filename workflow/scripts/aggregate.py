@@ -7,7 +7,7 @@ from functools import partial
 
 import pandas as pd
 
-from suspension_fabric import stress, tables
+from suspension_fabric.analysis import stress, tables
 from suspension_fabric.workflow_io import logged
 
 READERS = {

@@ -1,7 +1,9 @@
 """Snakemake: the fabric-model benchmark on held-out rotation angles and its leaderboard (rule benchmark_models)."""
 
-from suspension_fabric import model_benchmark, model_vs_simulation, report_tables, tables
-from suspension_fabric.fabric_models import resolve_models
+from suspension_fabric.analysis import tables
+from suspension_fabric.models import model_benchmark, model_vs_simulation
+from suspension_fabric.models.fabric_models import resolve_models
+from suspension_fabric.reporting import report_tables
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)

@@ -3,8 +3,10 @@
 
 import pandas as pd
 
-from suspension_fabric import report_tables, stress_benchmark, tables
-from suspension_fabric.stress_relations import resolve_relations
+from suspension_fabric.analysis import tables
+from suspension_fabric.models import stress_benchmark
+from suspension_fabric.models.stress_relations import resolve_relations
+from suspension_fabric.reporting import report_tables
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)

@@ -5,7 +5,7 @@ the repository's own library; a workflow run elsewhere (e.g. the tests) gets a c
 leaves the repository's library as it is if it is up to date.
 """
 
-from suspension_fabric.lammps.plugin import install_plugin
+from suspension_fabric.simulation.lammps.plugin import install_plugin
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)

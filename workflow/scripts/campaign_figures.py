@@ -4,7 +4,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from suspension_fabric.map_figures import save_map_figures
+from suspension_fabric.reporting.map_figures import save_map_figures
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)

@@ -4,8 +4,8 @@ import json
 
 import pandas as pd
 
-from suspension_fabric import report_tables, state_map
-from suspension_fabric.campaign import study_configs
+from suspension_fabric.reporting import report_tables, state_map
+from suspension_fabric.study.campaign import study_configs
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)

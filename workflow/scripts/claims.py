@@ -2,7 +2,7 @@
 
 import pandas as pd
 
-from suspension_fabric import claims
+from suspension_fabric.reporting import claims
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)

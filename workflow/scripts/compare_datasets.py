@@ -2,8 +2,8 @@
 
 import pandas as pd
 
-from suspension_fabric.dataset import read_fabric_runs, read_stress_runs
-from suspension_fabric.dataset_comparison import comparison_table, per_seed_statistics
+from suspension_fabric.reporting.dataset_comparison import comparison_table, per_seed_statistics
+from suspension_fabric.study.dataset import read_fabric_runs, read_stress_runs
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)

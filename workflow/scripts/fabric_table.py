@@ -1,6 +1,6 @@
 """Snakemake: near-contact fabric table of one run (rule fabric_table)."""
 
-from suspension_fabric import tables
+from suspension_fabric.analysis import tables
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)

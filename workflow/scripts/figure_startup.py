@@ -4,7 +4,8 @@ from pathlib import Path
 
 import pandas as pd
 
-from suspension_fabric import figures, model_vs_simulation
+from suspension_fabric.models import model_vs_simulation
+from suspension_fabric.reporting import figures
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)

@@ -4,8 +4,8 @@ from pathlib import Path
 
 import pandas as pd
 
-from suspension_fabric import figures
-from suspension_fabric.stress_model import steady_value
+from suspension_fabric.models.stress_model import steady_value
+from suspension_fabric.reporting import figures
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)

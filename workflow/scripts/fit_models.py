@@ -3,8 +3,9 @@ over the seeds of the startup runs (rule fit_models)."""
 
 import pandas as pd
 
-from suspension_fabric import model_vs_simulation, tables
-from suspension_fabric.fabric_models import resolve_models
+from suspension_fabric.analysis import tables
+from suspension_fabric.models import model_vs_simulation
+from suspension_fabric.models.fabric_models import resolve_models
 from suspension_fabric.workflow_io import job_study_config, logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)

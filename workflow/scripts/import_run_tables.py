@@ -3,7 +3,7 @@
 
 from pathlib import Path
 
-from suspension_fabric.dataset import import_run_table
+from suspension_fabric.study.dataset import import_run_table
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)

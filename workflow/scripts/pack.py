@@ -2,7 +2,7 @@
 
 from pathlib import Path
 
-from suspension_fabric.lammps import pack
+from suspension_fabric.simulation.lammps import pack
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)

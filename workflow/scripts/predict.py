@@ -2,8 +2,8 @@
 
 import pandas as pd
 
-from suspension_fabric import model_vs_simulation
-from suspension_fabric.fabric_models import resolve_models
+from suspension_fabric.models import model_vs_simulation
+from suspension_fabric.models.fabric_models import resolve_models
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)

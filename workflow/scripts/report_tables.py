@@ -2,7 +2,8 @@
 
 import pandas as pd
 
-from suspension_fabric import model_vs_simulation, report_tables
+from suspension_fabric.models import model_vs_simulation
+from suspension_fabric.reporting import report_tables
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)

@@ -2,7 +2,7 @@
 
 from pathlib import Path
 
-from suspension_fabric.lammps import ForceModel, ShearSettings, run_rotation, run_startup
+from suspension_fabric.simulation.lammps import ForceModel, ShearSettings, run_rotation, run_startup
 from suspension_fabric.workflow_io import job_study_config, logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)

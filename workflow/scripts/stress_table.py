@@ -1,6 +1,6 @@
 """Snakemake: the stress per dumped frame of one run (rule stress_table)."""
 
-from suspension_fabric.stress import STRESS_FLOAT_FORMAT, run_stress_table
+from suspension_fabric.analysis.stress import STRESS_FLOAT_FORMAT, run_stress_table
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)

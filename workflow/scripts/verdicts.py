@@ -3,7 +3,8 @@ choice and comparison dataset, and the descriptive tables (rule verdicts)."""
 
 import pandas as pd
 
-from suspension_fabric import claims, model_vs_simulation, report_tables, verdicts
+from suspension_fabric.models import model_vs_simulation
+from suspension_fabric.reporting import claims, report_tables, verdicts
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)

@@ -1,0 +1,5 @@
+"""Analysis: frames and tensor storage, near-contact detection and fabric tensors, the stress per
+frame, per-run and seed-aggregated tables, steady states, and the statistics over seeds.
+
+Imports only :mod:`suspension_fabric.io`.
+"""

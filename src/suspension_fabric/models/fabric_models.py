@@ -1,0 +1,416 @@
+"""Fabric models as plug-ins: any model of d<nn>/dgamma runs through the same integration, steady
+state and fits.
+
+A fabric model is a :class:`FabricModel`: a key (its name in tables), a display label, its
+parameters with bounds (:class:`Parameter`), the components of the steady simple-shear fabric
+that the paper-style fit matches (one per parameter), and the right-hand side
+
+    d<nn>/dgamma = rhs(<nn>, flow, params, phi)
+
+in the paper frame, where ``flow`` is the normalised kinematics of the velocity gradient
+(:class:`Flow`: Lh = L/gammadot, Eh, its extensional part Eh_e and compressional part Eh_c, as in
+:func:`suspension_fabric.models.gillissen_wilson.split_strain_rate`) and ``params`` maps parameter names to values.
+A model may also give a closed-form steady state in simple shear and its own exact steady fit.
+
+Integration (:func:`integrate`): if the model declares itself ``affine`` (its right-hand side is
+affine in <nn> for a fixed flow, as G-W and the modified model are), the 6-vector system
+dv/dgamma = M v + b is built from the right-hand side itself (b = rhs(0), column k of M =
+rhs(basis_k) - b), checked once on a random fabric, and propagated exactly,
+v(gamma) = v_ss + expm(M gamma)(v0 - v_ss); otherwise scipy's ``solve_ivp`` integrates it.
+
+G-W (Eq. 1), the modified model (Eq. 2) and the separate-rates refinement are the built-in
+instances (:data:`BUILT_IN`); a user's model is named in the config as ``module:attribute`` or
+``path/to/file.py:attribute`` (:func:`load_model`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import NamedTuple
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.optimize import least_squares
+
+from suspension_fabric.analysis.frames import (
+    VECTOR_ORDER,
+    rotation_about_gradient,
+    simple_shear_gradient,
+    sym_to_vec,
+    to_basis,
+    vec_to_sym,
+)
+
+from . import gillissen_wilson as paper_models
+from .gillissen_wilson import as_strains, closure_model_rhs, solve_affine, split_strain_rate
+from .plugins import load_plugin, resolve_plugins
+
+__all__ = [
+    "Parameter",
+    "Flow",
+    "flow_of",
+    "FabricModel",
+    "GW",
+    "MODIFIED",
+    "SEPARATE_RATES",
+    "BUILT_IN",
+    "load_model",
+    "resolve_models",
+    "check_parameters",
+    "affine_system",
+    "integrate",
+    "steady_state",
+    "fit_steady",
+    "startup_shear",
+    "shear_rotation",
+    "ModelError",
+]
+
+#: Strain to which a model that is not affine is integrated in search of its steady state.
+STEADY_STRAIN = 200.0
+
+
+class ModelError(ValueError):
+    """A fabric model that cannot be used as declared (bad parameters, not affine, no steady state)."""
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A model parameter: its name, bounds (inclusive) and the start of the fits' search."""
+
+    name: str
+    lower: float
+    upper: float
+    start: float
+
+    def __post_init__(self):
+        if not self.name.isidentifier():
+            raise ModelError(f"parameter name {self.name!r} must be an identifier")
+        if not (self.lower <= self.start <= self.upper):
+            raise ModelError(
+                f"parameter {self.name}: start {self.start} outside its bounds [{self.lower}, {self.upper}]"
+            )
+
+
+def check_parameters(parameters, params: Mapping[str, float], owner: str, error: type[Exception]) -> dict[str, float]:
+    """``params`` as {name: float} with every one of ``parameters``, finite and within its bounds;
+    otherwise ``error`` naming ``owner`` (e.g. "model gw")."""
+    names = [p.name for p in parameters]
+    if set(params) != set(names):
+        raise error(f"{owner}: parameters {sorted(params)} given, expected {names}")
+    checked = {}
+    for p in parameters:
+        value = float(params[p.name])
+        if not (math.isfinite(value) and p.lower <= value <= p.upper):
+            raise error(f"{owner}: {p.name} = {value} outside [{p.lower}, {p.upper}]")
+        checked[p.name] = value
+    return checked
+
+
+class Flow(NamedTuple):
+    """Normalised kinematics of a velocity gradient L (paper frame): Lh = L/gammadot, Eh = sym(Lh),
+    Eh_e and Eh_c its parts with positive and negative eigenvalues (shapes (..., 3, 3))."""
+
+    grad_hat: np.ndarray
+    e_hat: np.ndarray
+    e_ext: np.ndarray
+    e_comp: np.ndarray
+
+
+def flow_of(velocity_gradient) -> Flow:
+    """:class:`Flow` of a velocity gradient (only its direction matters)."""
+    grad_hat, e_hat, e_ext, e_comp, _ = split_strain_rate(velocity_gradient)
+    return Flow(grad_hat, e_hat, e_ext, e_comp)
+
+
+@dataclass(frozen=True)
+class FabricModel:
+    """A fabric model (see the module docstring). ``rhs(fabric, flow, params, phi)`` broadcasts over
+    leading axes of ``fabric`` and of the flow's tensors; ``steady`` (optional) returns the closed
+    steady fabric in simple shear L = e1 e2 from (params, phi); ``fit`` (optional) returns the
+    parameters whose steady state matches ``targets`` ({component: value}) exactly."""
+
+    key: str
+    label: str
+    parameters: tuple[Parameter, ...]
+    steady_targets: tuple[str, ...]
+    rhs: Callable
+    affine: bool = False
+    steady: Callable | None = None
+    fit: Callable | None = None
+    description: str = field(default="", compare=False)
+
+    def __post_init__(self):
+        if not self.key.isidentifier():
+            raise ModelError(f"model key {self.key!r} must be an identifier (it names table columns)")
+        names = [p.name for p in self.parameters]
+        if not names or len(set(names)) != len(names):
+            raise ModelError(f"model {self.key}: parameter names {names} must be distinct and at least one")
+        unknown = set(self.steady_targets) - set(VECTOR_ORDER)
+        if unknown or len(self.steady_targets) != len(names):
+            raise ModelError(
+                f"model {self.key}: steady_targets {self.steady_targets} must be {len(names)} "
+                f"fabric components among {VECTOR_ORDER} (one per parameter)"
+            )
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(p.name for p in self.parameters)
+
+    def check(self, params: Mapping[str, float]) -> dict[str, float]:
+        """``params`` as a {name: float} dict with every parameter, finite and within its bounds."""
+        return check_parameters(self.parameters, params, f"model {self.key}", ModelError)
+
+
+# --------------------------------------------------------------------------- built-in models
+def _closure_model_rhs(fabric, flow: Flow, rate_break: float, rate_form: float, rate_iso: float, phi: float):
+    """:func:`suspension_fabric.models.gillissen_wilson.closure_model_rhs` on a :class:`Flow`."""
+    return closure_model_rhs(
+        np.asarray(fabric, dtype=float), flow.grad_hat, flow.e_ext, flow.e_comp, rate_break, rate_form, rate_iso, phi
+    )
+
+
+_BETA = Parameter("beta", 1e-3, 1e4, 10.0)
+
+
+def _gw_fit(targets, phi):
+    return {"beta": paper_models.fit_gw(targets["12"], phi)}
+
+
+def _modified_fit(targets, phi):
+    beta, A = paper_models.fit_modified(targets["11"], targets["12"], phi)
+    return {"beta": beta, "A": A}
+
+
+#: Gillissen-Wilson (paper Eq. 1): one rate beta for breaking, formation and the isotropic term.
+GW = FabricModel(
+    key="gw",
+    label="G-W (Eq. 1)",
+    parameters=(_BETA,),
+    steady_targets=("12",),
+    affine=True,
+    rhs=lambda fabric, flow, p, phi: _closure_model_rhs(fabric, flow, p["beta"], p["beta"], p["beta"], phi),
+    steady=lambda p, phi: paper_models.steady_state(p["beta"], None, phi),
+    fit=_gw_fit,
+    description="d<nn>/dgamma = Lh.<nn> + <nn>.Lh^T - 2 Lh:<nnnn> - beta (Eh_e:<nnnn> + (phi/15)(2 Eh_c + Tr(Eh_c) I))",
+)
+
+#: The paper's modified model (Eq. 2): the isotropic creation term has its own rate A.
+MODIFIED = FabricModel(
+    key="modified",
+    label="modified G-W (Eq. 2)",
+    parameters=(_BETA, Parameter("A", 0.0, 1e5, 40.0)),
+    steady_targets=("11", "12"),
+    affine=True,
+    rhs=lambda fabric, flow, p, phi: _closure_model_rhs(fabric, flow, p["beta"], p["beta"], p["A"], phi),
+    steady=lambda p, phi: paper_models.steady_state(p["beta"], p["A"], phi),
+    fit=_modified_fit,
+    description="Eq. 1 with the isotropic term's rate A: ... - A (phi/15) Tr(Eh_c) I",
+)
+
+
+def _separate_rates_fit(targets, phi):
+    """Exact steady fit of the separate-rates model to <nn>_11, <nn>_33, <nn>_12.
+
+    M depends on beta_e only and b is linear in (beta_c, A), so for fixed beta_e the steady
+    fabric is phi (beta_c x_form + A x_iso) (:func:`.gillissen_wilson.shear_steady_parts`):
+    <nn>_11 and <nn>_12 give (beta_c, A) and <nn>_33 leaves one equation in beta_e, whose roots on a
+    fine grid of [1e-3, 1e4] are refined; roots with a negative rate, an unstable fixed point or
+    a fabric that is not positive semi-definite are dropped; of several, the one whose <nn>_22 is
+    closest to ``targets["22"]`` (when given) is kept; exactly one must remain."""
+    wanted = np.array([targets["11"], targets["12"], targets["33"]], dtype=float) / phi
+
+    def rates(beta_e):
+        beta_e = np.asarray(beta_e, dtype=float)
+        parts = np.stack(paper_models.shear_steady_parts(beta_e), axis=-1)  # (..., 6, 2): x_form, x_iso
+        coefficients = np.linalg.solve(
+            parts[..., [0, 3], :], np.broadcast_to(wanted[:2], beta_e.shape + (2,))[..., None]
+        )[..., 0]
+        return coefficients, np.einsum("...k,...k->...", parts[..., 2, :], coefficients) - wanted[2]
+
+    found = []
+    for beta_e in paper_models.roots_on_grid(lambda x: rates(x)[1], paper_models.RATE_GRID):
+        (beta_c, A), miss = rates(np.array(beta_e))
+        x_form, x_iso = paper_models.shear_steady_parts(beta_e)
+        steady = vec_to_sym(phi * (beta_c * x_form + A * x_iso))
+        if (
+            beta_c >= 0
+            and A >= 0
+            and abs(miss) < 1e-8 * max(1.0, abs(wanted[2]))
+            and paper_models.is_stable(beta_e)
+            and np.linalg.eigvalsh(steady).min() >= -1e-12
+        ):
+            found.append(({"beta_e": float(beta_e), "beta_c": float(beta_c), "A": float(A)}, steady[1, 1]))
+    if len(found) > 1 and "22" in targets:
+        # several exact solutions: the steady component not fitted, <nn>_22, decides
+        found = [min(found, key=lambda solution: abs(solution[1] - targets["22"]))]
+    if len(found) != 1:
+        raise ModelError(
+            f"separate_rates: {len(found)} stable, physical solutions (rates >= 0) reproduce the steady "
+            f"<nn>_11, <nn>_33, <nn>_12 = {targets['11']:.6g}, {targets['33']:.6g}, {targets['12']:.6g} "
+            f"at phi = {phi}: {[solution for solution, _ in found]}"
+        )
+    return found[0][0]
+
+
+#: Refinement aimed at the modified model's overshoot: breaking in extension (beta_e), directed
+#: formation in compression (beta_c) and isotropic formation (A) at separate rates.
+SEPARATE_RATES = FabricModel(
+    key="separate_rates",
+    label="separate rates",
+    parameters=(
+        Parameter("beta_e", 1e-3, 1e4, 10.0),
+        Parameter("beta_c", 0.0, 1e4, 10.0),
+        Parameter("A", 0.0, 1e5, 40.0),
+    ),
+    steady_targets=("11", "33", "12"),
+    affine=True,
+    rhs=lambda fabric, flow, p, phi: _closure_model_rhs(fabric, flow, p["beta_e"], p["beta_c"], p["A"], phi),
+    fit=_separate_rates_fit,
+    description=(
+        "d<nn>/dgamma = Lh.<nn> + <nn>.Lh^T - 2 Lh:<nnnn> - beta_e Eh_e:<nnnn> - beta_c (phi/15) 2 Eh_c"
+        " - A (phi/15) Tr(Eh_c) I"
+    ),
+)
+
+#: Built-in models by key.
+BUILT_IN = {m.key: m for m in (GW, MODIFIED, SEPARATE_RATES)}
+
+
+# --------------------------------------------------------------------------- loading
+def load_model(spec: str) -> FabricModel:
+    """A model from its config entry: a built-in key, ``package.module:attribute`` or
+    ``path/to/file.py:attribute`` (the attribute a :class:`FabricModel`)."""
+    return load_plugin(spec, BUILT_IN, FabricModel, ModelError, "model")
+
+
+def resolve_models(specs) -> dict[str, FabricModel]:
+    """Models of a config's list of entries, by key (keys must be distinct)."""
+    return resolve_plugins(specs, load_model, ModelError, "models.fabric")
+
+
+# --------------------------------------------------------------------------- dynamics
+def _rhs_vec(fabric_model: FabricModel, vectors, flow: Flow, params, phi):
+    return sym_to_vec(fabric_model.rhs(vec_to_sym(vectors), flow, params, phi))
+
+
+def affine_system(fabric_model: FabricModel, flow: Flow, params, phi):
+    """(M, b) of dv/dgamma = M v + b for an affine model, from its right-hand side; raises
+    :class:`ModelError` if the model is not affine in <nn> (checked on a random fabric)."""
+    if not fabric_model.affine:
+        raise ModelError(f"model {fabric_model.key} is not declared affine")
+    lead = flow.grad_hat.shape[:-2]
+    expand = Flow(*(t[..., None, :, :] for t in flow))
+    b = _rhs_vec(fabric_model, np.zeros(lead + (6,)), flow, params, phi)
+    columns = _rhs_vec(fabric_model, np.broadcast_to(np.eye(6), lead + (6, 6)), expand, params, phi)
+    M = np.swapaxes(columns - b[..., None, :], -1, -2)
+    probe = np.random.default_rng(0).normal(size=6) * 0.1
+    direct = _rhs_vec(fabric_model, np.broadcast_to(probe, lead + (6,)), flow, params, phi)
+    if not np.allclose(direct, M @ probe + b, rtol=1e-8, atol=1e-10):
+        raise ModelError(f"model {fabric_model.key} is declared affine but its right-hand side is not affine in <nn>")
+    return M, b
+
+
+def integrate(
+    fabric_model: FabricModel, fabric0, velocity_gradient, strains, params, phi, rtol=1e-10, atol=1e-12
+) -> np.ndarray:
+    """<nn>(gamma) from ``fabric0`` under a constant velocity gradient, shape
+    ``batch + (len(strains), 3, 3)`` (``fabric0`` and the gradient broadcast): exact propagation
+    for an affine model, ``solve_ivp`` (DOP853) per fabric otherwise."""
+    params = fabric_model.check(params)
+    strains = as_strains(strains)
+    flow = flow_of(velocity_gradient)
+    fabric0 = np.asarray(fabric0, dtype=float)
+    if fabric_model.affine:
+        M, b = affine_system(fabric_model, flow, params, phi)
+        return vec_to_sym(solve_affine(M, b, sym_to_vec(fabric0), strains))
+    batch = np.broadcast_shapes(fabric0.shape[:-2], flow.grad_hat.shape[:-2])
+    starts = np.broadcast_to(fabric0, batch + (3, 3)).reshape(-1, 3, 3)
+    flows = [np.broadcast_to(t, batch + (3, 3)).reshape(-1, 3, 3) for t in flow]
+    out = np.empty((len(starts), len(strains), 3, 3))
+    for k, start in enumerate(starts):
+        one = Flow(*(t[k] for t in flows))
+        solution = solve_ivp(
+            lambda _g, v: _rhs_vec(fabric_model, v, one, params, phi),
+            (0.0, float(strains.max(initial=0.0))),
+            sym_to_vec(start),
+            t_eval=strains,
+            method="DOP853",
+            rtol=rtol,
+            atol=atol,
+        )
+        if not solution.success:
+            raise ModelError(f"model {fabric_model.key}: integration failed ({solution.message})")
+        out[k] = vec_to_sym(solution.y.T)
+    return out.reshape(batch + (len(strains), 3, 3))
+
+
+def steady_state(fabric_model: FabricModel, params, phi) -> np.ndarray:
+    """Steady fabric in simple shear L = e1 e2: the model's closed form if it has one, the fixed
+    point -M^-1 b if affine (and attracting), else the fabric after :data:`STEADY_STRAIN` strain
+    from no contacts, if it has stopped changing there."""
+    params = fabric_model.check(params)
+    if fabric_model.steady is not None:
+        return np.asarray(fabric_model.steady(params, phi), dtype=float)
+    flow = flow_of(simple_shear_gradient())
+    if fabric_model.affine:
+        M, b = affine_system(fabric_model, flow, params, phi)
+        if not np.all(np.linalg.eigvals(M).real < 0):
+            raise ModelError(f"model {fabric_model.key}: the steady state at {params} does not attract")
+        return vec_to_sym(-np.linalg.solve(M, b))
+    end = integrate(fabric_model, np.zeros((3, 3)), simple_shear_gradient(), [STEADY_STRAIN], params, phi)[0]
+    drift = _rhs_vec(fabric_model, sym_to_vec(end), flow, params, phi)
+    if np.abs(drift).max() > 1e-8 * max(1.0, np.abs(end).max()):
+        raise ModelError(f"model {fabric_model.key}: no steady state by strain {STEADY_STRAIN} at {params}")
+    return end
+
+
+def fit_steady(fabric_model: FabricModel, targets: Mapping[str, float], phi) -> dict[str, float]:
+    """Parameters whose steady simple-shear fabric matches ``targets`` (a value for each of the
+    model's ``steady_targets``): the model's own exact fit if it has one, else bounded least
+    squares from the parameters' starts, accepted only if it matches to 1e-8 relative."""
+    missing = set(fabric_model.steady_targets) - set(targets)
+    if missing:
+        raise ModelError(f"model {fabric_model.key}: steady targets {sorted(missing)} not given")
+    if fabric_model.fit is not None:
+        return fabric_model.check(fabric_model.fit(targets, phi))
+    index = [VECTOR_ORDER.index(c) for c in fabric_model.steady_targets]
+    wanted = np.array([targets[c] for c in fabric_model.steady_targets], dtype=float)
+    scale = np.abs(wanted).max()
+
+    def residual(x):
+        try:
+            fabric = steady_state(fabric_model, dict(zip(fabric_model.names, x)), phi)
+        except ModelError:
+            return np.full(len(x), 1e3)
+        return (sym_to_vec(fabric)[index] - wanted) / scale
+
+    start = [p.start for p in fabric_model.parameters]
+    bounds = ([p.lower for p in fabric_model.parameters], [p.upper for p in fabric_model.parameters])
+    result = least_squares(residual, start, bounds=bounds, x_scale="jac", xtol=1e-14, ftol=1e-14, gtol=1e-14)
+    if np.abs(result.fun).max() > 1e-8:
+        raise ModelError(
+            f"model {fabric_model.key}: no parameters reproduce the steady "
+            f"{dict(zip(fabric_model.steady_targets, wanted))} at phi = {phi} "
+            f"(best relative residual {np.abs(result.fun).max():.2g})"
+        )
+    return fabric_model.check(dict(zip(fabric_model.names, result.x)))
+
+
+def startup_shear(fabric_model: FabricModel, strains, params, phi, fabric0=None) -> np.ndarray:
+    """Fabric in startup simple shear L = e1 e2 from ``fabric0`` (default none), (len(strains), 3, 3)."""
+    fabric0 = np.zeros((3, 3)) if fabric0 is None else fabric0
+    return integrate(fabric_model, fabric0, simple_shear_gradient(), strains, params, phi)
+
+
+def shear_rotation(
+    fabric_model: FabricModel, theta, strains, params, phi, startup_strain=5.0, fabric0=None
+) -> np.ndarray:
+    """Startup shear to ``startup_strain``, then the shear turned by ``theta`` (radians, scalar or
+    1-D) about e2: <nn> in the rotated frame at the post-rotation ``strains``, shape
+    theta.shape + (len(strains), 3, 3) (as :func:`suspension_fabric.models.gillissen_wilson.shear_rotation`)."""
+    before = startup_shear(fabric_model, [startup_strain], params, phi, fabric0)[0]
+    rotated = to_basis(before, rotation_about_gradient(np.asarray(theta, dtype=float)))
+    return integrate(fabric_model, rotated, simple_shear_gradient(), strains, params, phi)

@@ -1,0 +1,153 @@
+"""The map over the state point: one row per campaign point (phi, mu) with its steady fabric,
+contact number, stress, fitted model parameters, verdict statistics and whether it reached a
+steady state; and the published anchor drawn next to it.
+
+Steady state (named before looking at the campaign): for each seed, the mean of a quantity over
+the second half of the steady window minus its mean over the first half, divided by the study's
+steady value; with the t-interval of that relative drift over seeds at ``level``: "steady" if
+the interval lies inside +-``DRIFT_MARGIN``, "drifting" if it excludes 0 and its mean is outside
+the margin, "not resolved" otherwise. Checked on <nn>_12 and eta_r; a point is steady only if
+both are.
+
+Anchor: the mu(J) and phi(J) laws of Boyer, Guazzelli and Pouliquen, PRL 107, 188301 (2011),
+fitted there to frictional spheres (polystyrene and PMMA): with the viscous number
+J = eta_f gammadot / P and the particle pressure P = Pi eta_f gammadot (so J = 1 / Pi),
+    mu(J) = mu1 + (mu2 - mu1) / (1 + J0 / J) + J + (5/2) phi_m J^(1/2),
+    phi(J) = phi_m / (1 + J^(1/2)),
+with mu1 = 0.32, mu2 = 0.7, J0 = 0.005, phi_m = 0.585. Then Pi = 1 / J and the relative shear
+viscosity (solvent included) eta_r = mu(J) / J, as functions of phi.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from suspension_fabric.analysis.seed_statistics import LEVEL, t_interval
+from suspension_fabric.analysis.stress import DERIVED_COLUMNS
+
+__all__ = [
+    "BGP_PARAMETERS",
+    "bgp_viscosities",
+    "DRIFT_MARGIN",
+    "steady_state_drift",
+    "point_row",
+    "map_table",
+    "MAP_QUANTITIES",
+]
+
+#: Boyer, Guazzelli and Pouliquen (2011), frictional spheres
+BGP_PARAMETERS = {"mu1": 0.32, "mu2": 0.7, "J0": 0.005, "phi_m": 0.585}
+#: Largest relative drift between the halves of the steady window that still counts as steady
+DRIFT_MARGIN = 0.1
+#: Steady-state quantities of the map: fabric table and stress table columns
+FABRIC_QUANTITIES = ("n11", "n22", "n33", "n12", "n13", "n23", "Z")
+STRESS_QUANTITIES = DERIVED_COLUMNS  # eta_r, N1, N2, Pi
+MAP_QUANTITIES = FABRIC_QUANTITIES + STRESS_QUANTITIES
+
+
+def bgp_viscosities(phi, parameters: dict = BGP_PARAMETERS) -> tuple[np.ndarray, np.ndarray]:
+    """(eta_r, Pi) of the BGP laws (module docstring) at volume fractions ``phi`` < phi_m."""
+    phi = np.asarray(phi, dtype=float)
+    mu1, mu2, j0, phi_m = (parameters[key] for key in ("mu1", "mu2", "J0", "phi_m"))
+    if np.any((phi <= 0) | (phi >= phi_m)):
+        raise ValueError(f"the BGP law holds for 0 < phi < phi_m = {phi_m}, got {phi}")
+    j = (phi_m / phi - 1.0) ** 2
+    friction = mu1 + (mu2 - mu1) / (1.0 + j0 / j) + j + 2.5 * phi_m * np.sqrt(j)
+    return friction / j, 1.0 / j
+
+
+def steady_state_drift(runs: pd.DataFrame, quantity: str, window, steady_value: float, level: float = LEVEL) -> dict:
+    """Relative drift of ``quantity`` across the steady window of the startup runs (module
+    docstring): per seed (second-half mean - first-half mean) / steady_value; its t-interval
+    over seeds and the verdict."""
+    lo, hi = window
+    middle = 0.5 * (lo + hi)
+    per_seed = []
+    for seed, run in runs.groupby("seed"):
+        strain, values = run["strain"].to_numpy(), run[quantity].to_numpy()
+        first = values[(strain >= lo) & (strain < middle)]
+        second = values[(strain >= middle) & (strain <= hi)]
+        if first.size == 0 or second.size == 0:
+            raise ValueError(f"seed {seed}: no frames in one half of the steady window {window} for {quantity}")
+        per_seed.append((second.mean() - first.mean()) / abs(steady_value))
+    interval = t_interval(per_seed, level)
+    if -DRIFT_MARGIN < interval.low and interval.high < DRIFT_MARGIN:
+        verdict = "steady"
+    elif (interval.low > 0 or interval.high < 0) and abs(interval.mean) > DRIFT_MARGIN:
+        verdict = "drifting"
+    else:
+        verdict = "not resolved"
+    return {"mean": interval.mean, "low": interval.low, "high": interval.high, "verdict": verdict}
+
+
+def point_row(
+    point: str,
+    study: dict,
+    steady: pd.DataFrame,
+    stress_steady: pd.DataFrame,
+    fits: dict,
+    verdicts: pd.DataFrame,
+    startup_runs: pd.DataFrame,
+    stress_runs: pd.DataFrame,
+    level: float = LEVEL,
+) -> dict:
+    """One campaign point as a row of the map table: its state and engine, every steady
+    quantity with its standard error, the fits with their jackknife errors, the steady-state
+    check, and each claim's seed-mean statistic with its interval and verdict."""
+    row = {
+        "point": point,
+        "phi": study["particles"]["phi"],
+        "mu": study["forces"]["mu"],
+        "n": study["particles"]["n"],
+        "seeds": len(study["seeds"]),
+        "kn": study["forces"]["kn"],
+        "dt": study["run"]["dt"],
+        "startup_strain": study["run"]["startup_strain"],
+    }
+    for table, quantities in ((steady, FABRIC_QUANTITIES), (stress_steady, STRESS_QUANTITIES)):
+        indexed = table.set_index("quantity")
+        for quantity in quantities:
+            row[quantity] = float(indexed.loc[quantity, "mean"])
+            row[f"{quantity}_sem"] = float(indexed.loc[quantity, "sem_between_seeds"])
+    row["gw_beta"], row["gw_beta_err"] = fits["gw"]["beta"], fits["gw"]["beta_err"]
+    for name in ("beta", "A"):
+        row[f"modified_{name}"], row[f"modified_{name}_err"] = fits["modified"][name], fits["modified"][f"{name}_err"]
+    ratio = np.asarray([fits["modified"]["A"], fits["modified"]["beta"]])
+    row["modified_A_over_beta"] = ratio[0] / ratio[1]
+    # first-order error of a ratio, the correlation of the two fitted parameters included
+    rel_a, rel_b = fits["modified"]["A_err"] / ratio[0], fits["modified"]["beta_err"] / ratio[1]
+    rho = fits["modified"].get("beta_A_correlation", 0.0) or 0.0
+    row["modified_A_over_beta_err"] = abs(row["modified_A_over_beta"]) * np.sqrt(
+        max(rel_a**2 + rel_b**2 - 2 * rho * rel_a * rel_b, 0.0)
+    )
+    window = study["analysis"]["steady_window"]
+    checks = {"n12": (startup_runs, row["n12"]), "eta_r": (stress_runs, row["eta_r"])}
+    verdicts_steady = []
+    for quantity, (runs, value) in checks.items():
+        drift = steady_state_drift(runs, quantity, window, value, level)
+        for key in ("mean", "low", "high", "verdict"):
+            row[f"drift_{quantity}_{key}"] = drift[key]
+        verdicts_steady.append(drift["verdict"])
+    row["steady"] = (
+        "steady"
+        if all(v == "steady" for v in verdicts_steady)
+        else "drifting"
+        if "drifting" in verdicts_steady
+        else "not resolved"
+    )
+    for claim in verdicts.itertuples():
+        if isinstance(claim.verdict, str) and claim.verdict:
+            row[f"{claim.claim}_mean"], row[f"{claim.claim}_low"] = claim.mean, claim.low
+            row[f"{claim.claim}_high"], row[f"{claim.claim}_verdict"] = claim.high, claim.verdict
+    return row
+
+
+def map_table(rows: list[dict], not_run: dict[str, str]) -> pd.DataFrame:
+    """The map table: the simulated points' rows, and a row per point not run with its reason
+    in ``steady`` (``not run: <reason>``) and its phi, mu from the name."""
+    extra = []
+    for point, reason in not_run.items():
+        phi, mu = (float(part[len(prefix) :]) for part, prefix in zip(point.split("_"), ("phi", "mu")))
+        extra.append({"point": point, "phi": phi, "mu": mu, "steady": f"not run: {reason}"})
+    return pd.DataFrame(rows + extra).sort_values(["mu", "phi"], ignore_index=True)

@@ -1,0 +1,80 @@
+"""A campaign: one study per state point (volume fraction phi, friction mu), run by the same rules.
+
+A config with a ``campaign`` section is a grid of studies: every key outside ``campaign`` is the
+base study; each point of the grid ``campaign.phi`` x ``campaign.mu`` is the base with
+``particles.phi`` and ``forces.mu`` set, plus that point's ``campaign.overrides`` (nested study
+keys, e.g. a longer startup near jamming). A point's outputs go to ``results/<study>/<point>``
+(``point_name``: ``phi0.45_mu0.5``); the map over the points goes to ``results/<study>``.
+``campaign.points`` runs a subset (``--config campaign='{points: [phi0.45_mu0.5]}'``);
+``campaign.not_run`` names points left out, with the reason the map table gives for each;
+``campaign.datasets`` takes every point's tables from ``<datasets>/<point>`` (a reference
+dataset each, :mod:`suspension_fabric.study.dataset`) instead of simulating.
+"""
+
+from __future__ import annotations
+
+import copy
+from itertools import product
+
+from .config import ConfigError, validate_config
+
+__all__ = ["point_name", "campaign_points", "study_configs"]
+
+
+def point_name(phi: float, mu: float) -> str:
+    """Folder name of a state point: (0.45, 0.5) -> 'phi0.45_mu0.5', (0.4, 0) -> 'phi0.40_mu0'."""
+    return f"phi{phi:.2f}_mu{mu:g}"
+
+
+def _merged(base: dict, override: dict) -> dict:
+    """``base`` with ``override`` merged in key by key (nested dicts merged, other values replaced)."""
+    merged = copy.deepcopy(base)
+    for key, value in override.items():
+        if isinstance(value, dict) and isinstance(merged.get(key), dict):
+            merged[key] = _merged(merged[key], value)
+        else:
+            merged[key] = copy.deepcopy(value)
+    return merged
+
+
+def campaign_points(config: dict) -> dict[str, dict]:
+    """The validated study config of every selected point of a validated campaign config, by
+    point name, in grid order (phi, then mu). Errors name the point and the key."""
+    campaign = config["campaign"]
+    base = {key: value for key, value in config.items() if key != "campaign"}
+    grid = {point_name(phi, mu): (phi, mu) for phi, mu in product(campaign["phi"], campaign["mu"])}
+    if len(grid) != len(campaign["phi"]) * len(campaign["mu"]):
+        raise ConfigError(f"config key 'campaign': state points collide after naming: {sorted(grid)}")
+    for key in ("points", "overrides", "not_run"):
+        unknown = [name for name in campaign[key] if name not in grid]
+        if unknown:
+            raise ConfigError(
+                f"config key 'campaign.{key}': {unknown[0]!r} is not a point of the grid "
+                f"campaign.phi x campaign.mu (points: {', '.join(grid)})"
+            )
+    selected = [name for name in (campaign["points"] or grid) if name not in campaign["not_run"]]
+    if not selected:
+        raise ConfigError("config key 'campaign.points': no point left to run (all are in campaign.not_run)")
+    points = {}
+    for name in (name for name in grid if name in selected):
+        phi, mu = grid[name]
+        point = _merged(base, {"study": name, "particles": {"phi": phi}, "forces": {"mu": mu}})
+        point = _merged(point, campaign["overrides"].get(name, {}))
+        if campaign["datasets"]:
+            point["dataset"] = f"{campaign['datasets']}/{name}"
+        try:
+            points[name] = validate_config(point)
+        except ConfigError as err:
+            raise ConfigError(
+                f"campaign point {name} (config key 'campaign.overrides.{name}' or the base study): {err}"
+            ) from None
+        points[name]["study"] = f"{config['study']}/{name}"  # its results folder: results/<campaign>/<point>
+    return points
+
+
+def study_configs(config: dict) -> dict[str, dict]:
+    """Every study a validated config describes, by study name (its results folder under
+    ``results/``): the config itself, or each point of its campaign."""
+    if config.get("campaign") is None:
+        return {config["study"]: config}
+    return {point["study"]: point for point in campaign_points(config).values()}

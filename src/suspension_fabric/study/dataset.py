@@ -1,0 +1,403 @@
+"""Reference datasets: a finished study's analysed tables, committed so that its figures, fits
+and tables can be rebuilt without simulating.
+
+A dataset folder holds, per run (``seed<k>/startup``, ``seed<k>/rotation_theta<a>``):
+``fabric.csv`` (the per-frame fabric table, :mod:`suspension_fabric.analysis.tables`), ``stress.csv``
+(the per-frame stress table, :mod:`suspension_fabric.analysis.stress`; absent from datasets exported
+before the stress parts were recorded), ``stress.csv.gz``
+(the run's stress table, :mod:`suspension_fabric.io.stressio`, at 8 significant digits) and
+``run.json`` (the run's completion marker: LAMMPS variables, command, wall time, results), and
+at the top ``dataset.json``: the study's validated config, the software versions, the SHA-256
+of the LAMMPS plugin sources and of every file, the git commit it was made from, and the fits
+of the study it came from. Trajectories are never part of it.
+
+A study whose config names a dataset (``dataset: <folder>``) takes its fabric and stress tables
+from it (rule ``import_run_table``, which checks each file's SHA-256) instead of simulating; its
+config must describe the same simulations (:func:`check_config_matches`).
+
+    python -m suspension_fabric.study.dataset export --config config/paper.yaml --to data/reference
+
+From Python, :func:`load` reads a dataset folder or a finished study's results folder into
+pandas DataFrames with their provenance::
+
+    from suspension_fabric.study.dataset import load
+    reference = load("data/reference")
+    reference.steady_fabric.set_index("quantity").loc["n12", "mean"]
+
+A campaign config (suspension_fabric.study.campaign) exports one dataset per point, ``<to>/<point>``;
+``campaign.datasets: <to>`` then rebuilds the map from them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import gzip
+import hashlib
+import importlib.metadata
+import json
+import shutil
+import subprocess
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from suspension_fabric.analysis.stress import read_stress_csv, recorded_value_columns
+from suspension_fabric.analysis.tables import VALUE_COLUMNS, read_fabric_table, steady_state
+from suspension_fabric.io.stressio import read_stress_table
+from suspension_fabric.simulation.lammps.plugin import plugin_sources
+
+from .campaign import study_configs
+from .config import angle_label, load_config, simulation_settings
+
+__all__ = [
+    "DATASET_FILE",
+    "run_names",
+    "export_dataset",
+    "read_dataset",
+    "check_config_matches",
+    "import_run_table",
+    "has_run_tables",
+    "read_dataset_stress",
+    "read_fabric_runs",
+    "read_stress_runs",
+    "RUN_TABLES",
+    "Loaded",
+    "load",
+]
+
+DATASET_FILE = "dataset.json"
+#: The analysed per-run tables a dataset carries (datasets exported before the stress parts were
+#: recorded have no stress.csv; every export since carries both).
+RUN_TABLES = ("fabric.csv", "stress.csv")
+VERSIONED_PACKAGES = ("lammps", "MDAnalysis", "numpy", "scipy", "pandas", "snakemake")
+
+
+def run_names(config: dict) -> list[str]:
+    """``seed<k>/startup`` and ``seed<k>/rotation_theta<a>`` for every seed and angle of a study."""
+    names = []
+    for seed in config["seeds"]:
+        names.append(f"seed{seed}/startup")
+        names += [f"seed{seed}/rotation_theta{angle_label(a)}" for a in config["angles_deg"]]
+    return names
+
+
+def _sha256(path: Path) -> str:
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def _plugin_hash() -> str:
+    digest = hashlib.sha256()
+    for source in plugin_sources():
+        digest.update(source.name.encode() + b"\0" + source.read_bytes())
+    return digest.hexdigest()
+
+
+def _git_commit(where: Path) -> str | None:
+    result = subprocess.run(["git", "rev-parse", "HEAD"], cwd=where, capture_output=True, text=True)
+    return result.stdout.strip() if result.returncode == 0 else None
+
+
+def _write_stress(table_file: Path, target: Path) -> None:
+    table = read_stress_table(table_file)
+    names = list(table)
+    with gzip.open(target, "wt") as out:
+        out.write(",".join(names) + "\n")
+        rows = np.column_stack([table[name] for name in names])
+        for row in rows:
+            out.write(",".join(f"{value:.8g}" for value in row) + "\n")
+
+
+def read_dataset_stress(path: Path) -> dict[str, np.ndarray]:
+    """A dataset's ``stress.csv.gz`` as {column: array} (the columns of the run's stress table)."""
+    with gzip.open(path, "rt") as handle:
+        names = handle.readline().strip().split(",")
+        data = np.loadtxt(handle, delimiter=",", ndmin=2)
+    return {name: data[:, k] for k, name in enumerate(names)}
+
+
+def export_dataset(
+    config: dict, results: Path, target: Path, *, repository: Path | None = None, raw_stress: bool = True
+) -> dict:
+    """Copy the finished runs of a study (``results/<study>``) into the dataset folder ``target``.
+
+    ``raw_stress=False`` leaves out each run's raw stress table (``stress.csv.gz``), which no
+    rule reads (a study on the dataset uses the per-frame ``stress.csv``): for datasets kept
+    only to be compared with (config key ``verdicts.comparisons``).
+
+    Runs without their analysed tables yet (:data:`RUN_TABLES`, made by the rules fabric_table
+    and stress_table) are skipped and listed as missing, so a dataset can be exported while a study
+    is still running and completed later, and a run is never exported without its stress table
+    (a dataset lacking one run's stress table would drop the stress of every run). Returns the
+    dataset record.
+    """
+    results, target = Path(results), Path(target)
+    target.mkdir(parents=True, exist_ok=True)
+    files, missing = {}, []
+    for name in run_names(config):
+        source = results / name
+        if not all((source / table).is_file() for table in ("run_complete.json", *RUN_TABLES)):
+            missing.append(name)
+            continue
+        (target / name).mkdir(parents=True, exist_ok=True)
+        shutil.copy(source / "run_complete.json", target / name / "run.json")
+        copied = list(RUN_TABLES)
+        for table in copied:
+            shutil.copy(source / table, target / name / table)
+        if raw_stress:
+            _write_stress(source / "stress.txt", target / name / "stress.csv.gz")
+            copied.append("stress.csv.gz")
+        for file in (*copied, "run.json"):
+            files[f"{name}/{file}"] = _sha256(target / name / file)
+    fits_file = results / "fits.json"
+    record = {
+        "study": config["study"],
+        "config": config,
+        "runs_missing": missing,
+        "files": files,
+        "fits": json.loads(fits_file.read_text()) if fits_file.is_file() and not missing else None,
+        "versions": {name: importlib.metadata.version(name) for name in VERSIONED_PACKAGES},
+        "plugin_sources_sha256": _plugin_hash(),
+        "git_commit": _git_commit(repository or Path.cwd()),
+        "exported_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
+    }
+    (target / DATASET_FILE).write_text(json.dumps(record, indent=1) + "\n")
+    return record
+
+
+def read_dataset(folder: Path) -> dict:
+    """The record of a dataset folder; errors name the folder."""
+    path = Path(folder) / DATASET_FILE
+    if not path.is_file():
+        raise FileNotFoundError(
+            f"dataset record not found: {path} (export one with `python -m suspension_fabric.study.dataset export`)"
+        )
+    try:
+        record = json.loads(path.read_text())
+    except (json.JSONDecodeError, UnicodeDecodeError) as err:
+        raise ValueError(f"{path}: not a readable dataset record ({type(err).__name__}: {err})") from None
+    if not isinstance(record, dict) or not {"config", "files", "runs_missing"} <= set(record):
+        raise ValueError(f"{path}: not a dataset record (expected config, files and runs_missing)")
+    return record
+
+
+#: ``run`` keys added after datasets were exported, with the value those datasets were made with
+#: (the contact springs taken explicitly by pair granular, the block-Jacobi solve).
+KEYS_BEFORE_RECORDED = {"contact_springs": "explicit", "preconditioner": "jacobi"}
+
+
+def _what_was_simulated(config: dict) -> dict:
+    """The config keys that decide the runs and their fabric tables (config.simulation_settings,
+    the strains, the particles, seeds, angles and eps); steady window and models may differ.
+    A dataset's config without a key of KEYS_BEFORE_RECORDED was made with its value there."""
+    config = {**config, "run": {**KEYS_BEFORE_RECORDED, **config["run"]}}
+    settings = simulation_settings(config)
+    return {
+        "seeds": config["seeds"],
+        "angles_deg": config["angles_deg"],
+        "particles": config["particles"],
+        "forces": settings["forces"],
+        **{f"run.{key}": value for key, value in settings["run"].items()},
+        "run.startup_strain": config["run"]["startup_strain"],
+        "run.rotation_strain": config["run"]["rotation_strain"],
+        "analysis.eps": config["analysis"]["eps"],
+    }
+
+
+def check_config_matches(config: dict, record: dict, folder: Path) -> None:
+    """A study built on a dataset must describe its simulations (:func:`_what_was_simulated`)
+    and every run must be present. Errors name the key."""
+    here, there = _what_was_simulated(config), _what_was_simulated(record["config"])
+    for key, value in here.items():
+        if value != there[key]:
+            raise ValueError(
+                f"config key '{key}' differs from the dataset {folder} ({value!r} here, {there[key]!r} there)"
+            )
+    if record["runs_missing"]:
+        raise ValueError(
+            f"the dataset {folder} lacks {len(record['runs_missing'])} run(s), e.g. "
+            f"{record['runs_missing'][0]}; export it again once the study has finished"
+        )
+
+
+def has_run_tables(record: dict, table: str) -> bool:
+    """Whether every run of a dataset record carries the analysed table ``table`` (e.g. stress.csv)."""
+    runs = run_names(record["config"])
+    return bool(runs) and all(f"{name}/{table}" in record["files"] for name in runs)
+
+
+def import_run_table(folder: Path, name: str, table: str, target: Path) -> Path:
+    """Copy a run's analysed table (``fabric.csv`` or ``stress.csv``) out of a dataset after
+    checking its recorded SHA-256."""
+    if table not in RUN_TABLES:
+        raise ValueError(f"unknown run table {table!r}; expected one of {RUN_TABLES}")
+    shutil.copy(_checked_file(folder, read_dataset(folder), f"{name}/{table}"), target)
+    return Path(target)
+
+
+def _checked_file(folder: Path, record: dict, key: str) -> Path:
+    """The dataset file ``key`` after checking its recorded SHA-256; errors name the file."""
+    source = Path(folder) / key
+    if key not in record["files"]:
+        raise ValueError(f"the dataset {folder} has no {key}")
+    if _sha256(source) != record["files"][key]:
+        raise ValueError(f"{source} does not match the SHA-256 recorded in {Path(folder) / DATASET_FILE}")
+    return source
+
+
+def _concatenated_runs(folder: Path, record: dict, table: str, reader) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """(startup runs, rotation runs): every run's ``table`` read with ``reader`` after checking its
+    SHA-256, concatenated."""
+    startup, rotation = [], []
+    for name in run_names(record["config"]):
+        frame = reader(_checked_file(folder, record, f"{name}/{table}"))
+        (startup if name.endswith("/startup") else rotation).append(frame)
+    return pd.concat(startup, ignore_index=True), pd.concat(rotation, ignore_index=True)
+
+
+def read_fabric_runs(folder: Path) -> tuple[dict, pd.DataFrame, pd.DataFrame]:
+    """A dataset's record and its fabric tables, concatenated: (record, startup runs, rotation runs),
+    every file's SHA-256 checked (the run tables of the workflow's ``aggregate_*`` rules)."""
+    record = read_dataset(folder)
+    if record["runs_missing"]:
+        raise ValueError(
+            f"the dataset {folder} lacks {len(record['runs_missing'])} run(s), e.g. {record['runs_missing'][0]}"
+        )
+    return (record, *_concatenated_runs(folder, record, "fabric.csv", read_fabric_table))
+
+
+def read_stress_runs(folder: Path, record: dict | None = None) -> tuple[pd.DataFrame, pd.DataFrame] | None:
+    """A dataset's per-frame stress tables, concatenated: (startup runs, rotation runs), every
+    file's SHA-256 checked; None for a dataset exported before the stress parts were recorded.
+    ``record``: the dataset's record if already read."""
+    record = record or read_dataset(folder)
+    if not has_run_tables(record, "stress.csv"):
+        return None
+    return _concatenated_runs(folder, record, "stress.csv", read_stress_csv)
+
+
+@dataclasses.dataclass(frozen=True)
+class Loaded:
+    """A study's tables as DataFrames (:func:`load`). ``fabric_startup``, ``fabric_rotation``: the
+    per-frame fabric of every run (:mod:`suspension_fabric.analysis.tables`); ``stress_startup``,
+    ``stress_rotation``: the per-frame stress (:mod:`suspension_fabric.analysis.stress`; None if the runs
+    did not record it); ``steady_fabric``, ``steady_stress``: steady states over the config's
+    ``analysis.steady_window`` (:func:`suspension_fabric.analysis.tables.steady_state`); ``fits``: the
+    fits.json of the study (a dataset's: the one recorded when it was exported); ``verdicts``:
+    tables/verdicts.csv of a results folder (None for a dataset, whose verdicts its study
+    rebuilds); ``config``: a dataset's validated config (None for a results folder, which does
+    not keep it; its steady states are the study's own tables); ``provenance``: where it came
+    from (folder, kind; a dataset's git commit, software versions, plugin-source hash and export
+    time; a study's fits provenance)."""
+
+    fabric_startup: pd.DataFrame
+    fabric_rotation: pd.DataFrame
+    stress_startup: pd.DataFrame | None
+    stress_rotation: pd.DataFrame | None
+    steady_fabric: pd.DataFrame
+    steady_stress: pd.DataFrame | None
+    fits: dict | None
+    verdicts: pd.DataFrame | None
+    config: dict
+    provenance: dict
+
+
+def _steady(runs: pd.DataFrame, window, columns) -> pd.DataFrame:
+    return steady_state(runs, *window, value_columns=columns)
+
+
+def load(path: str | Path) -> Loaded:
+    """A dataset folder (with ``dataset.json``: every file's SHA-256 checked) or a finished study's
+    results folder (``results/<study>``, with ``tables/`` and ``fits.json``) as :class:`Loaded`.
+    Anything else is an error naming the folder and what was expected."""
+    folder = Path(path)
+    if (folder / DATASET_FILE).is_file():
+        record, fabric_startup, fabric_rotation = read_fabric_runs(folder)
+        stress = read_stress_runs(folder, record)
+        provenance = {
+            "folder": str(folder),
+            "kind": "dataset",
+            "study": record["study"],
+            **{key: record.get(key) for key in ("git_commit", "versions", "plugin_sources_sha256", "exported_utc")},
+        }
+        config, fits, verdicts = record["config"], record.get("fits"), None
+    elif (folder / "tables" / "startup_runs.csv").is_file() and (folder / "fits.json").is_file():
+        tables = folder / "tables"
+        fits = json.loads((folder / "fits.json").read_text())
+        stress = None
+        if (tables / "stress_startup_runs.csv").is_file():
+            stress = tuple(read_stress_csv(tables / f"stress_{kind}_runs.csv") for kind in ("startup", "rotation"))
+        optional = {
+            name: pd.read_csv(tables / name) if (tables / name).is_file() else None
+            for name in ("verdicts.csv", "stress_steady_state.csv")
+        }
+        return Loaded(
+            read_fabric_table(tables / "startup_runs.csv"),
+            read_fabric_table(tables / "rotation_runs.csv"),
+            *(stress or (None, None)),
+            pd.read_csv(tables / "steady_state.csv"),
+            optional["stress_steady_state.csv"],
+            fits,
+            optional["verdicts.csv"],
+            None,
+            {"folder": str(folder), "kind": "results", **fits.get("provenance", {})},
+        )
+    else:
+        raise FileNotFoundError(
+            f"{folder}: neither a dataset (no {DATASET_FILE}) nor a finished study's results "
+            "folder (no tables/startup_runs.csv and fits.json)"
+        )
+    window = config["analysis"]["steady_window"]
+    steady_stress = None
+    if stress is not None:
+        steady_stress = _steady(stress[0], window, recorded_value_columns(stress[0], str(folder)))
+    return Loaded(
+        fabric_startup,
+        fabric_rotation,
+        *(stress or (None, None)),
+        _steady(fabric_startup, window, VALUE_COLUMNS),
+        steady_stress,
+        fits,
+        verdicts,
+        config,
+        provenance,
+    )
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description="Export a finished study's tables as a dataset.")
+    sub = parser.add_subparsers(dest="command", required=True)
+    export = sub.add_parser("export", help="copy results/<study> tables into a dataset folder")
+    export.add_argument("--config", type=Path, required=True, help="the study's config file")
+    export.add_argument("--to", type=Path, required=True, help="the dataset folder")
+    export.add_argument("--results", type=Path, help="default: results/<study>")
+    export.add_argument(
+        "--without-raw-stress",
+        action="store_true",
+        help="leave out each run's raw stress table (stress.csv.gz), which no rule reads",
+    )
+    args = parser.parse_args(argv)
+    config = load_config(args.config)
+    if config["campaign"] and args.results:
+        parser.error("--results applies to a single study; a campaign's points are read from results/<study>/<point>")
+    # a campaign: one dataset per point, <to>/<point>
+    targets = (
+        {args.to / study["study"].split("/", 1)[1]: study for study in study_configs(config).values()}
+        if config["campaign"]
+        else {args.to: config}
+    )
+    for target, study in targets.items():
+        results = args.results or Path("results") / study["study"]
+        record = export_dataset(study, results, target, raw_stress=not args.without_raw_stress)
+        done = sum(1 for key in record["files"] if key.endswith("/run.json"))
+        missing = record["runs_missing"]
+        print(
+            f"{target}: {done} runs exported, {len(missing)} missing"
+            + (f" (no run_complete.json, {' or '.join(RUN_TABLES)} yet, e.g. {missing[0]})" if missing else "")
+        )
+
+
+if __name__ == "__main__":
+    main()

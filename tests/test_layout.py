@@ -1,0 +1,113 @@
+"""The package is laid out by the workflow's stages, and no module imports a stage above its own.
+
+Every import of the package (module level or inside a function, absolute or relative) is read
+from the source with ``ast`` and resolved to the stage it lands in.
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+import suspension_fabric
+
+PACKAGE_DIR = Path(suspension_fabric.__file__).parent
+
+# What each stage may import besides itself (lowest first). simulation and models are siblings.
+ALLOWED = {
+    "io": set(),
+    "analysis": {"io"},
+    "simulation": {"io", "analysis"},
+    "models": {"io", "analysis"},
+    "study": {"io", "analysis", "simulation", "models"},
+    "reporting": {"io", "analysis", "simulation", "models", "study"},
+    # the logging helper of the workflow's scripts sits above every stage
+    "workflow_io": {"io", "analysis", "simulation", "models", "study", "reporting"},
+}
+
+
+def module_name(path: Path, package_dir: Path = PACKAGE_DIR) -> str:
+    parts = path.relative_to(package_dir).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def imported_modules(path: Path, package_dir: Path = PACKAGE_DIR) -> list[tuple[int, str]]:
+    """(line, name inside the package) of every import of the package in a source file."""
+    name = module_name(path, package_dir)
+    package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
+    found = []
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Import):
+            modules = [alias.name for alias in node.names]
+            found += [
+                (node.lineno, m.removeprefix("suspension_fabric."))
+                for m in modules
+                if m.startswith("suspension_fabric.")
+            ]
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package[: len(package) - (node.level - 1)]
+                module = ".".join([*base, node.module] if node.module else base)
+            elif node.module == "suspension_fabric" or (node.module or "").startswith("suspension_fabric."):
+                module = node.module.removeprefix("suspension_fabric").lstrip(".")
+            else:
+                continue
+            # "from <package> import <module>" imports that module
+            found += [(node.lineno, f"{module}.{alias.name}" if module else alias.name) for alias in node.names]
+    return found
+
+
+def stage(module: str) -> str:
+    return module.split(".")[0]
+
+
+MODULES = sorted(p for p in PACKAGE_DIR.rglob("*.py") if "_data" not in p.parts)
+
+
+def test_every_module_belongs_to_a_stage():
+    """Only the package's own __init__ and the scripts' helper live outside the stage folders."""
+    loose = [module_name(p) for p in MODULES if stage(module_name(p)) not in ALLOWED and module_name(p) != ""]
+    assert loose == []
+    assert {stage(module_name(p)) for p in MODULES} - {""} == set(ALLOWED)
+
+
+@pytest.mark.parametrize("path", MODULES, ids=lambda p: module_name(p) or "__init__")
+def test_no_module_imports_a_stage_above_its_own(path):
+    own = stage(module_name(path))
+    allowed = ALLOWED.get(own, set(ALLOWED)) | {own}
+    upward = [f"line {line}: {target}" for line, target in imported_modules(path) if stage(target) not in allowed]
+    assert upward == [], f"{module_name(path)} ({own}) imports above its stage: {upward}"
+
+
+def test_the_import_reader_sees_relative_absolute_and_lazy_imports(tmp_path):
+    """The check itself: an upward import of each kind is found (so the test above can fail)."""
+    fake = tmp_path / "suspension_fabric"
+    (fake / "analysis").mkdir(parents=True)
+    source = fake / "analysis" / "probe.py"
+    source.write_text(
+        "import numpy\n"
+        "from ..models import fabric_models\n"
+        "from suspension_fabric.study.config import load_config\n"
+        "import suspension_fabric.reporting.figures\n"
+        "def later():\n"
+        "    from ..io import dumpio\n"
+        "from . import tables\n"
+    )
+    targets = sorted(target for _, target in imported_modules(source, fake))
+    assert targets == [
+        "analysis.tables",
+        "io.dumpio",
+        "models.fabric_models",
+        "reporting.figures",
+        "study.config.load_config",
+    ]
+    assert {stage(t) for t in targets} - ALLOWED["analysis"] - {"analysis"} == {"models", "study", "reporting"}
+
+
+def test_the_api_reference_documents_every_module():
+    """docs/api.md has a ``::: suspension_fabric.<module>`` entry for every module of the package."""
+    api = (Path(__file__).parents[1] / "docs" / "api.md").read_text()
+    documented = {line.removeprefix("::: suspension_fabric.") for line in api.splitlines() if line.startswith(":::")}
+    assert {module_name(p) for p in MODULES} - {""} <= documented
