@@ -1,8 +1,14 @@
-"""Shared fixtures: the session's one real run of the test study (config/test.yaml)."""
+"""Shared fixtures: the session's one real run of the test study (config/test.yaml), and the same
+study on a SLURM cluster, started in the background when a test asks for it (slurm_helpers.py)."""
+
+import shutil
 
 import pytest
 
+from slurm_helpers import find_cluster, start_study_on_slurm
 from workflow_helpers import TEST_CONFIG, copy_workflow, snakemake
+
+SLURM_STUDY = pytest.StashKey()
 
 
 @pytest.fixture(scope="session")
@@ -12,3 +18,26 @@ def study(tmp_path_factory):
     result = snakemake(workdir, *TEST_CONFIG)
     assert result.returncode == 0, result.stderr[-4000:]
     return workdir
+
+
+@pytest.fixture(scope="session")
+def slurm_study_key():
+    """Where the background SLURM run is kept (``request.config.stash``)."""
+    return SLURM_STUDY
+
+
+def pytest_collection_finish(session):
+    """Start the study on the cluster now, so that its scheduler waits overlap the other tests."""
+    wanted = any("slurm_study" in getattr(item, "fixturenames", ()) for item in session.items)
+    if wanted and not session.config.option.collectonly and isinstance(find_cluster(), tuple):
+        session.config.stash[SLURM_STUDY] = start_study_on_slurm()
+
+
+def pytest_sessionfinish(session):
+    run = session.config.stash.get(SLURM_STUDY, None)
+    if run is not None:
+        run.stop()
+        if session.testsfailed:
+            print(f"\nthe study on SLURM is kept in {run.workdir}")
+        else:
+            shutil.rmtree(run.workdir, ignore_errors=True)

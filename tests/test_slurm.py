@@ -8,54 +8,35 @@ Needs a cluster; on a machine without one these tests skip. As root on Debian,
 the two variables (`.ci/run` does so); `bash envs/slurm_cluster.sh down` stops it.
 """
 
-import importlib.util
-import os
 import re
-import shutil
 import subprocess
 from collections import Counter
-from datetime import datetime, timedelta
+from datetime import datetime
 
 import pytest
 
-from workflow_helpers import RESULTS, SNAKEMAKE, TEST_CONFIG, copy_workflow, job_counts
+from slurm_helpers import SlurmRun, find_cluster, start_study_on_slurm
+from workflow_helpers import RESULTS, copy_workflow, job_counts
 
 pytestmark = [pytest.mark.slurm, pytest.mark.workflow]
 
-ENABLE = 'to run them: eval "$(bash envs/slurm_cluster.sh up)" (as root; starts a local cluster)'
-PROFILE = ["--workflow-profile", "profiles/slurm"]
 SACCT_FIELDS = ["JobIDRaw", "State", "Account", "Partition", "AllocCPUS", "Comment", "SubmitLine"]
 
 
 @pytest.fixture(scope="module")
 def cluster():
     """(account, partition) of a reachable cluster with accounting, else skip saying how."""
-    missing = [tool for tool in ("sinfo", "sbatch", "sacct") if shutil.which(tool) is None]
-    if missing:
-        pytest.skip(f"no SLURM here ({', '.join(missing)} not on PATH); {ENABLE}")
-    if importlib.util.find_spec("snakemake_executor_plugin_slurm") is None:
-        pytest.skip("the SLURM executor plugin is missing: bash envs/bootstrap.sh installs envs/cluster.txt")
-    account, partition = os.environ.get("SBATCH_ACCOUNT"), os.environ.get("SBATCH_PARTITION")
-    if not (account and partition):
-        pytest.skip(f"SBATCH_ACCOUNT and SBATCH_PARTITION are not set; {ENABLE}")
-    state = subprocess.run(["sinfo", "-h", "-p", partition, "-o", "%a"], capture_output=True, text=True)
-    if state.returncode != 0 or state.stdout.strip() != "up":
-        reason = state.stderr.strip().splitlines()[-1:] or ["not up"]
-        pytest.skip(f"SLURM partition {partition!r}: {reason[0]}; {ENABLE}")
-    accounting = subprocess.run(["sacct", "-n", "-X", "-S", "now"], capture_output=True, text=True)
-    if accounting.returncode != 0:
-        pytest.skip(f"no SLURM accounting (sacct: {accounting.stderr.strip()}); {ENABLE}")
-    return account, partition
+    found = find_cluster()
+    if isinstance(found, str):
+        pytest.skip(found)
+    return found
 
 
-def run_on_slurm(workdir, *args):
-    """The cluster command of docs/workflow.md (no --cores: each job's threads are its own)."""
-    started = datetime.now() - timedelta(minutes=1)
-    result = subprocess.run(
-        [str(SNAKEMAKE), *TEST_CONFIG, *PROFILE, *args], cwd=workdir, capture_output=True, text=True, timeout=1800
-    )
-    assert result.returncode == 0, result.stderr[-4000:]
-    return result, started
+def finished(run: SlurmRun) -> str:
+    """Snakemake's log of a run on the cluster, once it has succeeded."""
+    returncode, log = run.wait()
+    assert returncode == 0, log[-4000:]
+    return log
 
 
 def started_jobs(output: str) -> list[tuple[bool, str, str]]:
@@ -103,10 +84,11 @@ def rule_of(comment: str) -> str:
 
 
 @pytest.fixture(scope="module")
-def slurm_study(cluster, tmp_path_factory):
-    workdir = copy_workflow(tmp_path_factory.mktemp("slurm"))
-    result, started = run_on_slurm(workdir)
-    return workdir, result.stderr, sacct_jobs(result.stderr, started)
+def slurm_study(cluster, request):
+    """The test study on the cluster: the run conftest.py started in the background at collection."""
+    run = request.config.stash.get(request.getfixturevalue("slurm_study_key"), None) or start_study_on_slurm()
+    log = finished(run)
+    return run.workdir, log, sacct_jobs(log, run.started)
 
 
 def test_every_job_of_the_study_ran_as_a_completed_slurm_job(cluster, slurm_study):
@@ -151,7 +133,7 @@ def test_two_mpi_ranks_run_as_one_two_task_slurm_job(cluster, tmp_path):
         pytest.skip("no node of the partition has 2 cores")
     workdir = copy_workflow(tmp_path)
     target = f"{RESULTS}/seed1/startup/run_complete.json"
-    result, started = run_on_slurm(
+    run = SlurmRun.start(
         workdir,
         "--config",
         "seeds=[1]",
@@ -159,7 +141,7 @@ def test_two_mpi_ranks_run_as_one_two_task_slurm_job(cluster, tmp_path):
         "--",
         target,
     )
-    sacct = sacct_jobs(result.stderr, started)
+    sacct = sacct_jobs(finished(run), run.started)
     startup = [row for row in sacct.values() if rule_of(row["Comment"]) == "startup"]
     assert len(startup) == 1
     job = startup[0]
