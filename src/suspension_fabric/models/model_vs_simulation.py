@@ -45,6 +45,7 @@ from . import gillissen_wilson as model
 
 __all__ = [
     "fit_steady_state",
+    "error_sizes",
     "fit_both_models",
     "fit_listed_models",
     "propagated_fit_errors",
@@ -539,17 +540,19 @@ def model_errors(simulation: pd.DataFrame, predictions: pd.DataFrame, n12_ss: fl
             for name in (*COMPONENTS, "Z"):
                 diff = (pred[name].to_numpy() - sim[f"{name}_mean"].to_numpy()) / abs(n12_ss)
                 rows.append(
-                    {
-                        "protocol": protocol,
-                        "model": key,
-                        "theta": float(theta),
-                        "component": name,
-                        "rms_error": float(np.sqrt(np.mean(diff**2))),
-                        "max_abs_error": float(np.abs(diff).max()),
-                        "n_strains": len(diff),
-                    }
+                    {"protocol": protocol, "model": key, "theta": float(theta), "component": name, **error_sizes(diff)}
                 )
     return pd.DataFrame(rows)
+
+
+def error_sizes(difference) -> dict:
+    """rms_error, max_abs_error and n_strains of a model-minus-simulation curve (already scaled)."""
+    difference = np.asarray(difference, dtype=float)
+    return {
+        "rms_error": float(np.sqrt(np.mean(difference**2))),
+        "max_abs_error": float(np.abs(difference).max()),
+        "n_strains": len(difference),
+    }
 
 
 def summarise_errors(errors: pd.DataFrame) -> pd.DataFrame:

@@ -46,6 +46,7 @@ from suspension_fabric.analysis.seed_statistics import LEVEL, bootstrap_means, t
 from suspension_fabric.analysis.tables import TOLERANCE, fabric_tensors, settle_strain, steady_state
 
 from . import stress_relations as relations
+from .model_vs_simulation import error_sizes
 from .stress_relations import relation_terms
 
 __all__ = [
@@ -188,15 +189,8 @@ def relation_errors(
                 for name in ("eta_r", "N1", "N2", "total_23", "contact_12", "lubrication_12"):
                     diff = (on_grid[name].to_numpy() - sim[f"{name}_mean"].to_numpy()) / abs(sigma12_ss)
                     rows.append(
-                        {
-                            "protocol": protocol,
-                            "source": source,
-                            "theta": float(theta),
-                            "quantity": name,
-                            "rms_error": float(np.sqrt(np.mean(diff**2))),
-                            "max_abs_error": float(np.abs(diff).max()),
-                            "n_strains": len(diff),
-                        }
+                        {"protocol": protocol, "source": source, "theta": float(theta), "quantity": name}
+                        | error_sizes(diff)
                     )
     return pd.DataFrame(rows)
 
