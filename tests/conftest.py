@@ -5,10 +5,8 @@ import shutil
 
 import pytest
 
-from slurm_helpers import find_cluster, start_study_on_slurm
+from slurm_helpers import SLURM_STUDY, find_cluster, start_study_on_slurm
 from workflow_helpers import TEST_CONFIG, copy_workflow, snakemake
-
-SLURM_STUDY = pytest.StashKey()
 
 
 @pytest.fixture(scope="session")
@@ -18,12 +16,6 @@ def study(tmp_path_factory):
     result = snakemake(workdir, *TEST_CONFIG)
     assert result.returncode == 0, result.stderr[-4000:]
     return workdir
-
-
-@pytest.fixture(scope="session")
-def slurm_study_key():
-    """Where the background SLURM run is kept (``request.config.stash``)."""
-    return SLURM_STUDY
 
 
 def pytest_collection_finish(session):

@@ -17,10 +17,14 @@ from dataclasses import dataclass
 from datetime import datetime, timedelta
 from pathlib import Path
 
+import pytest
+
 from workflow_helpers import SNAKEMAKE, TEST_CONFIG, copy_workflow
 
 ENABLE = 'to run them: eval "$(bash envs/slurm_cluster.sh up)" (as root; starts a local cluster)'
 PROFILE = ["--workflow-profile", "profiles/slurm"]
+#: Where conftest.py keeps the background run of the study (``config.stash``).
+SLURM_STUDY = pytest.StashKey()
 
 
 def find_cluster() -> tuple[str, str] | str:
