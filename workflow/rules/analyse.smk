@@ -74,3 +74,45 @@ rule aggregate_stress_rotation:
         f"{RESULTS}/logs/aggregate_stress_rotation.log",
     script:
         "../scripts/aggregate.py"
+
+
+rule aggregate_protocols:
+    """The fabric along each of the study's own protocols (config key `protocols`): every segment's
+    run joined per seed, and the seed means, in the frame of the current flow."""
+    input:
+        protocol_run_files("fabric.csv"),
+    output:
+        runs=f"{RESULTS}/tables/protocol_runs.csv",
+        aggregate=f"{RESULTS}/tables/protocol_aggregate.csv",
+    params:
+        quantity="fabric",
+        runs=lambda wildcards: protocol_run_names(wildcards.study),
+        protocols=lambda wildcards: {name: [s.as_dict() for s in p.segments] for name, p in own_protocols(wildcards.study).items()},
+        seeds=setting("seeds"),
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/aggregate_protocols.log",
+    script:
+        "../scripts/aggregate_protocols.py"
+
+
+rule aggregate_stress_protocols:
+    """The stress along each of the study's own protocols, as rule aggregate_protocols."""
+    input:
+        protocol_run_files("stress.csv"),
+    output:
+        runs=f"{RESULTS}/tables/stress_protocol_runs.csv",
+        aggregate=f"{RESULTS}/tables/stress_protocol_aggregate.csv",
+    params:
+        quantity="stress",
+        runs=lambda wildcards: protocol_run_names(wildcards.study),
+        protocols=lambda wildcards: {name: [s.as_dict() for s in p.segments] for name, p in own_protocols(wildcards.study).items()},
+        seeds=setting("seeds"),
+        lubrication_stress=setting("analysis", "lubrication_stress"),
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/aggregate_stress_protocols.log",
+    script:
+        "../scripts/aggregate_protocols.py"

@@ -4,7 +4,8 @@
 import re
 
 from suspension_fabric.study.campaign import study_configs
-from suspension_fabric.study.config import angle_label, simulation_settings
+from suspension_fabric.study.config import angle_label, simulation_settings, study_protocols, study_run_tree
+from suspension_fabric.io.protocols import protocol_runs
 from suspension_fabric.simulation.lammps import PACK_FILES, RUN_FILES
 from suspension_fabric.simulation.lammps.plugin import plugin_sources
 from suspension_fabric.io.resources import PLUGIN_LIBRARY_NAME
@@ -19,6 +20,11 @@ STRESS_FIGURE_NAMES = ["fig3_stress", "fig4_stress_rotation"]
 # restart interval or the MPI rank count, never rerun a finished simulation).
 SIMULATION_SETTINGS = {name: simulation_settings(study) for name, study in STUDIES.items()}
 SIMULATED_STUDIES = [name for name, study in STUDIES.items() if not study["dataset"]]
+# The flow histories of each study (the paper's family and the config's protocols) and their
+# runs, a tree: each run continues from its parent's checkpoint (suspension_fabric.io.protocols).
+PROTOCOLS = {name: study_protocols(study) for name, study in STUDIES.items()}
+RUN_TREES = {name: study_run_tree(study) for name, study in STUDIES.items()}
+ALL_RUNS = sorted({run for tree in RUN_TREES.values() for run in tree})
 DATASET_STUDIES = [name for name, study in STUDIES.items() if study["dataset"]]
 
 
@@ -30,6 +36,7 @@ wildcard_constraints:
     study=study_pattern(STUDIES),
     seed=r"\d+",
     angle=r"m?[0-9.]+(e[-+]?\d+)?",
+    run=study_pattern(ALL_RUNS),
 
 
 def setting(*keys):
@@ -93,6 +100,10 @@ def study_targets(study):
         ]
         if STUDIES[study]["verdicts"]["comparisons"]:
             targets += rules.compare_datasets.output
+    if STUDIES[study]["protocols"]:
+        targets += [*rules.aggregate_protocols.output]
+        if study not in STRESSLESS_STUDIES:
+            targets += [*rules.aggregate_stress_protocols.output]
     return expand(targets, study=study)
 
 
@@ -107,3 +118,25 @@ def run_outputs(run_dir, files=RUN_FILES):
 
 # For conda users only (--sdm conda); the tested installation is pip (envs/bootstrap.sh).
 CONDA_ENV = "../../envs/environment.yml"
+
+
+def own_protocols(study):
+    """The study's protocols beyond the paper's family (config key `protocols`)."""
+    return {name: PROTOCOLS[study][name] for name in STUDIES[study]["protocols"]}
+
+
+def protocol_run_names(study):
+    """{protocol: the names of its runs, one per segment} for the study's own protocols."""
+    tree = RUN_TREES[study]
+    return {name: list(protocol_runs(p, tree)) for name, p in own_protocols(study).items()}
+
+
+def protocol_run_files(filename):
+    """An input function: ``filename`` of every run of every own protocol of the study, per seed."""
+
+    def files(wildcards):
+        runs = sorted({run for names in protocol_run_names(wildcards.study).values() for run in names})
+        return expand(f"results/{{study}}/seed{{seed}}/{{run}}/{filename}", study=wildcards.study,
+                      seed=STUDIES[wildcards.study]["seeds"], run=runs)
+
+    return files

@@ -1,5 +1,5 @@
 rule fabric_table:
-    """Near-contact fabric per dumped frame of one run, in the paper frame of its shear."""
+    """Near-contact fabric per dumped frame of one run, in the frame of its current flow."""
     input:
         dump=f"{RESULTS}/seed{{seed}}/{{run}}/trajectory.dump",
         marker=f"{RESULTS}/seed{{seed}}/{{run}}/run_complete.json",
@@ -7,7 +7,6 @@ rule fabric_table:
         f"{RESULTS}/seed{{seed}}/{{run}}/fabric.csv",
     wildcard_constraints:
         study=study_pattern(SIMULATED_STUDIES),
-        run=r"startup|rotation_theta[^/]+",
     params:
         eps=setting("analysis", "eps"),
     conda:
@@ -19,7 +18,7 @@ rule fabric_table:
 
 
 rule stress_table:
-    """Stress per dumped frame of one run: symmetric parts in the paper frame of its shear, units eta_f gammadot."""
+    """Stress per dumped frame of one run: symmetric parts in the frame of its current flow, units eta_f gammadot."""
     input:
         table=f"{RESULTS}/seed{{seed}}/{{run}}/stress.txt",
         marker=f"{RESULTS}/seed{{seed}}/{{run}}/run_complete.json",
@@ -28,7 +27,6 @@ rule stress_table:
         f"{RESULTS}/seed{{seed}}/{{run}}/stress.csv",
     wildcard_constraints:
         study=study_pattern(SIMULATED_STUDIES),
-        run=r"startup|rotation_theta[^/]+",
     conda:
         CONDA_ENV
     log:

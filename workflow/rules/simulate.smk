@@ -12,47 +12,39 @@ rule pack:
         "../scripts/pack.py"
 
 
-rule startup:
-    """Startup simple shear to run.startup_strain with trajectory, stress table and checkpoint."""
+def segment_source(wildcards):
+    """The run's start: the seed's packing for a first segment, else the checkpoint (and completion
+    marker) of its parent run, the segment before it in the flow history."""
+    node = RUN_TREES[wildcards.study][wildcards.run]
+    if node.parent is None:
+        return {"data": rules.pack.output.data.format(study=wildcards.study, seed=wildcards.seed)}
+    parent = f"results/{wildcards.study}/seed{wildcards.seed}/{node.parent}"
+    return {"checkpoint": f"{parent}/checkpoint.rst", "marker": f"{parent}/run_complete.json"}
+
+
+def segment_of(wildcards):
+    """The run's segment, its index and flow history (suspension_fabric.io.protocols.RunNode)."""
+    node = RUN_TREES[wildcards.study][wildcards.run]
+    return {"index": node.index, "history": [segment.as_dict() for segment in node.history]}
+
+
+rule shear_segment:
+    """One segment of a flow history for one seed: from the packing (the first segment) or from the
+    checkpoint of the segment before, so that protocols sharing a prefix share its runs (segment.lmp)."""
     input:
-        data=rules.pack.output.data,
+        unpack(segment_source),
         plugin=PLUGIN_LIBRARY,
     output:
-        **run_outputs(f"{RESULTS}/seed{{seed}}/startup"),
+        **run_outputs(f"{RESULTS}/seed{{seed}}/{{run}}"),
     params:
-        kind="startup",
         settings=lambda wildcards: SIMULATION_SETTINGS[wildcards.study],
-        strain=setting("run", "startup_strain"),
+        segment=segment_of,
     threads: setting("run", "mpi_ranks")
     resources:
         mpi_ranks=setting("run", "mpi_ranks"),
     conda:
         CONDA_ENV
     log:
-        f"{RESULTS}/logs/startup_seed{{seed}}.log",
-    script:
-        "../scripts/shear.py"
-
-
-rule rotate:
-    """Shear rotation by theta from the seed's startup checkpoint, to run.rotation_strain."""
-    input:
-        checkpoint=rules.startup.output.checkpoint,
-        marker=rules.startup.output.run_complete,
-        plugin=PLUGIN_LIBRARY,
-    output:
-        **run_outputs(f"{RESULTS}/seed{{seed}}/rotation_theta{{angle}}"),
-    params:
-        kind="rotation",
-        settings=lambda wildcards: SIMULATION_SETTINGS[wildcards.study],
-        strain=setting("run", "rotation_strain"),
-        theta_deg=angle_value,
-    threads: setting("run", "mpi_ranks")
-    resources:
-        mpi_ranks=setting("run", "mpi_ranks"),
-    conda:
-        CONDA_ENV
-    log:
-        f"{RESULTS}/logs/rotate_seed{{seed}}_theta{{angle}}.log",
+        f"{RESULTS}/logs/shear_seed{{seed}}_{{run}}.log",
     script:
         "../scripts/shear.py"

@@ -268,8 +268,11 @@ class FabricAnalysis(AnalysisBase):
         LAMMPS step at which the current shear started: 0 for startup, the rotation
         step for a rotated run. Frames before it raise ``ValueError``.
     flow_angle_deg
-        Flow direction (cos t, sin t, 0) of the current shear, in degrees: 0 for
-        startup, theta after a shear rotation by theta.
+        Flow direction (cos t, sin t, 0) of the current shear at its start, in degrees: 0
+        for startup, theta after a shear rotation by theta.
+    turning_deg_per_strain
+        Rate at which the flow direction turns (rotary shear), degrees per unit strain:
+        the flow angle of a frame at strain gamma is flow_angle_deg + turning x gamma.
     eps
         Near-contact threshold, gap < eps * min(d_i, d_j).
     expected_n_atoms
@@ -279,9 +282,11 @@ class FabricAnalysis(AnalysisBase):
     --------------------------------------------------------
     step, strain
         LAMMPS step and strain (step - shear_start_step) * dt * shear_rate.
+    flow_angle_deg
+        (n_frames,) flow angle of each frame, degrees.
     fabric
-        (n_frames, 3, 3) <nn> in the paper frame (e1 flow, e2 gradient, e3 vorticity)
-        of the current shear; ``fabric_simulation`` the same in x, y, z.
+        (n_frames, 3, 3) <nn> in the frame of the current flow (e1 the flow direction at
+        the frame's strain, e2 gradient, e3 = e1 x e2); ``fabric_simulation`` the same in x, y, z.
     n11, n22, n33, n12, n13, n23
         Components of ``fabric``.
     n_pairs, coordination
@@ -300,6 +305,7 @@ class FabricAnalysis(AnalysisBase):
         shear_rate: float = 1.0,
         shear_start_step: int = 0,
         flow_angle_deg: float = 0.0,
+        turning_deg_per_strain: float = 0.0,
         eps: float = DEFAULT_EPS,
         expected_n_atoms: int | None = None,
         verbose: bool = False,
@@ -307,7 +313,14 @@ class FabricAnalysis(AnalysisBase):
         super().__init__(universe.trajectory, verbose=verbose)
         self.universe = universe
         self.source = getattr(universe.trajectory, "filename", None) or "<universe>"
-        for name, value in (("dt", dt), ("shear_rate", shear_rate), ("eps", eps), ("flow_angle_deg", flow_angle_deg)):
+        checked = (
+            ("dt", dt),
+            ("shear_rate", shear_rate),
+            ("eps", eps),
+            ("flow_angle_deg", flow_angle_deg),
+            ("turning_deg_per_strain", turning_deg_per_strain),
+        )
+        for name, value in checked:
             if not np.isfinite(value):
                 raise ValueError(f"{self.source}: {name} must be finite, got {value}")
         if dt <= 0:
@@ -323,6 +336,7 @@ class FabricAnalysis(AnalysisBase):
         self.shear_rate = float(shear_rate)
         self.shear_start_step = int(shear_start_step)
         self.flow_angle_deg = float(flow_angle_deg)
+        self.turning_deg_per_strain = float(turning_deg_per_strain)
         self.eps = float(eps)
         self.n_particles = n_atoms
 
@@ -369,7 +383,8 @@ class FabricAnalysis(AnalysisBase):
         results = self.results
         results.n_particles = self.n_particles
         results.strain = (results.step - self.shear_start_step) * self.dt * self.shear_rate
-        results.fabric = simulation_to_paper(results.fabric_simulation, np.radians(self.flow_angle_deg))
+        results.flow_angle_deg = self.flow_angle_deg + self.turning_deg_per_strain * results.strain
+        results.fabric = simulation_to_paper(results.fabric_simulation, np.radians(results.flow_angle_deg))
         for name, values in tensor_components(results.fabric).items():
             results[name] = values
         results.coordination = 2.0 * results.n_pairs / self.n_particles

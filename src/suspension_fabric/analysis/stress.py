@@ -139,19 +139,21 @@ def symmetric_contact_pressure(table: dict[str, np.ndarray]) -> np.ndarray:
     return pressure
 
 
-def _imposed_strain_rate(rows: int, flow_angle: float) -> np.ndarray:
-    """2 E / gammadot = f e2 + e2 f of the shear with flow f = (cos t, sin t, 0), gradient z."""
-    flow = np.array([np.cos(flow_angle), np.sin(flow_angle), 0.0])
+def _imposed_strain_rate(rows: int, flow_angle) -> np.ndarray:
+    """2 E / gammadot = f e2 + e2 f of the shear with flow f = (cos t, sin t, 0), gradient z, per
+    row (``flow_angle`` one angle or one per row, radians)."""
+    angle = np.broadcast_to(np.asarray(flow_angle, dtype=float), (rows,))
+    flow = np.stack([np.cos(angle), np.sin(angle), np.zeros(rows)], axis=-1)
     gradient = np.array([0.0, 0.0, 1.0])
-    twice_e = np.outer(flow, gradient) + np.outer(gradient, flow)
-    return np.broadcast_to(twice_e, (rows, 3, 3)).copy()
+    return flow[:, :, None] * gradient[None, None, :] + gradient[None, :, None] * flow[:, None, :]
 
 
 def stress_parts(
     table: dict[str, np.ndarray], *, eta_f: float, rate: float, phi: float, theta_deg: float
 ) -> dict[str, np.ndarray]:
     """Every part (and the total, and the alternative parts) per table row as (n, 3, 3) arrays in
-    the paper frame of the shear with flow angle ``theta_deg``, in units of eta_f gammadot."""
+    the frame of the flow at angle ``theta_deg`` (one angle, or one per row in rotary shear), in
+    units of eta_f gammadot."""
     if not (eta_f > 0 and rate > 0):
         raise ValueError(f"eta_f and rate must be positive, got {eta_f}, {rate}")
     scale = -1.0 / (eta_f * rate)
@@ -244,9 +246,12 @@ def run_stress_table(
     if eta_f is None:
         raise ValueError(f"{marker}: the run record has no variables.eta_f")
     fabric = read_fabric_table(fabric_table)
-    if not np.allclose(fabric["theta"], info.theta_deg):
+    segment = info.segment
+    frame_angles = segment.flow_angle_at((fabric["step"].to_numpy() - info.first_step) * info.dt * info.rate)
+    if not np.allclose(fabric["theta"], frame_angles):
         raise ValueError(
-            f"{fabric_table}: theta {fabric['theta'].iloc[0]} differs from the run record's {info.theta_deg} ({marker})"
+            f"{fabric_table}: the flow angles of its frames ({fabric['theta'].iloc[0]} ...) differ from "
+            f"those of the run record's segment ({segment.flow_angle_deg} at its start) ({marker})"
         )
     phi = float(fabric["phi"].mean())
     table = read_stress_table(stress_table)
@@ -257,7 +262,7 @@ def run_stress_table(
         eta_f=eta_f,
         rate=info.rate,
         phi=phi,
-        theta_deg=info.theta_deg,
+        theta_deg=segment.flow_angle_at((np.asarray(table["step"]) - info.first_step) * info.dt * info.rate),
     )
     meta = fabric[["seed", "theta", "N", "phi", "step", "strain"]].reset_index(drop=True)
     out = pd.concat([meta, frames.drop(columns="step")], axis=1)

@@ -5,8 +5,10 @@ Per-run table (one row per analysed frame; CSV written by :func:`write_fabric_ta
 
     ======== ===============================================================
     seed     integer seed of the run (packing / initial condition)
-    theta    shear-rotation angle in degrees (0 for startup shear); the
-             components are in the paper frame of this shear (e1', e2, e3')
+    theta    flow angle of the frame in degrees about e2 (0 for startup shear,
+             theta after a shear rotation by theta, turning with the strain in
+             rotary shear); the components are in the frame of this flow
+             (e1' the flow direction, e2 the gradient, e3' = e1' x e2)
     N        number of particles
     phi      volume fraction sum(4/3 pi a^3) / V (measured from the dump
              unless given)
@@ -90,7 +92,7 @@ def fabric_tensors(values, suffix: str = "") -> np.ndarray:
 def fabric_table(analysis, *, seed: int, phi: float | None = None) -> pd.DataFrame:
     """Per-run tidy table from a finished :class:`~suspension_fabric.analysis.fabric.FabricAnalysis`.
 
-    ``theta`` is the analysis' flow angle in degrees; ``phi`` defaults to the mean
+    ``theta`` is each frame's flow angle in degrees; ``phi`` defaults to the mean
     measured volume fraction of the analysed frames.
     """
     results = analysis.results
@@ -101,7 +103,7 @@ def fabric_table(analysis, *, seed: int, phi: float | None = None) -> pd.DataFra
     table = pd.DataFrame(
         {
             "seed": np.full(n_frames, int(seed), dtype=np.int64),
-            "theta": np.full(n_frames, float(analysis.flow_angle_deg)),
+            "theta": np.asarray(results.flow_angle_deg, dtype=float),
             "N": np.full(n_frames, int(results.n_particles), dtype=np.int64),
             "phi": np.full(n_frames, measured_phi if phi is None else float(phi)),
             "step": np.asarray(results.step, dtype=np.int64),
@@ -117,7 +119,7 @@ def run_fabric_table(
     dump: str | os.PathLike, marker: str | os.PathLike, *, seed: int, eps: float = DEFAULT_EPS
 ) -> pd.DataFrame:
     """Per-run tidy table of a finished shear run: its trajectory ``dump`` analysed with the
-    time step, shear rate, first step and flow angle recorded in its completion ``marker``
+    time step, shear rate, first step and flow (angle, turning rate) recorded in its completion ``marker``
     (:func:`suspension_fabric.io.runinfo.read_run_info`), near contacts at gap < ``eps`` d_min.
     """
     info = read_run_info(marker)
@@ -126,7 +128,8 @@ def run_fabric_table(
         dt=info.dt,
         shear_rate=info.rate,
         shear_start_step=info.first_step,
-        flow_angle_deg=info.theta_deg,
+        flow_angle_deg=info.segment.flow_angle_deg,
+        turning_deg_per_strain=info.segment.turning_deg_per_strain,
         eps=eps,
     ).run()
     return fabric_table(analysis, seed=seed)

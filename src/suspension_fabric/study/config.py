@@ -13,6 +13,15 @@ from pathlib import Path
 
 import yaml
 
+from suspension_fabric.io.protocols import (
+    PaperRunNames,
+    Protocol,
+    ProtocolError,
+    RunNode,
+    paper_protocols,
+    parse_protocols,
+    run_tree,
+)
 from suspension_fabric.io.resources import SCHEMA_PATH
 from suspension_fabric.models.fabric_models import ModelError, resolve_models
 from suspension_fabric.models.stress_relations import RelationError, resolve_relations
@@ -32,6 +41,8 @@ __all__ = [
     "angle_label",
     "simulation_settings",
     "SIMULATION_RUN_KEYS",
+    "study_protocols",
+    "study_run_tree",
 ]
 
 # velocity Verlet (run.integrator = explicit) must resolve the contact oscillation
@@ -58,6 +69,35 @@ def simulation_settings(config: dict) -> dict:
 
 class ConfigError(ValueError):
     """The configuration is invalid; the message names the key."""
+
+
+def study_protocols(config: dict) -> dict[str, Protocol]:
+    """Every protocol of a validated study: the paper's family (startup, then run.rotation_strain at
+    each of angles_deg; :func:`suspension_fabric.io.protocols.paper_protocols`) and the config's
+    ``protocols``."""
+    run = config["run"]
+    protocols = paper_protocols(config["angles_deg"], run["startup_strain"], run["rotation_strain"])
+    try:
+        own = parse_protocols(config.get("protocols") or {})
+    except ProtocolError as err:
+        raise ConfigError(str(err)) from None
+    clash = sorted(set(own) & set(protocols))
+    if clash:
+        raise ConfigError(
+            f"config key 'protocols.{clash[0]}': the name belongs to the paper's family (startup, "
+            "rotation_theta<angle>); choose another"
+        )
+    return {**protocols, **own}
+
+
+def study_run_tree(config: dict) -> dict[str, RunNode]:
+    """The runs of a validated study, parents first, keyed by run name (the paper's runs keep
+    their names ``startup`` and ``rotation_theta<angle>``; :func:`suspension_fabric.io.protocols.run_tree`)."""
+    run = config["run"]
+    try:
+        return run_tree(study_protocols(config).values(), PaperRunNames(run["startup_strain"], run["rotation_strain"]))
+    except ProtocolError as err:
+        raise ConfigError(f"config key 'protocols': {err}") from None
 
 
 def _fill_and_validate(config: dict, schema: dict) -> None:
@@ -208,6 +248,31 @@ def _cross_check(config: dict) -> None:
     labels = [angle_label(a) for a in config["angles_deg"]]
     if len(set(labels)) != len(labels):
         raise ConfigError(f"config key 'angles_deg': angles collide after formatting: {labels}")
+    _check_protocols(config)
+
+
+def _check_protocols(config: dict) -> None:
+    """Every segment of the config's protocols a whole number of output strides long, so that the
+    next segment starts on the output grid (as :func:`_check_output_grid` for the paper's runs)."""
+    run = config["run"]
+    protocols = study_protocols(config)
+    for name in config.get("protocols") or {}:
+        for index, segment in enumerate(protocols[name].segments):
+            key = f"protocols.{name}.{index}.strain"
+            steps = segment.strain / run["dt"]
+            if abs(steps - round(steps)) > 1e-6 * steps:
+                raise ConfigError(
+                    f"config key '{key}' ({segment.strain:g}) is not a whole number of steps of run.dt ({run['dt']:g})"
+                )
+            for grid in ("dump_strain", "table_strain"):
+                stride = output_stride(run[grid], run["dt"])
+                if round(steps) % stride:
+                    raise ConfigError(
+                        f"config key '{key}' ({segment.strain:g}) is not a whole number of run.{grid} "
+                        f"strides ({stride} steps at dt = {run['dt']:g}): the next segment would start "
+                        "off the output grid"
+                    )
+    study_run_tree(config)
 
 
 def _check_time_step(run: dict, forces: dict, d_small: float) -> None:

@@ -3,7 +3,7 @@
 Modules, lowest first: ``plugin`` (build and load the plugin), ``process`` (launch and
 watch lmp), ``checks`` (overlap and stress-jitter checks of finished runs), ``rundir``
 (partial run directories, resume, publishing), ``runner`` (the public runs: pack,
-startup, rotation).
+any segment of a flow history).
 """
 
 __all__ = ["build_plugin", "new_lammps", "plugin_path"]
@@ -34,6 +34,7 @@ from .runner import (  # noqa: E402
     is_complete,
     pack,
     run_rotation,
+    run_segment,
     run_startup,
 )
 
@@ -52,6 +53,7 @@ __all__ += [
     "pack",
     "read_stress_table",
     "run_rotation",
+    "run_segment",
     "run_startup",
     "stress_jitter",
 ]

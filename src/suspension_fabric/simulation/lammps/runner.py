@@ -1,4 +1,5 @@
-"""Run the project's LAMMPS scripts (workflow/lammps/*.lmp) from Python: pack, startup, rotation.
+"""Run the project's LAMMPS scripts (workflow/lammps/*.lmp) from Python: pack, and any segment of a
+flow history (segment.lmp; the startup and a shear rotation are two kinds of segment).
 
 Units (project convention): strain rate 1, small-particle diameter d = 1, mass rho d^3
 (rho = 1), so time = strain; a run of strain S at time step dt takes S / dt steps.
@@ -28,7 +29,9 @@ from pathlib import Path
 import numpy as np
 
 from suspension_fabric.io.dumpio import scan_dump
+from suspension_fabric.io.protocols import Segment
 from suspension_fabric.io.resources import LAMMPS_SCRIPTS_DIR
+from suspension_fabric.io.runinfo import RUN_RECORD_FORMAT, read_run_info
 from suspension_fabric.io.schema import schema_default
 from suspension_fabric.io.stressio import UNRECORDED_COLUMNS, read_stress_table
 from suspension_fabric.simulation.scales import output_stride
@@ -45,6 +48,7 @@ __all__ = [
     "PackResult",
     "ShearRunResult",
     "pack",
+    "run_segment",
     "run_startup",
     "run_rotation",
     "is_complete",
@@ -403,6 +407,7 @@ def _shear_run(
     resume: bool,
     progress: ProgressCallback | None,
     progress_interval: float,
+    record: Mapping | None = None,
 ) -> ShearRunResult:
     output_dir = Path(output_dir).resolve()
     if output_dir.exists() and not overwrite:
@@ -468,6 +473,8 @@ def _shear_run(
         results = _check_shear_outputs(target, first_step, last_step, strain_total, settings)
         wall_time = sum(s.get("wall_time_s", 0.0) for s in segments if math.isfinite(s.get("wall_time_s", 0.0)))
         return {
+            "format": RUN_RECORD_FORMAT,
+            **(record or {}),
             "label": label,
             "script": script,
             "variables": run_variables,
@@ -554,52 +561,14 @@ def _check_grid(name: str, steps: np.ndarray, first_step: int, last_step: int, s
         )
 
 
-def run_startup(
+def run_segment(
     output_dir: str | os.PathLike,
-    data_file: str | os.PathLike,
-    strain_total: float = schema_default("run", "startup_strain"),
+    segment: Segment,
     *,
-    force_model: ForceModel = ForceModel(),
-    settings: ShearSettings = ShearSettings(),
-    overwrite: bool = False,
-    resume: bool = True,
-    progress: ProgressCallback | None = print_progress,
-    progress_interval: float = 10.0,
-) -> ShearRunResult:
-    """Startup simple shear from rest (workflow/lammps/startup.lmp): flow x, gradient z.
-
-    Reads the packing ``data_file`` and shears to ``strain_total`` with ``settings``
-    (:class:`ShearSettings`); writes into ``output_dir`` the trajectory
-    ``trajectory.dump`` (id type radius x y z), the table ``stress.txt``
-    (:func:`suspension_fabric.io.stressio.read_stress_table`) and ``checkpoint.rst``. With
-    ``resume``, an interrupted earlier call with the same arguments is continued from its
-    latest restart file. ``progress(label, strain, total, elapsed_s)`` is called at most
-    every ``progress_interval`` seconds.
-    """
-    data_file = Path(data_file).resolve()
-    if not data_file.is_file():
-        raise FileNotFoundError(f"packing data file not found: {data_file}")
-    variables = {"data_file": str(data_file), **force_model.variables()}
-    return _shear_run(
-        "startup.lmp",
-        "startup",
-        variables,
-        output_dir,
-        strain_total,
-        settings,
-        overwrite,
-        resume,
-        progress,
-        progress_interval,
-    )
-
-
-def run_rotation(
-    output_dir: str | os.PathLike,
-    restart_file: str | os.PathLike,
-    theta_deg: float,
-    strain_total: float = schema_default("run", "rotation_strain"),
-    *,
+    data_file: str | os.PathLike | None = None,
+    restart_file: str | os.PathLike | None = None,
+    index: int | None = None,
+    history: tuple[Segment, ...] | None = None,
     force_model: ForceModel = ForceModel(),
     settings: ShearSettings = ShearSettings(),
     require_complete_source: bool = True,
@@ -608,33 +577,107 @@ def run_rotation(
     progress: ProgressCallback | None = print_progress,
     progress_interval: float = 10.0,
 ) -> ShearRunResult:
-    """Shear rotation by ``theta_deg`` degrees from a checkpoint (workflow/lammps/rotate.lmp).
+    """One segment of a flow history (workflow/lammps/segment.lmp): ``segment.strain`` of simple
+    shear at flow angle ``segment.flow_angle_deg`` about the gradient axis z, turning at
+    ``segment.turning_deg_per_strain`` (:class:`suspension_fabric.io.protocols.Segment`).
 
-    The flow turns about the gradient axis z to (cos theta, sin theta, 0) (paper frame:
-    e1' = cos(theta) e1 - sin(theta) e3); theta = 0 continues the previous shear.
-    Strain counts from the rotation step. ``force_model`` must be the one of the run
-    that wrote ``restart_file`` (pair coefficients are re-issued, not restored). With
-    ``require_complete_source`` the checkpoint must sit in a finished run directory.
-    Outputs, resume and failure checks as in :func:`run_startup`.
+    Starts from rest on the packing ``data_file`` or continues from the checkpoint
+    ``restart_file`` of the segment before (exactly one); ``index`` is the segment's depth in its
+    flow history (0 from a packing) and ``history`` the segments up to and including this one,
+    recorded in the completion marker with the segment (defaults: the segment alone from a
+    packing, the history recorded by the run that wrote ``restart_file`` and the segment after it). Writes into
+    ``output_dir`` the trajectory ``trajectory.dump`` (id type radius x y z), the table
+    ``stress.txt`` (:func:`suspension_fabric.io.stressio.read_stress_table`) and ``checkpoint.rst``;
+    strain counts from the segment's first step. ``force_model`` must be the one of the run that
+    wrote ``restart_file`` (pair coefficients are re-issued, not restored); with
+    ``require_complete_source`` that checkpoint must sit in a finished run directory. With
+    ``resume``, an interrupted earlier call with the same arguments is continued from its latest
+    restart file. ``progress(label, strain, total, elapsed_s)`` is called at most every
+    ``progress_interval`` seconds.
     """
-    restart_file = Path(restart_file).resolve()
-    if not restart_file.is_file():
-        raise FileNotFoundError(f"restart file not found: {restart_file}")
-    if require_complete_source and not is_complete(restart_file.parent):
-        raise LammpsRunError(
-            f"{restart_file} is not in a finished run directory (no {COMPLETION_MARKER}); "
-            "pass require_complete_source=False to use it anyway"
-        )
-    variables = {"restart_file": str(restart_file), "theta_deg": _number(theta_deg), **force_model.variables()}
+    if (data_file is None) == (restart_file is None):
+        raise ValueError("give exactly one of data_file (start from rest) and restart_file (continue)")
+    if data_file is not None:
+        data_file = Path(data_file).resolve()
+        if not data_file.is_file():
+            raise FileNotFoundError(f"packing data file not found: {data_file}")
+        source = {"start_from": "packing", "start_file": str(data_file)}
+    else:
+        restart_file = Path(restart_file).resolve()
+        if not restart_file.is_file():
+            raise FileNotFoundError(f"restart file not found: {restart_file}")
+        if require_complete_source and not is_complete(restart_file.parent):
+            raise LammpsRunError(
+                f"{restart_file} is not in a finished run directory (no {COMPLETION_MARKER}); "
+                "pass require_complete_source=False to use it anyway"
+            )
+        source = {"start_from": "checkpoint", "start_file": str(restart_file)}
+    if history is None:
+        # from a packing the segment is the whole history; after a finished run, its history and this
+        parent = () if data_file is not None else _recorded_history(restart_file.parent)
+        history = (*parent, segment) if parent is not None else None
+    if history is None:
+        if index is None:
+            raise ValueError(f"{restart_file.parent} holds no run record: give index and history")
+        history = (segment,)
+    history = tuple(history)
+    index = len(history) - 1 if index is None else index
+    if history[-1] != segment:
+        raise ValueError("history must end with the segment")
+    if index < 0 or (index == 0) != (data_file is not None):
+        raise ValueError(f"index must be 0 for a segment from a packing and >= 1 after another, got {index}")
+    variables = {
+        **source,
+        "segment_index": str(index),
+        "flow_angle_deg": _number(segment.flow_angle_deg),
+        "turning_deg_per_strain": _number(segment.turning_deg_per_strain),
+        **force_model.variables(),
+    }
+    turning = f", turning {segment.turning_deg_per_strain:g} deg/strain" if segment.turning_deg_per_strain else ""
+    record = {
+        "flow_segment": {"index": index, **segment.as_dict()},
+        "flow_history": [past.as_dict() for past in history],
+    }
     return _shear_run(
-        "rotate.lmp",
-        f"rotate {theta_deg:g} deg",
+        "segment.lmp",
+        f"segment {index}: {segment.strain:g} strain at {segment.flow_angle_deg:g} deg{turning}",
         variables,
         output_dir,
-        strain_total,
+        segment.strain,
         settings,
         overwrite,
         resume,
         progress,
         progress_interval,
+        record,
     )
+
+
+def run_startup(
+    output_dir: str | os.PathLike,
+    data_file: str | os.PathLike,
+    strain_total: float = schema_default("run", "startup_strain"),
+    **options,
+) -> ShearRunResult:
+    """Startup simple shear from rest, flow x, gradient z: :func:`run_segment` of ``strain_total``
+    at angle 0 from the packing ``data_file`` (``options`` as there)."""
+    return run_segment(output_dir, Segment(strain_total), data_file=data_file, **options)
+
+
+def run_rotation(
+    output_dir: str | os.PathLike,
+    restart_file: str | os.PathLike,
+    theta_deg: float,
+    strain_total: float = schema_default("run", "rotation_strain"),
+    **options,
+) -> ShearRunResult:
+    """Shear rotation by ``theta_deg`` degrees from the checkpoint of a startup: :func:`run_segment`
+    of ``strain_total`` at flow angle theta, (cos theta, sin theta, 0) (paper frame:
+    e1' = cos(theta) e1 - sin(theta) e3); theta = 0 continues the startup's shear."""
+    return run_segment(output_dir, Segment(strain_total, theta_deg), restart_file=restart_file, **options)
+
+
+def _recorded_history(run_dir: Path) -> tuple[Segment, ...] | None:
+    """The flow history recorded by the finished run in ``run_dir`` (None without a record)."""
+    marker = run_dir / COMPLETION_MARKER
+    return read_run_info(marker).history if marker.is_file() else None

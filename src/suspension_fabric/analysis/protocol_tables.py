@@ -1,0 +1,145 @@
+"""Per-frame tables along a flow history: the runs of a protocol's segments joined, and their seed
+means.
+
+Protocol table (:func:`protocol_table`), one row per frame of every segment of every seed
+    ========== ===========================================================
+    protocol   protocol name (:class:`suspension_fabric.io.protocols.Protocol`)
+    segment    index of the segment in the protocol (0 from rest)
+    seed       integer seed of the run
+    frame      ``flow``: tensors in the frame of the current flow, e1 the flow
+               direction at that strain, e2 the gradient, e3 = e1 x e2
+    theta      flow angle of that frame, degrees about e2 from the first
+               segment's flow direction
+    N, phi     as in the run tables
+    step       LAMMPS step of the frame
+    segment_strain  strain since the segment started
+    strain     strain since the protocol started (rest)
+    values     the per-run table's value columns (fabric or stress)
+    ========== ===========================================================
+
+    Where one segment ends and the next begins, both rows are kept at the same ``strain``: the
+    last frame of a segment and the first of the next are the same configuration, seen in the
+    frames of the two flows (a shear rotation turns the frame, not the particles).
+
+Seed aggregate (:func:`aggregate_protocol_seeds`)
+    Per (protocol, segment, frame): the strains, the frame angle, n_seeds and ``c_mean``,
+    ``c_sem`` for every value column ``c`` (as :func:`suspension_fabric.analysis.tables.aggregate_seeds`).
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from suspension_fabric.io.protocols import Protocol
+
+from .tables import aggregate_seeds
+
+__all__ = [
+    "FLOW_FRAME",
+    "PROTOCOL_COLUMNS",
+    "protocol_table",
+    "aggregate_protocol_seeds",
+    "protocol_tables",
+    "read_protocol_table",
+]
+
+#: The ``frame`` of every protocol-table row: tensors in the frame of the current flow.
+FLOW_FRAME = "flow"
+#: The columns a protocol table puts before the run tables' value columns.
+PROTOCOL_COLUMNS = ("protocol", "segment", "seed", "frame", "theta", "N", "phi", "step", "segment_strain", "strain")
+
+
+def protocol_table(
+    protocol: Protocol,
+    runs: Sequence[str],
+    read: Callable[[str, int], pd.DataFrame],
+    seeds: Sequence[int],
+    value_columns,
+) -> pd.DataFrame:
+    """The protocol's per-frame table: for each seed, ``read(run, seed)`` (a per-run table with the
+    run-table columns) of each segment's run ``runs[k]``, joined along the protocol's strain."""
+    if len(runs) != len(protocol.segments):
+        raise ValueError(f"protocol {protocol.name}: {len(runs)} runs for {len(protocol.segments)} segments")
+    blocks = []
+    for seed in seeds:
+        for index, (run, start) in enumerate(zip(runs, protocol.start_strains)):
+            rows = read(run, seed)
+            expected = protocol.segments[index].flow_angle_at(rows["strain"].to_numpy())
+            if not np.allclose(rows["theta"].to_numpy(), expected, atol=1e-9):
+                raise ValueError(
+                    f"protocol {protocol.name}, segment {index}: run {run} of seed {seed} has flow angles "
+                    f"{rows['theta'].iloc[0]:g} ... where the segment has {expected[0]:g} ..."
+                )
+            block = pd.DataFrame(
+                {
+                    "protocol": protocol.name,
+                    "segment": index,
+                    "seed": rows["seed"].to_numpy(),
+                    "frame": FLOW_FRAME,
+                    "theta": rows["theta"].to_numpy(),
+                    "N": rows["N"].to_numpy(),
+                    "phi": rows["phi"].to_numpy(),
+                    "step": rows["step"].to_numpy(),
+                    "segment_strain": rows["strain"].to_numpy(),
+                    "strain": start + rows["strain"].to_numpy(),
+                }
+            )
+            for column in value_columns:
+                block[column] = rows[column].to_numpy()
+            blocks.append(block)
+    return pd.concat(blocks, ignore_index=True)
+
+
+def aggregate_protocol_seeds(table: pd.DataFrame, value_columns) -> pd.DataFrame:
+    """Mean and standard error over seeds per (protocol, segment) and frame of a protocol table
+    (module docstring); the seeds of one segment must share its strain grid."""
+    blocks = []
+    for (name, index), group in table.groupby(["protocol", "segment"], sort=False):
+        one = group[group["seed"] == group["seed"].min()].sort_values("segment_strain", kind="stable")
+        # aggregate_seeds groups by theta: give every row of this segment one key, then restore it
+        keyed = group.assign(theta=0.0, strain=group["segment_strain"])
+        aggregate = aggregate_seeds(keyed, value_columns)
+        aggregate.insert(0, "protocol", name)
+        aggregate.insert(1, "segment", index)
+        aggregate.insert(2, "frame", FLOW_FRAME)
+        aggregate["theta"] = one["theta"].to_numpy()
+        aggregate = aggregate.rename(columns={"strain": "segment_strain"})
+        aggregate.insert(aggregate.columns.get_loc("segment_strain") + 1, "strain", one["strain"].to_numpy())
+        blocks.append(aggregate)
+    return pd.concat(blocks, ignore_index=True)
+
+
+def read_protocol_table(path: str | os.PathLike) -> pd.DataFrame:
+    """A protocol table or aggregate CSV; ``ValueError`` naming the file if it lacks the protocol
+    columns or holds another frame than :data:`FLOW_FRAME`."""
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"protocol table not found: {path}")
+    table = pd.read_csv(path)
+    missing = [c for c in ("protocol", "segment", "frame", "theta", "segment_strain", "strain") if c not in table]
+    if missing:
+        raise ValueError(f"{path}: not a protocol table (no column(s) {missing})")
+    frames = set(table["frame"].unique())
+    if frames != {FLOW_FRAME}:
+        raise ValueError(f"{path}: frame(s) {sorted(frames)}, expected {FLOW_FRAME!r} (the current flow's)")
+    return table
+
+
+def protocol_tables(
+    protocols: Mapping[str, Protocol],
+    run_names: Mapping[str, Sequence[str]],
+    read: Callable[[str, int], pd.DataFrame],
+    seeds: Sequence[int],
+    value_columns,
+) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """(protocol table, seed aggregate) of several protocols, ``run_names[name]`` the runs of each."""
+    table = pd.concat(
+        [protocol_table(p, run_names[name], read, seeds, value_columns) for name, p in protocols.items()],
+        ignore_index=True,
+    )
+    return table, aggregate_protocol_seeds(table, value_columns)

@@ -1,0 +1,38 @@
+"""Snakemake: the fabric or the stress along each of a study's own protocols, per seed and
+seed-averaged (rules aggregate_protocols and aggregate_stress_protocols; params.quantity)."""
+
+from pathlib import Path
+
+from suspension_fabric.analysis import stress, tables
+from suspension_fabric.analysis.protocol_tables import protocol_tables
+from suspension_fabric.io.protocols import Protocol, Segment
+from suspension_fabric.workflow_io import logged
+
+sm = snakemake  # noqa: F821 (injected by Snakemake)
+with logged(sm.log[0]):
+    root = Path(sm.output.runs).parent.parent
+    if sm.params.quantity == "fabric":
+        columns = tables.VALUE_COLUMNS
+
+        def read(run, seed):
+            return tables.read_fabric_table(root / f"seed{seed}" / run / "fabric.csv")
+
+    elif sm.params.quantity == "stress":
+
+        def read(run, seed):
+            return stress.read_stress_csv(root / f"seed{seed}" / run / "stress.csv", sm.params.lubrication_stress)
+
+        columns = stress.recorded_value_columns(
+            read(next(iter(sm.params.runs.values()))[0], sm.params.seeds[0]), "stress tables"
+        )
+    else:
+        raise ValueError(f"params.quantity must be 'fabric' or 'stress', got {sm.params.quantity!r}")
+    protocols = {
+        name: Protocol(name, tuple(Segment(**fields) for fields in segments))
+        for name, segments in sm.params.protocols.items()
+    }
+    runs, aggregate = protocol_tables(protocols, sm.params.runs, read, sm.params.seeds, columns)
+    runs.to_csv(sm.output.runs, index=False)
+    aggregate.to_csv(sm.output.aggregate, index=False)
+    for name, group in aggregate.groupby("protocol", sort=False):
+        print(f"{name}: {group['segment'].nunique()} segments, strain 0-{group['strain'].max():g}")
