@@ -14,8 +14,8 @@ contact network is built up (Z ~ 3.4), into results/bench_engine/n<N>/. Reused w
 `ladder [--kn K]`: at N = 500, the implicit springs with block Jacobi and with dilu at
 dt = 2e-5 ... 4e-4, solved to 1e-5 (the cost and the CG iterations against the step).
 
-`measure`: from each checkpoint, a short continuation of the same shear (rotate.lmp at
-theta = 0) with (a) the default engine (the schema's defaults: the implicit springs, dilu,
+`measure`: from each checkpoint, a short continuation of the same shear (segment.lmp at
+flow angle 0) with (a) the default engine (the schema's defaults: the implicit springs, dilu,
 kn = 1.25e8, dt = 1e-4, solver_tol = 1e-3), (b) the same with block Jacobi, (c) dilu to
 solver_tol = 1e-5 (engine speed II's first accepted setting),
 (d) the implicit hydrodynamics with the springs explicit (pair granular) at kn = 1.25e9, its

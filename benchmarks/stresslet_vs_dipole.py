@@ -53,7 +53,8 @@ def startup_run(packing: Path, folder: Path, strain: float = STRAIN, dump_strain
     0.01 strain, trajectory every ``dump_strain``); the folder, or RuntimeError naming the log."""
     variables = {
         "lammps_dir": REPO / "workflow" / "lammps",
-        "data_file": packing.resolve(),
+        "start_from": "packing",
+        "start_file": packing.resolve(),
         **ENGINE,
         "plugin": plugin_path(),
         "dump_strain": dump_strain,
@@ -69,7 +70,7 @@ def startup_run(packing: Path, folder: Path, strain: float = STRAIN, dump_strain
         "restart_file_b": "b.rst",
     }
     result = launch(
-        lammps_command(REPO / "workflow" / "lammps" / "startup.lmp", variables),
+        lammps_command(REPO / "workflow" / "lammps" / "segment.lmp", variables),
         folder,
         label=packing.parent.parent.name,
         strain_total=strain,

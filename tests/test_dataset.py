@@ -25,7 +25,7 @@ from workflow_helpers import REPO, RESULTS, copy_workflow, dry_run_jobs, snakema
 
 pytestmark = pytest.mark.workflow
 
-SIMULATION_RULES = {"build_plugin", "pack", "startup", "rotate", "fabric_table"}
+SIMULATION_RULES = {"build_plugin", "pack", "shear_segment", "fabric_table"}
 
 
 @pytest.fixture(scope="module")

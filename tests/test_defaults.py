@@ -65,15 +65,15 @@ def test_shear_script_text_defaults_and_python_defaults():
 
 
 def test_strain_and_packing_defaults():
-    """The scripts' strain_total equal the schema's run strains, as do the Python runners';
-    pack.lmp's particle defaults equal the schema's particles section."""
+    """segment.lmp's strain_total (a segment from a packing: the startup) equals the schema's startup
+    strain; the Python runners' strains equal the schema's run strains; pack.lmp's particle defaults
+    equal the schema's particles section."""
     import inspect
 
-    for script, function, key in (
-        ("startup.lmp", run_startup, "startup_strain"),
-        ("rotate.lmp", run_rotation, "rotation_strain"),
-    ):
-        assert float(script_defaults(script)["strain_total"]) == schema_default("run", key)
+    segment_defaults = script_defaults("segment.lmp")
+    assert float(segment_defaults["strain_total"]) == schema_default("run", "startup_strain")
+    assert (segment_defaults["start_from"], float(segment_defaults["flow_angle_deg"])) == ("packing", 0.0)
+    for function, key in ((run_startup, "startup_strain"), (run_rotation, "rotation_strain")):
         assert inspect.signature(function).parameters["strain_total"].default == schema_default("run", key)
     pack_defaults = script_defaults("pack.lmp")
     assert int(pack_defaults["n_particles"]) == schema_default("particles", "n")
@@ -82,12 +82,11 @@ def test_strain_and_packing_defaults():
     assert pack_defaults["split"] == schema_default("particles", "split")
 
 
-def test_the_two_shear_scripts_share_their_defaults():
-    """startup.lmp and rotate.lmp define no shared variable themselves: they include shear_defaults.lmp."""
-    for script in ("startup.lmp", "rotate.lmp"):
-        own = script_defaults(script)
-        assert not set(own) & set(SHARED), script
-        assert "include         ${lammps_dir}/shear_defaults.lmp" in (LAMMPS_SCRIPTS_DIR / script).read_text()
+def test_the_shear_script_takes_the_shared_defaults():
+    """segment.lmp defines no shared variable itself: it includes shear_defaults.lmp."""
+    own = script_defaults("segment.lmp")
+    assert not set(own) & set(SHARED)
+    assert "include         ${lammps_dir}/shear_defaults.lmp" in (LAMMPS_SCRIPTS_DIR / "segment.lmp").read_text()
 
 
 def test_the_scripts_default_plugin_path_is_the_workflows():

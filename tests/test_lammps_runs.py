@@ -159,7 +159,7 @@ def test_startup_writes_outputs_and_strain_is_step_dt_rate(startup):
 
 @pytest.mark.parametrize("springs", ["explicit", "implicit"])
 def test_restart_does_not_change_the_physics(tmp_path, force_model, springs):
-    """A run of 0.002 + 0.002 strain with a restart in between (rotate.lmp at theta = 0
+    """A run of 0.002 + 0.002 strain with a restart in between (segment.lmp at flow angle 0
     from the checkpoint) matches an uninterrupted run of 0.004: positions agree to
     round-off just after the restart (1e-10 d) and stay close at the end (1e-6 d), and
     the stress table agrees closely (mean pxz over the second half within 1e-4). The
@@ -200,7 +200,7 @@ def test_restart_does_not_change_the_physics(tmp_path, force_model, springs):
 
 @pytest.mark.parametrize("theta_deg", [30.0, 90.0, 135.0])
 def test_rotation_turns_the_flow(tmp_path, startup, force_model, theta_deg):
-    """rotate.lmp by theta: d xz/dt : d yz/dt = cos theta : sin theta (each = rate*trig*lz),
+    """segment.lmp at flow angle theta: d xz/dt : d yz/dt = cos theta : sin theta (each = rate*trig*lz),
     strain counts from the rotation step, and the first frame is the checkpoint state."""
     rotated = run_rotation(
         tmp_path / "rot", startup.checkpoint_file, theta_deg, 0.002, force_model=force_model, **SMALL_RUN

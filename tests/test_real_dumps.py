@@ -1,8 +1,8 @@
 """Seams between the LAMMPS runner and the analysis, on real LAMMPS dumps.
 
 One small real system (N = 60, phi = 0.45, packed with gap_margin = 0 so that near
-contacts exist from the first frame), sheared by workflow/lammps/startup.lmp to strain
-0.02 and then rotated by theta = 60 deg (rotate.lmp) for strain 0.01, both through the
+contacts exist from the first frame), sheared by workflow/lammps/segment.lmp (from a packing) to strain
+0.02 and then rotated by theta = 60 deg (segment.lmp from the checkpoint) for strain 0.01, both through the
 Python runner with the project's plugin force model; dumps every 0.005 strain
 (5 + 3 frames, ~100 near-contact pairs each). About a second of LAMMPS in all.
 
@@ -12,7 +12,7 @@ What is compared
     the paper frame written out in this file from the convention of frames.py rather
     than taken from it: startup e1 = x (flow), e2 = z (gradient), e3 = e1 x e2 = -y;
     after a rotation by theta e1' = cos(theta) e1 - sin(theta) e3 = (cos, sin, 0) (the
-    flow of rotate.lmp, checked on the dumped boxes), e2' = e2,
+    flow of segment.lmp, checked on the dumped boxes), e2' = e2,
     e3' = sin(theta) e1 + cos(theta) e3. Two references:
     (A) brute force on exactly the float32 data MDAnalysis holds: agreement to float64
         round-off (1e-12), i.e. the analysis adds no error of its own;

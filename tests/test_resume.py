@@ -250,7 +250,7 @@ def test_snakemake_killed_with_its_simulation_resumes_it(tmp_path):
     assert snakemake(killed, "--configfile", "config/resume.yaml", "--unlock").returncode == 0
     rerun = snakemake(killed, "--configfile", "config/resume.yaml", "--", target)
     assert rerun.returncode == 0, rerun.stderr[-3000:]
-    log = (killed / "results/resume/logs/startup_seed1.log").read_text()
+    log = (killed / "results/resume/logs/shear_seed1_startup.log").read_text()
     assert f"at step {2 * RESTART_STEPS}" in log
     marker = json.loads((killed / target).read_text())
     assert len(marker["segments"]) == 2

@@ -445,7 +445,9 @@ def test_run_stress_table_errors(tmp_path):
     table = windowing_table()
     stress_txt, marker = write_run(tmp_path, table, first_step=100, dt=2e-3, rate=RATE, theta=30.0)
     fabric = write_fabric(tmp_path, [120, 140], theta=0.0, phi=PHI, first_step=100, dt=2e-3, rate=RATE)
-    with pytest.raises(ValueError, match="theta 0.0 differs from the run record's 30.0"):
+    with pytest.raises(
+        ValueError, match=r"flow angles of its frames \(0.0 ...\) differ from those of the run record's segment \(30.0"
+    ):
         run_stress_table(stress_txt, marker, fabric)
 
     fabric = write_fabric(tmp_path, [120, 140], theta=30.0, phi=PHI, first_step=100, dt=2e-3, rate=RATE)

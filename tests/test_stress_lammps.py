@@ -11,7 +11,7 @@ into symmetric stress parts in the paper frame. These tests check, with the proj
    test_lubrication_values.py);
 4. the dilute limit eta_r = 1 + 2.5 phi of the whole chain runner -> table -> stress.py;
 5. the paper-frame stress of a packing sheared along x equals that of its copy turned by 90
-   degrees about z and sheared along y (rotate.lmp at theta = 90).
+   degrees about z and sheared along y (segment.lmp at flow angle 90).
 
 Sign convention: r = x_1 - x_2 (minimum image), F = force on sphere 1; LAMMPS's pressure
 P = sum r_a F_b / V (positive for repulsion), the stress is -P. Units: d_small = 1, rho = 1,

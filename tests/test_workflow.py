@@ -102,7 +102,7 @@ def test_lubrication_stress_choice_reaches_the_relation(study, tmp_path):
     override = ["--config", "analysis={steady_window: [0.1, 0.3], lubrication_stress: stresslet}"]
     counts = job_counts(snakemake(copy, *TEST_CONFIG, *override, "-n").stdout)
     assert counts["aggregate_stress_startup"] == 1 and counts["stress_relation"] == 1
-    for rule in ("startup", "rotate", "stress_table", "fabric_table", "aggregate_startup", "fit_models"):
+    for rule in ("shear_segment", "stress_table", "fabric_table", "aggregate_startup", "fit_models"):
         assert rule not in counts
     result = snakemake(
         copy,
@@ -189,19 +189,21 @@ def test_rerun_one_angle_one_seed(study):
     """docs/workflow.md: rerun theta = 90 for seed 1 and everything downstream; no startup, no other angle."""
     result = snakemake(study, *TEST_CONFIG, "-n", "-R", f"{RESULTS}/seed1/rotation_theta90/trajectory.dump")
     counts = job_counts(result.stdout)
-    assert counts["rotate"] == 1 and counts["fabric_table"] == 1
+    assert counts["shear_segment"] == 1 and counts["fabric_table"] == 1
     assert counts["aggregate_rotation"] == 1 and counts["figure_rotation"] == 1 and counts["figure_startup"] == 1
-    for rule in ("pack", "startup", "aggregate_startup", "fit_models", "build_plugin"):
+    for rule in ("pack", "aggregate_startup", "fit_models", "build_plugin"):
         assert rule not in counts
     wildcards = {job["wildcards"] for job in dry_run_jobs(result.stdout) if job["wildcards"]}
-    assert wildcards == {"seed=1, angle=90", "seed=1, run=rotation_theta90"}, wildcards
+    assert wildcards == {"seed=1, run=rotation_theta90"}, wildcards
 
 
 def test_rerun_one_angle_all_seeds(study):
     targets = [f"{RESULTS}/seed{s}/rotation_theta90/trajectory.dump" for s in (1, 2)]
     counts = job_counts(snakemake(study, *TEST_CONFIG, "-n", "-R", *targets).stdout)
-    assert counts["rotate"] == 2 and counts["fabric_table"] == 2
-    assert "startup" not in counts and "pack" not in counts
+    assert counts["shear_segment"] == 2 and counts["fabric_table"] == 2
+    assert "pack" not in counts
+    shears = {job["wildcards"] for job in dry_run_jobs(result.stdout) if job["rule"] == "shear_segment"}
+    assert shears == {"seed=1, run=rotation_theta90", "seed=2, run=rotation_theta90"}
 
 
 def test_regenerate_figures_only(study):
@@ -230,8 +232,7 @@ def test_every_figure_depends_on_every_stage(study):
     upstream = {
         "build_plugin",
         "pack",
-        "startup",
-        "rotate",
+        "shear_segment",
         "fabric_table",
         "aggregate_startup",
         "aggregate_rotation",
@@ -381,7 +382,7 @@ def test_command_line_overrides_on_the_default_study(tmp_path):
     result = snakemake(workdir, "-n", "--config", "run={rotation_strain: 2.5}")
     assert result.returncode == 0, (result.stdout + result.stderr)[-3000:]
     counts = job_counts(result.stdout)
-    assert counts["startup"] == 4 and counts["rotate"] == 52
+    assert counts["shear_segment"] == 4 + 52
     merged = snakemake(workdir, "-n", "--config", "run={startup_strain: 3}")
     assert merged.returncode != 0
     assert (

@@ -3,9 +3,9 @@ result. On the finished test study (seeds 1, 2; angles 0, 90), each case changes
 with --config on top of --configfile config/test.yaml (the override idiom docs/workflow.md gives),
 dry-runs, and checks (a) the jobs rerun for a reason of their own (their params, a missing
 output, a changed set of inputs), not merely because an upstream job reruns, and (b) every
-simulation job (pack, startup, rotate) in the plan. Everything else in the plan is downstream
+simulation job (pack, shear_segment: the startup and the rotations) in the plan. Everything else in the plan is downstream
 of (a). Snakemake names only the first reason of a job whose inputs an upstream job updates,
-so a key read by two rules in a chain (the force model and time step: startup and rotate;
+so a key read by two rules in a chain (the force model and time step: a segment and the next;
 run.startup_strain: startup and predict; particles.phi: pack and fit_models) shows the
 upstream one (models.fabric: fit_models, not predict or benchmark_models);
 test_params_of_downstream_rules checks the downstream rule on its own. The table is the rerun matrix of
@@ -19,14 +19,14 @@ pytestmark = pytest.mark.workflow
 
 SEEDS, ANGLES = (1, 2), (0, 90)
 PACK = {("pack", f"seed={s}") for s in SEEDS}
-STARTUP = {("startup", f"seed={s}") for s in SEEDS}
-ROTATE = {("rotate", f"seed={s}, angle={a}") for s in SEEDS for a in ANGLES}
+STARTUP = {("shear_segment", f"seed={s}, run=startup") for s in SEEDS}
+ROTATE = {("shear_segment", f"seed={s}, run=rotation_theta{a}") for s in SEEDS for a in ANGLES}
 FABRIC = {
     ("fabric_table", f"seed={s}, run={run}")
     for s in SEEDS
     for run in ["startup"] + [f"rotation_theta{a}" for a in ANGLES]
 }
-SIMULATIONS = {"pack", "startup", "rotate"}
+SIMULATIONS = {"pack", "shear_segment"}
 
 CASES = {
     # key(s) changed: (--config arguments, jobs with a reason of their own, simulation jobs)
@@ -51,18 +51,18 @@ CASES = {
     "models.fabric": (["models={fabric: [gw, modified]}"], {("fit_models", "")}, set()),
     "angles_deg (one added)": (
         ["angles_deg=[0, 90, 45]"],
-        {("rotate", f"seed={s}, angle=45") for s in SEEDS}
+        {("shear_segment", f"seed={s}, run=rotation_theta45") for s in SEEDS}
         | {(table, f"seed={s}, run=rotation_theta45") for s in SEEDS for table in ("fabric_table", "stress_table")}
         | {("aggregate_rotation", ""), ("aggregate_stress_rotation", "")},
-        {("rotate", f"seed={s}, angle=45") for s in SEEDS},
+        {("shear_segment", f"seed={s}, run=rotation_theta45") for s in SEEDS},
     ),
     "seeds (one added)": (
         ["seeds=[1, 2, 3]"],
         {
             ("pack", "seed=3"),
-            ("startup", "seed=3"),
-            ("rotate", "seed=3, angle=0"),
-            ("rotate", "seed=3, angle=90"),
+            ("shear_segment", "seed=3, run=startup"),
+            ("shear_segment", "seed=3, run=rotation_theta0"),
+            ("shear_segment", "seed=3, run=rotation_theta90"),
             *(
                 (table, f"seed=3, run={run}")
                 for table in ("fabric_table", "stress_table")
@@ -73,7 +73,12 @@ CASES = {
             ("aggregate_stress_startup", ""),
             ("aggregate_stress_rotation", ""),
         },
-        {("pack", "seed=3"), ("startup", "seed=3"), ("rotate", "seed=3, angle=0"), ("rotate", "seed=3, angle=90")},
+        {
+            ("pack", "seed=3"),
+            ("shear_segment", "seed=3, run=startup"),
+            ("shear_segment", "seed=3, run=rotation_theta0"),
+            ("shear_segment", "seed=3, run=rotation_theta90"),
+        },
     ),
     "verdicts.level": (
         ["verdicts={level: 0.9}"],
@@ -142,9 +147,9 @@ def test_a_config_change_reruns_exactly_the_jobs_that_depend_on_it(study, case):
         ("benchmark_models", "models={fabric: [gw, modified]}"),
         ("benchmark_models", "run={startup_strain: 0.4}"),
         ("benchmark_models", "analysis={steady_window: [0.15, 0.3]}"),
-        ("rotate", "forces={kn: 5.0e+5}"),
-        ("rotate", "run={dt: 5.0e-5}"),
-        ("rotate", "run={table_strain: 0.005}"),
+        ("shear_segment", "forces={kn: 5.0e+5}"),
+        ("shear_segment", "run={dt: 5.0e-5}"),
+        ("shear_segment", "run={table_strain: 0.005}"),
     ],
 )
 def test_params_of_downstream_rules(study, rule, override):
@@ -154,7 +159,7 @@ def test_params_of_downstream_rules(study, rule, override):
         "predict": "tables/predictions.csv",
         "fit_models": "fits.json",
         "benchmark_models": "tables/leaderboard.csv",
-        "rotate": "seed1/rotation_theta90/trajectory.dump",
+        "shear_segment": "seed1/rotation_theta90/trajectory.dump",
     }[rule]
     result = snakemake(
         study, *TEST_CONFIG, "--config", override, "-n", "--allowed-rules", rule, "--", f"{RESULTS}/{target}"

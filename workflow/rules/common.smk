@@ -103,7 +103,7 @@ def study_targets(study):
     if STUDIES[study]["protocols"]:
         targets += [*rules.aggregate_protocols.output]
         if study not in STRESSLESS_STUDIES:
-            targets += [*rules.aggregate_stress_protocols.output]
+            targets += [*rules.aggregate_stress_protocols.output, *rules.benchmark_protocols.output]
     return expand(targets, study=study)
 
 

@@ -144,3 +144,38 @@ rule benchmark_stress_relations:
         f"{RESULTS}/logs/benchmark_stress_relations.log",
     script:
         "../scripts/benchmark_stress_relations.py"
+
+
+rule benchmark_protocols:
+    """Every fabric model (both fitting modes of benchmark_models) and stress relation predicting each
+    of the study's own protocols, none fitted to them: per-seed errors with t-intervals and the paired
+    difference from G-W."""
+    input:
+        fits=rules.fit_models.output[0],
+        model_parameters=rules.benchmark_models.output.parameters,
+        relation_parameters=rules.benchmark_stress_relations.output.parameters,
+        startup_runs=rules.aggregate_startup.output.runs,
+        rotation_runs=rules.aggregate_rotation.output.runs,
+        stress_startup_runs=rules.aggregate_stress_startup.output.runs,
+        stress_rotation_runs=rules.aggregate_stress_rotation.output.runs,
+        protocol_runs=rules.aggregate_protocols.output.runs,
+        stress_protocol_runs=rules.aggregate_stress_protocols.output.runs,
+        model_files=plugin_files("fabric"),
+        relation_files=plugin_files("stress"),
+    output:
+        leaderboard=f"{RESULTS}/tables/protocol_leaderboard.csv",
+        predictions=f"{RESULTS}/tables/protocol_predictions.csv",
+        stress_leaderboard=f"{RESULTS}/tables/protocol_stress_leaderboard.csv",
+    params:
+        models=setting("models", "fabric"),
+        relations=setting("models", "stress"),
+        protocols=lambda wildcards: {name: [s.as_dict() for s in p.segments] for name, p in own_protocols(wildcards.study).items()},
+        steady_window=setting("analysis", "steady_window"),
+        window=setting("verdicts", "window"),
+        level=setting("verdicts", "level"),
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/benchmark_protocols.log",
+    script:
+        "../scripts/benchmark_protocols.py"

@@ -17,9 +17,9 @@ flow_angle_deg + turning_deg_per_strain x strain, and the fabric and stress of t
 reported in the frame of that flow (:mod:`suspension_fabric.analysis.frames`).
 
 Format 1 (records without ``format``, written by startup.lmp and rotate.lmp) is read through
-:func:`upgrade_record`: a startup is segment 0 at angle 0, a rotation segment 1 at
-``variables.theta_deg`` after a startup of ``run.startup_strain`` (which the record does not hold,
-so its history holds the rotation's segment alone).
+:func:`upgrade_record`: a startup (no ``variables.theta_deg``) is segment 0 at angle 0, a rotation
+segment 1 at ``variables.theta_deg`` after a startup whose strain the record does not hold, so its
+history holds the rotation's segment alone.
 """
 
 from __future__ import annotations
@@ -67,13 +67,12 @@ def upgrade_record(content: dict, where: str) -> dict:
     if "format" in content:
         return content
     variables = content.get("variables") if isinstance(content.get("variables"), dict) else {}
-    script = str(content.get("script", ""))
-    if script.startswith("rotate"):
-        if variables.get("theta_deg") is None:  # the startup's default 0 would be silently wrong
-            raise ValueError(f"{where}: missing variables.theta_deg")
-        angle, index = variables["theta_deg"], 1
-    else:
-        angle, index = 0.0, 0
+    rotated = str(content.get("script", "")).startswith("rotate")
+    angle = variables.get("theta_deg")
+    if angle is None and rotated:  # the startup's default 0 would be silently wrong
+        raise ValueError(f"{where}: missing variables.theta_deg")
+    index = 1 if angle is not None else 0
+    angle = 0.0 if angle is None else angle
     try:
         segment = Segment(float(variables.get("strain_total", 1.0)), float(angle))
     except (TypeError, ValueError) as err:

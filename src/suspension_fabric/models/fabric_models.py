@@ -42,6 +42,7 @@ from suspension_fabric.analysis.frames import (
     to_basis,
     vec_to_sym,
 )
+from suspension_fabric.io.protocols import Protocol
 
 from . import gillissen_wilson as paper_models
 from .gillissen_wilson import as_strains, closure_model_rhs, solve_affine, split_strain_rate
@@ -65,6 +66,8 @@ __all__ = [
     "fit_steady",
     "startup_shear",
     "shear_rotation",
+    "integrate_segment",
+    "protocol_fabric",
     "ModelError",
 ]
 
@@ -414,3 +417,84 @@ def shear_rotation(
     before = startup_shear(fabric_model, [startup_strain], params, phi, fabric0)[0]
     rotated = to_basis(before, rotation_about_gradient(np.asarray(theta, dtype=float)))
     return integrate(fabric_model, rotated, simple_shear_gradient(), strains, params, phi)
+
+
+#: d B / d t of the basis B(t) = rotation_about_gradient(t) at t = 0: the generator of turning
+#: the flow direction about e2 (e1' = cos t e1 - sin t e3).
+_TURN_GENERATOR = np.array([[0.0, 0.0, -1.0], [0.0, 0.0, 0.0], [1.0, 0.0, 0.0]])
+
+
+def _spin_matrix(turning_rad: float) -> np.ndarray:
+    """(6, 6) matrix of X -> K X - X K on 6-vectors, K = turning x generator: the rate of change
+    of the components of a fixed tensor seen from a frame turning at ``turning_rad`` per strain."""
+    K = turning_rad * _TURN_GENERATOR
+    basis = vec_to_sym(np.eye(6))
+    return np.swapaxes(sym_to_vec(K @ basis - basis @ K), -1, -2)
+
+
+def integrate_segment(
+    fabric_model: FabricModel,
+    fabric0,
+    strains,
+    params,
+    phi,
+    turning_deg_per_strain: float = 0.0,
+    rtol=1e-10,
+    atol=1e-12,
+) -> np.ndarray:
+    """<nn> in the frame of the current flow along one segment of simple shear whose flow direction
+    turns about e2 at ``turning_deg_per_strain``, from ``fabric0`` (same frame, strain 0), at
+    ``strains`` since the segment started: (len(strains), 3, 3).
+
+    In the turning frame the velocity gradient is the constant simple shear L = e1 e2, and the
+    components of the fabric change also because the frame turns: d<nn>/dgamma = rhs(<nn>, L) +
+    K <nn> - <nn> K, K = w dB/dt (B the frame's basis, w the turning rate in radians per strain).
+    This holds for any model whose right-hand side is frame indifferent, as every model that is
+    rotated with the flow in a shear rotation must be. Exact propagation for an affine model,
+    ``solve_ivp`` otherwise; a fixed direction is :func:`integrate`."""
+    if turning_deg_per_strain == 0.0:
+        return integrate(fabric_model, fabric0, simple_shear_gradient(), strains, params, phi, rtol, atol)
+    params = fabric_model.check(params)
+    strains = as_strains(strains)
+    flow = flow_of(simple_shear_gradient())
+    spin = _spin_matrix(np.radians(turning_deg_per_strain))
+    start = sym_to_vec(np.asarray(fabric0, dtype=float))
+    if fabric_model.affine:
+        M, b = affine_system(fabric_model, flow, params, phi)
+        return vec_to_sym(solve_affine(M + spin, b, start, strains))
+    solution = solve_ivp(
+        lambda _g, v: _rhs_vec(fabric_model, v, flow, params, phi) + spin @ v,
+        (0.0, float(strains.max(initial=0.0))),
+        start,
+        t_eval=strains,
+        method="DOP853",
+        rtol=rtol,
+        atol=atol,
+    )
+    if not solution.success:
+        raise ModelError(f"model {fabric_model.key}: integration failed ({solution.message})")
+    return vec_to_sym(solution.y.T)
+
+
+def protocol_fabric(
+    fabric_model: FabricModel, protocol: Protocol, segment_strains, params, phi, fabric0=None
+) -> list[np.ndarray]:
+    """<nn> along a protocol, in the frame of the current flow: one array (len(strains_k), 3, 3)
+    per segment at its ``segment_strains[k]`` (strain since the segment started), from
+    ``fabric0`` (default none) at rest. At each change of flow angle the fabric is carried over
+    and seen in the new flow's frame (a shear rotation turns the frame, not the microstructure)."""
+    if len(segment_strains) != len(protocol.segments):
+        raise ValueError(
+            f"protocol {protocol.name}: {len(segment_strains)} strain grids for {len(protocol.segments)} segments"
+        )
+    fabric = np.zeros((3, 3)) if fabric0 is None else np.asarray(fabric0, dtype=float)
+    angle = protocol.segments[0].flow_angle_deg
+    out = []
+    for segment, strains in zip(protocol.segments, segment_strains):
+        fabric = to_basis(fabric, rotation_about_gradient(np.radians(segment.flow_angle_deg - angle)))
+        strains = as_strains(strains)
+        grid = np.union1d(strains, [segment.strain])
+        along = integrate_segment(fabric_model, fabric, grid, params, phi, segment.turning_deg_per_strain)
+        out.append(along[np.searchsorted(grid, strains)])
+        fabric, angle = along[-1], segment.end_angle_deg
+    return out

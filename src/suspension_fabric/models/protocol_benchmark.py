@@ -1,0 +1,262 @@
+"""Every fabric model and stress relation on every protocol: predicted from the same flow history,
+scored per seed on flows none of them was fitted to.
+
+Fabric models. Each model keeps the parameters of its two fitting modes in the rotation benchmark
+(:mod:`suspension_fabric.models.model_benchmark`): ``steady``, fitted on the startup's steady
+state (fits.json), and ``global``, fitted on the startup and every rotation's transient
+(model_parameters.csv). From the seed-mean fabric at rest it predicts <nn> along each protocol
+(:func:`suspension_fabric.models.fabric_models.protocol_fabric`), in the frame of the current
+flow, on the frames of the simulations. Scored: the frames after the first segment (the startup,
+which both modes saw), without the first frame of each segment (the last frame of the segment
+before, seen in the new flow's frame): per seed and component the mean of
+(model - seed)^2 / (<nn>_12^ss)^2, and ``all``, the mean over the six components.
+
+Stress relations. Each relation, with its coefficients a_H, a_C from the steady state and its
+shape parameters as fitted in the stress benchmark (stress_relation_parameters.csv), is evaluated
+on each seed's own fabric along the protocol and compared with the seed's eta_r, N1 and N2 on the
+same frames: per seed the mean of (relation - seed)^2 / (eta_r^ss)^2.
+
+The seeds are the independent units: every score has its t-interval over seeds at the verdicts'
+level, and the named effect is the paired per-seed difference of a model's (relation's) score
+from G-W's (the G-W relation's) in the steady mode, with its t-interval; a difference whose
+interval lies below zero means the model beats G-W on that protocol.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import NamedTuple
+
+import numpy as np
+import pandas as pd
+
+from suspension_fabric.analysis.fabric import COMPONENTS
+from suspension_fabric.analysis.seed_statistics import LEVEL, t_interval
+from suspension_fabric.io.protocols import Protocol
+
+from . import fabric_models
+from .model_benchmark import by_seed
+from .stress_relations import coefficients, relation_stress
+
+__all__ = [
+    "ProtocolCurves",
+    "protocol_curves",
+    "model_protocol_predictions",
+    "fabric_protocol_scores",
+    "fabric_protocol_leaderboard",
+    "stress_protocol_leaderboard",
+    "STRESS_SCORED",
+    "ALL_COMPONENTS",
+]
+
+#: The stress quantities scored along a protocol.
+STRESS_SCORED = ("eta_r", "N1", "N2")
+#: The ``component`` of the score averaged over the six fabric components.
+ALL_COMPONENTS = "all"
+_ROWS, _COLS = (np.array(index) for index in zip(*COMPONENTS.values()))
+
+
+class ProtocolCurves(NamedTuple):
+    """One protocol's per-seed data, per segment k: ``segment_strains[k]`` (F_k,), ``strains[k]``
+    (total strain), ``fabric[k]`` (seeds, F_k, 3, 3) and, where the stress was given, ``stress[k]``
+    {quantity: (seeds, F_k)}."""
+
+    protocol: Protocol
+    seeds: np.ndarray
+    segment_strains: list
+    strains: list
+    fabric: list
+    stress: list | None
+
+
+def protocol_curves(
+    protocol: Protocol, runs: pd.DataFrame, stress_runs: pd.DataFrame | None = None, seeds=None
+) -> ProtocolCurves:
+    """:class:`ProtocolCurves` from a protocol table (protocol_runs.csv; and stress_protocol_runs.csv)."""
+    mine = runs[runs["protocol"] == protocol.name]
+    if mine.empty:
+        raise ValueError(f"protocol {protocol.name}: no rows in the protocol table")
+    seeds = np.array(sorted(set(mine["seed"])) if seeds is None else seeds, dtype=int)
+    stressed = None if stress_runs is None else stress_runs[stress_runs["protocol"] == protocol.name]
+    segment_strains, strains, fabric, stress = [], [], [], []
+    for index in range(len(protocol.segments)):
+        rows = mine[mine["segment"] == index]
+        what = f"protocol {protocol.name}, segment {index}"
+        grid, tensors = by_seed(rows, seeds, what)
+        segment_grid, _ = by_seed(
+            rows.assign(strain=rows["segment_strain"]), seeds, what, lambda r: r["segment_strain"].to_numpy()
+        )
+        segment_strains.append(segment_grid)
+        strains.append(grid)
+        fabric.append(tensors)
+        if stressed is not None:
+            rows_s = stressed[stressed["segment"] == index]
+            values = {}
+            for quantity in STRESS_SCORED:
+                stress_grid, values[quantity] = by_seed(
+                    rows_s, seeds, what, lambda r, q=quantity: r[q].to_numpy(dtype=float)
+                )
+                if len(stress_grid) != len(grid) or not np.allclose(stress_grid, grid, atol=1e-9):
+                    raise ValueError(f"{what}: the stress and fabric tables have other frames")
+            stress.append(values)
+    return ProtocolCurves(protocol, seeds, segment_strains, strains, fabric, stress if stressed is not None else None)
+
+
+def _scored_frames(curves: ProtocolCurves) -> list[np.ndarray]:
+    """Per segment, which frames are scored: none of the first segment, not the first of any."""
+    return [np.zeros(len(grid), dtype=bool) if k == 0 else grid > 0.0 for k, grid in enumerate(curves.segment_strains)]
+
+
+def model_protocol_predictions(fabric_model, params, phi: float, curves: ProtocolCurves) -> list[np.ndarray]:
+    """The model's fabric along the protocol from the seed-mean fabric at rest, per segment (F_k, 3, 3)."""
+    fabric0 = curves.fabric[0][:, 0].mean(axis=0)
+    return fabric_models.protocol_fabric(fabric_model, curves.protocol, curves.segment_strains, params, phi, fabric0)
+
+
+def fabric_protocol_scores(predicted: list, curves: ProtocolCurves, n12_ss: float) -> np.ndarray:
+    """Per seed and component (seeds, 6): mean over the scored frames of (model - seed)^2 / n12_ss^2."""
+    scored = _scored_frames(curves)
+    squares = [
+        (p[None, keep][..., _ROWS, _COLS] - f[:, keep][..., _ROWS, _COLS]) ** 2
+        for p, f, keep in zip(predicted, curves.fabric, scored)
+    ]
+    stacked = np.concatenate(squares, axis=1)  # (seeds, frames, 6)
+    if stacked.shape[1] == 0:
+        raise ValueError(f"protocol {curves.protocol.name}: no frame after the first segment to score")
+    return stacked.mean(axis=1) / n12_ss**2
+
+
+def _paired(table: pd.DataFrame, scores: Mapping, own_key, reference_key, reference: str, level: float):
+    """Adds to every row the paired per-seed difference of its scores (``scores[own_key(row)]``) from
+    the reference's (``scores[reference_key(row)]``), with its t-interval (NaN without a reference)."""
+    names = [f"difference{suffix}_vs_{reference}" for suffix in ("", "_low", "_high")]
+    table[names] = np.nan
+    for index, row in table.iterrows():
+        base = scores.get(reference_key(row))
+        if base is not None:
+            paired = t_interval(scores[own_key(row)] - base, level)
+            table.loc[index, names] = (paired.mean, paired.low, paired.high)
+    return table
+
+
+def fabric_protocol_leaderboard(
+    models: Mapping,
+    mode_parameters: Mapping[str, Mapping[str, Mapping[str, float]]],
+    curves: Mapping[str, ProtocolCurves],
+    phi: float,
+    n12_ss: float,
+    reference: str = "gw",
+    level: float = LEVEL,
+) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """(leaderboard, predictions): one row per model, mode, protocol and component (the six and
+    ``all``) with the mean square error's t-interval over seeds and the paired difference from
+    ``reference`` in the steady mode; and the seed-mean predictions on every frame.
+    ``mode_parameters[mode][model]`` are each model's parameters in each mode."""
+    rows, predictions, scores = [], [], {}
+    for mode, by_model in mode_parameters.items():
+        for key, fabric_model in models.items():
+            if key not in by_model:
+                continue
+            for name, one in curves.items():
+                predicted = model_protocol_predictions(fabric_model, by_model[key], phi, one)
+                per_seed = fabric_protocol_scores(predicted, one, n12_ss)
+                columns = {**{c: per_seed[:, k] for k, c in enumerate(COMPONENTS)}, ALL_COMPONENTS: per_seed.mean(1)}
+                for component, values in columns.items():
+                    scores[(key, mode, name, component)] = values
+                    interval = t_interval(values, level)
+                    rows.append(
+                        {
+                            "model": key,
+                            "label": fabric_model.label,
+                            "mode": mode,
+                            "protocol": name,
+                            "component": component,
+                            "n_seeds": len(values),
+                            "mse": interval.mean,
+                            "mse_low": interval.low,
+                            "mse_high": interval.high,
+                        }
+                    )
+                for index, (segment_grid, grid, tensors) in enumerate(zip(one.segment_strains, one.strains, predicted)):
+                    frame = pd.DataFrame(
+                        {
+                            "model": key,
+                            "mode": mode,
+                            "protocol": name,
+                            "segment": index,
+                            "segment_strain": segment_grid,
+                            "strain": grid,
+                        }
+                    )
+                    for c, (i, j) in COMPONENTS.items():
+                        frame[c] = tensors[:, i, j]
+                    predictions.append(frame)
+    table = _paired(
+        pd.DataFrame(rows),
+        scores,
+        lambda row: (row["model"], row["mode"], row["protocol"], row["component"]),
+        lambda row: (reference, "steady", row["protocol"], row["component"]),
+        reference,
+        level,
+    )
+    return table, pd.concat(predictions, ignore_index=True)
+
+
+def stress_protocol_leaderboard(
+    relations: Mapping,
+    parameters: pd.DataFrame,
+    steady_fabric,
+    steady: Mapping[str, float],
+    curves: Mapping[str, ProtocolCurves],
+    phi: float,
+    reference: str = "gw",
+    level: float = LEVEL,
+) -> pd.DataFrame:
+    """One row per relation, protocol and quantity of :data:`STRESS_SCORED`: the mean square
+    error of the relation on each seed's fabric, in units of the steady eta_r, with its t-interval
+    and the paired difference from ``reference``. ``parameters`` is the stress benchmark's fitted
+    values (stress_relation_parameters.csv: the shape parameters of each relation's mode),
+    ``steady_fabric`` the seed-mean steady fabric and ``steady`` the seed-mean steady
+    lubrication_12, contact_12 and eta_r."""
+    rows, scores = [], {}
+    for key, relation in relations.items():
+        mine = parameters[parameters["relation"] == key]
+        if mine.empty:
+            raise ValueError(f"stress relation {key}: not in the stress benchmark's parameters")
+        mode = "global" if (mine["mode"] == "global").any() else "steady"
+        chosen = mine[mine["mode"] == mode].set_index("parameter")["value"]
+        params = {name: float(chosen[name]) for name in relation.names}
+        coefficient = coefficients(relation, steady_fabric, steady["lubrication_12"], steady["contact_12"], params)
+        for name, one in curves.items():
+            if one.stress is None:
+                raise ValueError(f"protocol {name}: no stress tables to score the relations on")
+            errors = {q: [] for q in STRESS_SCORED}
+            for fabric, measured, keep in zip(one.fabric, one.stress, _scored_frames(one)):
+                predicted = relation_stress(relation, fabric[:, keep], coefficient, params, phi)
+                for q in STRESS_SCORED:
+                    errors[q].append((predicted[q] - measured[q][:, keep]) / steady["eta_r"])
+            for q in STRESS_SCORED:
+                values = (np.concatenate(errors[q], axis=1) ** 2).mean(axis=1)
+                scores[(key, name, q)] = values
+                interval = t_interval(values, level)
+                rows.append(
+                    {
+                        "relation": key,
+                        "label": relation.label,
+                        "mode": mode,
+                        "protocol": name,
+                        "quantity": q,
+                        "n_seeds": len(values),
+                        "mse": interval.mean,
+                        "mse_low": interval.low,
+                        "mse_high": interval.high,
+                    }
+                )
+    return _paired(
+        pd.DataFrame(rows),
+        scores,
+        lambda row: (row["relation"], row["protocol"], row["quantity"]),
+        lambda row: (reference, row["protocol"], row["quantity"]),
+        reference,
+        level,
+    )

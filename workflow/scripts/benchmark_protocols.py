@@ -1,0 +1,59 @@
+"""Snakemake: every fabric model and stress relation on each of the study's own protocols (rule
+benchmark_protocols)."""
+
+import pandas as pd
+
+from suspension_fabric.analysis import tables
+from suspension_fabric.analysis.protocol_tables import read_protocol_table
+from suspension_fabric.io.protocols import Protocol, Segment
+from suspension_fabric.models import model_vs_simulation, protocol_benchmark, stress_benchmark
+from suspension_fabric.models.fabric_models import resolve_models
+from suspension_fabric.models.stress_relations import resolve_relations
+from suspension_fabric.workflow_io import logged
+
+sm = snakemake  # noqa: F821 (injected by Snakemake)
+with logged(sm.log[0]):
+    fits = model_vs_simulation.read_fits(sm.input.fits)
+    steady = stress_benchmark.stress_curves(
+        tables.read_fabric_table(sm.input.startup_runs),
+        tables.read_fabric_table(sm.input.rotation_runs),
+        pd.read_csv(sm.input.stress_startup_runs),
+        pd.read_csv(sm.input.stress_rotation_runs),
+        sm.params.window,
+        sm.params.steady_window,
+    )
+    steady_fabric = steady.steady_fabric.mean(axis=0)
+    protocols = {
+        name: Protocol(name, tuple(Segment(**fields) for fields in segments))
+        for name, segments in sm.params.protocols.items()
+    }
+    runs = read_protocol_table(sm.input.protocol_runs)
+    stress_runs = read_protocol_table(sm.input.stress_protocol_runs)
+    curves = {name: protocol_benchmark.protocol_curves(p, runs, stress_runs) for name, p in protocols.items()}
+    models = resolve_models(sm.params.models)
+    fitted = pd.read_csv(sm.input.model_parameters)
+    mode_parameters = {
+        mode: {
+            key: rows.set_index("parameter")["value"].to_dict()
+            for key, rows in fitted[fitted["mode"] == mode].groupby("model")
+        }
+        for mode in ("steady", "global")
+    }
+    board, predictions = protocol_benchmark.fabric_protocol_leaderboard(
+        models, mode_parameters, curves, fits["phi"], float(steady_fabric[0, 1]), level=sm.params.level
+    )
+    board.to_csv(sm.output.leaderboard, index=False)
+    predictions.to_csv(sm.output.predictions, index=False)
+    stress_board = protocol_benchmark.stress_protocol_leaderboard(
+        resolve_relations(sm.params.relations),
+        pd.read_csv(sm.input.relation_parameters),
+        steady_fabric,
+        steady.steady[["lubrication_12", "contact_12", "eta_r"]].mean().to_dict(),
+        curves,
+        steady.phi,
+        level=sm.params.level,
+    )
+    stress_board.to_csv(sm.output.stress_leaderboard, index=False)
+    shown = board[board["component"] == protocol_benchmark.ALL_COMPONENTS]
+    print(shown.drop(columns=["label", "component"]).to_string(index=False))
+    print(stress_board[stress_board["quantity"] == "eta_r"].drop(columns="label").to_string(index=False))
