@@ -199,7 +199,8 @@ def test_rerun_one_angle_one_seed(study):
 
 def test_rerun_one_angle_all_seeds(study):
     targets = [f"{RESULTS}/seed{s}/rotation_theta90/trajectory.dump" for s in (1, 2)]
-    counts = job_counts(snakemake(study, *TEST_CONFIG, "-n", "-R", *targets).stdout)
+    result = snakemake(study, *TEST_CONFIG, "-n", "-R", *targets)
+    counts = job_counts(result.stdout)
     assert counts["shear_segment"] == 2 and counts["fabric_table"] == 2
     assert "pack" not in counts
     shears = {job["wildcards"] for job in dry_run_jobs(result.stdout) if job["rule"] == "shear_segment"}

@@ -3,7 +3,7 @@ result. On the finished test study (seeds 1, 2; angles 0, 90), each case changes
 with --config on top of --configfile config/test.yaml (the override idiom docs/workflow.md gives),
 dry-runs, and checks (a) the jobs rerun for a reason of their own (their params, a missing
 output, a changed set of inputs), not merely because an upstream job reruns, and (b) every
-simulation job (pack, shear_segment: the startup and the rotations) in the plan. Everything else in the plan is downstream
+simulation job (pack; shear_segment: startup, rotations) in the plan. Everything else in the plan is downstream
 of (a). Snakemake names only the first reason of a job whose inputs an upstream job updates,
 so a key read by two rules in a chain (the force model and time step: a segment and the next;
 run.startup_strain: startup and predict; particles.phi: pack and fit_models) shows the
