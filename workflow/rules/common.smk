@@ -37,6 +37,7 @@ wildcard_constraints:
     seed=r"\d+",
     angle=r"m?[0-9.]+(e[-+]?\d+)?",
     run=study_pattern(ALL_RUNS),
+    protocol=r"[A-Za-z][A-Za-z0-9_]*",
 
 
 def setting(*keys):
@@ -104,6 +105,7 @@ def study_targets(study):
         targets += [*rules.aggregate_protocols.output]
         if study not in STRESSLESS_STUDIES:
             targets += [*rules.aggregate_stress_protocols.output, *rules.benchmark_protocols.output]
+            targets += expand(rules.figure_protocol.output, protocol=list(STUDIES[study]["protocols"]), allow_missing=True)
     return expand(targets, study=study)
 
 

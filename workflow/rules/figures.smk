@@ -67,3 +67,24 @@ rule figure_stress_rotation:
         f"{RESULTS}/logs/figure_stress_rotation.log",
     script:
         "../scripts/figure_stress_rotation.py"
+
+
+rule figure_protocol:
+    """One of the study's own protocols: <nn>, Z and eta_r against the strain since rest, simulation
+    (seed mean and standard error) against every fabric model fitted on the startup's steady state."""
+    input:
+        fits=rules.fit_models.output[0],
+        fabric=rules.aggregate_protocols.output.aggregate,
+        stress=rules.aggregate_stress_protocols.output.aggregate,
+        predictions=rules.benchmark_protocols.output.predictions,
+    output:
+        pdf=f"{RESULTS}/figures/protocol_{{protocol}}.pdf",
+        png=report(f"{RESULTS}/figures/protocol_{{protocol}}.png", caption="../report/protocol.rst", category="Protocols"),
+    params:
+        segments=lambda wildcards: [s.as_dict() for s in own_protocols(wildcards.study)[wildcards.protocol].segments],
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/figure_protocol_{{protocol}}.log",
+    script:
+        "../scripts/figure_protocol.py"

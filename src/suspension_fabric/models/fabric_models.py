@@ -493,8 +493,12 @@ def protocol_fabric(
     for segment, strains in zip(protocol.segments, segment_strains):
         fabric = to_basis(fabric, rotation_about_gradient(np.radians(segment.flow_angle_deg - angle)))
         strains = as_strains(strains)
+        if strains.size and strains.max() > segment.strain * (1.0 + 1e-9):
+            raise ValueError(
+                f"protocol {protocol.name}: strains up to {strains.max():g} asked of a segment of {segment.strain:g}"
+            )
         grid = np.union1d(strains, [segment.strain])
         along = integrate_segment(fabric_model, fabric, grid, params, phi, segment.turning_deg_per_strain)
         out.append(along[np.searchsorted(grid, strains)])
-        fabric, angle = along[-1], segment.end_angle_deg
+        fabric, angle = along[np.searchsorted(grid, segment.strain)], segment.end_angle_deg
     return out

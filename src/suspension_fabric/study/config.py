@@ -14,6 +14,7 @@ from pathlib import Path
 import yaml
 
 from suspension_fabric.io.protocols import (
+    PAPER_STARTUP,
     PaperRunNames,
     Protocol,
     ProtocolError,
@@ -81,7 +82,7 @@ def study_protocols(config: dict) -> dict[str, Protocol]:
         own = parse_protocols(config.get("protocols") or {})
     except ProtocolError as err:
         raise ConfigError(str(err)) from None
-    clash = sorted(set(own) & set(protocols))
+    clash = sorted(name for name in own if name == PAPER_STARTUP or name.startswith("rotation_theta"))
     if clash:
         raise ConfigError(
             f"config key 'protocols.{clash[0]}': the name belongs to the paper's family (startup, "
