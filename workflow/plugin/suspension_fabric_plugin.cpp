@@ -6,6 +6,7 @@
 
 #include "lammps.h"
 
+#include "fix_flow_rate_sf.h"
 #include "fix_hydro_implicit_sf.h"
 #include "fix_stokes_sf.h"
 #include "pair_lubricate_sf.h"
@@ -47,6 +48,11 @@ static Fix *create_fix_stokes_sf(LAMMPS *lmp, int argc, char **argv)
   return new FixStokesSF(lmp, argc, argv);
 }
 
+static Fix *create_fix_flow_rate_sf(LAMMPS *lmp, int argc, char **argv)
+{
+  return new FixFlowRateSF(lmp, argc, argv);
+}
+
 extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
 {
   auto register_plugin = reinterpret_cast<lammpsplugin_regfunc>(regfunc);
@@ -72,5 +78,11 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   plugin.name = "hydro/implicit/sf";
   plugin.info = "hydro/implicit/sf: time integration with implicit drag and lubrication (suspension_fabric)";
   plugin.creator.v2 = reinterpret_cast<lammpsplugin_factory2 *>(&create_fix_hydro_implicit_sf);
+  (*register_plugin)(&plugin, lmp);
+
+  plugin.style = "fix";
+  plugin.name = "flow_rate/sf";
+  plugin.info = "flow_rate/sf: the imposed flow from the first step when fix deform turns it (suspension_fabric)";
+  plugin.creator.v2 = reinterpret_cast<lammpsplugin_factory2 *>(&create_fix_flow_rate_sf);
   (*register_plugin)(&plugin, lmp);
 }

@@ -1,7 +1,9 @@
 """Reference datasets: a finished study's analysed tables, committed so that its figures, fits
 and tables can be rebuilt without simulating.
 
-A dataset folder holds, per run (``seed<k>/startup``, ``seed<k>/rotation_theta<a>``):
+A dataset folder holds, per run of the study's run tree (``seed<k>/startup``,
+``seed<k>/rotation_theta<a>`` and the runs of its own protocols, ``seed<k>/<run>``;
+:func:`suspension_fabric.study.config.study_run_tree`):
 ``fabric.csv`` (the per-frame fabric table, :mod:`suspension_fabric.analysis.tables`), ``stress.csv``
 (the per-frame stress table, :mod:`suspension_fabric.analysis.stress`; absent from datasets exported
 before the stress parts were recorded), ``stress.csv.gz``
@@ -50,11 +52,12 @@ from suspension_fabric.io.stressio import read_stress_table
 from suspension_fabric.simulation.lammps.plugin import plugin_sources
 
 from .campaign import study_configs
-from .config import angle_label, load_config, simulation_settings
+from .config import angle_label, load_config, simulation_settings, study_run_tree
 
 __all__ = [
     "DATASET_FILE",
     "run_names",
+    "paper_run_names",
     "export_dataset",
     "read_dataset",
     "check_config_matches",
@@ -75,12 +78,22 @@ RUN_TABLES = ("fabric.csv", "stress.csv")
 VERSIONED_PACKAGES = ("lammps", "MDAnalysis", "numpy", "scipy", "pandas", "snakemake")
 
 
-def run_names(config: dict) -> list[str]:
+def paper_run_names(config: dict) -> list[str]:
     """``seed<k>/startup`` and ``seed<k>/rotation_theta<a>`` for every seed and angle of a study."""
     names = []
     for seed in config["seeds"]:
         names.append(f"seed{seed}/startup")
         names += [f"seed{seed}/rotation_theta{angle_label(a)}" for a in config["angles_deg"]]
+    return names
+
+
+def run_names(config: dict) -> list[str]:
+    """Every run of a study, ``seed<k>/<run>``: the paper's (:func:`paper_run_names`) and those of
+    its own protocols (config key ``protocols``), each run once."""
+    names = paper_run_names(config)
+    paper = set(names)
+    runs = study_run_tree({**config, "protocols": config.get("protocols") or {}})
+    names += [f"seed{seed}/{run}" for seed in config["seeds"] for run in runs if f"seed{seed}/{run}" not in paper]
     return names
 
 
@@ -203,6 +216,7 @@ def _what_was_simulated(config: dict) -> dict:
         "run.startup_strain": config["run"]["startup_strain"],
         "run.rotation_strain": config["run"]["rotation_strain"],
         "analysis.eps": config["analysis"]["eps"],
+        "protocols": config.get("protocols") or {},
     }
 
 
@@ -251,7 +265,7 @@ def _concatenated_runs(folder: Path, record: dict, table: str, reader) -> tuple[
     """(startup runs, rotation runs): every run's ``table`` read with ``reader`` after checking its
     SHA-256, concatenated."""
     startup, rotation = [], []
-    for name in run_names(record["config"]):
+    for name in paper_run_names(record["config"]):
         frame = reader(_checked_file(folder, record, f"{name}/{table}"))
         (startup if name.endswith("/startup") else rotation).append(frame)
     return pd.concat(startup, ignore_index=True), pd.concat(rotation, ignore_index=True)
