@@ -81,7 +81,7 @@ def figure_protocol(
                     color=f"C{list(model_labels).index(key)}",
                     label=text if index == 0 else None,
                 )
-        for start, segment in zip(protocol.start_strains[1:], protocol.segments[1:]):
+        for start in protocol.start_strains[1:]:
             ax.axvline(start, color="0.5", lw=0.6, ls=":")
         ax.set_ylabel(label)
         ax.axhline(0.0, color="0.85", lw=0.5)

@@ -224,6 +224,13 @@ def check_config_matches(config: dict, record: dict, folder: Path) -> None:
     """A study built on a dataset must describe its simulations (:func:`_what_was_simulated`)
     and every run must be present. Errors name the key."""
     here, there = _what_was_simulated(config), _what_was_simulated(record["config"])
+    # a study may take some of the dataset's protocols (each as it was simulated)
+    for name, segments in here.pop("protocols").items():
+        if there["protocols"].get(name) != segments:
+            raise ValueError(
+                f"config key 'protocols.{name}' differs from the dataset {folder} "
+                f"({segments!r} here, {there['protocols'].get(name)!r} there)"
+            )
     for key, value in here.items():
         if value != there[key]:
             raise ValueError(
