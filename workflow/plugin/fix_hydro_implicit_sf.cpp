@@ -181,7 +181,7 @@ FixHydroImplicitSF::FixHydroImplicitSF(LAMMPS *lmp, int narg, char **arg) :
   thermo_virial = 1;
   restart_global = 1;
   vector_flag = 1;
-  size_vector = 29;
+  size_vector = HydroVector::SIZE;
   global_freq = 1;
   extvector = 0;
   for (double &v : virial) v = 0.0;
@@ -935,18 +935,21 @@ void FixHydroImplicitSF::tally_virial(const double E[3][3])
    /vol is their pressure tensor).  4-12 and 20-22 are zero without `contacts`. */
 double FixHydroImplicitSF::compute_vector(int n)
 {
-  if (n == 0) return last_iterations;
-  if (n == 1) return steps > 0 ? static_cast<double>(total_iterations) / steps : 0.0;
-  if (n == 2) return last_error;
-  if (n >= 3 && n < 9) return contact_virial[n - 3];
-  if (n >= 9 && n < 12) return contact_torque[n - 9];
-  if (n >= 12 && n < 18) return lubrication_virial[n - 12];
-  if (n == 18) return steps > 0 ? static_cast<double>(total_passes) / steps : 0.0;
-  if (n == 19) return static_cast<double>(contacts.size());
-  if (n == 20) return sliding_contacts;
-  if (n == 21) return steps > 0 ? static_cast<double>(total_released) / steps : 0.0;
-  if (n == 22) return static_cast<double>(dilu_fallbacks);
-  return stresslet_virial[n - 23];
+  using namespace HydroVector;
+  const int i = n + 1;    // compute_vector counts from 0, input scripts from 1
+  const auto per_step = [this](double total) { return steps > 0 ? total / steps : 0.0; };
+  if (i == LAST_ITERATIONS) return last_iterations;
+  if (i == MEAN_ITERATIONS) return per_step(static_cast<double>(total_iterations));
+  if (i == LAST_ERROR) return last_error;
+  if (i >= CONTACT_VIRIAL && i < CONTACT_VIRIAL + 6) return contact_virial[i - CONTACT_VIRIAL];
+  if (i >= CONTACT_TORQUE && i < CONTACT_TORQUE + 3) return contact_torque[i - CONTACT_TORQUE];
+  if (i >= LUBRICATION_VIRIAL && i < LUBRICATION_VIRIAL + 6) return lubrication_virial[i - LUBRICATION_VIRIAL];
+  if (i == MEAN_PASSES) return per_step(static_cast<double>(total_passes));
+  if (i == CONTACTS) return static_cast<double>(contacts.size());
+  if (i == SLIDING_CONTACTS) return sliding_contacts;
+  if (i == MEAN_RELEASED) return per_step(static_cast<double>(total_released));
+  if (i == DILU_FALLBACKS) return static_cast<double>(dilu_fallbacks);
+  return stresslet_virial[i - STRESSLET_VIRIAL];
 }
 
 /* Global restart state: the springs, as (smaller tag, larger tag, xi) records. */

@@ -20,6 +20,28 @@ namespace LAMMPS_NS {
 
 class PairLubricateSF;
 
+/* The fix's global vector, as an input script reads it: f_ID[i], i counted from 1 as LAMMPS does.
+   Three-component and six-component entries start at the index given (virials and stresslets in
+   LAMMPS's order xx yy zz xy xz yz, summed over pairs: divide by the volume for a pressure).
+   forces_sf.lmp reads these; tests/test_fix_vector.py checks every index it uses against this list. */
+namespace HydroVector {
+  enum : int {
+    LAST_ITERATIONS = 1,       // CG iterations of the last step
+    MEAN_ITERATIONS = 2,       // mean CG iterations per step of the run
+    LAST_ERROR = 3,            // largest velocity error of the last solve
+    CONTACT_VIRIAL = 4,        // 6: sum dx_a F_b of the contact forces
+    CONTACT_TORQUE = 10,       // 3: summed contact torque
+    LUBRICATION_VIRIAL = 13,   // 6: symmetrised lubrication force dipoles
+    MEAN_PASSES = 19,          // mean contact-state passes per step
+    CONTACTS = 20,             // contacts of the last step
+    SLIDING_CONTACTS = 21,     // of which sliding
+    MEAN_RELEASED = 22,        // mean released contacts per step
+    DILU_FALLBACKS = 23,       // dilu factorisations that fell back to Jacobi
+    STRESSLET_VIRIAL = 24,     // 6: pair lubrication stresslets
+    SIZE = 29
+  };
+}    // namespace HydroVector
+
 class FixHydroImplicitSF : public Fix {
  public:
   FixHydroImplicitSF(class LAMMPS *, int, char **);
