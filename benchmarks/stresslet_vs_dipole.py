@@ -8,7 +8,7 @@ every 0.01 strain; per run, the mean over strain [1.5, 3] of, in units of eta_f 
 12 (here xz) shear stress of: the lubrication force dipoles, the pair stresslets, the contacts,
 and the particle pressure of the dipoles (the stresslets carry none); then the mean and standard
 error over the packings. At leading order the stresslet of a pair is (a_i + a_j) times the
-traceless symmetric part of n F (workflow/plugin/lubrication.h; tested), i.e. the dipole at
+traceless symmetric part of n F (simulation/lammps/plugin_source/lubrication.h; tested), i.e. the dipole at
 contact distance, so the two shear stresses should differ by O(h/(a_i + a_j)) only.
 
     .venv/bin/python benchmarks/stresslet_vs_dipole.py results/default/seed{1,2,3}/packing/packing.data
@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from suspension_fabric.io.resources import LAMMPS_SCRIPTS_DIR
 from suspension_fabric.io.stressio import read_stress_table
 from suspension_fabric.simulation.lammps.plugin import plugin_path
 from suspension_fabric.simulation.lammps.process import lammps_command, launch
@@ -52,7 +53,7 @@ def startup_run(packing: Path, folder: Path, strain: float = STRAIN, dump_strain
     """A startup shear of ``packing`` to ``strain`` with ENGINE in ``folder`` (stress table every
     0.01 strain, trajectory every ``dump_strain``); the folder, or RuntimeError naming the log."""
     variables = {
-        "lammps_dir": REPO / "workflow" / "lammps",
+        "lammps_dir": LAMMPS_SCRIPTS_DIR,
         "start_from": "packing",
         "start_file": packing.resolve(),
         **ENGINE,
@@ -70,7 +71,7 @@ def startup_run(packing: Path, folder: Path, strain: float = STRAIN, dump_strain
         "restart_file_b": "b.rst",
     }
     result = launch(
-        lammps_command(REPO / "workflow" / "lammps" / "segment.lmp", variables),
+        lammps_command(LAMMPS_SCRIPTS_DIR / "segment.lmp", variables),
         folder,
         label=packing.parent.parent.name,
         strain_total=strain,

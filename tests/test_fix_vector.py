@@ -1,5 +1,5 @@
 """The global vector of fix hydro/implicit/sf is indexed in one place, the HydroVector list of
-workflow/plugin/fix_hydro_implicit_sf.h; every f_integrate[i] that forces_sf.lmp reads is checked
+simulation/lammps/plugin_source/fix_hydro_implicit_sf.h; every f_integrate[i] that forces_sf.lmp reads is checked
 against it here (a LAMMPS input cannot include a C++ header, so the .lmp repeats the numbers)."""
 
 import re

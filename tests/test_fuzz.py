@@ -27,7 +27,7 @@ file corruption (per file and kind)
     fabric.csv (``tables.read_fabric_table``, data/default's seed 1 startup), stress.csv
     (``stress.read_stress_csv``, data/stresslets' seed 1 startup: the current format, with
     stresslets), stress.txt (``stressio.read_stress_table``, written as
-    workflow/lammps/shear_run.lmp writes it), run.json (``runinfo.read_run_info``, data/default's
+    simulation/lammps/inputs/shear_run.lmp writes it), run.json (``runinfo.read_run_info``, data/default's
     90-degree rotation record), a LAMMPS dump (``dumpio.scan_dump`` and ``dumpio.iter_dump_frames``,
     3 frames written by ``dumpio.write_lammps_dump``), dataset.json (``dataset.read_dataset``,
     data/default's). Each gets one structural corruption of each kind of :data:`KINDS` at a random
@@ -556,7 +556,7 @@ STRESS_TXT_NAMES = (
 
 
 def stress_txt_bytes(rows: int = 30) -> bytes:
-    """A stress table as workflow/lammps/shear_run.lmp writes it (header, one row per table step)."""
+    """A stress table as simulation/lammps/inputs/shear_run.lmp writes it (header, one row per table step)."""
     rng = np.random.default_rng(7)
     lines = ["# " + " ".join(STRESS_TXT_NAMES)]
     for k in range(rows):

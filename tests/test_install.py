@@ -1,5 +1,5 @@
 """A regular (non-editable) install works: the package finds its schema, LAMMPS scripts and
-plugin sources as package data (pyproject.toml maps them from config/ and workflow/), builds
+plugin sources as package data (pyproject.toml: the engine files of simulation/lammps and config/schema.yaml), builds
 the plugin from them and runs a simulation, with no repository checkout on its path."""
 
 from __future__ import annotations
@@ -58,6 +58,7 @@ def test_a_regular_install_runs_without_the_checkout(tmp_path):
     assert found["checkout"] == "None"
     data = target / "suspension_fabric" / "_data"
     assert found["schema"] == str(data / "config" / "schema.yaml")
-    assert found["scripts"] == str(data / "lammps") and found["sources"] == str(data / "plugin")
+    engine = target / "suspension_fabric" / "simulation" / "lammps"
+    assert found["scripts"] == str(engine / "inputs") and found["sources"] == str(engine / "plugin_source")
     assert found["plugin"] == str(tmp_path / "plugin" / "libsuspension_fabric_lammps.so")
     assert found["strain"] == pytest.approx(0.002)

@@ -1,5 +1,5 @@
 """Rotary shear for real: segments whose flow direction turns (turning_deg_per_strain != 0), run
-through workflow/lammps/segment.lmp with the project's plugin force model.
+through simulation/lammps/inputs/segment.lmp with the project's plugin force model.
 
 A rotary segment turns the flow direction f(t) = (cos t, sin t, 0) (simulation frame, z the
 gradient) as t(gamma) = t0 + w gamma, gamma the strain since the segment started, w the turning

@@ -1,4 +1,4 @@
-"""Real LAMMPS runs of workflow/lammps/{pack,startup,rotate}.lmp through the Python runner.
+"""Real LAMMPS runs of simulation/lammps/inputs/{pack,startup,rotate}.lmp through the Python runner.
 
 Small systems (N = 60, strains of a few 1e-3: ~100 steps of the implicit integration at
 dt = 2e-5, a few thousand explicit steps at 5e-7), seconds each, with the project's plugin

@@ -26,7 +26,7 @@ Reference (sphere 1 = atom 1 of radius a1, sphere 2 = atom 2 of radius a2):
     the 22 and 21 functions from f_ab(l) = f_(3-a)(3-b)(1/l) (A and C) and
     Y^B_ab(l) = -Y^B_(3-a)(3-b)(1/l) (the direction d flips).
 Regularisation (delta) and cutoff (h_out) are the model's, as documented in
-workflow/plugin/README.md.
+simulation/lammps/plugin_source/README.md.
 """
 
 from __future__ import annotations

@@ -4,7 +4,7 @@ build_plugin decides from file times and a stamp: the library is stale when it o
 is missing, when the stamp's compile-command fingerprint differs from the current command
 (flags, compiler, include dirs, the list of .cpp files), or when a .cpp/.h in the source
 folder was modified after the sources the library was compiled from. The tests point the
-module at a copy of workflow/plugin in tmp_path (module globals, restored by monkeypatch) and
+module at a copy of simulation/lammps/plugin_source in tmp_path (module globals, restored by monkeypatch) and
 replace the compiler by a fake that writes the concatenated .cpp sources to the ``-o`` path,
 so no real compile runs and the project's own build/plugin is never touched.
 """
@@ -47,7 +47,7 @@ class FakeCompiler:
 
 @pytest.fixture
 def tree(tmp_path, monkeypatch):
-    """Copy of workflow/plugin (all mtimes OLD) and an empty build dir, wired into the module."""
+    """Copy of simulation/lammps/plugin_source (all mtimes OLD) and an empty build dir, wired into the module."""
     source = tmp_path / "plugin"
     shutil.copytree(plugin_module.PLUGIN_SOURCE_DIR, source)
     for path in source.iterdir():

@@ -1,7 +1,7 @@
 """Seams between the LAMMPS runner and the analysis, on real LAMMPS dumps.
 
 One small real system (N = 60, phi = 0.45, packed with gap_margin = 0 so that near
-contacts exist from the first frame), sheared by workflow/lammps/segment.lmp (from a packing) to strain
+contacts exist from the first frame), sheared by simulation/lammps/inputs/segment.lmp (from a packing) to strain
 0.02 and then rotated by theta = 60 deg (segment.lmp from the checkpoint) for strain 0.01, both through the
 Python runner with the project's plugin force model; dumps every 0.005 strain
 (5 + 3 frames, ~100 near-contact pairs each). About a second of LAMMPS in all.

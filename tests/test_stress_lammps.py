@@ -1,6 +1,6 @@
 """The stress of a shear run from real LAMMPS: symmetrised virials, dilute limit, frame rotation.
 
-suspension_fabric.analysis.stress turns the stress table of a shear run (workflow/lammps/shear_run.lmp)
+suspension_fabric.analysis.stress turns the stress table of a shear run (simulation/lammps/inputs/shear_run.lmp)
 into symmetric stress parts in the paper frame. These tests check, with the project's plugin
 (built on demand by plugin_path()), the pieces it relies on:
 

@@ -25,7 +25,7 @@ Parts (the total is their sum)
 
 Recorded beside the parts, not summed into the total
     ``stresslet``    the pair lubrication stresslets (Jeffrey 1992 X^G, Y^G, Y^H, X^M, Y^M at the
-                     force model's order and regularisation; ``workflow/plugin/lubrication.h``):
+                     force model's order and regularisation; ``simulation/lammps/plugin_source/lubrication.h``):
                      an alternative to ``lubrication`` for the same interactions, traceless, and
                      at this order the force dipole at contact distance without its trace.
                      NaN where the run did not record it (the stock force model, and tables

