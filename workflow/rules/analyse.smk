@@ -78,14 +78,18 @@ rule aggregate_stress_rotation:
 
 rule aggregate_protocols:
     """The fabric along each of the study's own protocols (config key `protocols`): every segment's
-    run joined per seed, and the seed means, in the frame of the current flow."""
+    run joined per seed, the seed means, in the frame of the current flow, and the late state of
+    every segment against the startup's steady state."""
     input:
         protocol_run_files("fabric.csv"),
     output:
         runs=f"{RESULTS}/tables/protocol_runs.csv",
         aggregate=f"{RESULTS}/tables/protocol_aggregate.csv",
+        states=f"{RESULTS}/tables/protocol_states.csv",
     params:
         quantity="fabric",
+        steady_window=setting("analysis", "steady_window"),
+        level=setting("verdicts", "level"),
         runs=lambda wildcards: protocol_run_names(wildcards.study),
         protocols=lambda wildcards: {name: [s.as_dict() for s in p.segments] for name, p in own_protocols(wildcards.study).items()},
         seeds=setting("seeds"),
@@ -104,8 +108,11 @@ rule aggregate_stress_protocols:
     output:
         runs=f"{RESULTS}/tables/stress_protocol_runs.csv",
         aggregate=f"{RESULTS}/tables/stress_protocol_aggregate.csv",
+        states=f"{RESULTS}/tables/stress_protocol_states.csv",
     params:
         quantity="stress",
+        steady_window=setting("analysis", "steady_window"),
+        level=setting("verdicts", "level"),
         runs=lambda wildcards: protocol_run_names(wildcards.study),
         protocols=lambda wildcards: {name: [s.as_dict() for s in p.segments] for name, p in own_protocols(wildcards.study).items()},
         seeds=setting("seeds"),

@@ -1,10 +1,11 @@
 """Snakemake: the fabric or the stress along each of a study's own protocols, per seed and
-seed-averaged (rules aggregate_protocols and aggregate_stress_protocols; params.quantity)."""
+seed-averaged, and the late state of every segment (rules aggregate_protocols and
+aggregate_stress_protocols; params.quantity)."""
 
 from pathlib import Path
 
 from suspension_fabric.analysis import stress, tables
-from suspension_fabric.analysis.protocol_tables import protocol_tables
+from suspension_fabric.analysis.protocol_tables import protocol_tables, segment_states
 from suspension_fabric.io.protocols import Protocol, Segment
 from suspension_fabric.workflow_io import logged
 
@@ -34,5 +35,7 @@ with logged(sm.log[0]):
     runs, aggregate = protocol_tables(protocols, sm.params.runs, read, sm.params.seeds, columns)
     runs.to_csv(sm.output.runs, index=False)
     aggregate.to_csv(sm.output.aggregate, index=False)
+    states = segment_states(protocols, runs, columns, sm.params.steady_window, sm.params.level)
+    states.to_csv(sm.output.states, index=False)
     for name, group in aggregate.groupby("protocol", sort=False):
         print(f"{name}: {group['segment'].nunique()} segments, strain 0-{group['strain'].max():g}")

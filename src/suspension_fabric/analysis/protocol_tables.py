@@ -24,6 +24,15 @@ Protocol table (:func:`protocol_table`), one row per frame of every segment of e
 Seed aggregate (:func:`aggregate_protocol_seeds`)
     Per (protocol, segment, frame): the strains, the frame angle, n_seeds and ``c_mean``,
     ``c_sem`` for every value column ``c`` (as :func:`suspension_fabric.analysis.tables.aggregate_seeds`).
+
+Late states (:func:`segment_states`)
+    Where a flow history settles: per protocol, segment after the first and value column, each
+    seed's mean over the last half of the segment (in the frame of the current flow, so a steady
+    state in rotary shear is steady in the turning frame, and the states after successive
+    reversals are comparable), the seed mean with its t-interval, and the paired per-seed
+    difference from the seed's steady state of the protocol's first segment (the startup; mean
+    over the steady window), with its t-interval. An interval of the difference that excludes 0
+    says the segment settles elsewhere than simple shear, or has not settled yet.
 """
 
 from __future__ import annotations
@@ -37,6 +46,7 @@ import pandas as pd
 
 from suspension_fabric.io.protocols import Protocol
 
+from .seed_statistics import LEVEL, t_interval
 from .tables import aggregate_seeds
 
 __all__ = [
@@ -46,6 +56,7 @@ __all__ = [
     "aggregate_protocol_seeds",
     "protocol_tables",
     "read_protocol_table",
+    "segment_states",
 ]
 
 #: The ``frame`` of every protocol-table row: tensors in the frame of the current flow.
@@ -143,3 +154,45 @@ def protocol_tables(
         ignore_index=True,
     )
     return table, aggregate_protocol_seeds(table, value_columns)
+
+
+def segment_states(
+    protocols: Mapping[str, Protocol], table: pd.DataFrame, value_columns, steady_window, level: float = LEVEL
+) -> pd.DataFrame:
+    """The late state of every segment after the first of each protocol (module docstring) from a
+    protocol table (per seed)."""
+    low, high = steady_window
+    rows = []
+    for name, protocol in protocols.items():
+        mine = table[table["protocol"] == name]
+        first = mine[(mine["segment"] == 0) & mine["segment_strain"].between(low - 1e-9, high + 1e-9)]
+        if first.empty:
+            raise ValueError(f"protocol {name}: no frame of its first segment in the steady window {steady_window}")
+        base = first.groupby("seed")[list(value_columns)].mean()
+        for index, segment in enumerate(protocol.segments[1:], start=1):
+            window = (segment.strain / 2.0, segment.strain)
+            late = mine[(mine["segment"] == index) & mine["segment_strain"].between(window[0] - 1e-9, window[1] + 1e-9)]
+            per_seed = late.groupby("seed")[list(value_columns)].mean().loc[base.index]
+            for column in value_columns:
+                state = t_interval(per_seed[column].to_numpy(), level)
+                shift = t_interval((per_seed[column] - base[column]).to_numpy(), level)
+                rows.append(
+                    {
+                        "protocol": name,
+                        "segment": index,
+                        "flow_angle_deg": segment.flow_angle_deg,
+                        "turning_deg_per_strain": segment.turning_deg_per_strain,
+                        "window_low": window[0],
+                        "window_high": window[1],
+                        "quantity": column,
+                        "n_seeds": state.n,
+                        "mean": state.mean,
+                        "low": state.low,
+                        "high": state.high,
+                        "startup_steady": float(base[column].mean()),
+                        "difference": shift.mean,
+                        "difference_low": shift.low,
+                        "difference_high": shift.high,
+                    }
+                )
+    return pd.DataFrame(rows)

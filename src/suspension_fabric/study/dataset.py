@@ -221,8 +221,10 @@ def _what_was_simulated(config: dict) -> dict:
 
 
 def check_config_matches(config: dict, record: dict, folder: Path) -> None:
-    """A study built on a dataset must describe its simulations (:func:`_what_was_simulated`)
-    and every run must be present. Errors name the key."""
+    """A study built on a dataset must describe its simulations (:func:`_what_was_simulated`;
+    its protocols may be some of the dataset's) and every run it takes must be present (a dataset
+    exported while its study ran may lack the runs of protocols this study leaves out). Errors
+    name the key."""
     here, there = _what_was_simulated(config), _what_was_simulated(record["config"])
     # a study may take some of the dataset's protocols (each as it was simulated)
     for name, segments in here.pop("protocols").items():
@@ -236,10 +238,11 @@ def check_config_matches(config: dict, record: dict, folder: Path) -> None:
             raise ValueError(
                 f"config key '{key}' differs from the dataset {folder} ({value!r} here, {there[key]!r} there)"
             )
-    if record["runs_missing"]:
+    missing = [name for name in run_names(config) if name in set(record["runs_missing"])]
+    if missing:
         raise ValueError(
-            f"the dataset {folder} lacks {len(record['runs_missing'])} run(s), e.g. "
-            f"{record['runs_missing'][0]}; export it again once the study has finished"
+            f"the dataset {folder} lacks {len(missing)} run(s) of this study, e.g. "
+            f"{missing[0]}; export it again once the study has finished"
         )
 
 
@@ -282,10 +285,9 @@ def read_fabric_runs(folder: Path) -> tuple[dict, pd.DataFrame, pd.DataFrame]:
     """A dataset's record and its fabric tables, concatenated: (record, startup runs, rotation runs),
     every file's SHA-256 checked (the run tables of the workflow's ``aggregate_*`` rules)."""
     record = read_dataset(folder)
-    if record["runs_missing"]:
-        raise ValueError(
-            f"the dataset {folder} lacks {len(record['runs_missing'])} run(s), e.g. {record['runs_missing'][0]}"
-        )
+    missing = [name for name in paper_run_names(record["config"]) if name in set(record["runs_missing"])]
+    if missing:
+        raise ValueError(f"the dataset {folder} lacks {len(missing)} run(s), e.g. {missing[0]}")
     return (record, *_concatenated_runs(folder, record, "fabric.csv", read_fabric_table))
 
 
