@@ -3,7 +3,6 @@ benchmark_protocols)."""
 
 import pandas as pd
 
-from suspension_fabric.analysis import tables
 from suspension_fabric.analysis.protocol_tables import read_protocol_table
 from suspension_fabric.io.protocols import Protocol, Segment
 from suspension_fabric.models import model_vs_simulation, protocol_benchmark, stress_benchmark
@@ -14,11 +13,11 @@ from suspension_fabric.workflow_io import logged
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
     fits = model_vs_simulation.read_fits(sm.input.fits)
-    steady = stress_benchmark.stress_curves(
-        tables.read_fabric_table(sm.input.startup_runs),
-        tables.read_fabric_table(sm.input.rotation_runs),
-        pd.read_csv(sm.input.stress_startup_runs),
-        pd.read_csv(sm.input.stress_rotation_runs),
+    steady = stress_benchmark.read_stress_curves(
+        sm.input.startup_runs,
+        sm.input.rotation_runs,
+        sm.input.stress_startup_runs,
+        sm.input.stress_rotation_runs,
         sm.params.window,
         sm.params.steady_window,
     )

@@ -1,9 +1,6 @@
 """Snakemake: stress relations scored on the steady normal stresses and held-out viscosity transients
 (rule benchmark_stress_relations)."""
 
-import pandas as pd
-
-from suspension_fabric.analysis import tables
 from suspension_fabric.models import stress_benchmark
 from suspension_fabric.models.stress_relations import resolve_relations
 from suspension_fabric.reporting import report_tables
@@ -11,11 +8,11 @@ from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
-    curves = stress_benchmark.stress_curves(
-        tables.read_fabric_table(sm.input.startup_runs),
-        tables.read_fabric_table(sm.input.rotation_runs),
-        pd.read_csv(sm.input.stress_startup_runs),
-        pd.read_csv(sm.input.stress_rotation_runs),
+    curves = stress_benchmark.read_stress_curves(
+        sm.input.startup_runs,
+        sm.input.rotation_runs,
+        sm.input.stress_startup_runs,
+        sm.input.stress_rotation_runs,
         sm.params.window,
         sm.params.steady_window,
     )

@@ -28,6 +28,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from functools import partial
 from typing import NamedTuple
 
 import numpy as np
@@ -335,19 +336,25 @@ def integrate(
     out = np.empty((len(starts), len(strains), 3, 3))
     for k, start in enumerate(starts):
         one = Flow(*(t[k] for t in flows))
-        solution = solve_ivp(
-            lambda _g, v: _rhs_vec(fabric_model, v, one, params, phi),
-            (0.0, float(strains.max(initial=0.0))),
-            sym_to_vec(start),
-            t_eval=strains,
-            method="DOP853",
-            rtol=rtol,
-            atol=atol,
-        )
-        if not solution.success:
-            raise ModelError(f"model {fabric_model.key}: integration failed ({solution.message})")
-        out[k] = vec_to_sym(solution.y.T)
+        rhs = partial(_rhs_vec, fabric_model, flow=one, params=params, phi=phi)
+        out[k] = vec_to_sym(_solve_ode(fabric_model, rhs, sym_to_vec(start), strains, rtol, atol))
     return out.reshape(batch + (len(strains), 3, 3))
+
+
+def _solve_ode(fabric_model: FabricModel, rhs, start, strains, rtol, atol) -> np.ndarray:
+    """The 6-vectors (len(strains), 6) of dv/dgamma = rhs(v) from ``start`` (DOP853)."""
+    solution = solve_ivp(
+        lambda _g, v: rhs(v),
+        (0.0, float(strains.max(initial=0.0))),
+        start,
+        t_eval=strains,
+        method="DOP853",
+        rtol=rtol,
+        atol=atol,
+    )
+    if not solution.success:
+        raise ModelError(f"model {fabric_model.key}: integration failed ({solution.message})")
+    return solution.y.T
 
 
 def steady_state(fabric_model: FabricModel, params, phi) -> np.ndarray:
@@ -462,18 +469,8 @@ def integrate_segment(
     if fabric_model.affine:
         M, b = affine_system(fabric_model, flow, params, phi)
         return vec_to_sym(solve_affine(M + spin, b, start, strains))
-    solution = solve_ivp(
-        lambda _g, v: _rhs_vec(fabric_model, v, flow, params, phi) + spin @ v,
-        (0.0, float(strains.max(initial=0.0))),
-        start,
-        t_eval=strains,
-        method="DOP853",
-        rtol=rtol,
-        atol=atol,
-    )
-    if not solution.success:
-        raise ModelError(f"model {fabric_model.key}: integration failed ({solution.message})")
-    return vec_to_sym(solution.y.T)
+    rhs = partial(_rhs_vec, fabric_model, flow=flow, params=params, phi=phi)
+    return vec_to_sym(_solve_ode(fabric_model, lambda v: rhs(v) + spin @ v, start, strains, rtol, atol))
 
 
 def protocol_fabric(

@@ -35,6 +35,7 @@ import pandas as pd
 from scipy.optimize import minimize, minimize_scalar
 
 from suspension_fabric.analysis.seed_statistics import LEVEL, jackknife, t_interval
+from suspension_fabric.analysis.tables import read_fabric_table
 
 from .model_benchmark import angle_folds, angle_mask, by_seed
 from .stress_relations import RelationError, StressRelation, coefficients, relation_stress
@@ -42,6 +43,7 @@ from .stress_relations import RelationError, StressRelation, coefficients, relat
 __all__ = [
     "StressCurves",
     "stress_curves",
+    "read_stress_curves",
     "relation_predictions",
     "seed_scores",
     "fit_shape",
@@ -144,6 +146,21 @@ def stress_curves(
         np.stack([p[2] for p in per_angle], axis=1)[:, :, keep],
         startup_fab[:, inside].mean(axis=1),
         steady,
+    )
+
+
+def read_stress_curves(
+    startup_runs, rotation_runs, stress_startup_runs, stress_rotation_runs, window: float, steady_window
+) -> StressCurves:
+    """:func:`stress_curves` from the study's run-table files (startup_runs.csv, rotation_runs.csv,
+    stress_startup_runs.csv, stress_rotation_runs.csv)."""
+    return stress_curves(
+        read_fabric_table(startup_runs),
+        read_fabric_table(rotation_runs),
+        pd.read_csv(stress_startup_runs),
+        pd.read_csv(stress_rotation_runs),
+        window,
+        steady_window,
     )
 
 

@@ -260,20 +260,33 @@ def _check_protocols(config: dict) -> None:
     for name in config.get("protocols") or {}:
         for index, segment in enumerate(protocols[name].segments):
             key = f"protocols.{name}.{index}.strain"
-            steps = segment.strain / run["dt"]
-            if abs(steps - round(steps)) > 1e-6 * steps:
+            fault = _off_grid(segment.strain, run)
+            if fault == ("dt", 1):
                 raise ConfigError(
                     f"config key '{key}' ({segment.strain:g}) is not a whole number of steps of run.dt ({run['dt']:g})"
                 )
-            for grid in ("dump_strain", "table_strain"):
-                stride = output_stride(run[grid], run["dt"])
-                if round(steps) % stride:
-                    raise ConfigError(
-                        f"config key '{key}' ({segment.strain:g}) is not a whole number of run.{grid} "
-                        f"strides ({stride} steps at dt = {run['dt']:g}): the next segment would start "
-                        "off the output grid"
-                    )
+            if fault is not None:
+                grid, stride = fault
+                raise ConfigError(
+                    f"config key '{key}' ({segment.strain:g}) is not a whole number of run.{grid} "
+                    f"strides ({stride} steps at dt = {run['dt']:g}): the next segment would start "
+                    "off the output grid"
+                )
     study_run_tree(config)
+
+
+def _off_grid(strain: float, run: dict) -> tuple[str, int] | None:
+    """Why a run of ``strain`` would not end on every output grid: ("dt", 1) for a strain that is
+    not a whole number of steps, (grid key, stride) for one that is not a whole number of that
+    grid's strides; None if it ends on all of them."""
+    steps = strain / run["dt"]
+    if abs(steps - round(steps)) > 1e-6 * steps:
+        return ("dt", 1)
+    for grid in ("dump_strain", "table_strain"):
+        stride = output_stride(run[grid], run["dt"])
+        if round(steps) % stride:
+            return (grid, stride)
+    return None
 
 
 def _check_time_step(run: dict, forces: dict, d_small: float) -> None:
@@ -319,22 +332,21 @@ def _check_output_grid(run: dict) -> None:
     """The startup must end on a step of every output grid: LAMMPS writes a table row or a frame
     when the step is a multiple of the stride, so a rotation that starts between two grid
     steps would miss its first row (and the strain grid would be shifted)."""
-    steps_per_strain = 1.0 / run["dt"]
-    startup_steps = run["startup_strain"] * steps_per_strain
-    if abs(startup_steps - round(startup_steps)) > 1e-6 * startup_steps:
+    startup_steps = run["startup_strain"] / run["dt"]
+    fault = _off_grid(run["startup_strain"], run)
+    if fault == ("dt", 1):
         raise ConfigError(
             f"config key 'run.dt' ({run['dt']:g}): run.startup_strain "
             f"({run['startup_strain']:g}) is not a whole number of steps "
             f"({startup_steps:.6g}); choose dt that divides it"
         )
-    for key in ("dump_strain", "table_strain"):
-        stride = output_stride(run[key], run["dt"])
-        if round(startup_steps) % stride:
-            raise ConfigError(
-                f"config key 'run.{key}' ({run[key]:g}) gives a stride of {stride} steps at "
-                f"dt = {run['dt']:g}, which does not divide the {round(startup_steps)} steps "
-                f"of the startup; the rotations would start off the output grid"
-            )
+    if fault is not None:
+        key, stride = fault
+        raise ConfigError(
+            f"config key 'run.{key}' ({run[key]:g}) gives a stride of {stride} steps at "
+            f"dt = {run['dt']:g}, which does not divide the {round(startup_steps)} steps "
+            f"of the startup; the rotations would start off the output grid"
+        )
 
 
 def load_config(path: str | os.PathLike) -> dict:
