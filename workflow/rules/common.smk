@@ -105,6 +105,7 @@ def study_targets(study):
         targets += [*rules.aggregate_protocols.output]
         if study not in STRESSLESS_STUDIES:
             targets += [*rules.aggregate_stress_protocols.output, *rules.benchmark_protocols.output]
+            targets += rules.report_protocols.output
             targets += expand(rules.figure_protocol.output, protocol=list(STUDIES[study]["protocols"]), allow_missing=True)
     return expand(targets, study=study)
 

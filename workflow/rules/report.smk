@@ -37,3 +37,21 @@ rule report_stress:
         f"{RESULTS}/logs/report_stress.log",
     script:
         "../scripts/report_stress.py"
+
+
+rule report_protocols:
+    """The protocols' results as a Markdown fragment written from the leaderboards (the docs include the
+    committed dataset's)."""
+    input:
+        leaderboard=rules.benchmark_protocols.output.leaderboard,
+        stress_leaderboard=rules.benchmark_protocols.output.stress_leaderboard,
+    output:
+        f"{RESULTS}/tables/protocol_summary.md",
+    params:
+        level=setting("verdicts", "level"),
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/report_protocols.log",
+    script:
+        "../scripts/report_protocols.py"

@@ -1,0 +1,16 @@
+"""Snakemake: the protocols' results as a Markdown fragment (rule report_protocols)."""
+
+from pathlib import Path
+
+import pandas as pd
+
+from suspension_fabric.reporting.protocol_report import summary_markdown
+from suspension_fabric.workflow_io import logged
+
+sm = snakemake  # noqa: F821 (injected by Snakemake)
+with logged(sm.log[0]):
+    text = summary_markdown(
+        pd.read_csv(sm.input.leaderboard), pd.read_csv(sm.input.stress_leaderboard), sm.params.level
+    )
+    Path(sm.output[0]).write_text(text)
+    print(text)
