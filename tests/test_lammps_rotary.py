@@ -425,14 +425,24 @@ RESUME_SETTINGS = ShearSettings(
     dt=RESUME_DT, dump_strain=0.01, table_strain=0.001, thermo_strain=0.0005, restart_strain=0.1
 )
 RESUME_SEGMENT = Segment(0.6, 30.0, 150.0)
+REVERSAL_SEGMENT = Segment(0.6, -90.0)
+
+
+def source_index(run) -> int:
+    """The segment index of a finished run, from its record."""
+    return json.loads((run.output_dir / COMPLETION_MARKER).read_text())["flow_segment"]["index"]
+
+
 KILL_STRAIN = 0.2
 
 
-@pytest.fixture(scope="module")
-def resumed(tmp_path_factory, force_model):
+@pytest.fixture(scope="module", params=["rotary", "reversal"])
+def resumed(request, tmp_path_factory, force_model):
     """The squeezed pair of test 3 sheared steadily along x for 0.05 strain (to step 500), then
-    the rotary segment RESUME_SEGMENT (index 1, 0.6 strain at 150 deg/strain from 30 deg) from
-    that checkpoint, run twice through run_segment: whole, and killed (SIGKILL of lmp from the
+    the segment to resume: ``rotary``, RESUME_SEGMENT (index 1, 0.6 strain at 150 deg/strain from
+    30 deg) from that checkpoint; ``reversal``, a fixed-angle segment two deep (0.05 strain at
+    90 deg, then REVERSAL_SEGMENT, 0.6 strain at -90 deg, index 2, from step 1000). Each is
+    run twice through run_segment: whole, and killed (SIGKILL of lmp from the
     progress callback, once thermo has reached strain 0.2: the restart files of steps 1000 and
     2000 are complete, LAMMPS writes restarts before thermo) then run again, which resumes from
     the latest restart file. lmp cannot finish before it is killed: with a thermo row (~150 bytes)
@@ -443,8 +453,14 @@ def resumed(tmp_path_factory, force_model):
     startup = run_segment(
         workdir / "startup", Segment(0.05), data_file=pair_data(workdir / "pair.data"), progress=None, **run
     )
-    continued = dict(restart_file=startup.checkpoint_file, **run)
-    whole = run_segment(workdir / "whole", RESUME_SEGMENT, progress=None, **continued)
+    segment, source = RESUME_SEGMENT, startup
+    if request.param == "reversal":
+        segment = REVERSAL_SEGMENT
+        source = run_segment(
+            workdir / "rotation", Segment(0.05, 90.0), restart_file=startup.checkpoint_file, progress=None, **run
+        )
+    continued = dict(restart_file=source.checkpoint_file, **run)
+    whole = run_segment(workdir / "whole", segment, progress=None, **continued)
 
     target = workdir / "resumed"
     killed = []
@@ -456,19 +472,20 @@ def resumed(tmp_path_factory, force_model):
                 os.killpg(pid, signal.SIGKILL)
 
     with pytest.raises(LammpsRunError, match="partial run kept"):
-        run_segment(target, RESUME_SEGMENT, progress=kill_after, progress_interval=0.0, **continued)
+        run_segment(target, segment, progress=kill_after, progress_interval=0.0, **continued)
     assert killed, "the run ended before it could be killed"
-    result = run_segment(target, RESUME_SEGMENT, progress=None, **continued)
+    result = run_segment(target, segment, progress=None, **continued)
+    assert json.loads((target / COMPLETION_MARKER).read_text())["flow_segment"]["index"] == source_index(source) + 1
     marker = json.loads((target / COMPLETION_MARKER).read_text())
     assert result.segments == 2 and len(marker["segments"]) == 2
     restart_step = marker["segments"][-1]["start_step"]
     return whole, result, restart_step
 
 
-def test_resumed_rotary_segment_keeps_its_strain_and_tilts(resumed):
-    """A rotary segment killed after its restart at step 2000 and resumed from it (the runner
-    passes step0 = the segment's first step, 500; segment.lmp turns the flow and the tilts on
-    from the launch strain of the resumed run, (2000 - 500) dt) has the table of the
+def test_resumed_segment_keeps_its_strain_and_tilts(resumed):
+    """A segment killed after a restart at step 2000 or later and resumed from it (the runner
+    passes step0 = the segment's first step, 500 or 1000; for rotary shear segment.lmp turns the
+    flow and the tilts on from the launch strain of the resumed run) has the table of the
     uninterrupted one: the same rows (steps), strain = (step - 500) dt, tilts xz, yz, lz equal
     to the table's 12 digits, the rows up to the restart step identical (they are the killed
     run's own) and trajectory frames at the same steps. The resumed launch ran only the steps
@@ -476,7 +493,8 @@ def test_resumed_rotary_segment_keeps_its_strain_and_tilts(resumed):
     whole, result, restart_step = resumed
     a, b = read_stress_table(whole.table_file), read_stress_table(result.table_file)
     first_step = whole.first_step
-    assert (result.first_step, result.last_step) == (first_step, whole.last_step) == (500, 6500)
+    assert first_step in (500, 1000)
+    assert (result.first_step, result.last_step) == (first_step, whole.last_step) == (first_step, first_step + 6000)
     # a restart step (every 1000 steps) at or after step 2000, the last complete when lmp was killed
     assert restart_step % 1000 == 0 and 2000 <= restart_step < whole.last_step
     np.testing.assert_array_equal(b["step"], a["step"])
@@ -490,7 +508,7 @@ def test_resumed_rotary_segment_keeps_its_strain_and_tilts(resumed):
     assert [frame.step for frame in iter_dump_frames(result.dump_file)] == steps_a
 
 
-def test_resumed_rotary_segment_is_the_same_run(resumed):
+def test_resumed_segment_is_the_same_run(resumed):
     """Two spheres in lubrication range, no contact, solved to 1e-12: a deterministic, non-chaotic
     run, so the resumed segment continues the uninterrupted one to round-off: every column of
     the stress table after the restart step within 1e-9 of its largest value (the stress, its
