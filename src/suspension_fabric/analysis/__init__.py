@@ -1,5 +1,6 @@
 """Analysis: frames and tensor storage, near-contact detection and fabric tensors, the stress per
-frame, per-run and seed-aggregated tables, steady states, and the statistics over seeds.
+frame, per-run and seed-aggregated tables (along protocols too), steady states, and the statistics
+over seeds.
 
 Imports only :mod:`suspension_fabric.io`.
 """
