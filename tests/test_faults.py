@@ -82,7 +82,7 @@ def test_a_blow_up_in_one_job_lets_the_others_finish_with_keep_going(tmp_path):
     result = snakemake(workdir, *TEST_CONFIG, "--keep-going")
     assert result.returncode != 0
     log = (workdir / RESULTS / "logs/shear_seed2_startup.log").read_text()
-    assert "LammpsRunError" in log and "LAMMPS startup run failed" in log
+    assert "LammpsRunError" in log and "LAMMPS startup (segment 0: 0.3 strain at 0 deg) run failed" in log
     assert any(reason in log for reason in ("Lost atoms", "non-finite", "overlap", "ERROR"))
     # kept for inspection: a run that stopped as .startup.partial, one that ended but failed its
     # checks (here the overlap bound) as startup.failed
