@@ -634,7 +634,8 @@ def run_segment(
         **force_model.variables(),
     }
     turning = f", turning {segment.turning_deg_per_strain:g} deg/strain" if segment.turning_deg_per_strain else ""
-    label = f"{Path(output_dir).name} (segment {index}: {segment.strain:g} strain at {segment.flow_angle_deg:g} deg{turning})"
+    where = f"segment {index}: {segment.strain:g} strain at {segment.flow_angle_deg:g} deg{turning}"
+    label = f"{Path(output_dir).name} ({where})"
     record = {
         "flow_segment": {"index": index, **segment.as_dict()},
         "flow_history": [past.as_dict() for past in history],
