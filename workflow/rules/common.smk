@@ -143,3 +143,19 @@ def protocol_run_files(filename):
                       seed=STUDIES[wildcards.study]["seeds"], run=runs)
 
     return files
+
+
+def segment_source(wildcards):
+    """The run's start: the seed's packing for a first segment, else the checkpoint (and completion
+    marker) of its parent run, the segment before it in the flow history."""
+    node = RUN_TREES[wildcards.study][wildcards.run]
+    if node.parent is None:
+        return {"data": rules.pack.output.data.format(study=wildcards.study, seed=wildcards.seed)}
+    parent = f"results/{wildcards.study}/seed{wildcards.seed}/{node.parent}"
+    return {"checkpoint": f"{parent}/checkpoint.rst", "marker": f"{parent}/run_complete.json"}
+
+
+def segment_of(wildcards):
+    """The run's segment, its index and flow history (suspension_fabric.io.protocols.RunNode)."""
+    node = RUN_TREES[wildcards.study][wildcards.run]
+    return {"index": node.index, "history": [segment.as_dict() for segment in node.history]}

@@ -12,22 +12,6 @@ rule pack:
         "../scripts/pack.py"
 
 
-def segment_source(wildcards):
-    """The run's start: the seed's packing for a first segment, else the checkpoint (and completion
-    marker) of its parent run, the segment before it in the flow history."""
-    node = RUN_TREES[wildcards.study][wildcards.run]
-    if node.parent is None:
-        return {"data": rules.pack.output.data.format(study=wildcards.study, seed=wildcards.seed)}
-    parent = f"results/{wildcards.study}/seed{wildcards.seed}/{node.parent}"
-    return {"checkpoint": f"{parent}/checkpoint.rst", "marker": f"{parent}/run_complete.json"}
-
-
-def segment_of(wildcards):
-    """The run's segment, its index and flow history (suspension_fabric.io.protocols.RunNode)."""
-    node = RUN_TREES[wildcards.study][wildcards.run]
-    return {"index": node.index, "history": [segment.as_dict() for segment in node.history]}
-
-
 rule shear_segment:
     """One segment of a flow history for one seed: from the packing (the first segment) or from the
     checkpoint of the segment before, so that protocols sharing a prefix share its runs (segment.lmp)."""

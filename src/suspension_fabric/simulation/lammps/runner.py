@@ -676,7 +676,7 @@ def run_rotation(
     """Shear rotation by ``theta_deg`` degrees from the checkpoint of a startup: :func:`run_segment`
     of ``strain_total`` at flow angle theta, (cos theta, sin theta, 0) (paper frame:
     e1' = cos(theta) e1 - sin(theta) e3); theta = 0 continues the startup's shear."""
-    return run_segment(output_dir, Segment(strain_total, theta_deg), restart_file=restart_file, **options)
+    return run_segment(output_dir, Segment(strain_total, theta_deg), restart_file=restart_file, index=1, **options)
 
 
 def _recorded_history(run_dir: Path) -> tuple[Segment, ...] | None:
