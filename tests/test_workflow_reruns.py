@@ -159,10 +159,23 @@ def test_params_of_downstream_rules(study, rule, override):
         "predict": "tables/predictions.csv",
         "fit_models": "fits.json",
         "benchmark_models": "tables/leaderboard.csv",
-        "shear_segment": "seed1/rotation_theta90/trajectory.dump",
+        "shear_segment": "seed1/startup/trajectory.dump",
     }[rule]
     result = snakemake(
         study, *TEST_CONFIG, "--config", override, "-n", "--allowed-rules", rule, "--", f"{RESULTS}/{target}"
     )
     reasons = {job["rule"]: job["reason"] for job in dry_run_jobs(result.stdout + result.stderr)}
     assert "Params have changed" in reasons.get(rule, ""), (result.stdout + result.stderr)[-2000:]
+
+
+@pytest.mark.parametrize("override", ["forces={kn: 5.0e+5}", "run={dt: 5.0e-5}", "run={table_strain: 0.005}"])
+def test_a_segment_after_another_has_the_changed_params_itself(study, override):
+    """A dry run names only the first reason of a rotation whose startup reruns; Snakemake's list of
+    outputs whose params changed shows that the rotation's own params change too (one rule runs every
+    segment, each with the study's simulation settings)."""
+    result = snakemake(study, *TEST_CONFIG, "--config", override, "--list-changes", "params")
+    assert result.returncode == 0, (result.stdout + result.stderr)[-2000:]
+    changed = set(result.stdout.split())
+    for seed in (1, 2):
+        for run in ("startup", "rotation_theta0", "rotation_theta90"):
+            assert f"{RESULTS}/seed{seed}/{run}/trajectory.dump" in changed, (run, result.stdout[-2000:])
