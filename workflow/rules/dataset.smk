@@ -7,7 +7,7 @@ for _name in DATASET_STUDIES:
     _record = read_dataset(_study["dataset"])
     check_config_matches(_study, _record, _study["dataset"])
     _tables = ["fabric", "stress"]
-    if not has_run_tables(_record, "stress.csv"):
+    if not has_run_tables(_record, "stress.csv", _study):
         STRESSLESS_STUDIES.append(_name)
         _tables = ["fabric"]
         print(f"Note: the dataset {_study['dataset']} has no per-run stress tables; the stress rules "

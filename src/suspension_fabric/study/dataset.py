@@ -246,9 +246,10 @@ def check_config_matches(config: dict, record: dict, folder: Path) -> None:
         )
 
 
-def has_run_tables(record: dict, table: str) -> bool:
-    """Whether every run of a dataset record carries the analysed table ``table`` (e.g. stress.csv)."""
-    runs = run_names(record["config"])
+def has_run_tables(record: dict, table: str, config: dict | None = None) -> bool:
+    """Whether every run of a dataset record (of the study ``config`` built on it, if given) carries the
+    analysed table ``table`` (e.g. stress.csv)."""
+    runs = run_names(config or record["config"])
     return bool(runs) and all(f"{name}/{table}" in record["files"] for name in runs)
 
 
