@@ -41,6 +41,6 @@ def test_the_rebuild_plans_no_simulation_and_writes_the_documented_results(tmp_p
     assert not rules & {"build_plugin", "pack", "shear_segment", "fabric_table", "stress_table"}, rules
     assert {"aggregate_protocols", "benchmark_protocols", "figure_protocol", "report_protocols"} <= rules
     target = "results/protocols_reference/tables/protocol_summary.md"
-    result = snakemake(workdir, "--configfile", CONFIG, target, timeout=900)
+    result = snakemake(workdir, target, "--configfile", CONFIG, timeout=900)
     assert result.returncode == 0, result.stderr[-3000:]
     assert (workdir / target).read_text() == (REPO / "docs" / "generated" / "protocol_summary.md").read_text()
