@@ -91,7 +91,7 @@ rule aggregate_protocols:
         steady_window=setting("analysis", "steady_window"),
         level=setting("verdicts", "level"),
         runs=lambda wildcards: protocol_run_names(wildcards.study),
-        protocols=lambda wildcards: {name: [s.as_dict() for s in p.segments] for name, p in own_protocols(wildcards.study).items()},
+        protocols=protocol_segments,
         seeds=setting("seeds"),
     conda:
         CONDA_ENV
@@ -114,7 +114,7 @@ rule aggregate_stress_protocols:
         steady_window=setting("analysis", "steady_window"),
         level=setting("verdicts", "level"),
         runs=lambda wildcards: protocol_run_names(wildcards.study),
-        protocols=lambda wildcards: {name: [s.as_dict() for s in p.segments] for name, p in own_protocols(wildcards.study).items()},
+        protocols=protocol_segments,
         seeds=setting("seeds"),
         lubrication_stress=setting("analysis", "lubrication_stress"),
     conda:

@@ -128,6 +128,12 @@ def own_protocols(study):
     return {name: PROTOCOLS[study][name] for name in STUDIES[study]["protocols"]}
 
 
+def protocol_segments(wildcards):
+    """A params function: the study's own protocols as {name: [segment fields, ...]}
+    (suspension_fabric.io.protocols.protocols_from_params reads them back)."""
+    return {name: [s.as_dict() for s in p.segments] for name, p in own_protocols(wildcards.study).items()}
+
+
 def protocol_run_names(study):
     """{protocol: the names of its runs, one per segment} for the study's own protocols."""
     tree = RUN_TREES[study]

@@ -169,7 +169,7 @@ rule benchmark_protocols:
     params:
         models=setting("models", "fabric"),
         relations=setting("models", "stress"),
-        protocols=lambda wildcards: {name: [s.as_dict() for s in p.segments] for name, p in own_protocols(wildcards.study).items()},
+        protocols=protocol_segments,
         steady_window=setting("analysis", "steady_window"),
         window=setting("verdicts", "window"),
         level=setting("verdicts", "level"),

@@ -6,7 +6,7 @@ from pathlib import Path
 
 from suspension_fabric.analysis import stress, tables
 from suspension_fabric.analysis.protocol_tables import protocol_tables, segment_states
-from suspension_fabric.io.protocols import Protocol, Segment
+from suspension_fabric.io.protocols import protocols_from_params
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
@@ -28,10 +28,7 @@ with logged(sm.log[0]):
         )
     else:
         raise ValueError(f"params.quantity must be 'fabric' or 'stress', got {sm.params.quantity!r}")
-    protocols = {
-        name: Protocol(name, tuple(Segment(**fields) for fields in segments))
-        for name, segments in sm.params.protocols.items()
-    }
+    protocols = protocols_from_params(sm.params.protocols)
     runs, aggregate = protocol_tables(protocols, sm.params.runs, read, sm.params.seeds, columns)
     runs.to_csv(sm.output.runs, index=False)
     aggregate.to_csv(sm.output.aggregate, index=False)

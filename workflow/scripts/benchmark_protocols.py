@@ -4,7 +4,7 @@ benchmark_protocols)."""
 import pandas as pd
 
 from suspension_fabric.analysis.protocol_tables import read_protocol_table
-from suspension_fabric.io.protocols import Protocol, Segment
+from suspension_fabric.io.protocols import protocols_from_params
 from suspension_fabric.models import model_vs_simulation, protocol_benchmark, stress_benchmark
 from suspension_fabric.models.fabric_models import resolve_models
 from suspension_fabric.models.stress_relations import resolve_relations
@@ -22,10 +22,7 @@ with logged(sm.log[0]):
         sm.params.steady_window,
     )
     steady_fabric = steady.steady_fabric.mean(axis=0)
-    protocols = {
-        name: Protocol(name, tuple(Segment(**fields) for fields in segments))
-        for name, segments in sm.params.protocols.items()
-    }
+    protocols = protocols_from_params(sm.params.protocols)
     runs = read_protocol_table(sm.input.protocol_runs)
     stress_runs = read_protocol_table(sm.input.stress_protocol_runs)
     curves = {name: protocol_benchmark.protocol_curves(p, runs, stress_runs) for name, p in protocols.items()}

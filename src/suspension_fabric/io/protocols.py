@@ -43,6 +43,7 @@ __all__ = [
     "number_label",
     "PaperRunNames",
     "protocol_runs",
+    "protocols_from_params",
     "parse_protocols",
     "paper_protocols",
     "run_tree",
@@ -238,3 +239,8 @@ def protocol_runs(protocol: Protocol, tree: Mapping[str, RunNode]) -> tuple[str,
         return tuple(by_history[history] for history in protocol.histories)
     except KeyError:
         raise ProtocolError(f"protocol {protocol.name} is not in the run tree") from None
+
+
+def protocols_from_params(segments: Mapping[str, list]) -> dict[str, Protocol]:
+    """Protocols from {name: [segment fields, ...]}, as the workflow passes them to its scripts."""
+    return {name: Protocol(name, tuple(Segment(**fields) for fields in entries)) for name, entries in segments.items()}
