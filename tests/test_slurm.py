@@ -143,7 +143,7 @@ def test_two_mpi_ranks_run_as_one_two_task_slurm_job(cluster, tmp_path):
         target,
     )
     sacct = sacct_jobs(finished(run), run.started)
-    startup = [row for row in sacct.values() if rule_of(row["Comment"]) == "startup"]
+    startup = [row for row in sacct.values() if rule_of(row["Comment"]) == "shear_segment"]
     assert len(startup) == 1
     job = startup[0]
     assert job["State"] == "COMPLETED"

@@ -265,6 +265,16 @@ def test_lint_is_clean():
     assert result.returncode == 0, result.stdout[-3000:]
 
 
+def test_every_rule_the_slurm_profile_sizes_is_a_rule_of_the_workflow():
+    """A rule renamed without its profile entry would run with the default 10-minute limit and,
+    with several MPI ranks, wrapped in the executor's srun, where mpirun's own srun never starts."""
+    profile = yaml.safe_load((REPO / "profiles" / "slurm" / "config.yaml").read_text())
+    sources = [REPO / "Snakefile", *sorted((REPO / "workflow" / "rules").glob("*.smk"))]
+    rules = {name for path in sources for name in re.findall(r"^rule (\w+):", path.read_text(), flags=re.M)}
+    assert "shear_segment" in rules
+    assert set(profile["set-resources"]) <= rules, set(profile["set-resources"]) - rules
+
+
 @pytest.mark.parametrize(
     "section, value, message",
     [
