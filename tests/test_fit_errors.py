@@ -1,4 +1,4 @@
-"""Errors of the fitted parameters (suspension_fabric.models.model_vs_simulation.fit_steady_state): a
+"""Errors of the fitted parameters (suspension_fabric.evaluation.model_vs_simulation.fit_steady_state): a
 jackknife over seeds of the whole fit, next to the linear propagation of the targets' errors.
 
 Synthetic per-seed startup run tables are built from a KNOWN model steady state (the modified
@@ -16,8 +16,10 @@ import pytest
 
 from suspension_fabric.analysis import tables
 from suspension_fabric.analysis.fabric import COMPONENTS
+from suspension_fabric.evaluation import model_vs_simulation
 from suspension_fabric.models import gillissen_wilson as model
-from suspension_fabric.models import model_vs_simulation
+from suspension_fabric.models.fabric_models import GW, MODIFIED
+from suspension_fabric.models.fits_file import FITS_FORMAT, write_fits
 
 BETA, A, PHI = 9.4, 42.4, 0.45
 WINDOW = (2.0, 5.0)
@@ -27,6 +29,9 @@ EXACT = model.steady_state_ode(BETA, A, PHI)
 STRAINS = np.concatenate([[0.0, 0.5, 1.0, 1.5], np.linspace(*WINDOW, 150)])
 INSIDE = STRAINS >= WINDOW[0]
 PARAMETERS = (("gw", "beta"), ("modified", "beta"), ("modified", "A"))
+PAPER_MODELS = {"gw": GW, "modified": MODIFIED}
+#: fits.json's entry of each error kind, by the suffix the tests use
+SECTIONS = {"": "parameters", "_err": "errors", "_err_propagated": "errors_propagated"}
 
 
 def seed_table(seed, offset, frames) -> pd.DataFrame:
@@ -69,7 +74,7 @@ def noisy_runs(n_seeds, seed=11) -> pd.DataFrame:
 
 
 def fit(runs) -> dict:
-    return model_vs_simulation.fit_steady_state(tables.steady_state(runs, *WINDOW), PHI, runs, *WINDOW)
+    return model_vs_simulation.fit_steady_state(tables.steady_state(runs, *WINDOW), PHI, runs, *WINDOW, PAPER_MODELS)
 
 
 def seed_means(runs) -> pd.DataFrame:
@@ -84,7 +89,12 @@ def fit_by_hand(n11, n12) -> np.ndarray:
 
 
 def values(fits, suffix="") -> np.ndarray:
-    return np.array([fits[key][f"{name}{suffix}"] for key, name in PARAMETERS], dtype=float)
+    return np.array([fits["models"][key][SECTIONS[suffix]][name] for key, name in PARAMETERS], dtype=float)
+
+
+def correlation(fits) -> float:
+    value = fits["models"]["modified"]["correlations"]["beta,A"]
+    return np.nan if value is None else value
 
 
 @pytest.fixture(scope="module")
@@ -101,27 +111,29 @@ def test_fitted_values_are_those_of_the_seed_mean_fit(five_seeds):
     assert fits["targets"]["n12"]["mean"] == pytest.approx(means["n12"], rel=1e-12)
     assert fits["n_seeds"] == 5 and fits["steady_window"] == list(WINDOW)
     assert fits["fit_errors"] == model_vs_simulation.FIT_ERRORS
-    assert fits["fit_errors"].startswith("jackknife over seeds of the whole fit (leave one seed out)")
+    assert fits["fit_errors"].startswith("errors: jackknife over seeds of the whole fit (leave one seed out)")
     # the generating parameters are recovered within a few jackknife errors
-    assert abs(fits["modified"]["beta"] - BETA) < 4 * fits["modified"]["beta_err"]
-    assert abs(fits["modified"]["A"] - A) < 4 * fits["modified"]["A_err"]
+    modified = fits["models"]["modified"]
+    assert abs(modified["parameters"]["beta"] - BETA) < 4 * modified["errors"]["beta"]
+    assert abs(modified["parameters"]["A"] - A) < 4 * modified["errors"]["A"]
 
 
 def test_jackknife_error_is_that_of_the_leave_one_out_fits(five_seeds):
-    """(2) *_err = sqrt((n - 1)/n sum_i (p_i - p_mean)^2), p_i fitted (model.fit_gw, model.fit_modified)
-    to the seed means without seed i; beta_A_correlation = Pearson correlation of the p_i of beta
-    and A. The propagated errors are kept as *_err_propagated."""
+    """(2) errors = sqrt((n - 1)/n sum_i (p_i - p_mean)^2), p_i fitted (model.fit_gw, model.fit_modified)
+    to the seed means without seed i; correlations "beta,A" = Pearson correlation of the p_i of
+    beta and A. The propagated errors are kept as errors_propagated."""
     runs, fits = five_seeds
     means = seed_means(runs)
     n = len(means)
     leave_one_out = np.array([fit_by_hand(*means.drop(index=seed).mean()[["n11", "n12"]]) for seed in means.index])
     expected = np.sqrt((n - 1) / n * np.sum((leave_one_out - leave_one_out.mean(axis=0)) ** 2, axis=0))
     np.testing.assert_allclose(values(fits, "_err"), expected, rtol=1e-9)
-    assert fits["modified"]["beta_A_correlation"] == pytest.approx(
-        np.corrcoef(leave_one_out[:, 1], leave_one_out[:, 2])[0, 1], rel=1e-9
-    )
-    propagated = model_vs_simulation.propagated_fit_errors(tables.steady_state(runs, *WINDOW), PHI)
-    np.testing.assert_allclose(values(fits, "_err_propagated"), list(propagated), rtol=1e-12)
+    assert correlation(fits) == pytest.approx(np.corrcoef(leave_one_out[:, 1], leave_one_out[:, 2])[0, 1], rel=1e-9)
+    steady = tables.steady_state(runs, *WINDOW)
+    propagated = [
+        model_vs_simulation.propagated_fit_errors(PAPER_MODELS[key], steady, PHI)[name] for key, name in PARAMETERS
+    ]
+    np.testing.assert_allclose(values(fits, "_err_propagated"), propagated, rtol=1e-12)
     assert np.all(values(fits, "_err") > 0.0) and np.all(values(fits, "_err_propagated") > 0.0)
 
 
@@ -171,7 +183,7 @@ def test_jackknife_includes_the_covariance_that_propagation_ignores(rho):
     equal to the propagated error."""
     runs = correlated_runs(rho)
     steady = tables.steady_state(runs, *WINDOW)
-    fits = model_vs_simulation.fit_steady_state(steady, PHI, runs, *WINDOW)
+    fits = model_vs_simulation.fit_steady_state(steady, PHI, runs, *WINDOW, PAPER_MODELS)
     n = 6
     means = seed_means(runs)
     s = np.sqrt(means.var(ddof=1).to_numpy() / n)
@@ -186,7 +198,7 @@ def test_jackknife_includes_the_covariance_that_propagation_ignores(rho):
     jack, propagated = values(fits, "_err"), values(fits, "_err_propagated")
     np.testing.assert_allclose(jack, first_order, rtol=0.03)
     np.testing.assert_allclose(propagated, without_covariance, rtol=0.01)
-    ratio = fits["modified"]["A_err"] / fits["modified"]["A_err_propagated"]
+    ratio = jack[2] / propagated[2]
     if rho == 0.0:
         assert ratio == pytest.approx(1.0, abs=0.03)
     else:
@@ -201,44 +213,39 @@ def test_one_seed_gives_null_jackknife_errors(tmp_path):
     jackknife exists but the beta-A correlation of two leave-one-out fits does not (null)."""
     one = noisy_runs(1)
     fits = fit(one)
-    assert np.all(np.isnan(values(fits, "_err"))) and np.isnan(fits["modified"]["beta_A_correlation"])
+    assert np.all(np.isnan(values(fits, "_err"))) and np.isnan(correlation(fits))
     assert np.all(np.isfinite(values(fits, "_err_propagated")))
-    written = json.loads(model_vs_simulation.write_fits(fits, tmp_path / "fits.json").read_text())
+    written = json.loads(write_fits(fits, tmp_path / "fits.json").read_text())
     for key, name in PARAMETERS:
-        assert written[key][f"{name}_err"] is None and written[key][f"{name}_err_propagated"] > 0.0
-    assert written["modified"]["beta_A_correlation"] is None
+        entry = written["models"][key]
+        assert entry["errors"][name] is None and entry["errors_propagated"][name] > 0.0
+    assert written["models"]["modified"]["correlations"]["beta,A"] is None
     assert written["n_seeds"] == 1
 
     two = fit(noisy_runs(2))
-    assert np.all(values(two, "_err") > 0.0) and np.isnan(two["modified"]["beta_A_correlation"])
+    assert np.all(values(two, "_err") > 0.0) and np.isnan(correlation(two))
 
 
 def test_fits_json_keys(five_seeds):
-    """Every key other code reads is there, the errors once each under their names."""
+    """Every key other code reads is there, each model once under ``models`` (format 2)."""
     fits = five_seeds[1]
-    assert list(fits) == [
-        "phi",
-        "steady_window",
-        "n_seeds",
-        "fit_errors",
-        "targets",
-        "gw",
-        "modified",
-        "model_steady_state",
-        "models",
-    ]
-    assert list(fits["gw"]) == ["beta", "beta_err", "beta_err_propagated", "fitted_to"]
-    assert list(fits["modified"]) == [
-        "beta",
-        "beta_err",
-        "beta_err_propagated",
-        "A",
-        "A_err",
-        "A_err_propagated",
-        "beta_A_correlation",
-        "fitted_to",
-    ]
-    assert -1.0 <= fits["modified"]["beta_A_correlation"] <= 1.0
+    assert list(fits) == ["format", "phi", "steady_window", "n_seeds", "fit_errors", "targets", "models"]
+    assert fits["format"] == FITS_FORMAT == 2
+    assert list(fits["models"]) == ["gw", "modified"]
+    for key, entry in fits["models"].items():
+        assert list(entry) == [
+            "label",
+            "fitted_to",
+            "parameters",
+            "errors",
+            "errors_propagated",
+            "correlations",
+            "steady_state",
+        ]
+        assert list(entry["parameters"]) == list(entry["errors"]) == list(entry["errors_propagated"])
+        assert entry["label"] == PAPER_MODELS[key].label
+    assert fits["models"]["gw"]["correlations"] == {}
+    assert -1.0 <= correlation(fits) <= 1.0
 
 
 def test_steady_table_must_be_that_of_the_runs():
@@ -246,24 +253,20 @@ def test_steady_table_must_be_that_of_the_runs():
     runs = noisy_runs(3)
     steady = tables.steady_state(runs, *WINDOW)
     with pytest.raises(ValueError, match="window"):
-        model_vs_simulation.fit_steady_state(steady, PHI, runs, 2.5, 5.0)
+        model_vs_simulation.fit_steady_state(steady, PHI, runs, 2.5, 5.0, PAPER_MODELS)
     with pytest.raises(ValueError, match="3 seeds, the run table 2"):
-        model_vs_simulation.fit_steady_state(steady, PHI, runs[runs["seed"] != 3], *WINDOW)
+        model_vs_simulation.fit_steady_state(steady, PHI, runs[runs["seed"] != 3], *WINDOW, PAPER_MODELS)
     other = noisy_runs(3, seed=12)
     with pytest.raises(ValueError, match="is not that of the run table"):
-        model_vs_simulation.fit_steady_state(steady, PHI, other, *WINDOW)
+        model_vs_simulation.fit_steady_state(steady, PHI, other, *WINDOW, PAPER_MODELS)
 
 
-def test_the_listed_models_section_repeats_the_paper_fits_and_fits_any_model(five_seeds):
-    """fits.json's ``models`` (the plug-in interface, suspension_fabric.models.fabric_models) gives G-W and
-    the modified model the same parameters and jackknife errors as the paper's entries; a model
-    with three parameters (separate rates) reproduces its three steady targets."""
+def test_any_model_is_fitted_to_its_own_steady_targets():
+    """A model with three parameters (separate rates, suspension_fabric.models.fabric_models) reproduces
+    its three steady targets, with finite jackknife errors."""
     from suspension_fabric.models import fabric_models
 
-    runs, fits = noisy_runs(5), five_seeds[1]
-    for key, name in PARAMETERS:
-        assert fits["models"][key]["parameters"][name] == pytest.approx(fits[key][name], rel=1e-9)
-        assert fits["models"][key]["errors"][name] == pytest.approx(fits[key][f"{name}_err"], rel=1e-6)
+    runs = noisy_runs(5)
     listed = model_vs_simulation.fit_steady_state(
         tables.steady_state(runs, *WINDOW), PHI, runs, *WINDOW, models=fabric_models.resolve_models(["separate_rates"])
     )

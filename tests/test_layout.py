@@ -22,9 +22,10 @@ ALLOWED = {
     "simulation": {"io", "analysis"},
     "models": {"io", "analysis"},
     "study": {"io", "analysis", "simulation", "models"},
-    "reporting": {"io", "analysis", "simulation", "models", "study"},
+    "evaluation": {"io", "analysis", "simulation", "models", "study"},
+    "reporting": {"io", "analysis", "simulation", "models", "study", "evaluation"},
     # the logging helper of the workflow's scripts sits above every stage
-    "workflow_io": {"io", "analysis", "simulation", "models", "study", "reporting"},
+    "workflow_io": {"io", "analysis", "simulation", "models", "study", "evaluation", "reporting"},
 }
 
 

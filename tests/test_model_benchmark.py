@@ -1,4 +1,4 @@
-"""The model benchmark (suspension_fabric.models.model_benchmark) on synthetic studies whose answer is
+"""The model benchmark (suspension_fabric.evaluation.model_benchmark) on synthetic studies whose answer is
 known: seeds made by the modified model (beta 9.4, A 42.4, phi 0.45) plus independent Gaussian
 noise of standard deviation sigma on every component of every frame. Then
 - the global weighted fit recovers (beta, A) within a few of its jackknife errors;
@@ -11,8 +11,8 @@ import pandas as pd
 import pytest
 
 from suspension_fabric.analysis.fabric import COMPONENTS
+from suspension_fabric.evaluation import model_benchmark as mb
 from suspension_fabric.models import fabric_models as fm
-from suspension_fabric.models import model_benchmark as mb
 
 PHI, BETA, A, SIGMA = 0.45, 9.4, 42.4, 0.002
 STARTUP = np.linspace(0.0, 5.0, 101)
@@ -91,7 +91,7 @@ def test_the_leaderboard_ranks_the_generating_model_first_on_the_held_out_shear_
         "gw": {"parameters": {"beta": 11.0}, "errors": {"beta": 0.1}},
         "modified": {"parameters": dict(TRUE), "errors": {"beta": 0.1, "A": 0.2}},
     }
-    board, parameters = mb.leaderboard(models, steady, curves, PHI, 5.0, folds=3)
+    board, parameters = mb.leaderboard(models, steady, curves, PHI, 5.0, folds=3, reference="gw")
     assert set(board["mode"]) == {"steady", "global"} and len(board) == 2 * 2 * 6
     assert set(parameters["parameter"]) == {"beta", "A"}
     row = board.set_index(["model", "mode", "component"])

@@ -1,4 +1,4 @@
-"""Models versus simulation (suspension_fabric.models.model_vs_simulation) on synthetic 'simulations'
+"""Models versus simulation (suspension_fabric.evaluation.model_vs_simulation) on synthetic 'simulations'
 drawn from a known model.
 
 Per-run tables are generated from the modified model with known (beta, A) plus
@@ -15,10 +15,13 @@ import pytest
 
 from suspension_fabric.analysis import tables
 from suspension_fabric.analysis.fabric import COMPONENTS
+from suspension_fabric.evaluation import model_vs_simulation
 from suspension_fabric.models import gillissen_wilson as model
-from suspension_fabric.models import model_vs_simulation
-from suspension_fabric.models.model_vs_simulation import PAPER_MODELS
+from suspension_fabric.models.fabric_models import GW, MODIFIED
+from suspension_fabric.models.fits_file import read_fits, write_fits
 from suspension_fabric.reporting import figures
+
+PAPER_MODELS = {"gw": GW, "modified": MODIFIED}
 
 BETA, A, PHI = 9.4, 42.4, 0.45
 STARTUP = np.linspace(0.0, 20.0, 201)  # long enough that the window below is steady (slowest rate 0.64)
@@ -58,7 +61,7 @@ def synthetic():
             rotation.append(run_table(seed, theta, ROTATION, 0.5 * (noisy + np.swapaxes(noisy, -1, -2))))
     startup, rotation = pd.concat(startup), pd.concat(rotation)
     steady = tables.steady_state(startup, 10.0, 20.0)
-    fits = model_vs_simulation.fit_steady_state(steady, PHI, startup, 10.0, 20.0)
+    fits = model_vs_simulation.fit_steady_state(steady, PHI, startup, 10.0, 20.0, PAPER_MODELS)
     startup_agg, rotation_agg = tables.aggregate_seeds(startup), tables.aggregate_seeds(rotation)
     predictions = model_vs_simulation.predict(
         fits,
@@ -77,10 +80,10 @@ def test_fits_recover_generating_parameters(synthetic):
     """Modified fit returns (beta, A) within 4 jackknife standard errors (over the 4 seeds); G-W fits
     <nn>_12 exactly."""
     fits = synthetic[0]
-    mod = fits["modified"]
-    assert abs(mod["beta"] - BETA) < 4 * mod["beta_err"] + 1e-3
-    assert abs(mod["A"] - A) < 4 * mod["A_err"] + 1e-2
-    gw_n12 = fits["model_steady_state"]["gw"]["n12"]
+    mod = fits["models"]["modified"]
+    assert abs(mod["parameters"]["beta"] - BETA) < 4 * mod["errors"]["beta"] + 1e-3
+    assert abs(mod["parameters"]["A"] - A) < 4 * mod["errors"]["A"] + 1e-2
+    gw_n12 = fits["models"]["gw"]["steady_state"]["n12"]
     assert gw_n12 == pytest.approx(fits["targets"]["n12"]["mean"], rel=1e-8)
 
 
@@ -158,17 +161,25 @@ def test_error_tables_cover_both_protocols_and_summarise_them(synthetic):
     )
     pd.testing.assert_frame_equal(errors, expected)
     pd.testing.assert_frame_equal(summary, model_vs_simulation.summarise_errors(expected))
+    assert "gw_over_modified" not in summary  # a ratio only when asked for
+    _, ratio = model_vs_simulation.error_tables(fits, predictions, startup_agg, rotation_agg, ratio=("gw", "modified"))
+    np.testing.assert_allclose(ratio["gw_over_modified"], ratio["rms_gw"] / ratio["rms_modified"])
     assert set(summary["protocol"]) == {"startup", "rotation"}
 
 
 def test_fits_json_round_trip(synthetic, tmp_path):
     fits = synthetic[0]
-    path = model_vs_simulation.write_fits(fits, tmp_path / "fits.json")
-    assert model_vs_simulation.read_fits(path)["modified"]["A"] == pytest.approx(fits["modified"]["A"])
+    path = write_fits(fits, tmp_path / "fits.json")
+    assert read_fits(path)["models"]["modified"]["parameters"]["A"] == pytest.approx(
+        fits["models"]["modified"]["parameters"]["A"]
+    )
     json.loads(path.read_text())  # strict JSON
-    (tmp_path / "bad.json").write_text("{}")
+    (tmp_path / "bad.json").write_text('{"format": 2}')
     with pytest.raises(ValueError, match="missing key 'phi'"):
-        model_vs_simulation.read_fits(tmp_path / "bad.json")
+        read_fits(tmp_path / "bad.json")
+    (tmp_path / "future.json").write_text('{"format": 3}')
+    with pytest.raises(ValueError, match="fits format 3 is not one this package reads"):
+        read_fits(tmp_path / "future.json")
 
 
 def test_mirror_uses_parity():

@@ -1,7 +1,7 @@
-"""Uncertainties and error summaries of models versus simulation (suspension_fabric.models.model_vs_simulation).
+"""Uncertainties and error summaries of models versus simulation (suspension_fabric.evaluation.model_vs_simulation).
 
 propagated_fit_errors gives 1-sigma parameter errors by linear propagation of the standard
-errors of the steady-state targets (fits.json's *_err_propagated; the *_err are a jackknife over
+errors of the steady-state targets (fits.json's errors_propagated; its errors are a jackknife over
 seeds, tests/test_fit_errors.py); here they are compared with the actual spread of the
 fitted parameters over noisy targets (Monte Carlo). summarise_errors is checked on a
 hand-built error table with exactly representable numbers.
@@ -15,8 +15,9 @@ import pytest
 
 from suspension_fabric.analysis.fabric import COMPONENTS
 from suspension_fabric.analysis.tables import VALUE_COLUMNS
+from suspension_fabric.evaluation import model_vs_simulation
+from suspension_fabric.models import fabric_models
 from suspension_fabric.models import gillissen_wilson as model
-from suspension_fabric.models import model_vs_simulation
 
 BETA, A, PHI = 9.4, 42.4, 0.45
 N_DRAWS = 200
@@ -56,10 +57,12 @@ def test_propagated_fit_errors_match_monte_carlo_spread(sem_11, sem_12):
     5%); with one sigma_k = 0 only the other target's derivative is tested."""
     exact = model.steady_state_ode(BETA, A, PHI)
     steady = steady_table(exact, {"n11": sem_11, "n12": sem_12})
-    fitted = model_vs_simulation.fit_both_models(steady, PHI)
-    assert fitted.beta == pytest.approx(BETA, rel=1e-8)
-    assert fitted.A == pytest.approx(A, rel=1e-8)
-    errors = model_vs_simulation.propagated_fit_errors(steady, PHI)
+    targets = {name[1:]: float(exact[index]) for name, index in COMPONENTS.items()}
+    fitted = fabric_models.fit_steady(fabric_models.MODIFIED, targets, PHI)
+    assert fitted["beta"] == pytest.approx(BETA, rel=1e-8)
+    assert fitted["A"] == pytest.approx(A, rel=1e-8)
+    gw_errors = model_vs_simulation.propagated_fit_errors(fabric_models.GW, steady, PHI)
+    modified_errors = model_vs_simulation.propagated_fit_errors(fabric_models.MODIFIED, steady, PHI)
 
     rng = np.random.default_rng(2024)
     draws = []
@@ -69,17 +72,17 @@ def test_propagated_fit_errors_match_monte_carlo_spread(sem_11, sem_12):
         modified = model.fit_modified(n11, n12, PHI)
         draws.append((model.fit_gw(n12, PHI), modified.beta, modified.A))
     spread = np.std(np.array(draws), axis=0, ddof=1)
-    propagated = np.array(errors)  # (G-W beta, modified beta, A)
+    propagated = np.array([gw_errors["beta"], modified_errors["beta"], modified_errors["A"]])
     # atol: a parameter that does not depend on the noisy target (G-W beta when only
     # <nn>_11 is noisy) has sigma = 0 and a round-off spread
     np.testing.assert_allclose(propagated, spread, rtol=0.2, atol=1e-9)
-    assert (errors.gw_beta == 0.0) == (sem_12 == 0.0)
+    assert (gw_errors["beta"] == 0.0) == (sem_12 == 0.0)
     assert spread[1] > 0.0 and spread[2] > 0.0
 
 
 def test_summarise_errors_averages_over_angles_per_protocol_and_component():
     """rms_<model> = unweighted mean over theta of rms_error (not weighted by n_strains) per
-    (protocol, component), gw_over_modified = rms_gw / rms_modified; one row per
+    (protocol, component), gw_over_modified = rms_gw / rms_modified (the ratio asked for); one row per
     (protocol, component), whatever the row order of the input."""
     rows = []
 
@@ -108,7 +111,7 @@ def test_summarise_errors_averages_over_angles_per_protocol_and_component():
     add("startup", "n11", "modified", (0.5,), (0.0,))
     errors = pd.DataFrame(rows).sample(frac=1.0, random_state=3)
 
-    summary = model_vs_simulation.summarise_errors(errors)
+    summary = model_vs_simulation.summarise_errors(errors, ratio=("gw", "modified"))
     assert list(summary.columns) == ["protocol", "component", "rms_gw", "rms_modified", "gw_over_modified"]
     assert len(summary) == 4
     got = {

@@ -10,6 +10,7 @@ import shutil
 
 import pytest
 
+from suspension_fabric.reporting.protocol_report import states_markdown
 from suspension_fabric.study.config import load_config
 from suspension_fabric.study.dataset import _checked_file, check_config_matches, read_dataset, run_names
 from workflow_helpers import REPO, copy_workflow, dry_run_jobs, snakemake
@@ -44,3 +45,35 @@ def test_the_rebuild_plans_no_simulation_and_writes_the_documented_results(tmp_p
     result = snakemake(workdir, target, "--configfile", CONFIG, timeout=900)
     assert result.returncode == 0, result.stderr[-3000:]
     assert (workdir / target).read_text() == (REPO / "docs" / "generated" / "protocol_summary.md").read_text()
+
+
+def test_the_late_state_table_reads_each_difference_by_its_interval():
+    """states_markdown: one row per segment after the startup, each quantity's seed mean with its
+    paired difference from the startup's steady state, read "lower" (interval below 0), "higher"
+    (above) or "not decided"; the startup's steady values in the first row."""
+    import pandas as pd
+
+    rows = []
+    for quantity, (mean, low, high) in {"Z": (-0.2, -0.25, -0.15), "eta_r": (0.1, -0.5, 0.7)}.items():
+        rows.append(
+            {
+                "protocol": "rotary_90",
+                "segment": 1,
+                "flow_angle_deg": 0.0,
+                "turning_deg_per_strain": 90.0,
+                "window_low": 2.5,
+                "window_high": 5.0,
+                "quantity": quantity,
+                "mean": 3.3 if quantity == "Z" else 15.7,
+                "startup_steady": 3.5 if quantity == "Z" else 15.6,
+                "difference": mean,
+                "difference_low": low,
+                "difference_high": high,
+            }
+        )
+    lines = states_markdown(pd.DataFrame(rows), 0.95)
+    assert "| startup steady state | | 3.5 | 15.6 |" in lines
+    assert (
+        "| 1: flow at 0 deg, turning 90 deg/strain | 2.5-5 | 3.3 (-0.2 [-0.25, -0.15] lower) | "
+        "15.7 (0.1 [-0.5, 0.7] not decided) |" in lines
+    )

@@ -73,9 +73,15 @@ def test_the_reference_study_rebuilds_the_fits_without_simulating(tmp_path):
     result = snakemake(workdir, "--configfile", "config/reference.yaml", timeout=600)
     assert result.returncode == 0, result.stderr[-3000:]
     fits = json.loads((workdir / "results/reference/fits.json").read_text())
-    recorded = read_dataset(DATASET)["fits"]
-    for model, parameter in (("gw", "beta"), ("modified", "beta"), ("modified", "A")):
-        assert fits[model][parameter] == pytest.approx(recorded[model][parameter], rel=1e-12)
+    recorded = read_dataset(DATASET)["fits"]  # written in fits format 1, read as format 2
+    assert fits["format"] == recorded["format"] == 2
+    for model in ("gw", "modified"):
+        mine, theirs = fits["models"][model], recorded["models"][model]
+        for section in ("parameters", "errors", "errors_propagated"):
+            for name, value in theirs[section].items():
+                assert mine[section][name] == pytest.approx(value, rel=1e-9), (model, section, name)
+    correlation = fits["models"]["modified"]["correlations"]["beta,A"]
+    assert correlation == pytest.approx(recorded["models"]["modified"]["correlations"]["beta,A"], rel=1e-9)
     assert (workdir / "results/reference/tables/verdicts.csv").is_file()
     choices = pd.read_csv(workdir / "results/reference/tables/verdict_choices.csv")
     assert set(load_config(REPO / "config" / "reference.yaml")["verdicts"]["comparisons"]) <= set(choices["choice"])

@@ -7,8 +7,12 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from suspension_fabric.models import model_vs_simulation
-from suspension_fabric.reporting import report_tables as rt
+from suspension_fabric.evaluation import model_vs_simulation
+from suspension_fabric.models.fits_file import read_fits, upgrade_fits, write_fits
+from suspension_fabric.reporting import fits_page, html_tables, model_errors_page, steady_state_page
+
+#: Model labels by key, as fits.json records them
+LABELS = {"gw": "G-W (Eq. 1)", "modified": "modified G-W (Eq. 2)"}
 
 
 @pytest.mark.parametrize(
@@ -29,7 +33,7 @@ from suspension_fabric.reporting import report_tables as rt
     ],
 )
 def test_format_value_error(value, error, expected):
-    assert rt.format_value_error(value, error) == expected
+    assert html_tables.format_value_error(value, error) == expected
 
 
 @pytest.mark.parametrize(
@@ -47,20 +51,21 @@ def test_format_value_error(value, error, expected):
     ],
 )
 def test_format_number(value, significant, expected):
-    assert rt.format_number(value, significant) == expected
+    assert html_tables.format_number(value, significant) == expected
 
 
 def test_component_labels():
-    assert rt.component_label("n12") == "⟨nn⟩₁₂"
-    assert rt.component_label("n33") == "⟨nn⟩₃₃"
-    assert rt.component_label("Z") == "Z"
+    assert html_tables.component_label("n12") == "⟨nn⟩₁₂"
+    assert html_tables.component_label("n33") == "⟨nn⟩₃₃"
+    assert html_tables.component_label("Z") == "Z"
 
 
 @pytest.fixture
 def fits():
-    """fits.json as :func:`model_vs_simulation.fit_steady_state` writes it (values of the default study;
-    the propagated errors are those of the reference study)."""
+    """fits.json as :func:`model_vs_simulation.fit_steady_state` writes it (format 2; values of the
+    default study, the propagated errors those of the reference study)."""
     return {
+        "format": 2,
         "phi": 0.45,
         "steady_window": [2.0, 5.0],
         "n_seeds": 3,
@@ -70,25 +75,62 @@ def fits():
             "n12": {"mean": -0.10306, "sem": 0.00194},
             "Z": {"mean": 3.4748, "sem": 0.01035},
         },
-        "gw": {"beta": 10.747, "beta_err": 0.18753, "beta_err_propagated": 0.0901, "fitted_to": ["n12"]},
-        "modified": {
-            "beta": 9.2517,
-            "beta_err": None,
-            "beta_err_propagated": 0.0392,
-            "A": 44.763,
-            "A_err": 0.30719,
-            "A_err_propagated": 0.2255,
-            "beta_A_correlation": 0.9756,
-            "fitted_to": ["n11", "n12"],
+        "models": {
+            "gw": {
+                "label": "G-W (Eq. 1)",
+                "fitted_to": ["n12"],
+                "parameters": {"beta": 10.747},
+                "errors": {"beta": 0.18753},
+                "errors_propagated": {"beta": 0.0901},
+                "correlations": {},
+                "steady_state": {"n11": 0.20831, "n12": -0.10306},
+            },
+            "modified": {
+                "label": "modified G-W (Eq. 2)",
+                "fitted_to": ["n11", "n12"],
+                "parameters": {"beta": 9.2517, "A": 44.763},
+                "errors": {"beta": None, "A": 0.30719},
+                "errors_propagated": {"beta": 0.0392, "A": 0.2255},
+                "correlations": {"beta,A": 0.9756},
+                "steady_state": {"n11": 0.54653, "n12": -0.10306},
+            },
         },
-        "model_steady_state": {"gw": {"n11": 0.20831, "n12": -0.10306}, "modified": {"n11": 0.54653, "n12": -0.10306}},
         "provenance": {"study": "default", "seeds": [1, 2, 3], "N": 500},
     }
 
 
+def format_1(fits: dict, jackknifed: bool = True) -> dict:
+    """The same fits as a format-1 fits.json wrote them (the paper's two models at the top level),
+    or, without ``jackknifed``, as one written before the jackknife (no fit_errors; ``*_err`` the
+    propagated error)."""
+    old = {key: value for key, value in fits.items() if key not in ("format", "models")}
+    for key, entry in fits["models"].items():
+        old[key] = {"fitted_to": entry["fitted_to"]}
+        for name, value in entry["parameters"].items():
+            old[key][name] = value
+            if jackknifed:
+                old[key][f"{name}_err"] = entry["errors"][name]
+                old[key][f"{name}_err_propagated"] = entry["errors_propagated"][name]
+            else:
+                old[key][f"{name}_err"] = entry["errors_propagated"][name]
+        if jackknifed and entry["correlations"]:
+            old[key]["beta_A_correlation"] = entry["correlations"]["beta,A"]
+    old["model_steady_state"] = {key: entry["steady_state"] for key, entry in fits["models"].items()}
+    if not jackknifed:
+        del old["fit_errors"]
+    return old
+
+
+EXPECTED_PARAMETERS = [
+    ["G-W (Eq. 1)", "β", "10.75 ± 0.19", "10.747 ± 0.090", "⟨nn⟩₁₂"],
+    ["modified G-W (Eq. 2)", "β", "9.252 ± —", "9.252 ± 0.039", "⟨nn⟩₁₁, ⟨nn⟩₁₂"],  # null error in fits.json
+    ["modified G-W (Eq. 2)", "A", "44.76 ± 0.31", "44.76 ± 0.23", "⟨nn⟩₁₁, ⟨nn⟩₁₂"],
+]
+
+
 def test_fit_parameters_table(fits):
-    """Both errors, named: the jackknife over seeds (fits.json <parameter>_err) and the propagated one."""
-    table = rt.fit_parameters_table(fits)
+    """Every model once, both errors named: the jackknife over seeds and the propagated one."""
+    table = fits_page.fit_parameters_table(fits)
     assert list(table.columns) == [
         "Model",
         "Parameter",
@@ -96,29 +138,27 @@ def test_fit_parameters_table(fits):
         "Value ± 1σ (propagated)",
         "Fitted to (steady state)",
     ]
-    assert table.values.tolist() == [
-        ["G-W (Eq. 1)", "β", "10.75 ± 0.19", "10.747 ± 0.090", "⟨nn⟩₁₂"],
-        ["modified G-W (Eq. 2)", "β", "9.252 ± —", "9.252 ± 0.039", "⟨nn⟩₁₁, ⟨nn⟩₁₂"],  # null error in fits.json
-        ["modified G-W (Eq. 2)", "A", "44.76 ± 0.31", "44.76 ± 0.23", "⟨nn⟩₁₁, ⟨nn⟩₁₂"],
-    ]
+    assert table.values.tolist() == EXPECTED_PARAMETERS
+
+
+def test_a_format_1_fits_json_reads_as_format_2(fits):
+    """upgrade_fits, the one step from format 1: the paper's two models from the top level, with
+    their errors, correlation and steady states, and the same table."""
+    upgraded = upgrade_fits(format_1(fits))
+    assert upgraded == fits
+    assert fits_page.fit_parameters_table(upgraded).values.tolist() == EXPECTED_PARAMETERS
 
 
 def test_fit_parameters_table_of_a_fits_json_without_jackknife(fits):
-    """A fits.json written before the jackknife (no fit_errors key): its <parameter>_err was the
-    propagated error and is shown as such, the jackknife column is missing."""
-    for key in ("gw", "modified"):
-        for name in ("beta_err", "A_err"):
-            if name in fits[key]:
-                fits[key][name] = fits[key].pop(f"{name}_propagated")
-        fits[key].pop("beta_A_correlation", None)
-    del fits["fit_errors"]
-    table = rt.fit_parameters_table(fits)
-    assert table[rt.JACKKNIFE_COLUMN].tolist() == ["10.75 ± —", "9.252 ± —", "44.76 ± —"]
-    assert table[rt.PROPAGATED_COLUMN].tolist() == ["10.747 ± 0.090", "9.252 ± 0.039", "44.76 ± 0.23"]
+    """A format-1 fits.json written before the jackknife (no fit_errors key): its <parameter>_err was
+    the propagated error and is shown as such, the jackknife column is missing."""
+    table = fits_page.fit_parameters_table(upgrade_fits(format_1(fits, jackknifed=False)))
+    assert table[fits_page.JACKKNIFE_COLUMN].tolist() == ["10.75 ± —", "9.252 ± —", "44.76 ± —"]
+    assert table[fits_page.PROPAGATED_COLUMN].tolist() == ["10.747 ± 0.090", "9.252 ± 0.039", "44.76 ± 0.23"]
 
 
 def test_fit_targets_table(fits):
-    table = rt.fit_targets_table(fits).set_index("Quantity")
+    table = fits_page.fit_targets_table(fits).set_index("Quantity")
     assert table.loc["⟨nn⟩₁₁", "Simulation (mean ± s.e.)"] == "0.5465 ± 0.0019"
     assert table.loc["⟨nn⟩₁₁", "G-W (Eq. 1) steady state"] == "0.2083"
     assert table.loc["⟨nn⟩₁₁", "modified G-W (Eq. 2) steady state"] == "0.5465"
@@ -129,7 +169,7 @@ def test_fit_targets_table(fits):
 
 
 def test_fit_settings(fits):
-    settings = dict(rt.fit_settings(fits).values.tolist())
+    settings = dict(fits_page.fit_settings(fits).values.tolist())
     assert settings == {
         "Volume fraction φ": "0.45",
         "Steady-state strain window": "2 ≤ γ ≤ 5",
@@ -140,11 +180,11 @@ def test_fit_settings(fits):
 
 
 def test_fits_round_trip_through_fits_json(tmp_path, fits):
-    """The null error written by model_vs_simulation.write_fits is read back as a missing error."""
-    fits["modified"]["beta_err"] = float("nan")
-    path = model_vs_simulation.write_fits(fits, tmp_path / "fits.json")
-    table = rt.fit_parameters_table(model_vs_simulation.read_fits(path))
-    assert table[rt.JACKKNIFE_COLUMN].tolist() == ["10.75 ± 0.19", "9.252 ± —", "44.76 ± 0.31"]
+    """The null error written by write_fits is read back as a missing error."""
+    fits["models"]["modified"]["errors"]["beta"] = float("nan")
+    path = write_fits(fits, tmp_path / "fits.json")
+    table = fits_page.fit_parameters_table(read_fits(path))
+    assert table[fits_page.JACKKNIFE_COLUMN].tolist() == ["10.75 ± 0.19", "9.252 ± —", "44.76 ± 0.31"]
 
 
 def steady_rows(thetas=(0.0,)):
@@ -173,7 +213,7 @@ def steady_rows(thetas=(0.0,)):
 
 
 def test_steady_state_table():
-    table = rt.steady_state_table(steady_rows())
+    table = steady_state_page.steady_state_table(steady_rows())
     assert list(table.columns) == [
         "Quantity",
         "Mean ± s.e.",
@@ -190,14 +230,14 @@ def test_steady_state_table():
 
 
 def test_steady_state_table_keeps_the_angle_when_there_are_several():
-    table = rt.steady_state_table(steady_rows((0.0, 90.0)))
+    table = steady_state_page.steady_state_table(steady_rows((0.0, 90.0)))
     assert table["Angle θ (deg)"].tolist() == ["0"] * 3 + ["90"] * 3
 
 
 def test_steady_state_table_without_between_seed_error():
     steady = steady_rows()
     steady["sem_between_seeds"] = np.nan  # a single seed
-    assert set(rt.steady_state_table(steady)["s.e. between seeds"]) == {"—"}
+    assert set(steady_state_page.steady_state_table(steady)["s.e. between seeds"]) == {"—"}
 
 
 def test_error_summary_table():
@@ -210,13 +250,13 @@ def test_error_summary_table():
             "gw_over_modified": [5.0830684, 2.5681731],
         }
     )
-    table = rt.error_summary_table(summary)
+    table = model_errors_page.error_summary_table(summary, LABELS)
     assert list(table.columns) == [
         "Protocol",
         "Quantity",
         "rms error, G-W (Eq. 1)",
         "rms error, modified G-W (Eq. 2)",
-        "Ratio G-W / modified",
+        "Ratio G-W (Eq. 1) / modified G-W (Eq. 2)",
     ]
     assert table.values.tolist() == [
         ["startup shear", "⟨nn⟩₁₁", "3.24", "0.637", "5.08"],
@@ -240,7 +280,9 @@ def test_error_summary_table_from_summarise_errors():
             for model, rms in (("gw", 0.4), ("modified", 0.2))
         ]
     )
-    table = rt.error_summary_table(model_vs_simulation.summarise_errors(errors))
+    table = model_errors_page.error_summary_table(
+        model_vs_simulation.summarise_errors(errors, ("gw", "modified")), LABELS
+    )
     assert table.values.tolist() == [["startup shear", "⟨nn⟩₁₂", "0.400", "0.200", "2.00"]]
 
 
@@ -272,7 +314,9 @@ def parse(path):
 
 def test_write_html_tables_escapes_and_captions(tmp_path):
     frame = pd.DataFrame({"a <b>": ["x & y", "1.0 ± 0.1"]})
-    path = rt.write_html_tables(tmp_path / "sub" / "t.html", "Title", [("First", frame), ("Second", frame, "a note")])
+    path = html_tables.write_html_tables(
+        tmp_path / "sub" / "t.html", "Title", [("First", frame), ("Second", frame, "a note")]
+    )
     text = path.read_text(encoding="utf-8")
     assert text.startswith("<!DOCTYPE html>") and '<meta charset="utf-8">' in text
     assert "a &lt;b&gt;" in text and "x &amp; y" in text and '<p class="note">a note</p>' in text
@@ -283,17 +327,17 @@ def test_write_html_tables_escapes_and_captions(tmp_path):
 
 
 def test_report_pages(tmp_path, fits):
-    fits_page = parse(rt.write_fits_page(fits, tmp_path / "fits.html"))
-    assert fits_page.captions[0] == "Fitted model parameters"
-    assert "10.75 ± 0.19" in fits_page.cells and "44.76 ± 0.31" in fits_page.cells
-    assert "44.76 ± 0.23" in fits_page.cells  # the propagated error, in its own column
-    assert {"Value ± 1σ (jackknife over seeds)", "Value ± 1σ (propagated)"} <= set(fits_page.cells)
+    page = parse(fits_page.write_fits_page(fits, tmp_path / "fits.html"))
+    assert page.captions[0] == "Every model of models.fabric fitted to the steady state"
+    assert "10.75 ± 0.19" in page.cells and "44.76 ± 0.31" in page.cells
+    assert "44.76 ± 0.23" in page.cells  # the propagated error, in its own column
+    assert {"Value ± 1σ (jackknife over seeds)", "Value ± 1σ (propagated)"} <= set(page.cells)
     text = (tmp_path / "fits.html").read_text(encoding="utf-8")
     assert "Jackknife over seeds" in text and "Propagated: linear propagation" in text
-    assert "leave-one-out fits: 0.976." in text
-    steady_page = parse(rt.write_steady_state_page(steady_rows(), tmp_path / "steady.html"))
-    assert steady_page.captions == ["Simulated steady state over the strain window 2 ≤ γ ≤ 5"]
-    assert "-0.1031 ± 0.0019" in steady_page.cells
+    assert "leave-one-out fits: modified G-W (Eq. 2) beta and A: 0.976." in text
+    steady = parse(steady_state_page.write_steady_state_page(steady_rows(), tmp_path / "steady.html"))
+    assert steady.captions == ["Simulated steady state over the strain window 2 ≤ γ ≤ 5"]
+    assert "-0.1031 ± 0.0019" in steady.cells
     summary = pd.DataFrame(
         {
             "protocol": ["startup"],
@@ -303,6 +347,6 @@ def test_report_pages(tmp_path, fits):
             "gw_over_modified": [0.327 / 0.3284],
         }
     )
-    errors_page = parse(rt.write_error_summary_page(summary, tmp_path / "errors.html"))
+    errors_page = parse(model_errors_page.write_error_summary_page(summary, LABELS, tmp_path / "errors.html"))
     assert errors_page.captions[0].startswith("Angle-averaged rms error")
     assert ["startup shear", "⟨nn⟩₁₂", "0.327", "0.328", "0.996"] == errors_page.cells[-5:]

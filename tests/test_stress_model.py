@@ -1,4 +1,4 @@
-"""Tests of the Gillissen-Wilson stress relation (suspension_fabric.models.stress_model), no LAMMPS.
+"""Tests of the Gillissen-Wilson stress relation (suspension_fabric.evaluation.stress_model), no LAMMPS.
 
 The relation is sigma^p / (eta_f gammadot) = a_H <nnnn>:E^ + a_C <nnnn>:E^_c for simple shear
 e1 e2 in the paper frame: E^ = (e1 e2 + e2 e1)/2 and E^_c = -(1/2) v_c v_c with
@@ -20,8 +20,9 @@ from scipy.optimize import brentq
 
 from suspension_fabric.analysis import frames, tables
 from suspension_fabric.analysis.stress import EINSTEIN_COEFFICIENT
+from suspension_fabric.evaluation import stress_model
 from suspension_fabric.models import gillissen_wilson as model
-from suspension_fabric.models import stress_model, stress_relations
+from suspension_fabric.models import stress_relations
 
 RNG = np.random.default_rng(20240611)
 PHI = 0.45
@@ -37,6 +38,9 @@ STEADY = {
 }
 LUB_12, LUB_12_SEM = 3.34, 0.17
 CON_12, CON_12_SEM = 2.36, 0.78
+
+#: The fabric sources of the tests: the simulation and the two models of fits_dict
+SOURCES = ["simulation", "gw", "modified"]
 
 
 def tensor(components: dict) -> np.ndarray:
@@ -358,7 +362,6 @@ def fits_dict() -> dict:
     return {
         "phi": PHI,
         "targets": targets,
-        "model_steady_state": {key: dict(STEADY[key]) for key in ("gw", "modified")},
         "models": {key: {"label": key, "steady_state": dict(STEADY[key])} for key in ("gw", "modified")},
     }
 
@@ -393,9 +396,9 @@ def test_relation_fits():
 
 def test_source_steady_fabrics_ignores_z():
     """The simulated fabric is built from the n11..n23 targets only (Z ignored), the models' from
-    model_steady_state, each in VECTOR_ORDER."""
+    steady states of fits.json's models, each in VECTOR_ORDER."""
     fabrics = stress_model.source_steady_fabrics(fits_dict())
-    assert set(fabrics) == set(stress_model.SOURCES)
+    assert list(fabrics) == SOURCES
     for source, fabric in fabrics.items():
         np.testing.assert_array_equal(fabric, tensor(STEADY[source]))
         assert fabric[0, 2] == STEADY[source]["n13"] and fabric[1, 2] == STEADY[source]["n23"]
@@ -498,7 +501,7 @@ def test_stress_predictions_layout_and_values():
     assert list(out.columns) == ["source", "protocol", "theta", "strain", *stress_model.PREDICTED_COLUMNS]
     assert len(out) == 3 * len(STRAIN) * (1 + len(THETAS))
     coefficients = relation.set_index("source")
-    for source in stress_model.SOURCES:
+    for source in SOURCES:
         for protocol, theta in [("startup", 0.0), *(("rotation", t) for t in THETAS)]:
             block = out[(out["source"] == source) & (out["protocol"] == protocol) & (out["theta"] == theta)]
             np.testing.assert_array_equal(block["strain"], STRAIN)
@@ -608,11 +611,11 @@ def test_relation_errors_strain_grid_mismatch():
 
 def test_summarise_relation_errors():
     """summarise_relation_errors: mean over angles of rms_error per (protocol, quantity, source),
-    one column rms_<source> in SOURCES order."""
+    one column rms_<source> in the order of the sources."""
     rows = []
     for protocol, thetas in (("startup", (0.0,)), ("rotation", (0.0, 90.0, 180.0))):
         for quantity in ("eta_r", "N1"):
-            for k, source in enumerate(stress_model.SOURCES):
+            for k, source in enumerate(SOURCES):
                 for j, theta in enumerate(thetas):
                     rows.append(
                         {
@@ -631,7 +634,7 @@ def test_summarise_relation_errors():
     for _, row in summary.iterrows():
         n = 1 if row["protocol"] == "startup" else 3
         offset = 0.01 * np.mean(np.arange(n)) + (row["quantity"] == "N1")
-        for k, source in enumerate(stress_model.SOURCES):
+        for k, source in enumerate(SOURCES):
             assert row[f"rms_{source}"] == pytest.approx(0.1 * (k + 1) + offset, rel=1e-13)
 
 

@@ -1,7 +1,7 @@
 """Stress relations as plug-ins (suspension_fabric.models.stress_relations) and their benchmark
-(suspension_fabric.models.stress_benchmark), against answers known by construction.
+(suspension_fabric.evaluation.stress_benchmark), against answers known by construction.
 
-Forms: gw is H = <nnnn>:E^, C = <nnnn>:E^_c (suspension_fabric.models.stress_model.relation_terms);
+Forms: gw is H = <nnnn>:E^, C = <nnnn>:E^_c (suspension_fabric.evaluation.stress_model.relation_terms);
 gw_jamming multiplies C by (1 - Z/Z_J)^-2 with Z = 2 Tr<nn>, infinite for Z >= Z_J.
 Coefficients: a_H = sigma^lub_12 / H_12(<nn>^ss) and a_C = sigma^con_12 / C_12(<nn>^ss), so the
 relation reproduces the steady sigma_12 parts exactly, and eta_r = 1 + 2.5 phi + their sum.
@@ -16,10 +16,10 @@ import pandas as pd
 import pytest
 
 from suspension_fabric.analysis.fabric import COMPONENTS
+from suspension_fabric.evaluation import stress_benchmark as sb
+from suspension_fabric.evaluation.stress_model import relation_terms
 from suspension_fabric.models import fabric_models as fm
-from suspension_fabric.models import stress_benchmark as sb
 from suspension_fabric.models import stress_relations as sr
-from suspension_fabric.models.stress_model import relation_terms
 
 PHI, Z_J, SIGMA = 0.45, 5.0, 0.02
 A_H, A_C = 25.0, 20.0
@@ -154,7 +154,7 @@ def test_leaderboard_scores_the_generating_relation_at_the_noise(synthetic):
     ~ (sigma / eta_ss)^2 (the noise it cannot predict); G-W's is larger, and the paired
     difference (jamming - gw) has its interval below 0; the table has every scored quantity."""
     curves, _ = synthetic
-    board, parameters = sb.relation_leaderboard(sr.BUILT_IN, curves, folds=3)
+    board, parameters = sb.relation_leaderboard(sr.BUILT_IN, curves, folds=3, reference="gw")
     assert set(board["quantity"]) == set(sb.SCORED)
     rotation = board[board["quantity"] == "eta_r rotation"].set_index("relation")
     noise = (SIGMA / curves.eta_ss) ** 2

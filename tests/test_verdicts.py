@@ -13,7 +13,13 @@ import pandas as pd
 import pytest
 
 from suspension_fabric.analysis import tables
-from suspension_fabric.reporting import verdicts
+from suspension_fabric.evaluation import verdicts
+from suspension_fabric.evaluation.claims import Compared
+from suspension_fabric.models.fabric_models import GW, MODIFIED
+
+#: The compared models by role (config verdicts.models), as keys and as models
+COMPARED = {"reference": "gw", "challenger": "modified"}
+PAIR = Compared(GW, MODIFIED)
 
 N12_SS = -0.1
 STRAIN = np.round(np.arange(0.0, 2.0 + 1e-9, 0.02), 10)
@@ -68,15 +74,15 @@ def test_settle_strain_and_censoring():
 
 
 def test_recovery_strains_follow_tau_ln_10a():
-    table = verdicts.recovery_table(runs(0.2), predictions(0.5, 0.25), N12_SS).set_index("theta")
+    table = verdicts.recovery_table(runs(0.2), predictions(0.5, 0.25), N12_SS, COMPARED).set_index("theta")
     for theta in (45.0, 90.0, 135.0):
-        assert table.loc[theta, "gw_steady"] == first_grid_strain_after(0.5 * np.log(10))
-        assert table.loc[theta, "modified_steady"] == first_grid_strain_after(0.25 * np.log(10))
+        assert table.loc[theta, "reference_steady"] == first_grid_strain_after(0.5 * np.log(10))
+        assert table.loc[theta, "challenger_steady"] == first_grid_strain_after(0.25 * np.log(10))
         assert table.loc[theta, "sim_steady"] == pytest.approx(first_grid_strain_after(0.2 * np.log(10)), abs=0.021)
         assert table.loc[theta, "sim_continuation"] == pytest.approx(table.loc[theta, "sim_steady"], abs=0.021)
     # <nn>'_23 = sin(theta) |n12_ss| exp(-g / 0.3): within 0.1 |n12_ss| from 0.3 ln(10 sin theta)
-    assert table.loc[90.0, "gw_n23"] == first_grid_strain_after(0.3 * np.log(10))
-    assert table.loc[0.0, "gw_steady"] == 0.0 and bool(table.loc[90.0, "gw_steady_settled"])
+    assert table.loc[90.0, "reference_n23"] == first_grid_strain_after(0.3 * np.log(10))
+    assert table.loc[0.0, "reference_steady"] == 0.0 and bool(table.loc[90.0, "reference_steady_settled"])
 
 
 def test_rms_error_of_an_offset_model():
@@ -84,9 +90,9 @@ def test_rms_error_of_an_offset_model():
     model = predictions(0.2, 0.2)
     model.loc[model["model"] == "gw", "n12"] += 0.3 * abs(N12_SS)
     model.loc[model["model"] == "modified", "n12"] += 0.1 * abs(N12_SS)
-    table = verdicts.rms_error_table(simulation, model, N12_SS)
+    table = verdicts.rms_error_table(simulation, model, N12_SS, COMPARED)
     n12 = table[table["component"] == "n12"]
-    np.testing.assert_allclose(n12["gw_rms"], 0.3, rtol=1e-9)
+    np.testing.assert_allclose(n12["reference_rms"], 0.3, rtol=1e-9)
     np.testing.assert_allclose(n12["ratio"], 3.0, rtol=1e-9)
     np.testing.assert_allclose(n12["ratio_high"] - n12["ratio_low"], 0.0, atol=1e-9)  # identical seeds: no spread
 
@@ -94,20 +100,20 @@ def test_rms_error_of_an_offset_model():
 def test_descriptive_intervals_are_seed_bootstrap_percentiles():
     """The bootstrap interval of a seed-mean quantity contains its value; identical seeds give a
     zero-width interval, and different seeds one that spans the per-seed values' range at most."""
-    identical = verdicts.rms_error_table(runs(0.2, noise=0.0), predictions(0.3, 0.2), N12_SS)
-    np.testing.assert_allclose(identical["gw_rms_high"] - identical["gw_rms_low"], 0.0, atol=1e-12)
+    identical = verdicts.rms_error_table(runs(0.2, noise=0.0), predictions(0.3, 0.2), N12_SS, COMPARED)
+    np.testing.assert_allclose(identical["reference_rms_high"] - identical["reference_rms_low"], 0.0, atol=1e-12)
     simulation = runs(0.2, noise=0.0)
     for k, seed in enumerate(SEEDS):  # seed k sits k * 0.05 |n12_ss| away from the model
         simulation.loc[simulation["seed"] == seed, "n12"] += k * 0.05 * abs(N12_SS)
-    table = verdicts.rms_error_table(simulation, predictions(0.2, 0.2), N12_SS)
+    table = verdicts.rms_error_table(simulation, predictions(0.2, 0.2), N12_SS, COMPARED)
     n12 = table[(table["component"] == "n12") & (table["theta"] == 90.0)].iloc[0]
     # rms of the seed mean = the mean offset; a resample's mean offset lies within [0, 0.15]
-    assert n12["gw_rms"] == pytest.approx(0.075)
-    assert 0.0 <= n12["gw_rms_low"] < 0.075 < n12["gw_rms_high"] <= 0.15 + 1e-12
-    overshoot = verdicts.overshoot_table(runs(0.2, noise=2e-3), predictions(0.5, 0.2, bump=0.3), N12_SS)
+    assert n12["reference_rms"] == pytest.approx(0.075)
+    assert 0.0 <= n12["reference_rms_low"] < 0.075 < n12["reference_rms_high"] <= 0.15 + 1e-12
+    overshoot = verdicts.overshoot_table(runs(0.2, noise=2e-3), predictions(0.5, 0.2, bump=0.3), N12_SS, COMPARED)
     row = overshoot.set_index("theta").loc[90.0]
     # the modified r12 - 1 = 0.3 exp(-((g - 0.8)/0.15)^2) - exp(-g/0.2): near 0.3 - exp(-4) at g ~ 0.8
-    assert row["modified"] == pytest.approx(0.3 - np.exp(-0.8 / 0.2), abs=0.003)
+    assert row["challenger"] == pytest.approx(0.3 - np.exp(-0.8 / 0.2), abs=0.003)
     assert row["sim_steady_low"] <= row["sim_steady"] <= row["sim_steady_high"]
 
 
@@ -115,19 +121,30 @@ def test_steady_state_verdicts():
     targets = {c: {"mean": m, "sem": 0.002} for c, m in (("n11", 0.55), ("n22", 0.60), ("n33", 0.59), ("n12", -0.10))}
     fits = {
         "targets": targets,
-        "gw": {"beta": 10.7, "beta_err": 0.2},
-        "modified": {"beta": 9.3, "beta_err": 0.1, "A": 44.8, "A_err": 0.3},
-        "model_steady_state": {
-            "gw": {"n11": 0.2, "n22": 0.3, "n33": 0.25},
-            "modified": {"n11": 0.55, "n22": 0.62, "n33": 1.0},
+        "models": {
+            "gw": {
+                "fitted_to": ["n12"],
+                "parameters": {"beta": 10.7},
+                "errors": {"beta": 0.2},
+                "steady_state": {"n11": 0.2, "n22": 0.3, "n33": 0.25},
+            },
+            "modified": {
+                "fitted_to": ["n11", "n12"],
+                "parameters": {"beta": 9.3, "A": 44.8},
+                "errors": {"beta": 0.1, "A": 0.3},
+                "steady_state": {"n11": 0.55, "n22": 0.62, "n33": 1.0},
+            },
         },
     }
-    rows = {row["text"]: row for row in verdicts.steady_state_verdicts(fits)}
-    assert rows["G-W underestimates the diagonal components"]["verdict"] == verdicts.CONFIRMED
-    assert rows["modified captures <nn>_22"]["verdict"] == verdicts.CONFIRMED  # 3.3% off
-    assert rows["modified overestimates <nn>_33"]["verdict"] == verdicts.CONFIRMED
-    fits["model_steady_state"]["gw"]["n22"] = 0.65
-    fits["model_steady_state"]["modified"]["n22"] = 0.75
-    rows = {row["text"]: row for row in verdicts.steady_state_verdicts(fits)}
-    assert rows["G-W underestimates the diagonal components"]["verdict"] == verdicts.REFUTED
-    assert rows["modified captures <nn>_22"]["verdict"] == verdicts.REFUTED  # 25% off
+    rows = {row["text"]: row for row in verdicts.steady_state_verdicts(fits, PAIR)}
+    assert rows["G-W (Eq. 1) underestimates the diagonal components"]["verdict"] == verdicts.CONFIRMED
+    assert rows["modified G-W (Eq. 2) captures <nn>_22"]["verdict"] == verdicts.CONFIRMED  # 3.3% off
+    assert rows["modified G-W (Eq. 2) overestimates <nn>_33"]["verdict"] == verdicts.CONFIRMED
+    # the fitted parameters beside the ones the paper printed, each model by its label
+    fitted = rows["modified G-W (Eq. 2) fitted on <nn>_11, <nn>_12 (paper A ~ 42.4)"]
+    assert (fitted["mean"], fitted["low"], fitted["high"]) == (44.8, 44.8 - 0.6, 44.8 + 0.6)
+    fits["models"]["gw"]["steady_state"]["n22"] = 0.65
+    fits["models"]["modified"]["steady_state"]["n22"] = 0.75
+    rows = {row["text"]: row for row in verdicts.steady_state_verdicts(fits, PAIR)}
+    assert rows["G-W (Eq. 1) underestimates the diagonal components"]["verdict"] == verdicts.REFUTED
+    assert rows["modified G-W (Eq. 2) captures <nn>_22"]["verdict"] == verdicts.REFUTED  # 25% off

@@ -11,8 +11,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from suspension_fabric.models import stress_model
-from suspension_fabric.reporting import figures, report_tables
+from suspension_fabric.evaluation import stress_model
+from suspension_fabric.reporting import figures, html_tables, stress_page
 
 STRAIN = np.round(np.arange(0.0, 2.0 + 1e-9, 0.05), 10)
 THETAS = (0.0, 90.0, 180.0)
@@ -135,7 +135,7 @@ def test_fig4_draws_the_deficit_t_interval_and_the_bootstrap_intervals():
 
 
 def test_report_table_names_the_level_and_each_interval():
-    table, note = report_tables.viscosity_transient_table(transients())
+    table, note = stress_page.viscosity_transient_table(transients())
     columns = list(table.columns)
     assert columns == [
         "θ (deg)",
@@ -164,4 +164,4 @@ def test_report_table_names_the_level_and_each_interval():
     ],
 )
 def test_format_interval(value, low, high, expected):
-    assert report_tables.format_interval(value, low, high) == expected
+    assert html_tables.format_interval(value, low, high) == expected

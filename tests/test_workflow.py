@@ -25,7 +25,9 @@ def test_study_produces_figures_fits_and_error_table(study):
         for ext in ("pdf", "png"):
             assert (results / "figures" / f"{stem}.{ext}").stat().st_size > 10_000
     fits = json.loads((results / "fits.json").read_text())
-    assert fits["gw"]["beta"] > 0 and fits["modified"]["beta"] > 0 and fits["modified"]["A"] >= 0
+    assert fits["format"] == 2
+    gw, modified = (fits["models"][key]["parameters"] for key in ("gw", "modified"))
+    assert gw["beta"] > 0 and modified["beta"] > 0 and modified["A"] >= 0
     assert fits["targets"]["n12"]["mean"] < 0  # contacts along the compression axis
     assert fits["provenance"]["seeds"] == [1, 2]
     errors = pd.read_csv(results / "tables" / "model_errors.csv")
@@ -160,7 +162,7 @@ def test_study_decides_the_claims_per_seed(study):
     assert sorted(primary["seed"].unique()) == [1, 2]
     assert set(primary[primary["claim"] == "C2"]["theta"]) == {90.0}  # 0 (and 180) left out of the 23 claims
     fits = pd.read_csv(tables / "claims_seed_fits.csv")
-    assert len(fits) == 2 * 6 and (fits["gw_beta"] > 0).all()
+    assert len(fits) == 2 * 6 and (fits["reference_beta"] > 0).all() and set(fits["challenger"]) == {"modified"}
     verdicts = pd.read_csv(tables / "verdicts.csv").set_index("claim")
     c1 = primary[(primary["claim"] == "C1") & (primary["theta"] == 90.0)].set_index("seed")["T"]
     half = stats.t.ppf(0.975, 1) * c1.std(ddof=1) / np.sqrt(2)
@@ -300,7 +302,7 @@ def test_report_shows_the_tables(study):
     import base64
     import html as html_module
 
-    from suspension_fabric.reporting.report_tables import format_value_error
+    from suspension_fabric.reporting.html_tables import format_value_error
 
     result = snakemake(study, *TEST_CONFIG, "--report", "report_tables.html", timeout=300)
     assert result.returncode == 0, result.stderr[-3000:]
@@ -326,12 +328,14 @@ def test_report_shows_the_tables(study):
         assert caption in html  # the report captions (workflow/report/table_*.rst)
     fits = json.loads((study / RESULTS / "fits.json").read_text())
     for model, parameter in (("gw", "beta"), ("modified", "beta"), ("modified", "A")):
-        shown = format_value_error(fits[model][parameter], fits[model][f"{parameter}_err"])
+        entry = fits["models"][model]
+        fitted = entry["parameters"][parameter]
+        shown = format_value_error(fitted, entry["errors"][parameter])
         assert f"<td>{shown}</td>" in pages["fits.html"], (shown, pages["fits.html"])
         value, error = shown.split(" ± ")  # the fitted value itself, rounded to its error's last digit
-        tolerance = 1e-3 * abs(fits[model][parameter]) if error == "—" else 0.1 * float(error)  # "—": null error
-        assert abs(float(value) - fits[model][parameter]) <= tolerance, shown
-    assert "<caption>Fitted model parameters</caption>" in pages["fits.html"]
+        tolerance = 1e-3 * abs(fitted) if error == "—" else 0.1 * float(error)  # "—": null error
+        assert abs(float(value) - fitted) <= tolerance, shown
+    assert "<caption>Every model of models.fabric fitted to the steady state</caption>" in pages["fits.html"]
     assert "<caption>Simulated steady state" in pages["steady_state.html"]
     assert "<td>⟨nn⟩₁₂</td>" in pages["steady_state.html"]
     assert "<caption>Angle-averaged rms error" in pages["model_errors_summary.html"]

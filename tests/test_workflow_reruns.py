@@ -96,6 +96,11 @@ CASES = {
         {("claims", ""), ("stress_relation", ""), ("benchmark_models", ""), ("benchmark_stress_relations", "")},
         set(),
     ),
+    "verdicts.models": (
+        ["verdicts={models: {reference: modified, challenger: gw}}"],
+        {("claims", ""), ("model_errors", ""), ("benchmark_models", "")},
+        set(),
+    ),
     "models.held_out_folds": (
         ["models={held_out_folds: 3}"],
         {("benchmark_models", ""), ("benchmark_stress_relations", "")},

@@ -38,7 +38,8 @@ Layout (by the workflow's stages, lowest first; a module imports only its own st
 stages under it, checked by tests/test_layout.py)
     io          -- files: resources (where the schema, LAMMPS scripts and plugin sources live),
                    schema (the one source of every default), runinfo (a finished run's record),
-                   dumpio (LAMMPS boxes and dumps), stressio (the per-run stress table)
+                   dumpio (LAMMPS boxes and dumps), stressio (the per-run stress table),
+                   protocols (flow histories as data: segments, run trees)
     analysis    -- frames (bases, rotations, 6-vector storage), fabric (near contacts, <nn>;
                    MDAnalysis), fabric_reference (brute-force search), tables (per-run and seed
                    tables, steady states), stress (the stress per frame and its parts),
@@ -48,12 +49,15 @@ stages under it, checked by tests/test_layout.py)
                    for the overlap check
     models      -- gillissen_wilson (G-W and modified G-W: closure, exact integration, steady
                    states, fits, rotations), fabric_models and stress_relations (the plug-in
-                   interfaces; plugins loads user files), model_vs_simulation, stress_model (the
-                   G-W stress relation), model_benchmark and stress_benchmark (held-out scores)
+                   interfaces; plugins loads user files), fits_file (fits.json, format 2)
     study       -- config (schema validation, cross-key checks), campaign (state points),
                    dataset (reference datasets: load, rebuild)
-    reporting   -- verdicts, claims, figures, report_tables, state_map, map_figures,
-                   dataset_comparison
+    evaluation  -- model_vs_simulation (fits, predictions, errors), stress_model (the G-W stress
+                   relation against the simulation), model_benchmark, stress_benchmark and
+                   protocol_benchmark (held-out scores), claims and verdicts (the paper's claims
+                   decided), dataset_comparison, state_map
+    reporting   -- figures, map_figures, protocol_figures, the report pages (html_tables and one
+                   module per page), protocol_report
     workflow_io -- logging helper of the Snakemake scripts
 """
 

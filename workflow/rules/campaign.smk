@@ -1,4 +1,4 @@
-# The map over a campaign's state points (suspension_fabric.reporting.state_map): one row per point from its
+# The map over a campaign's state points (suspension_fabric.evaluation.state_map): one row per point from its
 # own study's tables, then the map figures. Every map output depends on every point's rules.
 from suspension_fabric.reporting.map_figures import MAP_FIGURES
 

@@ -23,6 +23,7 @@ rule claims:
     input:
         startup=rules.aggregate_startup.output.runs,
         rotation=rules.aggregate_rotation.output.runs,
+        model_files=compared_model_files,
     output:
         statistics=f"{RESULTS}/tables/claims_statistics.csv",
         values=f"{RESULTS}/tables/claims_values.csv",
@@ -33,6 +34,7 @@ rule claims:
         startup_strain=setting("run", "startup_strain"),
         rotation_strain=setting("run", "rotation_strain"),
         window=setting("verdicts", "window"),
+        compared=compared_models,
     conda:
         CONDA_ENV
     log:
@@ -50,6 +52,7 @@ rule verdicts:
         statistics=rules.claims.output.statistics,
         values=rules.claims.output.values,
         comparisons=lambda wildcards: COMPARISON_FILES[wildcards.study],
+        model_files=compared_model_files,
     output:
         verdicts=f"{RESULTS}/tables/verdicts.csv",
         per_angle=f"{RESULTS}/tables/claims_per_angle.csv",
@@ -63,6 +66,7 @@ rule verdicts:
         comparisons=setting("verdicts", "comparisons"),
         level=setting("verdicts", "level"),
         window=setting("verdicts", "window"),
+        compared=compared_models,
     conda:
         CONDA_ENV
     log:
@@ -95,6 +99,7 @@ rule compare_datasets:
         stress_startup=rules.aggregate_stress_startup.output.runs,
         stress_rotation=rules.aggregate_stress_rotation.output.runs,
         comparisons=lambda wildcards: COMPARISON_FILES[wildcards.study],
+        model_files=compared_model_files,
     output:
         f"{RESULTS}/tables/dataset_comparison.csv",
     params:

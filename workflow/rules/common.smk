@@ -6,6 +6,7 @@ import re
 from suspension_fabric.study.campaign import study_configs
 from suspension_fabric.study.config import angle_label, simulation_settings, study_protocols, study_run_tree
 from suspension_fabric.io.protocols import protocol_runs
+from suspension_fabric.models.fabric_models import load_model
 from suspension_fabric.simulation.lammps import PACK_FILES, RUN_FILES
 from suspension_fabric.simulation.lammps.plugin import plugin_sources
 from suspension_fabric.io.resources import PLUGIN_LIBRARY_NAME
@@ -61,6 +62,20 @@ def plugin_files(kind):
         return [spec.rpartition(":")[0] for spec in specs if spec.rpartition(":")[0].endswith(".py")]
 
     return files
+
+
+def compared_models(wildcards):
+    """A params function: {role: config entry} of the two models the claims compare (verdicts.models
+    names them by key among models.fabric), so that changing the other models reruns no claim."""
+    study = STUDIES[wildcards.study]
+    by_key = {load_model(spec).key: spec for spec in study["models"]["fabric"]}
+    return {role: by_key[key] for role, key in study["verdicts"]["models"].items()}
+
+
+def compared_model_files(wildcards):
+    """An input function: the Python files of the compared models that are user plug-ins."""
+    locations = [spec.rpartition(":")[0] for spec in compared_models(wildcards).values()]
+    return [location for location in locations if location.endswith(".py")]
 
 
 def seed_runs(path):

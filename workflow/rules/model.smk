@@ -1,6 +1,6 @@
 rule fit_models:
-    """G-W beta from steady <nn>_12; modified (beta, A) from <nn>_11 and <nn>_12; every model of models.fabric
-    to its steady targets; errors: jackknife over seeds."""
+    """Every model of models.fabric fitted to its steady targets (G-W: <nn>_12; modified: <nn>_11 and
+    <nn>_12); errors: jackknife over seeds; fits.json in format 2 (suspension_fabric.models.fits_file)."""
     input:
         steady=rules.aggregate_startup.output.steady,
         runs=rules.aggregate_startup.output.runs,
@@ -50,6 +50,8 @@ rule model_errors:
     output:
         table=f"{RESULTS}/tables/model_errors.csv",
         summary=f"{RESULTS}/tables/model_errors_summary.csv",
+    params:
+        compared=setting("verdicts", "models"),
     conda:
         CONDA_ENV
     log:
@@ -109,6 +111,7 @@ rule benchmark_models:
         startup_strain=setting("run", "startup_strain"),
         steady_window=setting("analysis", "steady_window"),
         window=setting("verdicts", "window"),
+        reference=setting("verdicts", "models", "reference"),
         level=setting("verdicts", "level"),
     conda:
         CONDA_ENV
@@ -172,6 +175,7 @@ rule benchmark_protocols:
         protocols=protocol_segments,
         steady_window=setting("analysis", "steady_window"),
         window=setting("verdicts", "window"),
+        reference=setting("verdicts", "models", "reference"),
         level=setting("verdicts", "level"),
     conda:
         CONDA_ENV

@@ -45,9 +45,13 @@ rule report_protocols:
     input:
         leaderboard=rules.benchmark_protocols.output.leaderboard,
         stress_leaderboard=rules.benchmark_protocols.output.stress_leaderboard,
+        states=rules.aggregate_protocols.output.states,
+        stress_states=rules.aggregate_stress_protocols.output.states,
     output:
         f"{RESULTS}/tables/protocol_summary.md",
     params:
+        reference=setting("verdicts", "models", "reference"),
+        relations=setting("models", "stress"),
         level=setting("verdicts", "level"),
     conda:
         CONDA_ENV

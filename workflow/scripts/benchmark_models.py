@@ -1,14 +1,15 @@
 """Snakemake: the fabric-model benchmark on held-out rotation angles and its leaderboard (rule benchmark_models)."""
 
 from suspension_fabric.analysis import tables
-from suspension_fabric.models import model_benchmark, model_vs_simulation
+from suspension_fabric.evaluation import model_benchmark
 from suspension_fabric.models.fabric_models import resolve_models
-from suspension_fabric.reporting import report_tables
+from suspension_fabric.models.fits_file import read_fits
+from suspension_fabric.reporting.leaderboard_pages import write_leaderboard_page
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
-    fits = model_vs_simulation.read_fits(sm.input.fits)
+    fits = read_fits(sm.input.fits)
     curves = model_benchmark.seed_curves(
         tables.read_fabric_table(sm.input.startup_runs),
         tables.read_fabric_table(sm.input.rotation_runs),
@@ -22,9 +23,10 @@ with logged(sm.log[0]):
         fits["phi"],
         sm.params.startup_strain,
         sm.params.folds,
+        reference=sm.params.reference,
         level=sm.params.level,
     )
     board.to_csv(sm.output.leaderboard, index=False)
     parameters.to_csv(sm.output.parameters, index=False)
-    print(report_tables.write_leaderboard_page(board, parameters, sm.output.page, sm.params.level))
+    print(write_leaderboard_page(board, parameters, sm.output.page, sm.params.level))
     print(parameters.to_string(index=False))

@@ -4,15 +4,16 @@ benchmark_protocols)."""
 import pandas as pd
 
 from suspension_fabric.analysis.protocol_tables import read_protocol_table
+from suspension_fabric.evaluation import protocol_benchmark, stress_benchmark
 from suspension_fabric.io.protocols import protocols_from_params
-from suspension_fabric.models import model_vs_simulation, protocol_benchmark, stress_benchmark
 from suspension_fabric.models.fabric_models import resolve_models
+from suspension_fabric.models.fits_file import read_fits
 from suspension_fabric.models.stress_relations import resolve_relations
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
-    fits = model_vs_simulation.read_fits(sm.input.fits)
+    fits = read_fits(sm.input.fits)
     steady = stress_benchmark.read_stress_curves(
         sm.input.startup_runs,
         sm.input.rotation_runs,
@@ -36,17 +37,25 @@ with logged(sm.log[0]):
         for mode in ("steady", "global")
     }
     board, predictions = protocol_benchmark.fabric_protocol_leaderboard(
-        models, mode_parameters, curves, fits["phi"], float(steady_fabric[0, 1]), level=sm.params.level
+        models,
+        mode_parameters,
+        curves,
+        fits["phi"],
+        float(steady_fabric[0, 1]),
+        reference=sm.params.reference,
+        level=sm.params.level,
     )
     board.to_csv(sm.output.leaderboard, index=False)
     predictions.to_csv(sm.output.predictions, index=False)
+    relations = resolve_relations(sm.params.relations)
     stress_board = protocol_benchmark.stress_protocol_leaderboard(
-        resolve_relations(sm.params.relations),
+        relations,
         pd.read_csv(sm.input.relation_parameters),
         steady_fabric,
         steady.steady[["lubrication_12", "contact_12", "eta_r"]].mean().to_dict(),
         curves,
         steady.phi,
+        reference=next(iter(relations)),
         level=sm.params.level,
     )
     stress_board.to_csv(sm.output.stress_leaderboard, index=False)

@@ -1,10 +1,11 @@
 """Snakemake: the map table over a campaign's state points and its report page (rule campaign_map)."""
 
-import json
-
 import pandas as pd
 
-from suspension_fabric.reporting import report_tables, state_map
+from suspension_fabric.evaluation import state_map
+from suspension_fabric.evaluation.claims import ROLES
+from suspension_fabric.models.fits_file import read_fits
+from suspension_fabric.reporting.map_page import write_map_page
 from suspension_fabric.study.campaign import study_configs
 from suspension_fabric.workflow_io import logged
 
@@ -19,7 +20,7 @@ with logged(sm.log[0]):
                 studies[study],
                 pd.read_csv(sm.input.steady[k]),
                 pd.read_csv(sm.input.stress_steady[k]),
-                json.loads(open(sm.input.fits[k]).read()),
+                read_fits(sm.input.fits[k]),
                 pd.read_csv(sm.input.verdicts[k]),
                 pd.read_csv(sm.input.startup_runs[k]),
                 pd.read_csv(sm.input.stress_runs[k]),
@@ -28,5 +29,6 @@ with logged(sm.log[0]):
         )
     table = state_map.map_table(rows, sm.params.not_run)
     table.to_csv(sm.output.table, index=False)
-    report_tables.write_map_page(table, sm.output.page)
-    print(table[["point", "steady", "n12", "Z", "eta_r", "Pi", "gw_beta", "modified_beta", "modified_A"]].to_string())
+    write_map_page(table, sm.output.page)
+    fitted = [column for column in table.columns if column.endswith("_err") and column.split("_")[0] in ROLES]
+    print(table[["point", "steady", "n12", "Z", "eta_r", "Pi", *(c[: -len("_err")] for c in fitted)]].to_string())

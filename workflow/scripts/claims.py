@@ -2,7 +2,7 @@
 
 import pandas as pd
 
-from suspension_fabric.reporting import claims
+from suspension_fabric.evaluation import claims
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
@@ -15,6 +15,7 @@ with logged(sm.log[0]):
         startup_strain=sm.params.startup_strain,
         rotation_strain=sm.params.rotation_strain,
         window=sm.params.window,
+        compared=claims.Compared.from_specs(sm.params.compared),
     )
     for key in ("statistics", "values", "fits"):
         results[key].to_csv(sm.output[key], index=False)

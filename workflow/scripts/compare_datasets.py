@@ -2,7 +2,7 @@
 
 import pandas as pd
 
-from suspension_fabric.reporting.dataset_comparison import comparison_table, per_seed_statistics
+from suspension_fabric.evaluation.dataset_comparison import comparison_table, per_seed_statistics
 from suspension_fabric.study.dataset import read_fabric_runs, read_stress_runs
 from suspension_fabric.workflow_io import logged
 

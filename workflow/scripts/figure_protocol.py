@@ -6,7 +6,7 @@ import pandas as pd
 
 from suspension_fabric.analysis.protocol_tables import read_protocol_table
 from suspension_fabric.io.protocols import Protocol, Segment
-from suspension_fabric.models import model_vs_simulation
+from suspension_fabric.models.fits_file import read_fits
 from suspension_fabric.reporting import figures, protocol_figures
 from suspension_fabric.workflow_io import logged
 
@@ -14,7 +14,7 @@ sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
     protocol = Protocol(sm.wildcards.protocol, tuple(Segment(**fields) for fields in sm.params.segments))
     fabric = read_protocol_table(sm.input.fabric)
-    fits = model_vs_simulation.read_fits(sm.input.fits)
+    fits = read_fits(sm.input.fits)
     fig = protocol_figures.figure_protocol(
         protocol,
         fabric,

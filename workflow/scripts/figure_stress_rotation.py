@@ -4,7 +4,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from suspension_fabric.models.stress_model import steady_value
+from suspension_fabric.evaluation.stress_model import steady_value
 from suspension_fabric.reporting import figures
 from suspension_fabric.workflow_io import logged
 

@@ -1,11 +1,12 @@
-"""Snakemake: fit G-W and the modified model to the simulated steady state, with jackknife errors
+"""Snakemake: fit every model of models.fabric to the simulated steady state, with jackknife errors
 over the seeds of the startup runs (rule fit_models)."""
 
 import pandas as pd
 
 from suspension_fabric.analysis import tables
-from suspension_fabric.models import model_vs_simulation
+from suspension_fabric.evaluation import model_vs_simulation
 from suspension_fabric.models.fabric_models import resolve_models
+from suspension_fabric.models.fits_file import write_fits
 from suspension_fabric.workflow_io import job_study_config, logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
@@ -25,17 +26,13 @@ with logged(sm.log[0]):
         "steady_state_table": sm.input.steady,
         "runs_table": sm.input.runs,
     }
-    model_vs_simulation.write_fits(fits, sm.output[0])
-    for key, parameter in (("gw", "beta"), ("modified", "beta"), ("modified", "A")):
-        entry = fits[key]
-        print(
-            f"{key} {parameter} = {entry[parameter]:.4g} ± {entry[f'{parameter}_err']:.2g} (jackknife over seeds), "
-            f"± {entry[f'{parameter}_err_propagated']:.2g} (propagated)"
-        )
+    write_fits(fits, sm.output[0])
     for key, entry in fits["models"].items():
         print(
             f"{key}: "
             + ", ".join(
-                f"{name} = {value:.4g} ± {entry['errors'][name]:.2g}" for name, value in entry["parameters"].items()
+                f"{name} = {value:.4g} ± {entry['errors'][name]:.2g} (jackknife over seeds), "
+                f"± {entry['errors_propagated'][name]:.2g} (propagated)"
+                for name, value in entry["parameters"].items()
             )
         )

@@ -2,16 +2,18 @@
 
 import pandas as pd
 
-from suspension_fabric.models import model_vs_simulation
+from suspension_fabric.evaluation import model_vs_simulation
+from suspension_fabric.models.fits_file import read_fits
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
     errors, summary = model_vs_simulation.error_tables(
-        model_vs_simulation.read_fits(sm.input.fits),
+        read_fits(sm.input.fits),
         pd.read_csv(sm.input.predictions),
         pd.read_csv(sm.input.startup),
         pd.read_csv(sm.input.rotation),
+        ratio=(sm.params.compared["reference"], sm.params.compared["challenger"]),
     )
     errors.to_csv(sm.output.table, index=False)
     summary.to_csv(sm.output.summary, index=False)

@@ -2,14 +2,15 @@
 
 import pandas as pd
 
-from suspension_fabric.models import model_vs_simulation
+from suspension_fabric.evaluation import model_vs_simulation
 from suspension_fabric.models.fabric_models import resolve_models
+from suspension_fabric.models.fits_file import read_fits
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
     predictions = model_vs_simulation.predict_on_simulation_grids(
-        model_vs_simulation.read_fits(sm.input.fits),
+        read_fits(sm.input.fits),
         resolve_models(sm.params.models),
         pd.read_csv(sm.input.startup),
         pd.read_csv(sm.input.rotation),

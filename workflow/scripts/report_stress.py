@@ -2,13 +2,13 @@
 
 import pandas as pd
 
-from suspension_fabric.reporting import report_tables
+from suspension_fabric.reporting.stress_page import write_stress_page
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
     print(
-        report_tables.write_stress_page(
+        write_stress_page(
             pd.read_csv(sm.input.steady),
             pd.read_csv(sm.input.relation),
             pd.read_csv(sm.input.summary),

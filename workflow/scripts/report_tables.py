@@ -2,17 +2,18 @@
 
 import pandas as pd
 
-from suspension_fabric.models import model_vs_simulation
-from suspension_fabric.reporting import report_tables
+from suspension_fabric.evaluation import model_vs_simulation
+from suspension_fabric.models.fits_file import read_fits
+from suspension_fabric.reporting.fits_page import write_fits_page
+from suspension_fabric.reporting.model_errors_page import write_error_summary_page
+from suspension_fabric.reporting.steady_state_page import write_steady_state_page
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
-    fits = model_vs_simulation.read_fits(sm.input.fits)
-    print(report_tables.write_fits_page(fits, sm.output.fits))
-    print(report_tables.write_steady_state_page(pd.read_csv(sm.input.steady), sm.output.steady))
+    fits = read_fits(sm.input.fits)
+    print(write_fits_page(fits, sm.output.fits))
+    print(write_steady_state_page(pd.read_csv(sm.input.steady), sm.output.steady))
     print(
-        report_tables.write_error_summary_page(
-            pd.read_csv(sm.input.errors), sm.output.errors, model_vs_simulation.model_labels(fits)
-        )
+        write_error_summary_page(pd.read_csv(sm.input.errors), model_vs_simulation.model_labels(fits), sm.output.errors)
     )

@@ -2,8 +2,8 @@
 
 import pandas as pd
 
-from suspension_fabric.models import stress_model
-from suspension_fabric.models.model_vs_simulation import read_fits
+from suspension_fabric.evaluation import stress_model
+from suspension_fabric.models.fits_file import read_fits
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)

@@ -65,6 +65,7 @@ __all__ = [
     "integrate",
     "steady_state",
     "fit_steady",
+    "fit_startup_curve",
     "startup_shear",
     "shear_rotation",
     "integrate_segment",
@@ -134,7 +135,8 @@ class FabricModel:
     """A fabric model (see the module docstring). ``rhs(fabric, flow, params, phi)`` broadcasts over
     leading axes of ``fabric`` and of the flow's tensors; ``steady`` (optional) returns the closed
     steady fabric in simple shear L = e1 e2 from (params, phi); ``fit`` (optional) returns the
-    parameters whose steady state matches ``targets`` ({component: value}) exactly."""
+    parameters whose steady state matches ``targets`` ({component: value}) exactly; ``published``
+    (optional) holds the parameters its source printed, for comparison with the fits."""
 
     key: str
     label: str
@@ -145,6 +147,7 @@ class FabricModel:
     steady: Callable | None = None
     fit: Callable | None = None
     description: str = field(default="", compare=False)
+    published: Mapping[str, float] | None = field(default=None, compare=False)
 
     def __post_init__(self):
         if not self.key.isidentifier():
@@ -152,6 +155,8 @@ class FabricModel:
         names = [p.name for p in self.parameters]
         if not names or len(set(names)) != len(names):
             raise ModelError(f"model {self.key}: parameter names {names} must be distinct and at least one")
+        if self.published is not None and set(self.published) != set(names):
+            raise ModelError(f"model {self.key}: published parameters {sorted(self.published)} must be {names}")
         unknown = set(self.steady_targets) - set(VECTOR_ORDER)
         if unknown or len(self.steady_targets) != len(names):
             raise ModelError(
@@ -198,6 +203,7 @@ GW = FabricModel(
     rhs=lambda fabric, flow, p, phi: _closure_model_rhs(fabric, flow, p["beta"], p["beta"], p["beta"], phi),
     steady=lambda p, phi: paper_models.steady_state(p["beta"], None, phi),
     fit=_gw_fit,
+    published={"beta": 10.9},  # the paper's fit (its Sec. 3)
     description="d<nn>/dgamma = Lh.<nn> + <nn>.Lh^T - 2 Lh:<nnnn> - beta (Eh_e:<nnnn> + (phi/15)(2 Eh_c + Tr(Eh_c) I))",
 )
 
@@ -211,6 +217,7 @@ MODIFIED = FabricModel(
     rhs=lambda fabric, flow, p, phi: _closure_model_rhs(fabric, flow, p["beta"], p["beta"], p["A"], phi),
     steady=lambda p, phi: paper_models.steady_state(p["beta"], p["A"], phi),
     fit=_modified_fit,
+    published={"beta": 9.4, "A": 42.4},  # the paper's fit (its Sec. 3)
     description="Eq. 1 with the isotropic term's rate A: ... - A (phi/15) Tr(Eh_c) I",
 )
 
@@ -407,6 +414,36 @@ def fit_steady(fabric_model: FabricModel, targets: Mapping[str, float], phi) -> 
             f"(best relative residual {np.abs(result.fun).max():.2g})"
         )
     return fabric_model.check(dict(zip(fabric_model.names, result.x)))
+
+
+def fit_startup_curve(
+    fabric_model: FabricModel, strains, observed: Mapping[str, np.ndarray], phi, fabric0, start: Mapping[str, float]
+) -> dict[str, float]:
+    """Parameters minimising the squared distance of :func:`startup_shear` from ``fabric0`` to an
+    observed startup curve, summed over the strains and the components of ``observed``
+    ({"12": values, ...}, each aligned with ``strains``): bounded least squares within the
+    parameters' bounds from ``start`` (e.g. the steady fit); ``ModelError`` if the solver fails."""
+    strains = as_strains(strains)
+    unknown = set(observed) - set(VECTOR_ORDER)
+    if not observed or unknown:
+        raise ModelError(
+            f"model {fabric_model.key}: observed components must be among {VECTOR_ORDER}, got {sorted(observed)}"
+        )
+    index = [VECTOR_ORDER.index(name) for name in observed]
+    target = np.stack([np.asarray(values, dtype=float) for values in observed.values()], axis=-1)
+    if target.shape[0] != len(strains) or not np.all(np.isfinite(target)):
+        raise ModelError(f"model {fabric_model.key}: the observed curves need {len(strains)} finite points each")
+
+    def residual(x):
+        fabric = startup_shear(fabric_model, strains, dict(zip(fabric_model.names, x)), phi, fabric0)
+        return (sym_to_vec(fabric)[:, index] - target).ravel()
+
+    x0 = [fabric_model.check(start)[name] for name in fabric_model.names]
+    bounds = ([p.lower for p in fabric_model.parameters], [p.upper for p in fabric_model.parameters])
+    result = least_squares(residual, x0, bounds=bounds, x_scale="jac", xtol=1e-12, ftol=1e-12)
+    if not result.success:
+        raise ModelError(f"model {fabric_model.key}: the startup-curve fit failed ({result.message})")
+    return fabric_model.check(dict(zip(fabric_model.names, map(float, result.x))))
 
 
 def startup_shear(fabric_model: FabricModel, strains, params, phi, fabric0=None) -> np.ndarray:

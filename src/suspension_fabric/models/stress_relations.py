@@ -8,10 +8,10 @@ shear) from the fabric <nn> as a hydrodynamic and a contact term,
 with tensor forms H and C (``forms(fabric, q) -> (H, C)``, broadcasting over leading axes), linear
 coefficients a_H, a_C and optional shape parameters q (:class:`suspension_fabric.models.fabric_models.Parameter`).
 For any q, a_H and a_C are fixed by the steady state of startup shear as for the paper's relation
-(:mod:`suspension_fabric.models.stress_model`): a_H = sigma^lub_12 / H_12(<nn>^ss), a_C = sigma^con_12 /
+(:mod:`suspension_fabric.evaluation.stress_model`): a_H = sigma^lub_12 / H_12(<nn>^ss), a_C = sigma^con_12 /
 C_12(<nn>^ss) (:func:`coefficients`). The total adds the solvent's 1 and the Einstein 2.5 phi on
 sigma_12 (docs/gw_stress_relation.md, section 2.5). Shape parameters are fitted on transients
-(:mod:`suspension_fabric.models.stress_benchmark`).
+(:mod:`suspension_fabric.evaluation.stress_benchmark`).
 
 Built in (:data:`BUILT_IN`)
     ``gw``          Gillissen and Wilson (Phys. Rev. E 98, 033119 (2018)): H = <nnnn>:E^,

@@ -1,6 +1,5 @@
-"""Reporting: the verdicts on the paper's claims (steady state and shear rotation), the figures,
-the report's tables, the map over state points, the comparison of datasets, and the protocols'
-figures and results fragment.
+"""Reporting: the figures and the report's HTML pages (one module per page), the map figures, and
+the protocols' figures and results fragment, from what :mod:`suspension_fabric.evaluation` computes.
 
 The highest stage: it may import every other.
 """

@@ -31,8 +31,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from suspension_fabric.models.model_vs_simulation import MODEL_NAMES, model_labels  # noqa: E402
-from suspension_fabric.models.stress_model import SOURCES  # noqa: E402
+from suspension_fabric.evaluation.model_vs_simulation import model_labels  # noqa: E402
 
 __all__ = [
     "figure_startup",
@@ -267,6 +266,7 @@ def figure_stress_startup(simulation: pd.DataFrame, relation_predictions: pd.Dat
     fig, (ax_eta, ax_normal) = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
     sim = simulation.sort_values("strain")
     predicted = relation_predictions[relation_predictions["protocol"] == "startup"]
+    labels = dict(zip(relation["source"], relation["label"]))
     for column, color, label in (
         ("eta_r", "k", r"$\eta_r$ total"),
         ("contact_12", "C3", "contact"),
@@ -281,7 +281,7 @@ def figure_stress_startup(simulation: pd.DataFrame, relation_predictions: pd.Dat
                 linestyle=style,
                 color=color,
                 lw=1,
-                label=f"relation, {SOURCES.get(source, source)}" if column == "eta_r" else None,
+                label=f"relation, {labels.get(source, source)}" if column == "eta_r" else None,
             )
     solvent = sim["solvent_12_mean"] + sim["einstein_12_mean"]
     ax_eta.plot(sim["strain"], solvent, color="0.5", lw=1, label=r"solvent + Einstein $1 + 2.5\phi$")
@@ -453,34 +453,38 @@ def _seed_interval(statistics: pd.DataFrame, column: str, level: float) -> pd.Da
 def figure_claims(statistics: pd.DataFrame, level: float):
     """Fig. 5: the quantities the shear-rotation claims rest on, per angle (primary choice):
     (a) the <nn>'_12 deficit D12, (b) the <nn>'_23 effect E23, (c) the paired mean-square-error
-    difference G-W - modified on r12 and r23 (> 0: the modified model is closer), (d) the excess
-    X12 above steady inside the modified model's overshoot window. Simulation: seed mean with its
-    t-interval over seeds; models: seed mean of each seed's own fit. Shaded: the claims' ranges."""
-    from .claims import CLAIMS  # noqa: PLC0415
+    difference reference - challenger on r12 and r23 (> 0: the challenger is closer), (d) the
+    excess X12 above steady inside the challenger's overshoot window. The compared models (config
+    verdicts.models) by the labels the statistics record. Simulation: seed mean with its t-interval
+    over seeds; models: seed mean of each seed's own fit. Shaded: the claims' ranges."""
+    from suspension_fabric.evaluation.claims import CLAIMS  # noqa: PLC0415
 
     ranges = {claim.key: claim.angles for claim in CLAIMS}
     fig, axes = plt.subplots(2, 2, figsize=(10, 7.2), sharex=True)
     panels = [
         (axes[0, 0], "D12", "C1", r"(a) deficit $D_{12}=\int_0^W (1 - r_{12})\,d\gamma$"),
         (axes[0, 1], "E23", "C2", r"(b) transverse effect $E_{23}=\mathrm{sgn}\,\theta\int_0^W r_{23}\,d\gamma$"),
-        (axes[1, 1], "X12", "C6", r"(d) excess $X_{12}$ in the modified model's overshoot window"),
+        (axes[1, 1], "X12", "C6", r"(d) excess $X_{12}$ in the challenger's overshoot window"),
     ]
-    colors = {"gw": "C1", "modified": "C2"}
+    colors = {"reference": "C1", "challenger": "C2"}
+    labels = {role: str(statistics[f"{role}_label"].iloc[0]) for role in colors}
     percent = f"{100 * level:g}%"
     for ax, quantity, claim, title in panels:
         sim = _seed_interval(statistics, f"{quantity}_sim", level)
         _interval_bars(
             ax, sim["theta"], sim["mean"], sim["low"], sim["high"], "k", label=f"simulation ({percent} t-interval)"
         )
-        for model, color in colors.items():
-            mean = statistics.groupby("theta")[f"{quantity}_{model}"].mean()
-            ax.plot(mean.index, mean.to_numpy(), "-", color=color, marker="s", ms=3, label=MODEL_NAMES[model])
+        for role, color in colors.items():
+            mean = statistics.groupby("theta")[f"{quantity}_{role}"].mean()
+            ax.plot(mean.index, mean.to_numpy(), "-", color=color, marker="s", ms=3, label=labels[role])
         ax.axvspan(*ranges[claim], color="0.9", zorder=0)
         ax.axhline(0.0, color="0.6", lw=0.6)
         ax.set_title(title, fontsize=10)
     ax = axes[1, 0]
     for component, color in (("12", "C0"), ("23", "C3")):
-        difference = statistics.assign(d=statistics[f"MSE{component}_gw"] - statistics[f"MSE{component}_modified"])
+        difference = statistics.assign(
+            d=statistics[f"MSE{component}_reference"] - statistics[f"MSE{component}_challenger"]
+        )
         if component == "23":  # both models exact by symmetry at 0 and 180 degrees
             difference = difference[
                 ~np.isclose(np.abs(difference["theta"]), 0.0) & ~np.isclose(np.abs(difference["theta"]), 180.0)
@@ -498,7 +502,10 @@ def figure_claims(statistics: pd.DataFrame, level: float):
     ax.axvspan(*ranges["C3"], color="0.9", zorder=0)
     ax.axhline(0.0, color="0.6", lw=0.6)
     ax.axvspan(*ranges["C4"], ymin=0.0, ymax=0.06, color="C3", alpha=0.25, zorder=0)  # C4's range, on the axis
-    ax.set_title("(c) paired MSE, G-W $-$ modified (> 0: modified closer)", fontsize=10)
+    ax.set_title(
+        f"(c) paired MSE, {labels['reference']} $-$ {labels['challenger']} (> 0: {labels['challenger']} closer)",
+        fontsize=9,
+    )
     for ax in axes.flat:
         ax.legend(fontsize=7, frameon=False)
     for ax in axes[1]:

@@ -1,4 +1,4 @@
-"""Figures of the map over the state point (suspension_fabric.reporting.state_map): each quantity of the map
+"""Figures of the map over the state point (suspension_fabric.evaluation.state_map): each quantity of the map
 table against phi, one line per friction coefficient (drawn DODGE apart in phi), error bars from the table (seed
 standard
 errors, jackknife errors of the fits, t-intervals of the claims). Points that did not reach a
@@ -10,8 +10,12 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from suspension_fabric.evaluation.state_map import bgp_viscosities
+
 from .figures import plt, save_figure
-from .state_map import bgp_viscosities
+
+#: Parameter names as TeX in the panel labels.
+_PARAMETER_TEX = {"beta": r"$\beta$", "A": "$A$", "A_over_beta": r"$A/\beta$"}
 
 __all__ = ["figure_map_models", "figure_map_fabric", "figure_map_rheology", "figure_map_model_errors", "MAP_FIGURES"]
 
@@ -72,15 +76,25 @@ def _finish(table: pd.DataFrame, fig, axes):
     return fig
 
 
+def model_panels(table: pd.DataFrame) -> list[tuple[str, str, str]]:
+    """(column, error column, label) of every fitted parameter of the compared models in the map
+    table (``<role>_<parameter>`` with its ``_err``; state_map.point_row), the model by its label."""
+    panels = []
+    for role in ("reference", "challenger"):
+        labels = table.get(f"{role}_model", pd.Series(dtype=object)).dropna()
+        model = str(labels.iloc[0]) if len(labels) else role
+        for column in table.columns:
+            if column.startswith(f"{role}_") and column.endswith("_err"):
+                value = column[: -len("_err")]
+                name = value[len(role) + 1 :]
+                panels.append((value, column, f"{model} {_PARAMETER_TEX.get(name, name)}"))
+    return panels
+
+
 def figure_map_models(table: pd.DataFrame):
-    """G-W beta, modified beta, A and A/beta against phi (jackknife errors over seeds)."""
-    panels = [
-        ("gw_beta", "gw_beta_err", r"G-W $\beta$"),
-        ("modified_beta", "modified_beta_err", r"modified $\beta$"),
-        ("modified_A", "modified_A_err", "modified $A$"),
-        ("modified_A_over_beta", "modified_A_over_beta_err", r"modified $A/\beta$"),
-    ]
-    return _finish(table, *_row(table, panels, (14, 3.3)))
+    """The compared models' fitted parameters against phi (jackknife errors over seeds)."""
+    panels = model_panels(table)
+    return _finish(table, *_row(table, panels, (3.5 * len(panels), 3.3)))
 
 
 def figure_map_fabric(table: pd.DataFrame):

@@ -9,15 +9,22 @@ misses by construction, dominate the six-component mean), each with the paired p
 difference from G-W's steady fit and its t-interval; then every stress relation's error of eta_r
 (in units of (eta_r^ss)^2) and its paired difference from the G-W relation. A difference whose
 interval lies wholly below zero is marked "better", wholly above "worse", else "not decided".
+
+Then, per protocol, the simulations' late state of every segment after the startup (the second
+half of the segment, :func:`suspension_fabric.analysis.protocol_tables.segment_states`): Z, <nn>_12,
+<nn>_23 (in the frame of the current flow), eta_r and Pi, each as the seed mean and its paired
+per-seed difference from the startup's steady state with its t-interval. Where a protocol has a
+steady or periodic state, this is it; where the segment is too short to reach one, the table says
+how far it got.
 """
 
 from __future__ import annotations
 
 import pandas as pd
 
-from suspension_fabric.models.protocol_benchmark import ALL_COMPONENTS
+from suspension_fabric.evaluation.protocol_benchmark import ALL_COMPONENTS
 
-__all__ = ["summary_markdown", "comparison", "SHOWN"]
+__all__ = ["summary_markdown", "states_markdown", "comparison", "SHOWN", "STATE_QUANTITIES"]
 
 
 def comparison(low: float, high: float) -> str:
@@ -38,6 +45,54 @@ def _interval(mean: float, low: float, high: float) -> str:
 SHOWN = (ALL_COMPONENTS, "n12", "n23")
 
 
+#: The late-state quantities shown: fabric table columns, then stress table columns.
+STATE_QUANTITIES = {"Z": "Z", "n12": "<nn>_12", "n23": "<nn>_23", "eta_r": "eta_r", "Pi": "Pi"}
+
+
+def _segment_name(row) -> str:
+    turning = row["turning_deg_per_strain"]
+    flow = f"flow at {row['flow_angle_deg']:g} deg"
+    return f"{int(row['segment'])}: {flow}" + (f", turning {turning:g} deg/strain" if turning else "")
+
+
+def states_markdown(states: pd.DataFrame, level: float) -> list[str]:
+    """Per protocol, the late state of each segment after the startup against the startup's steady
+    state (module docstring); ``states``: protocol_states.csv and stress_protocol_states.csv rows."""
+    percent = f"{100 * level:g}%"
+    shown = states[states["quantity"].isin(list(STATE_QUANTITIES))]
+    lines = [
+        f"Late state of each segment (its second half), seed mean; in brackets the per-seed difference from the "
+        f"startup's steady state [{percent} t-interval] and its reading (higher, lower, not decided). <nn> in the "
+        "frame of the current flow; eta_r and Pi in units of eta_f gammadot.",
+        "",
+    ]
+    for protocol, rows in shown.groupby("protocol", sort=False):
+        steady = rows.drop_duplicates("quantity").set_index("quantity")["startup_steady"]
+        quantities = [q for q in STATE_QUANTITIES if q in steady.index]
+        lines += [
+            f"**{protocol}**",
+            "",
+            "| segment | strain window | " + " | ".join(STATE_QUANTITIES[q] for q in quantities) + " |",
+            "|---|---|" + "---|" * len(quantities),
+            "| startup steady state | | " + " | ".join(f"{steady[q]:.3g}" for q in quantities) + " |",
+        ]
+        for _, segment in rows.groupby("segment", sort=True):
+            by_quantity = segment.set_index("quantity")
+            first = segment.iloc[0]
+            cells = []
+            for q in quantities:
+                r = by_quantity.loc[q]
+                reading = {"better": "lower", "worse": "higher"}.get(
+                    comparison(r["difference_low"], r["difference_high"]), "not decided"
+                )
+                shift = _interval(r["difference"], r["difference_low"], r["difference_high"])
+                cells.append(f"{r['mean']:.3g} ({shift} {reading})")
+            window = f"{first['window_low']:g}-{first['window_high']:g}"
+            lines.append(f"| {_segment_name(first)} | {window} | " + " | ".join(cells) + " |")
+        lines.append("")
+    return lines
+
+
 def _difference(row, reference: str) -> tuple[float, float, float]:
     return tuple(row[f"difference{suffix}_vs_{reference}"] for suffix in ("", "_low", "_high"))
 
@@ -51,14 +106,27 @@ def _cell(row, reference: str, is_reference: bool) -> str:
     return f"{error}; {_interval(*shift)} {comparison(*shift[1:])}"
 
 
-def summary_markdown(board: pd.DataFrame, stress_board: pd.DataFrame, level: float, reference: str = "gw") -> str:
-    """The page fragment (module docstring) from protocol_leaderboard.csv and
-    protocol_stress_leaderboard.csv."""
+def summary_markdown(
+    board: pd.DataFrame,
+    stress_board: pd.DataFrame,
+    states: pd.DataFrame,
+    level: float,
+    *,
+    reference: str,
+    reference_relation: str,
+) -> str:
+    """The page fragment (module docstring) from protocol_leaderboard.csv,
+    protocol_stress_leaderboard.csv and the late states (protocol_states.csv and
+    stress_protocol_states.csv, concatenated); differences from the fabric model ``reference``
+    fitted on the steady state and from the stress relation ``reference_relation`` (keys)."""
     percent = f"{100 * level:g}%"
     eta = stress_board[stress_board["quantity"] == "eta_r"]
+    label = board.loc[board["model"] == reference, "label"].iloc[0]
+    relation = stress_board.loc[stress_board["relation"] == reference_relation, "label"].iloc[0]
     lines = [
-        f"Each cell: error [{percent} interval]; minus G-W fitted on the steady state [{percent} interval] and "
-        "its reading. Fabric errors in units of (<nn>_12^ss)^2, eta_r's in (eta_r^ss)^2.",
+        f"Each cell: error [{percent} interval]; minus {label} fitted on the steady state (stress: minus the "
+        f"{relation}) [{percent} interval] and its reading. Fabric errors in units of (<nn>_12^ss)^2, eta_r's in "
+        "(eta_r^ss)^2.",
         "",
     ]
     for protocol in dict.fromkeys(board["protocol"]):
@@ -78,6 +146,7 @@ def summary_markdown(board: pd.DataFrame, stress_board: pd.DataFrame, level: flo
             lines.append(f"| {rows['label'].iloc[0]} | {fitted} | " + " | ".join(cells) + " |")
         lines += ["", "| stress relation | eta_r |", "|---|---|"]
         for _, row in eta[eta["protocol"] == protocol].iterrows():
-            lines.append(f"| {row['label']} | {_cell(row, reference, row['relation'] == reference)} |")
+            cell = _cell(row, reference_relation, row["relation"] == reference_relation)
+            lines.append(f"| {row['label']} | {cell} |")
         lines.append("")
-    return "\n".join(lines)
+    return "\n".join(lines + states_markdown(states, level))

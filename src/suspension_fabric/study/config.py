@@ -239,9 +239,18 @@ def _cross_check(config: dict) -> None:
             f"({run['rotation_strain']}): the claims integrate over the strain after a rotation"
         )
     try:
-        resolve_models(config["models"]["fabric"])
+        models = resolve_models(config["models"]["fabric"])
     except ModelError as error:
         raise ConfigError(f"config key 'models.fabric': {error}") from None
+    compared = config["verdicts"]["models"]
+    for role, key in compared.items():
+        if key not in models:
+            raise ConfigError(
+                f"config key 'verdicts.models.{role}': {key!r} is not one of the models of models.fabric "
+                f"({', '.join(models)})"
+            )
+    if compared["reference"] == compared["challenger"]:
+        raise ConfigError("config key 'verdicts.models.challenger': the claims compare two different models")
     try:
         resolve_relations(config["models"]["stress"])
     except RelationError as error:

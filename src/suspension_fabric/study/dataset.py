@@ -11,7 +11,9 @@ before the stress parts were recorded), ``stress.csv.gz``
 ``run.json`` (the run's completion marker: LAMMPS variables, command, wall time, results), and
 at the top ``dataset.json``: the study's validated config, the software versions, the SHA-256
 of the LAMMPS plugin sources and of every file, the git commit it was made from, and the fits
-of the study it came from. Trajectories are never part of it.
+of the study it came from (fits.json's content, :mod:`suspension_fabric.models.fits_file`).
+Trajectories are never part of it. The record carries a format version (:data:`DATASET_FORMAT`);
+:func:`read_dataset` upgrades an older record in one step (:func:`upgrade_dataset`).
 
 A study whose config names a dataset (``dataset: <folder>``) takes its fabric and stress tables
 from it (rule ``import_run_table``, which checks each file's SHA-256) instead of simulating; its
@@ -49,6 +51,7 @@ import pandas as pd
 from suspension_fabric.analysis.stress import read_stress_csv, recorded_value_columns
 from suspension_fabric.analysis.tables import VALUE_COLUMNS, read_fabric_table, steady_state
 from suspension_fabric.io.stressio import read_stress_table
+from suspension_fabric.models.fits_file import read_fits, upgrade_fits
 from suspension_fabric.simulation.lammps.plugin import plugin_sources
 
 from .campaign import study_configs
@@ -56,6 +59,8 @@ from .config import angle_label, load_config, simulation_settings, study_run_tre
 
 __all__ = [
     "DATASET_FILE",
+    "DATASET_FORMAT",
+    "upgrade_dataset",
     "run_names",
     "paper_run_names",
     "export_dataset",
@@ -166,11 +171,12 @@ def export_dataset(
             files[f"{name}/{file}"] = _sha256(target / name / file)
     fits_file = results / "fits.json"
     record = {
+        "format": DATASET_FORMAT,
         "study": config["study"],
         "config": config,
         "runs_missing": missing,
         "files": files,
-        "fits": json.loads(fits_file.read_text()) if fits_file.is_file() and not missing else None,
+        "fits": read_fits(fits_file) if fits_file.is_file() and not missing else None,
         "versions": {name: importlib.metadata.version(name) for name in VERSIONED_PACKAGES},
         "plugin_sources_sha256": _plugin_hash(),
         "git_commit": _git_commit(repository or Path.cwd()),
@@ -193,19 +199,39 @@ def read_dataset(folder: Path) -> dict:
         raise ValueError(f"{path}: not a readable dataset record ({type(err).__name__}: {err})") from None
     if not isinstance(record, dict) or not {"config", "files", "runs_missing"} <= set(record):
         raise ValueError(f"{path}: not a dataset record (expected config, files and runs_missing)")
-    return record
+    return upgrade_dataset(record, path)
 
 
-#: ``run`` keys added after datasets were exported, with the value those datasets were made with
-#: (the contact springs taken explicitly by pair granular, the block-Jacobi solve).
+#: The format :func:`export_dataset` writes.
+DATASET_FORMAT = 2
+#: ``run`` keys added after format-1 datasets were exported, with the value those datasets were
+#: made with (the contact springs taken explicitly by pair granular, the block-Jacobi solve).
 KEYS_BEFORE_RECORDED = {"contact_springs": "explicit", "preconditioner": "jacobi"}
+
+
+def upgrade_dataset(record: dict, source: str | Path = "dataset record") -> dict:
+    """A dataset record in the current format (:data:`DATASET_FORMAT`). Format 1 (no ``format`` key)
+    lacked the ``run`` keys of :data:`KEYS_BEFORE_RECORDED` where they did not exist yet, and held
+    fits in fits format 1 (:func:`suspension_fabric.models.fits_file.upgrade_fits`); a format this
+    package does not know is an error naming ``source``."""
+    version = record.get("format", 1)
+    if version == DATASET_FORMAT:
+        return record
+    if version != 1:
+        raise ValueError(f"{source}: dataset format {version!r} is not one this package reads (1 or {DATASET_FORMAT})")
+    config = {**record["config"], "run": {**KEYS_BEFORE_RECORDED, **record["config"]["run"]}}
+    fits = record.get("fits")
+    return {
+        **record,
+        "format": DATASET_FORMAT,
+        "config": config,
+        "fits": None if fits is None else upgrade_fits(fits, f"{source}: fits"),
+    }
 
 
 def _what_was_simulated(config: dict) -> dict:
     """The config keys that decide the runs and their fabric tables (config.simulation_settings,
-    the strains, the particles, seeds, angles and eps); steady window and models may differ.
-    A dataset's config without a key of KEYS_BEFORE_RECORDED was made with its value there."""
-    config = {**config, "run": {**KEYS_BEFORE_RECORDED, **config["run"]}}
+    the strains, the particles, seeds, angles and eps); steady window and models may differ."""
     settings = simulation_settings(config)
     return {
         "seeds": config["seeds"],
@@ -349,7 +375,7 @@ def load(path: str | Path) -> Loaded:
         config, fits, verdicts = record["config"], record.get("fits"), None
     elif (folder / "tables" / "startup_runs.csv").is_file() and (folder / "fits.json").is_file():
         tables = folder / "tables"
-        fits = json.loads((folder / "fits.json").read_text())
+        fits = read_fits(folder / "fits.json")
         stress = None
         if (tables / "stress_startup_runs.csv").is_file():
             stress = tuple(read_stress_csv(tables / f"stress_{kind}_runs.csv") for kind in ("startup", "rotation"))

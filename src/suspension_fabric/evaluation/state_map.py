@@ -81,6 +81,28 @@ def steady_state_drift(runs: pd.DataFrame, quantity: str, window, steady_value: 
     return {"mean": interval.mean, "low": interval.low, "high": interval.high, "verdict": verdict}
 
 
+def _model_columns(role: str, entry: dict) -> dict:
+    """A compared model's columns: ``<role>_model`` (its label), ``<role>_<parameter>`` with its
+    jackknife error ``_err``, and ``<role>_A_over_beta`` for a model with parameters A and beta
+    (first-order error of the ratio, their leave-one-out correlation included)."""
+    parameters, errors = entry["parameters"], entry["errors"]
+    out = {f"{role}_model": entry["label"]}
+    for name, value in parameters.items():
+        out[f"{role}_{name}"], out[f"{role}_{name}_err"] = value, errors.get(name)
+    if {"A", "beta"} <= set(parameters):
+        ratio = parameters["A"] / parameters["beta"]
+        relative = [_relative(errors.get(name), parameters[name]) for name in ("A", "beta")]
+        rho = entry.get("correlations", {}).get("beta,A") or 0.0
+        variance = relative[0] ** 2 + relative[1] ** 2 - 2 * rho * relative[0] * relative[1]
+        out[f"{role}_A_over_beta"] = ratio
+        out[f"{role}_A_over_beta_err"] = abs(ratio) * np.sqrt(max(variance, 0.0))
+    return out
+
+
+def _relative(error, value) -> float:
+    return np.nan if error is None else error / value
+
+
 def point_row(
     point: str,
     study: dict,
@@ -93,8 +115,9 @@ def point_row(
     level: float = LEVEL,
 ) -> dict:
     """One campaign point as a row of the map table: its state and engine, every steady
-    quantity with its standard error, the fits with their jackknife errors, the steady-state
-    check, and each claim's seed-mean statistic with its interval and verdict."""
+    quantity with its standard error, the fits of the two models its claims compare (the
+    study's verdicts.models, by role: :func:`_model_columns`) with their jackknife errors, the
+    steady-state check, and each claim's seed-mean statistic with its interval and verdict."""
     row = {
         "point": point,
         "phi": study["particles"]["phi"],
@@ -110,17 +133,8 @@ def point_row(
         for quantity in quantities:
             row[quantity] = float(indexed.loc[quantity, "mean"])
             row[f"{quantity}_sem"] = float(indexed.loc[quantity, "sem_between_seeds"])
-    row["gw_beta"], row["gw_beta_err"] = fits["gw"]["beta"], fits["gw"]["beta_err"]
-    for name in ("beta", "A"):
-        row[f"modified_{name}"], row[f"modified_{name}_err"] = fits["modified"][name], fits["modified"][f"{name}_err"]
-    ratio = np.asarray([fits["modified"]["A"], fits["modified"]["beta"]])
-    row["modified_A_over_beta"] = ratio[0] / ratio[1]
-    # first-order error of a ratio, the correlation of the two fitted parameters included
-    rel_a, rel_b = fits["modified"]["A_err"] / ratio[0], fits["modified"]["beta_err"] / ratio[1]
-    rho = fits["modified"].get("beta_A_correlation", 0.0) or 0.0
-    row["modified_A_over_beta_err"] = abs(row["modified_A_over_beta"]) * np.sqrt(
-        max(rel_a**2 + rel_b**2 - 2 * rho * rel_a * rel_b, 0.0)
-    )
+    for role in ("reference", "challenger"):
+        row.update(_model_columns(role, fits["models"][study["verdicts"]["models"][role]]))
     window = study["analysis"]["steady_window"]
     checks = {"n12": (startup_runs, row["n12"]), "eta_r": (stress_runs, row["eta_r"])}
     verdicts_steady = []

@@ -36,9 +36,9 @@ from scipy.optimize import minimize, minimize_scalar
 
 from suspension_fabric.analysis.seed_statistics import LEVEL, jackknife, t_interval
 from suspension_fabric.analysis.tables import read_fabric_table
+from suspension_fabric.models.stress_relations import RelationError, StressRelation, coefficients, relation_stress
 
 from .model_benchmark import angle_folds, angle_mask, by_seed
-from .stress_relations import RelationError, StressRelation, coefficients, relation_stress
 
 __all__ = [
     "StressCurves",
@@ -271,7 +271,7 @@ def held_out_scores(relation: StressRelation, curves: StressCurves, folds: int) 
 
 
 def relation_leaderboard(
-    relations: dict, curves: StressCurves, folds: int, reference: str = "gw", level: float = LEVEL
+    relations: dict, curves: StressCurves, folds: int, *, reference: str, level: float = LEVEL
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
     """The stress-relation leaderboard (one row per relation, mode and scored quantity: in-sample
     and, for eta_r after rotation, held-out mean square errors and signed biases with t-intervals

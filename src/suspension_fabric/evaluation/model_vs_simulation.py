@@ -6,31 +6,28 @@ Inputs are the seed-aggregated simulation tables of :mod:`suspension_fabric.anal
 the current shear (rotated frame (e1', e2, e3') after a rotation by theta).
 
 Protocol of the model predictions (paper Sec. 4)
-    Both models start from the simulated seed-mean fabric at strain 0 of startup
-    shear (the random packing is not contact-free), are sheared to the startup
-    strain of the simulations, then rotated by theta and sheared again. G-W uses the
-    beta fitted to the steady <nn>_12; the modified model the (beta, A) fitted to
-    the steady <nn>_11 and <nn>_12 (paper Sec. 4.1).
+    Every model of the config (models.fabric) starts from the simulated seed-mean fabric at
+    strain 0 of startup shear (the random packing is not contact-free), is sheared to the startup
+    strain of the simulations, then rotated by theta and sheared again, with the parameters
+    fitted to the steady components it names (its ``steady_targets``: <nn>_12 for G-W, <nn>_11
+    and <nn>_12 for the modified model, as in the paper's Sec. 4.1).
 
 Fit uncertainties (:func:`fit_steady_state`)
     Fit uncertainties are a jackknife over seeds of the whole fit: the steady state is
     recomputed from the per-seed startup runs with each seed left out in turn
-    (:func:`suspension_fabric.analysis.tables.steady_state`), both models are fitted to it
-    (:func:`fit_both_models`), and the standard error is
+    (:func:`suspension_fabric.analysis.tables.steady_state`), every model is fitted to it, and
+    the standard error is
     sqrt((n - 1)/n sum_i (p_i - p_mean)^2) over the n leave-one-out parameters
     (:func:`suspension_fabric.analysis.seed_statistics.jackknife`; NaN, written null, for one seed).
     It includes the covariance of the steady <nn>_11 and <nn>_12 across seeds (strongly
     negative in the simulations) and the seed-to-seed scatter. The linear propagation
     of the targets' standard errors, which ignores that covariance
-    (:func:`propagated_fit_errors`), is kept alongside as ``*_err_propagated``.
+    (:func:`propagated_fit_errors`), is kept alongside as ``errors_propagated``.
 """
 
 from __future__ import annotations
 
-import json
-import os
 import warnings
-from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
@@ -39,20 +36,15 @@ import pandas as pd
 from suspension_fabric.analysis import tables
 from suspension_fabric.analysis.fabric import COMPONENTS
 from suspension_fabric.analysis.seed_statistics import jackknife
-
-from . import fabric_models
-from . import gillissen_wilson as model
+from suspension_fabric.models import fabric_models
+from suspension_fabric.models.fits_file import FITS_FORMAT
 
 __all__ = [
     "fit_steady_state",
     "error_sizes",
-    "fit_both_models",
     "fit_listed_models",
     "propagated_fit_errors",
-    "FittedParameters",
     "FIT_ERRORS",
-    "write_fits",
-    "read_fits",
     "initial_fabric",
     "predict",
     "PredictionGrids",
@@ -60,32 +52,17 @@ __all__ = [
     "predict_on_simulation_grids",
     "fitted_models",
     "model_labels",
-    "PAPER_MODELS",
     "model_errors",
     "summarise_errors",
     "error_tables",
-    "MODEL_NAMES",
 ]
-
-#: The paper's two models (its claims compare them), by key.
-PAPER_MODELS = {"gw": fabric_models.GW, "modified": fabric_models.MODIFIED}
-
-#: Model keys used in tables and fits.json, with their display names.
-MODEL_NAMES = {"gw": "G-W (Eq. 1)", "modified": "modified G-W (Eq. 2)"}
 
 #: fits.json's ``fit_errors``: what its parameter errors are.
 FIT_ERRORS = (
-    "jackknife over seeds of the whole fit (leave one seed out); *_propagated: linear propagation "
-    "of the targets' standard errors, ignoring their covariance"
+    "errors: jackknife over seeds of the whole fit (leave one seed out); errors_propagated: linear "
+    "propagation of the targets' standard errors, ignoring their covariance; correlations: of the "
+    "leave-one-out parameters"
 )
-
-
-class FittedParameters(NamedTuple):
-    """The three fitted parameters (or their errors): G-W beta, modified beta and A."""
-
-    gw_beta: float
-    beta: float
-    A: float
 
 
 def _steady_value(steady: pd.DataFrame, quantity: str, theta: float = 0.0):
@@ -94,16 +71,6 @@ def _steady_value(steady: pd.DataFrame, quantity: str, theta: float = 0.0):
         raise ValueError(f"steady-state table has {len(rows)} rows for {quantity} at theta={theta}, expected 1")
     row = rows.iloc[0]
     return float(row["mean"]), float(row["sem"])
-
-
-def fit_both_models(steady: pd.DataFrame, phi: float) -> FittedParameters:
-    """Both models fitted to the startup (theta = 0) steady state of a steady-state table:
-    G-W beta to <nn>_12, modified (beta, A) to <nn>_11 and <nn>_12 (the one fit of the
-    steady state, used for all seeds and for each leave-one-out subset)."""
-    n11, _ = _steady_value(steady, "n11")
-    n12, _ = _steady_value(steady, "n12")
-    modified = model.fit_modified(n11, n12, phi)
-    return FittedParameters(model.fit_gw(n12, phi), modified.beta, modified.A)
 
 
 def _propagated(func, values, errors):
@@ -124,15 +91,19 @@ def _propagated(func, values, errors):
     return np.sqrt(total)
 
 
-def propagated_fit_errors(steady: pd.DataFrame, phi: float) -> FittedParameters:
-    """1-sigma errors of :func:`fit_both_models` by linear propagation of the standard errors of
-    the targets (finite-difference Jacobian of the fits), ignoring the covariance of <nn>_11 and
-    <nn>_12; NaN where a target +- sigma/10 leaves the fittable range."""
-    n11, n11_err = _steady_value(steady, "n11")
-    n12, n12_err = _steady_value(steady, "n12")
-    gw_err = _propagated(lambda a: model.fit_gw(a, phi), [n12], [n12_err])[0]
-    mod_err = _propagated(lambda a, b: np.array(model.fit_modified(a, b, phi)), [n11, n12], [n11_err, n12_err])
-    return FittedParameters(float(gw_err), float(mod_err[0]), float(mod_err[1]))
+def propagated_fit_errors(fabric_model, steady: pd.DataFrame, phi: float) -> dict[str, float]:
+    """1-sigma errors of a model's steady fit by linear propagation of the standard errors of its
+    targets (finite-difference Jacobian of :func:`suspension_fabric.models.fabric_models.fit_steady`),
+    ignoring their covariance; NaN where a target +- sigma/10 leaves the fittable range."""
+    components = fabric_model.steady_targets
+    means, sems = zip(*(_steady_value(steady, f"n{c}") for c in components))
+    others = _steady_targets(steady)
+
+    def fitted(*values):
+        parameters = fabric_models.fit_steady(fabric_model, {**others, **dict(zip(components, values))}, phi)
+        return np.array([parameters[name] for name in fabric_model.names])
+
+    return dict(zip(fabric_model.names, map(float, _propagated(fitted, list(means), list(sems)))))
 
 
 def _startup_seeds(runs: pd.DataFrame) -> tuple[pd.DataFrame, list[int]]:
@@ -177,39 +148,23 @@ def _subset_steady(startup: pd.DataFrame, strain_min, strain_max):
     return steady_of
 
 
-def _jackknife_errors(steady_of, seeds, phi):
-    """Jackknife standard errors of :func:`fit_both_models` over seeds and the correlation of the
-    leave-one-out modified beta and A (NaN for fewer than 3 seeds). A leave-one-out fit that fails
-    (a target outside the fittable range) gives NaN errors, with a warning naming the seed."""
-    fitted = {}
-
-    def parameters(subset) -> np.ndarray:
-        key = tuple(subset)
-        if key not in fitted:
-            steady = steady_of(key)
-            try:
-                fitted[key] = np.array(fit_both_models(steady, phi), dtype=float)
-            except ValueError as error:
-                left_out = sorted(set(seeds) - set(key))
-                warnings.warn(
-                    f"fit without seed(s) {left_out} failed ({error}); its jackknife errors are NaN", stacklevel=3
-                )
-                fitted[key] = np.full(3, np.nan)
-        return fitted[key]
-
-    errors = FittedParameters(*(jackknife(lambda subset, k=k: parameters(subset)[k], seeds)[1] for k in range(3)))
-    correlation = np.nan
-    if len(seeds) >= 3:
-        leave_one_out = np.array([parameters([s for s in seeds if s != left]) for left in seeds])
-        beta, A = leave_one_out[:, 1], leave_one_out[:, 2]
-        if np.all(np.isfinite(leave_one_out)) and beta.std() > 0.0 and A.std() > 0.0:
-            correlation = float(np.corrcoef(beta, A)[0, 1])
-    return errors, correlation
-
-
 def _steady_targets(steady: pd.DataFrame) -> dict[str, float]:
     """Every steady component (a model fits its ``steady_targets``; the others may break ties)."""
     return {name[1:]: _steady_value(steady, name)[0] for name in COMPONENTS}
+
+
+def _correlations(leave_one_out: list[dict], names: list[str]) -> dict[str, float]:
+    """{"a,b": r} of the leave-one-out values of every pair of parameters (NaN for fewer than 3
+    subsets, a failed subset or a parameter that does not vary)."""
+    values = np.array([[fit.get(name, np.nan) for name in names] for fit in leave_one_out], dtype=float)
+    values = values.reshape(-1, len(names))
+    out = {}
+    for i, first in enumerate(names):
+        for j in range(i + 1, len(names)):
+            x, y = values[:, i], values[:, j]
+            usable = len(values) >= 3 and np.all(np.isfinite(values)) and x.std() > 0.0 and y.std() > 0.0
+            out[f"{first},{names[j]}"] = float(np.corrcoef(x, y)[0, 1]) if usable else np.nan
+    return out
 
 
 def fit_listed_models(
@@ -223,10 +178,13 @@ def fit_listed_models(
     steady_of=None,
 ) -> dict:
     """Every model of ``models`` ({key: FabricModel}) fitted to the steady components it names
-    (``steady_targets``; :func:`suspension_fabric.models.fabric_models.fit_steady`), with jackknife
-    standard errors over seeds of the whole fit (NaN, with a warning naming the seed, where a
-    leave-one-out fit fails); a failing fit to all seeds raises ``ValueError`` naming the model.
-    ``steady_of`` (subset of seeds -> steady table) shares leave-one-out tables with other fits."""
+    (``steady_targets``; :func:`suspension_fabric.models.fabric_models.fit_steady`), as fits.json's
+    ``models`` entries: label, fitted_to, parameters, their jackknife standard errors over seeds of
+    the whole fit (NaN, with a warning naming the seed, where a leave-one-out fit fails), their
+    propagated errors (:func:`propagated_fit_errors`), the correlations of the leave-one-out
+    parameters (NaN for fewer than 3 seeds) and the model's own steady state. A failing fit to all
+    seeds raises ``ValueError`` naming the model. ``steady_of`` (subset of seeds -> steady table)
+    shares the leave-one-out tables between models."""
     steady_of = steady_of or _subset_steady(startup, strain_min, strain_max)
     entries = {}
     for key, fabric_model in models.items():
@@ -253,11 +211,14 @@ def fit_listed_models(
         errors = {
             name: jackknife(lambda subset, name=name: parameter(subset, name), seeds)[1] for name in fabric_model.names
         }
+        leave_one_out = [subsets.get(tuple(x for x in seeds if x != left), {}) for left in seeds]
         entries[key] = {
             "label": fabric_model.label,
             "fitted_to": [f"n{c}" for c in fabric_model.steady_targets],
             "parameters": fitted,
             "errors": errors,
+            "errors_propagated": propagated_fit_errors(fabric_model, steady, phi),
+            "correlations": _correlations(leave_one_out, list(fabric_model.names)),
             "steady_state": _as_components(fabric_models.steady_state(fabric_model, fitted, phi)),
         }
     return entries
@@ -269,94 +230,40 @@ def fit_steady_state(
     runs: pd.DataFrame,
     strain_min: float,
     strain_max: float,
-    models: dict | None = None,
+    models: dict,
 ) -> dict:
-    """Fit both models to the startup (theta = 0) steady state; returns the fits.json content.
+    """Every model of ``models`` ({key: FabricModel}, the config's models.fabric) fitted to the
+    startup (theta = 0) steady state; returns the fits.json content
+    (:mod:`suspension_fabric.models.fits_file`, format 2).
 
     ``steady`` is :func:`suspension_fabric.analysis.tables.steady_state` of the per-seed startup run
     table ``runs`` (columns seed, theta, ..., strain, n11 ... n23, Z; startup_runs.csv) over
-    strain_min <= strain <= strain_max (checked: window, seeds and the fitted <nn>_11,
-    <nn>_12). ``gw.beta`` from <nn>_12, ``modified.beta`` and ``modified.A`` from <nn>_11 and
-    <nn>_12 (:func:`fit_both_models`). Their ``*_err`` are jackknife standard errors over seeds
-    of the whole fit (null for one seed), ``*_err_propagated`` the linear propagation of the
-    targets' standard errors (:func:`propagated_fit_errors`), and ``modified.beta_A_correlation``
-    the correlation of the leave-one-out beta and A (null for fewer than 3 seeds). ``targets``
-    holds every steady component with its error; ``fit_errors`` says what the errors are.
-    ``models`` holds the same steady fit of every model of ``models`` ({key: FabricModel}; default
-    the paper's two) by the generic interface (:func:`fit_listed_models`): the predictions and
-    model errors read it, the paper's claims the ``gw`` and ``modified`` entries above.
+    strain_min <= strain <= strain_max (checked: window, seeds and the steady <nn>_11, <nn>_12).
+    ``targets`` holds every steady component with its error, ``models`` each model's entry
+    (:func:`fit_listed_models`), ``fit_errors`` says what the errors are.
     """
     startup, seeds = _startup_seeds(runs)
     _check_steady_matches_runs(steady, startup, seeds, strain_min, strain_max)
-    fitted = fit_both_models(steady, phi)
-    propagated = propagated_fit_errors(steady, phi)
-    steady_of = _subset_steady(startup, strain_min, strain_max)
-    jackknifed, correlation = _jackknife_errors(steady_of, seeds, phi)
     targets = {}
     for quantity in (*COMPONENTS, "Z"):
         mean, sem = _steady_value(steady, quantity)
         targets[quantity] = {"mean": mean, "sem": sem}
     window = steady[np.isclose(steady["theta"], 0.0)].iloc[0]
     return {
+        "format": FITS_FORMAT,
         "phi": float(phi),
         "steady_window": [float(window["strain_min"]), float(window["strain_max"])],
         "n_seeds": int(window["n_seeds"]),
         "fit_errors": FIT_ERRORS,
         "targets": targets,
-        "gw": {
-            "beta": fitted.gw_beta,
-            "beta_err": jackknifed.gw_beta,
-            "beta_err_propagated": propagated.gw_beta,
-            "fitted_to": ["n12"],
-        },
-        "modified": {
-            "beta": fitted.beta,
-            "beta_err": jackknifed.beta,
-            "beta_err_propagated": propagated.beta,
-            "A": fitted.A,
-            "A_err": jackknifed.A,
-            "A_err_propagated": propagated.A,
-            "beta_A_correlation": correlation,
-            "fitted_to": ["n11", "n12"],
-        },
-        "model_steady_state": {
-            "gw": _as_components(model.steady_state_ode(fitted.gw_beta, None, phi)),
-            "modified": _as_components(model.steady_state_ode(fitted.beta, fitted.A, phi)),
-        },
         "models": fit_listed_models(
-            steady,
-            startup,
-            seeds,
-            strain_min,
-            strain_max,
-            phi,
-            models if models is not None else PAPER_MODELS,
-            steady_of,
+            steady, startup, seeds, strain_min, strain_max, phi, models, _subset_steady(startup, strain_min, strain_max)
         ),
     }
 
 
 def _as_components(tensor) -> dict:
     return {name: float(tensor[i, j]) for name, (i, j) in COMPONENTS.items()}
-
-
-def write_fits(fits: dict, path: str | os.PathLike) -> Path:
-    """Write fits as indented JSON (NaN errors become null)."""
-    path = Path(path)
-    text = json.dumps(fits, indent=2, sort_keys=False, allow_nan=True).replace("NaN", "null")
-    path.write_text(text + "\n")
-    return path
-
-
-def read_fits(path: str | os.PathLike) -> dict:
-    path = Path(path)
-    if not path.is_file():
-        raise FileNotFoundError(f"fits file not found: {path}")
-    fits = json.loads(path.read_text())
-    for key in ("phi", "gw", "modified"):
-        if key not in fits:
-            raise ValueError(f"{path}: missing key {key!r}")
-    return fits
 
 
 def initial_fabric(startup_aggregate: pd.DataFrame) -> np.ndarray:
@@ -373,9 +280,9 @@ def initial_fabric(startup_aggregate: pd.DataFrame) -> np.ndarray:
 
 def model_labels(fits: dict, keys=None) -> dict[str, str]:
     """{key: display name} for ``keys`` (default every model of fits.json's ``models``): the label
-    fits.json records, else the paper's name (:data:`MODEL_NAMES`), else the key."""
-    keys = fits.get("models", {}) if keys is None else keys
-    return {key: fits.get("models", {}).get(key, {}).get("label", MODEL_NAMES.get(key, key)) for key in keys}
+    fits.json records, else the key."""
+    keys = fits["models"] if keys is None else keys
+    return {key: fits["models"].get(key, {}).get("label", key) for key in keys}
 
 
 def fitted_models(fits: dict, models: dict) -> dict:
@@ -555,26 +462,30 @@ def error_sizes(difference) -> dict:
     }
 
 
-def summarise_errors(errors: pd.DataFrame) -> pd.DataFrame:
-    """Angle-averaged rms error per protocol and component for every model, and the paper's ratio.
+def summarise_errors(errors: pd.DataFrame, ratio: tuple[str, str] | None = None) -> pd.DataFrame:
+    """Angle-averaged rms error per protocol and component for every model.
 
     One row per (protocol, component): rms_<model> (means over angles of :func:`model_errors`'
-    rms_error) for each model, and gw_over_modified (> 1: the modified model is closer to the
-    simulation) when both of the paper's models are present.
+    rms_error) for each model, and, for ``ratio`` = (a, b) with both models present,
+    ``<a>_over_<b>`` = rms_a / rms_b (> 1: b is closer to the simulation).
     """
     mean = errors.groupby(["protocol", "component", "model"], sort=False)["rms_error"].mean().unstack("model")
     keys = list(dict.fromkeys(errors["model"]))
     summary = pd.DataFrame({f"rms_{key}": mean[key] for key in keys})
-    if {"gw", "modified"} <= set(keys):
-        summary["gw_over_modified"] = mean["gw"] / mean["modified"]
+    if ratio is not None and set(ratio) <= set(keys):
+        summary[f"{ratio[0]}_over_{ratio[1]}"] = mean[ratio[0]] / mean[ratio[1]]
     return summary.reset_index()
 
 
 def error_tables(
-    fits: dict, predictions: pd.DataFrame, startup_aggregate: pd.DataFrame, rotation_aggregate: pd.DataFrame
+    fits: dict,
+    predictions: pd.DataFrame,
+    startup_aggregate: pd.DataFrame,
+    rotation_aggregate: pd.DataFrame,
+    ratio: tuple[str, str] | None = None,
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
     """:func:`model_errors` of startup shear and of the rotations (normalised by the fitted
-    steady <nn>_12 of ``fits``), concatenated, and their :func:`summarise_errors`."""
+    steady <nn>_12 of ``fits``), concatenated, and their :func:`summarise_errors` (with ``ratio``)."""
     n12_ss = fits["targets"]["n12"]["mean"]
     errors = pd.concat(
         [
@@ -583,4 +494,4 @@ def error_tables(
         ],
         ignore_index=True,
     )
-    return errors, summarise_errors(errors)
+    return errors, summarise_errors(errors, ratio)

@@ -1,6 +1,10 @@
 """The paper's steady-state claims, and descriptive tables of the shear-rotation transients.
 
-The shear-rotation claims are decided per seed in :mod:`suspension_fabric.reporting.claims`
+Both compare the two models of the config's ``verdicts.models``
+(:class:`suspension_fabric.evaluation.claims.Compared`: the reference, the paper's G-W, and the
+challenger, the paper's modified model); tables name them by role.
+
+The shear-rotation claims are decided per seed in :mod:`suspension_fabric.evaluation.claims`
 (docs/verdict_statistics.md); this module keeps
 
 - the steady-state claims, decided from ``fits.json`` (the fitted parameters, the simulated
@@ -8,7 +12,7 @@ The shear-rotation claims are decided per seed in :mod:`suspension_fabric.report
   "refuted" beyond 2 standard errors on the paper's side / the other side, else "undecided";
 - description, on which no verdict rests: per angle, the recovery strain (first strain after
   which a seed-mean curve stays inside a 10% band), the rms errors of the models and their ratio,
-  and the modified model's overshoot with the simulation around it, each with a seed-bootstrap
+  and the challenger's overshoot with the simulation around it, each with a seed-bootstrap
   percentile interval (:func:`suspension_fabric.analysis.seed_statistics.seed_bootstrap_of_mean`).
 
 Inputs: the per-seed rotation table (``rotation_runs.csv``: one row per seed, angle and strain,
@@ -35,8 +39,9 @@ import pandas as pd
 from suspension_fabric.analysis.seed_statistics import CONFIRMED, LEVEL, REFUTED, UNDECIDED, seed_bootstrap_of_mean
 from suspension_fabric.analysis.tables import TOLERANCE, settle_strain
 
+from .claims import ROLES, Compared
+
 __all__ = [
-    "PAPER",
     "recovery_table",
     "rms_error_table",
     "overshoot_table",
@@ -44,10 +49,6 @@ __all__ = [
     "verdict_table",
     "descriptive_tables",
 ]
-
-# the paper's fitted parameters (its Sec. 3)
-PAPER = {"gw_beta": 10.9, "modified_beta": 9.4, "modified_A": 42.4}
-MODELS = ("gw", "modified")
 
 
 def _verdict(value: float, error: float, paper_sign: int) -> str:
@@ -110,12 +111,18 @@ def _ratio_curves(runs: pd.DataFrame, theta: float, n12_ss: float) -> tuple[np.n
 
 
 def recovery_table(
-    runs: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float, tolerance: float = TOLERANCE, level: float = LEVEL
+    runs: pd.DataFrame,
+    predictions: pd.DataFrame,
+    n12_ss: float,
+    compared: dict[str, str],
+    tolerance: float = TOLERANCE,
+    level: float = LEVEL,
 ) -> pd.DataFrame:
     """Recovery strains of <nn>'_12 (steady and theta = 0 baselines) and <nn>'_23 per angle:
     simulation (seed-mean curve, with ``_low``/``_high`` its seed-bootstrap interval) and both
-    models; ``*_settled`` is False where the curve never settles within the run (then its last
-    strain is given). Description only: a first-crossing strain decides nothing."""
+    models of ``compared`` ({role: model key}), by role; ``*_settled`` is False where the curve
+    never settles within the run (then its last strain is given). Description only: a
+    first-crossing strain decides nothing."""
     rows = []
     for theta in sorted(runs["theta"].unique()):
         strain, deviations = _ratio_curves(runs, theta, n12_ss)
@@ -123,39 +130,42 @@ def recovery_table(
         for key, per_seed in deviations.items():
             _bootstrap(row, f"sim_{key}", lambda mean: settle_strain(strain, mean, tolerance)[0], per_seed, level)
             row[f"sim_{key}_settled"] = settle_strain(strain, np.mean(list(per_seed.values()), axis=0), tolerance)[1]
-        for model in MODELS:
+        for role, model in compared.items():
             series = _model_series(predictions, model, theta)
             model_strain = series["strain"].to_numpy()
             for key, deviation in (
                 ("steady", series["n12"].to_numpy() / n12_ss - 1.0),
                 ("n23", series["n23"].to_numpy() / n12_ss),
             ):
-                row[f"{model}_{key}"], row[f"{model}_{key}_settled"] = settle_strain(model_strain, deviation, tolerance)
+                row[f"{role}_{key}"], row[f"{role}_{key}_settled"] = settle_strain(model_strain, deviation, tolerance)
         rows.append(row)
     return pd.DataFrame(rows)
 
 
-def rms_error_table(runs: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float, level: float = LEVEL) -> pd.DataFrame:
-    """Per angle and component (12, 23): rms |model - seed mean| / |n12_ss| of each model, and the
-    ratio G-W / modified, with seed-bootstrap intervals (``_low``, ``_high``). Description only:
+def rms_error_table(
+    runs: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float, compared: dict[str, str], level: float = LEVEL
+) -> pd.DataFrame:
+    """Per angle and component (12, 23): rms |model - seed mean| / |n12_ss| of each model of
+    ``compared`` ({role: model key}), by role, and the ratio reference / challenger, with
+    seed-bootstrap intervals (``_low``, ``_high``). Description only:
     each rms carries the seed-noise floor (claims.py compares the models by paired differences)."""
     rows = []
     for theta in sorted(runs["theta"].unique()):
         for column in ("n12", "n23"):
             strain, curves = _curves(runs, theta, column)
-            models = {model: _model_on(strain, predictions, model, theta, column) for model in MODELS}
+            models = {role: _model_on(strain, predictions, model, theta, column) for role, model in compared.items()}
 
-            def rms(model, means):  # one value per resampled seed-mean curve (rows of means)
-                return np.sqrt(np.mean((models[model] - means) ** 2, axis=-1)) / abs(n12_ss)
+            def rms(role, means):  # one value per resampled seed-mean curve (rows of means)
+                return np.sqrt(np.mean((models[role] - means) ** 2, axis=-1)) / abs(n12_ss)
 
             row = {"theta": theta, "component": column}
-            for model in MODELS:
-                _bootstrap(row, f"{model}_rms", lambda means, m=model: rms(m, means), curves, level, vectorized=True)
+            for role in ROLES:
+                _bootstrap(row, f"{role}_rms", lambda means, r=role: rms(r, means), curves, level, vectorized=True)
             with np.errstate(divide="ignore", invalid="ignore"):  # both models exact: no ratio (nan)
                 _bootstrap(
                     row,
                     "ratio",
-                    lambda means: rms("gw", means) / rms("modified", means),
+                    lambda means: rms("reference", means) / rms("challenger", means),
                     curves,
                     level,
                     vectorized=True,
@@ -165,20 +175,26 @@ def rms_error_table(runs: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float
 
 
 def overshoot_table(
-    runs: pd.DataFrame, predictions: pd.DataFrame, n12_ss: float, half_window: float = 0.25, level: float = LEVEL
+    runs: pd.DataFrame,
+    predictions: pd.DataFrame,
+    n12_ss: float,
+    compared: dict[str, str],
+    half_window: float = 0.25,
+    level: float = LEVEL,
 ) -> pd.DataFrame:
-    """Per angle: each model's largest <nn>'_12 / n12_ss - 1 and the strain where it occurs; the
-    simulation's mean of <nn>'_12 / baseline - 1 over that strain +- ``half_window`` (seed-mean
+    """Per angle: each compared model's largest <nn>'_12 / n12_ss - 1 and the strain where it
+    occurs (by role); the simulation's mean of <nn>'_12 / baseline - 1 over the strain of the
+    challenger's largest value +- ``half_window`` (seed-mean
     curve, seed-bootstrap interval; steady and theta = 0 baselines). Description only."""
     rows = []
     for theta in sorted(runs["theta"].unique()):
         strain, deviations = _ratio_curves(runs, theta, n12_ss)
         row = {"theta": theta}
-        for model in MODELS:
+        for role, model in compared.items():
             series = _model_series(predictions, model, theta)
             ratio = series["n12"].to_numpy() / n12_ss - 1.0
-            row[model], row[f"{model}_strain"] = float(ratio.max()), float(series["strain"].to_numpy()[ratio.argmax()])
-        peak = row["modified_strain"]
+            row[role], row[f"{role}_strain"] = float(ratio.max()), float(series["strain"].to_numpy()[ratio.argmax()])
+        peak = row["challenger_strain"]
         window = (strain >= peak - half_window) & (strain <= peak + half_window)
         for key in ("steady", "continuation"):
             per_seed = deviations[key]
@@ -199,56 +215,62 @@ def _claim(text: str, number: str, value: float, error: float, verdict: str, cri
     }
 
 
-def steady_state_verdicts(fits: dict) -> list[dict]:
+def _fitted_to(entry: dict) -> str:
+    return ", ".join(f"<nn>_{name[1:]}" for name in entry["fitted_to"])
+
+
+def steady_state_verdicts(fits: dict, compared: Compared) -> list[dict]:
     """The paper's steady-state claims from fits.json (simulated targets with their errors and
-    each model's own steady state)."""
-    targets, model_ss = fits["targets"], fits["model_steady_state"]
+    each model's own steady state): each compared model's fitted parameters against the ones its
+    source printed (where it has them), the reference's diagonal, the challenger's <nn>_22 and
+    <nn>_33."""
+    targets = fits["targets"]
+    entries = {role: fits["models"][model.key] for role, model in compared.by_role.items()}
     rows = [
         _claim(
-            f"{label} (paper {name} ~ {PAPER[f'{model}_{name}']:g})",
-            f"{model.replace('gw', 'G-W')} {name}",
-            fits[model][name],
-            fits[model][f"{name}_err"],
+            f"{model.label} fitted on {_fitted_to(entries[role])} (paper {name} ~ {published:g})",
+            f"{model.label} {name}",
+            entries[role]["parameters"][name],
+            entries[role]["errors"][name],
             "",
-            f"fitted value +- 2 jackknife errors over seeds; paper {PAPER[f'{model}_{name}']:g}",
+            f"fitted value +- 2 jackknife errors over seeds; paper {published:g}",
         )
-        for model, name, label in (
-            ("gw", "beta", "G-W fitted on <nn>_12"),
-            ("modified", "beta", "modified fitted on <nn>_11, <nn>_12"),
-            ("modified", "A", "modified fitted on <nn>_11, <nn>_12"),
-        )
+        for role, model in compared.by_role.items()
+        for name, published in (model.published or {}).items()
     ]
-    differences = {c: (model_ss["gw"][c] - targets[c]["mean"], targets[c]["sem"]) for c in ("n11", "n22", "n33")}
+    reference, challenger = (entries[role]["steady_state"] for role in ROLES)
+    differences = {c: (reference[c] - targets[c]["mean"], targets[c]["sem"]) for c in ("n11", "n22", "n33")}
     worst = max(differences.values(), key=lambda d: d[0] / d[1])  # the least negative in sigma
     verdicts = {_verdict(d, s, -1) for d, s in differences.values()}
     verdict = CONFIRMED if verdicts == {CONFIRMED} else REFUTED if REFUTED in verdicts else UNDECIDED
+    name = {role: model.label for role, model in compared.by_role.items()}
     rows.append(
         _claim(
-            "G-W underestimates the diagonal components",
-            "largest of G-W - simulation over <nn>_11, _22, _33",
+            f"{name['reference']} underestimates the diagonal components",
+            f"largest of {name['reference']} - simulation over <nn>_11, _22, _33",
             worst[0],
             worst[1],
             verdict,
             "confirmed if all three lie below the simulation by > 2 sem",
         )
     )
-    d22, s22 = model_ss["modified"]["n22"] - targets["n22"]["mean"], targets["n22"]["sem"]
+    d22, s22 = challenger["n22"] - targets["n22"]["mean"], targets["n22"]["sem"]
     relative = abs(d22) / abs(targets["n22"]["mean"])
     rows.append(
         _claim(
-            "modified captures <nn>_22",
-            "modified - simulation, <nn>_22",
+            f"{name['challenger']} captures <nn>_22",
+            f"{name['challenger']} - simulation, <nn>_22",
             d22,
             s22,
             CONFIRMED if relative <= TOLERANCE else REFUTED,
             f"confirmed if within {TOLERANCE:.0%} of the simulation (here {relative:.1%}; {abs(d22) / s22:.0f} sem)",
         )
     )
-    d33, s33 = model_ss["modified"]["n33"] - targets["n33"]["mean"], targets["n33"]["sem"]
+    d33, s33 = challenger["n33"] - targets["n33"]["mean"], targets["n33"]["sem"]
     rows.append(
         _claim(
-            "modified overestimates <nn>_33",
-            "modified - simulation, <nn>_33",
+            f"{name['challenger']} overestimates <nn>_33",
+            f"{name['challenger']} - simulation, <nn>_33",
             d33,
             s33,
             _verdict(d33, s33, +1),
@@ -258,11 +280,11 @@ def steady_state_verdicts(fits: dict) -> list[dict]:
     return [{"claim": f"S{k}", **row} for k, row in enumerate(rows, start=1)]
 
 
-def verdict_table(fits: dict, rotation_claims: pd.DataFrame) -> pd.DataFrame:
+def verdict_table(fits: dict, rotation_claims: pd.DataFrame, compared: Compared) -> pd.DataFrame:
     """The steady-state claims (S1-S6, +- 2 errors) and the shear-rotation claims decided per seed
-    (:func:`suspension_fabric.reporting.claims.claim_table`), in one table: claim, text, statistic, angles,
+    (:func:`suspension_fabric.evaluation.claims.claim_table`), in one table: claim, text, statistic, angles,
     mean, low, high, level, verdict, seeds_needed, criterion."""
-    steady = pd.DataFrame(steady_state_verdicts(fits)).assign(angles="", level=np.nan, seeds_needed=np.nan)
+    steady = pd.DataFrame(steady_state_verdicts(fits, compared)).assign(angles="", level=np.nan, seeds_needed=np.nan)
     rotation = rotation_claims.assign(
         criterion=[
             f"confirmed if the {level:.0%} t-interval over {n} seeds lies above 0, refuted if below"
@@ -286,12 +308,14 @@ def verdict_table(fits: dict, rotation_claims: pd.DataFrame) -> pd.DataFrame:
 
 
 def descriptive_tables(
-    fits: dict, runs: pd.DataFrame, predictions: pd.DataFrame, level: float = LEVEL
+    fits: dict, runs: pd.DataFrame, predictions: pd.DataFrame, compared: Compared, level: float = LEVEL
 ) -> dict[str, pd.DataFrame]:
-    """The recovery, rms-error and overshoot tables (description; no verdict rests on them)."""
+    """The recovery, rms-error and overshoot tables of the ``compared`` models (description; no
+    verdict rests on them)."""
     n12_ss = fits["targets"]["n12"]["mean"]
+    keys = {role: model.key for role, model in compared.by_role.items()}
     return {
-        "recovery": recovery_table(runs, predictions, n12_ss, level=level),
-        "rms": rms_error_table(runs, predictions, n12_ss, level=level),
-        "overshoot": overshoot_table(runs, predictions, n12_ss, level=level),
+        "recovery": recovery_table(runs, predictions, n12_ss, keys, level=level),
+        "rms": rms_error_table(runs, predictions, n12_ss, keys, level=level),
+        "overshoot": overshoot_table(runs, predictions, n12_ss, keys, level=level),
     }

@@ -3,20 +3,25 @@
 Every seed is a replicate of the whole study (:func:`seed_replicate`): its own steady state
 (<nn>_12^ss,s normalises its curves), its own model fits and its own model predictions. The
 functionals of the curves (:func:`deficit`, :func:`transverse_effect`, :func:`overshoot_excess`,
-:func:`suspension_fabric.models.model_benchmark.mean_square`) are computed per seed and angle
+:func:`suspension_fabric.evaluation.model_benchmark.mean_square`) are computed per seed and angle
 (:func:`angle_statistics`); each claim
 (:data:`CLAIMS`) turns them into a decision statistic T per seed and angle whose sign is the
 claim, effect size included (:func:`claim_values`); a claim's T per seed is the mean over its
 angles within the seed, and the seeds give the t-interval and the verdict
 (:mod:`suspension_fabric.analysis.seed_statistics`).
 
+The claims compare two fabric models (:class:`Compared`, the config's ``verdicts.models``): the
+*reference* (the paper's G-W) and the *challenger* (the paper's modified model). Tables name the
+two by role (``D12_reference``, ``MSE12_challenger``, ...) and record which models filled them.
+
 Choices (:class:`Choice`, :func:`study_choices`): the models' state at the rotation ("own":
 their own startup state, rotated; "simulated": the seed's simulated fabric at the rotation;
-"steady": their own steady state, rotated), the strain window W, the fit ("steady": steady
-<nn>_12 for G-W, <nn>_11 and <nn>_12 for the modified model, as in the paper; "startup": least
-squares on the seed's whole startup curve of the same components; "paper": the paper's printed
-values, beta 10.9 and (9.4, 42.4)) and the baseline of the
-<nn>'_12 deficit ("steady": 1; "continuation": the same seed's theta = 0 curve).
+"steady": their own steady state, rotated), the strain window W, the fit ("steady": each model's
+steady components, <nn>_12 for G-W, <nn>_11 and <nn>_12 for the modified model, as in the paper;
+"startup": least squares on the seed's whole startup curve of the same components; "paper": the
+parameters the models' source printed, beta 10.9 and (9.4, 42.4) for the paper's models, left out
+when a compared model has none) and the baseline of the <nn>'_12 deficit ("steady": 1;
+"continuation": the same seed's theta = 0 curve).
 
 Tables are tidy: ``angle_statistics`` has one row per (seed, theta) with the quantities of the
 simulation and of both models; ``claim_values`` one row per (claim, seed, theta) with T.
@@ -31,16 +36,17 @@ import numpy as np
 import pandas as pd
 
 from suspension_fabric.analysis import tables
+from suspension_fabric.analysis.fabric import COMPONENTS
 from suspension_fabric.analysis.frames import rotation_about_gradient, simple_shear_gradient, to_basis
 from suspension_fabric.analysis.seed_statistics import LEVEL, decide, seeds_needed, t_interval
 from suspension_fabric.analysis.tables import fabric_tensors
-from suspension_fabric.models import gillissen_wilson as model
-from suspension_fabric.models.model_benchmark import mean_square
-from suspension_fabric.models.model_vs_simulation import fit_both_models
-
-from .verdicts import PAPER
+from suspension_fabric.evaluation.model_benchmark import mean_square
+from suspension_fabric.models import fabric_models
+from suspension_fabric.models.fabric_models import FabricModel
 
 __all__ = [
+    "Compared",
+    "ROLES",
     "Choice",
     "study_choices",
     "Claim",
@@ -55,6 +61,7 @@ __all__ = [
     "claim_values",
     "claim_angles",
     "range_interval",
+    "claim_text",
     "claim_table",
     "per_angle_table",
     "range_edge_table",
@@ -62,13 +69,37 @@ __all__ = [
     "choices_table",
 ]
 
-MODELS = ("gw", "modified")
+#: The two models' roles in the claims, in the order of :class:`Compared`.
+ROLES = ("reference", "challenger")
 STATES = ("own", "simulated", "steady")
 FITS = ("steady", "startup", "paper")
 BASELINES = ("steady", "continuation")
 #: Effect sizes, named before looking (docs/verdict_statistics.md, Sec. 3).
 EFFECT = {"factor": 1.25, "mse_reduction": 0.2, "overshoot_share": 0.25, "overshoot_margin": 0.05}
 _ANGLE_TOL = 1e-9
+#: r12 must exceed its baseline by more than this to count as inside the overshoot window.
+OVERSHOOT_FLOOR = 1e-9
+
+
+class Compared(NamedTuple):
+    """The two fabric models the claims compare (config ``verdicts.models``)."""
+
+    reference: FabricModel
+    challenger: FabricModel
+
+    @classmethod
+    def from_specs(cls, specs: dict[str, str]) -> Compared:
+        """From {role: config entry} (the entries of models.fabric that verdicts.models names)."""
+        return cls(*(fabric_models.load_model(specs[role]) for role in ROLES))
+
+    @property
+    def by_role(self) -> dict[str, FabricModel]:
+        return dict(zip(ROLES, self))
+
+    @property
+    def labels(self) -> dict[str, str]:
+        """{role: the model's label}, for the claims' texts."""
+        return {role: model.label for role, model in self.by_role.items()}
 
 
 # ----------------------------------------------------------------------------- choices
@@ -90,10 +121,11 @@ class Choice:
             raise ValueError(f"Choice.window must be positive, got {self.window}")
 
 
-def study_choices(window: float, rotation_strain: float) -> list[Choice]:
+def study_choices(window: float, rotation_strain: float, published: bool = True) -> list[Choice]:
     """The primary choice, then one change at a time (docs/verdict_statistics.md, Sec. 6): the
     models' state (simulated, steady), the window (1; and 3 when the runs reach it), the fit on the
-    startup curve or the paper's printed parameters, the theta = 0 continuation baseline."""
+    startup curve or (``published``: both compared models have printed parameters) the printed
+    parameters, the theta = 0 continuation baseline."""
     primary = Choice("primary", window)
     choices = [
         primary,
@@ -107,7 +139,7 @@ def study_choices(window: float, rotation_strain: float) -> list[Choice]:
     ]
     choices += [
         replace(primary, name="fit: startup curve", fit="startup"),
-        replace(primary, name="fit: paper's values", fit="paper"),
+        *([replace(primary, name="fit: paper's values", fit="paper")] if published else []),
         replace(primary, name="baseline: theta = 0", baseline="continuation"),
     ]
     return choices
@@ -116,7 +148,8 @@ def study_choices(window: float, rotation_strain: float) -> list[Choice]:
 # ----------------------------------------------------------------------------- replicates
 class SeedReplicate(NamedTuple):
     """One seed's curves after the rotation, normalised by its own <nn>_12^ss: ``sim`` and
-    ``models[m]`` map "r12", "r23" to arrays (angles, strains); ``params[m]`` = (beta, A)."""
+    ``models[role]`` map "r12", "r23" to arrays (angles, strains); ``params[role]`` is the
+    model's {name: value}."""
 
     seed: int
     n12_ss: float
@@ -127,26 +160,36 @@ class SeedReplicate(NamedTuple):
     models: dict
 
 
-def _fit(startup: pd.DataFrame, steady: pd.DataFrame, phi: float, fabric0: np.ndarray, how: str) -> dict:
-    """Each model's (beta, A) for one seed (``steady``: its steady-state table) under the fit choice."""
-    if how == "paper":
-        return {"gw": (PAPER["gw_beta"], None), "modified": (PAPER["modified_beta"], PAPER["modified_A"])}
-    fitted = fit_both_models(steady, phi)
-    if how == "steady":
-        return {"gw": (fitted.gw_beta, None), "modified": (fitted.beta, fitted.A)}
-    strains = startup["strain"].to_numpy(dtype=float)
-    n11, n12 = startup["n11"].to_numpy(dtype=float), startup["n12"].to_numpy(dtype=float)
-    gw = model.fit_startup_curve(strains, {"12": n12}, phi, fabric0, free_A=False, start=(fitted.gw_beta, None))
-    mod = model.fit_startup_curve(
-        strains, {"11": n11, "12": n12}, phi, fabric0, free_A=True, start=(fitted.beta, fitted.A)
-    )
-    return {"gw": (gw.beta, None), "modified": (mod.beta, mod.A)}
+def _fit(startup: pd.DataFrame, steady: pd.DataFrame, phi: float, fabric0, how: str, compared: Compared) -> dict:
+    """Each compared model's parameters for one seed (``steady``: its steady-state table) under the
+    fit choice, by role."""
+    out = {}
+    for role, fabric_model in compared.by_role.items():
+        if how == "paper":
+            if fabric_model.published is None:
+                raise ValueError(f"model {fabric_model.key} has no published parameters for the fit choice 'paper'")
+            out[role] = fabric_model.check(fabric_model.published)
+            continue
+        targets = {name[1:]: float(steady.loc[steady["quantity"] == name, "mean"].iloc[0]) for name in COMPONENTS}
+        fitted = fabric_models.fit_steady(fabric_model, targets, phi)
+        if how == "startup":
+            strains = startup["strain"].to_numpy(dtype=float)
+            observed = {c: startup[f"n{c}"].to_numpy(dtype=float) for c in fabric_model.steady_targets}
+            fitted = fabric_models.fit_startup_curve(fabric_model, strains, observed, phi, fabric0, fitted)
+        out[role] = fitted
+    return out
 
 
 def seed_replicate(
-    startup: pd.DataFrame, rotation: pd.DataFrame, phi: float, steady_window, startup_strain: float, choice: Choice
+    startup: pd.DataFrame,
+    rotation: pd.DataFrame,
+    phi: float,
+    steady_window,
+    startup_strain: float,
+    choice: Choice,
+    compared: Compared,
 ) -> SeedReplicate:
-    """One seed's simulated and predicted post-rotation curves under ``choice``.
+    """One seed's simulated and the ``compared`` models' post-rotation curves under ``choice``.
 
     ``startup`` and ``rotation`` are that seed's rows of the startup and rotation run tables
     (:mod:`suspension_fabric.analysis.tables`); every angle must share the post-rotation strains, which
@@ -161,7 +204,7 @@ def seed_replicate(
     steady = tables.steady_state(startup, *steady_window)
     n12_ss = float(steady.loc[steady["quantity"] == "n12", "mean"].iloc[0])
     fabric0 = fabric_tensors(startup.iloc[0])
-    params = _fit(startup, steady, phi, fabric0, choice.fit)
+    params = _fit(startup, steady, phi, fabric0, choice.fit, compared)
 
     thetas = np.array(sorted(rotation["theta"].unique()), dtype=float)
     curves, strain = {}, None
@@ -187,18 +230,24 @@ def seed_replicate(
     sim = {"r12": simulated[..., 0, 1] / n12_ss, "r23": simulated[..., 1, 2] / n12_ss}
 
     models = {}
-    for key in MODELS:
-        beta, A = params[key]
+    for role, fabric_model in compared.by_role.items():
         if choice.state == "own":
-            predicted = model.shear_rotation(np.radians(thetas), strain, beta, A, phi, startup_strain, fabric0)
+            predicted = fabric_models.shear_rotation(
+                fabric_model, np.radians(thetas), strain, params[role], phi, startup_strain, fabric0
+            )
         else:
             before = (
                 simulated[:, 0]
                 if choice.state == "simulated"
-                else to_basis(model.steady_state_ode(beta, A, phi), rotation_about_gradient(np.radians(thetas)))
+                else to_basis(
+                    fabric_models.steady_state(fabric_model, params[role], phi),
+                    rotation_about_gradient(np.radians(thetas)),
+                )
             )
-            predicted = model.integrate_fabric(before, simple_shear_gradient(), strain, beta, A, phi)
-        models[key] = {"r12": predicted[..., 0, 1] / n12_ss, "r23": predicted[..., 1, 2] / n12_ss}
+            predicted = fabric_models.integrate(
+                fabric_model, before, simple_shear_gradient(), strain, params[role], phi
+            )
+        models[role] = {"r12": predicted[..., 0, 1] / n12_ss, "r23": predicted[..., 1, 2] / n12_ss}
     return SeedReplicate(seed, n12_ss, params, thetas, strain, sim, models)
 
 
@@ -227,8 +276,8 @@ def overshoot_excess(r12, strain, inside, baseline=None) -> np.ndarray:
 
 
 def angle_statistics(replicates: list[SeedReplicate], choice: Choice) -> pd.DataFrame:
-    """Per (seed, theta): D12, E23, X12 of the simulation and both models, the models' mean-square
-    errors on r12 and r23, the modified model's overshoot max(r12) - 1, and the noise floors
+    """Per (seed, theta): D12, E23, X12 of the simulation and both models (by role), the models'
+    mean-square errors on r12 and r23, the challenger's overshoot max(r12) - 1, and the noise floors
     ``s2_12``, ``s2_23`` (between-seed variance of the simulated curve, ddof 1, averaged over the
     strains of (0, W]; the same for every seed of an angle; 0 for a single seed, whose interval is
     infinite anyway)."""
@@ -253,18 +302,19 @@ def angle_statistics(replicates: list[SeedReplicate], choice: Choice) -> pd.Data
     rows = []
     for rep in replicates:
         curves = {"sim": rep.sim, **rep.models}
-        window = rep.models["modified"]["r12"]
+        window = rep.models["challenger"]["r12"]
         window_base = base(window)
-        inside = window > (1.0 if window_base is None else window_base)
+        # a model at its own steady state (theta = 0, state "steady") has r12 = 1 to round-off: no window
+        inside = window > (1.0 if window_base is None else window_base) + OVERSHOOT_FLOOR
         values = {"seed": rep.seed, "theta": thetas}
         for source, c in curves.items():
             values[f"D12_{source}"] = deficit(c["r12"], strain, base(c["r12"]))
             values[f"E23_{source}"] = transverse_effect(c["r23"], strain, thetas)
             values[f"X12_{source}"] = overshoot_excess(c["r12"], strain, inside, base(c["r12"]))
-        for key in MODELS:
+        for role in ROLES:
             for comp in ("12", "23"):
-                values[f"MSE{comp}_{key}"] = mean_square(rep.models[key][f"r{comp}"], rep.sim[f"r{comp}"], strain)
-        values["O12_modified"] = window.max(axis=-1) - 1.0
+                values[f"MSE{comp}_{role}"] = mean_square(rep.models[role][f"r{comp}"], rep.sim[f"r{comp}"], strain)
+        values["O12_challenger"] = window.max(axis=-1) - 1.0
         values["s2_12"], values["s2_23"] = s2["12"], s2["23"]
         values["n12_ss"] = rep.n12_ss
         rows.append(pd.DataFrame(values))
@@ -286,49 +336,75 @@ class Claim(NamedTuple):
         f, share, cut = EFFECT["factor"], 1.0 - EFFECT["mse_reduction"], EFFECT["mse_reduction"]
         s = stats
         formulas = {
-            "C1": lambda: s["D12_gw"] - f * s["D12_sim"],
-            "C2": lambda: s["E23_sim"] - f * s["E23_gw"],
-            "C3": lambda: share * s["MSE12_gw"] - s["MSE12_modified"] + cut * s["s2_12"],
-            "C4": lambda: share * s["MSE23_gw"] - s["MSE23_modified"] + cut * s["s2_23"],
-            "C5": lambda: s["O12_modified"] - EFFECT["overshoot_margin"],
-            "C6": lambda: EFFECT["overshoot_share"] * s["X12_modified"] - s["X12_sim"],
+            "C1": lambda: s["D12_reference"] - f * s["D12_sim"],
+            "C2": lambda: s["E23_sim"] - f * s["E23_reference"],
+            "C3": lambda: share * s["MSE12_reference"] - s["MSE12_challenger"] + cut * s["s2_12"],
+            "C4": lambda: share * s["MSE23_reference"] - s["MSE23_challenger"] + cut * s["s2_23"],
+            "C5": lambda: s["O12_challenger"] - EFFECT["overshoot_margin"],
+            "C6": lambda: EFFECT["overshoot_share"] * s["X12_challenger"] - s["X12_sim"],
         }
         return formulas[self.statistic]().to_numpy(dtype=float)
 
 
+#: The paper's claims; {reference} and {challenger} stand for the compared models' labels
+#: (G-W and the modified model in the paper).
 CLAIMS: tuple[Claim, ...] = (
     Claim(
         "C1",
-        "G-W overestimates the effect of a rotation on <nn>_12 for pi/4 <~ |theta| <~ 3pi/4",
+        "{reference} overestimates the effect of a rotation on <nn>_12 for pi/4 <~ |theta| <~ 3pi/4",
         (45.0, 135.0),
         False,
         "C1",
     ),
     Claim(
         "C2",
-        "G-W underestimates the effect on <nn>_23 for pi/2 <~ |theta| <~ pi (recovers much faster)",
+        "{reference} underestimates the effect on <nn>_23 for pi/2 <~ |theta| <~ pi (recovers much faster)",
         (90.0, 180.0),
         True,
         "C2",
     ),
     Claim(
-        "C3", "modified significantly better than G-W on <nn>'_12 at intermediate angles", (45.0, 135.0), False, "C3"
+        "C3",
+        "{challenger} significantly better than {reference} on <nn>'_12 at intermediate angles",
+        (45.0, 135.0),
+        False,
+        "C3",
     ),
-    Claim("C4", "modified significantly better than G-W on <nn>'_23 at large angles", (90.0, 180.0), True, "C4"),
-    Claim("C3'", "modified significantly better than G-W on <nn>'_12 over all angles", (0.0, 180.0), False, "C3"),
-    Claim("C4'", "modified significantly better than G-W on <nn>'_23 over all angles", (0.0, 180.0), True, "C4"),
-    Claim("C5", "the modified model overshoots <nn>_12 near pi/2", (75.0, 105.0), False, "C5"),
+    Claim(
+        "C4",
+        "{challenger} significantly better than {reference} on <nn>'_23 at large angles",
+        (90.0, 180.0),
+        True,
+        "C4",
+    ),
+    Claim(
+        "C3'",
+        "{challenger} significantly better than {reference} on <nn>'_12 over all angles",
+        (0.0, 180.0),
+        False,
+        "C3",
+    ),
+    Claim(
+        "C4'",
+        "{challenger} significantly better than {reference} on <nn>'_23 over all angles",
+        (0.0, 180.0),
+        True,
+        "C4",
+    ),
+    Claim("C5", "{challenger} overshoots <nn>_12 near pi/2", (75.0, 105.0), False, "C5"),
     Claim("C6", "... and the simulations do not", (75.0, 105.0), False, "C6"),
 )
-#: What T is, per statistic (for the tables).
+#: What T is, per statistic (for the tables; ref: the reference model, chal: the challenger).
 DECISION_STATISTIC = {
-    "C1": "D12(G-W) - 1.25 D12(sim)",
-    "C2": "E23(sim) - 1.25 E23(G-W)",
-    "C3": "0.8 (MSE12 G-W - s2) - (MSE12 mod - s2)",
-    "C4": "0.8 (MSE23 G-W - s2) - (MSE23 mod - s2)",
-    "C5": "max r12(mod) - 1 - 0.05",
-    "C6": "0.25 X12(mod) - X12(sim)",
+    "C1": "D12(ref) - 1.25 D12(sim)",
+    "C2": "E23(sim) - 1.25 E23(ref)",
+    "C3": "0.8 (MSE12 ref - s2) - (MSE12 chal - s2)",
+    "C4": "0.8 (MSE23 ref - s2) - (MSE23 chal - s2)",
+    "C5": "max r12(chal) - 1 - 0.05",
+    "C6": "0.25 X12(chal) - X12(sim)",
 }
+#: Role names of the claims' texts when no labels are given.
+ROLE_TEXT = {"reference": "the reference model", "challenger": "the challenger model"}
 
 
 def _symmetric(thetas) -> np.ndarray:
@@ -413,9 +489,14 @@ def _angle_text(thetas) -> str:
     return ", ".join(f"{t:g}" for t in thetas) if len(thetas) else "none"
 
 
-def claim_table(values: pd.DataFrame, level: float = LEVEL) -> pd.DataFrame:
-    """One row per claim: its angles, T's mean and interval over seeds, the verdict and, if
-    undecided, the seeds that would decide it."""
+def claim_text(claim: Claim, labels: dict[str, str] | None = None) -> str:
+    """The claim's text with the compared models' ``labels`` ({role: label}; default the roles)."""
+    return claim.text.format(**(labels or ROLE_TEXT))
+
+
+def claim_table(values: pd.DataFrame, level: float = LEVEL, labels: dict[str, str] | None = None) -> pd.DataFrame:
+    """One row per claim: its text (models named by ``labels``, :func:`claim_text`), angles, T's
+    mean and interval over seeds, the verdict and, if undecided, the seeds that would decide it."""
     thetas, tables = values["theta"].unique(), _seed_by_angle(values)
     rows = []
     for claim in CLAIMS:
@@ -424,7 +505,7 @@ def claim_table(values: pd.DataFrame, level: float = LEVEL) -> pd.DataFrame:
             _row(
                 range_interval(values, claim.key, inside, level, tables),
                 claim=claim.key,
-                text=claim.text,
+                text=claim_text(claim, labels),
                 statistic=DECISION_STATISTIC[claim.statistic],
                 angles=_angle_text(inside),
                 level=level,
@@ -437,12 +518,12 @@ def per_angle_table(values: pd.DataFrame, stats: pd.DataFrame, level: float = LE
     """T per claim and angle with its interval and verdict, with the seed means of the
     underlying quantities (simulation and models) for reading."""
     quantities = {
-        "C1": ("D12", ("sim", *MODELS)),
-        "C2": ("E23", ("sim", *MODELS)),
-        "C3": ("MSE12", MODELS),
-        "C4": ("MSE23", MODELS),
-        "C5": ("O12", ("modified",)),
-        "C6": ("X12", ("sim", *MODELS)),
+        "C1": ("D12", ("sim", *ROLES)),
+        "C2": ("E23", ("sim", *ROLES)),
+        "C3": ("MSE12", ROLES),
+        "C4": ("MSE23", ROLES),
+        "C5": ("O12", ("challenger",)),
+        "C6": ("X12", ("sim", *ROLES)),
     }
     means = stats.groupby("theta").mean(numeric_only=True)
     tables = _seed_by_angle(values)
@@ -509,8 +590,11 @@ def study_claim_values(
     steady_window,
     startup_strain: float,
     choice: Choice,
+    compared: Compared,
 ) -> tuple[pd.DataFrame, pd.DataFrame, pd.DataFrame]:
-    """A study's per-angle statistics, T values and fitted parameters per seed under ``choice``."""
+    """A study's per-angle statistics, T values and the compared models' parameters per seed
+    (columns ``<role>_<parameter>``) under ``choice``; the statistics and the parameters name the
+    models (``reference``, ``challenger``: their keys; the statistics' ``<role>_label``: labels)."""
     seeds = sorted(set(startup_runs["seed"]))
     missing = sorted(set(seeds) ^ set(rotation_runs["seed"]))
     if missing:
@@ -523,31 +607,35 @@ def study_claim_values(
             steady_window,
             startup_strain,
             choice,
+            compared,
         )
         for s in seeds
     ]
     stats = angle_statistics(replicates, choice)
+    keys = {role: model.key for role, model in compared.by_role.items()}
+    labels = {f"{role}_label": label for role, label in compared.labels.items()}
     params = pd.DataFrame(
         [
             {
                 "seed": r.seed,
                 "n12_ss": r.n12_ss,
-                "gw_beta": r.params["gw"][0],
-                "modified_beta": r.params["modified"][0],
-                "modified_A": r.params["modified"][1],
+                **{f"{role}_{name}": value for role in ROLES for name, value in r.params[role].items()},
+                **keys,
             }
             for r in replicates
         ]
     )
-    return stats, claim_values(stats), params
+    return stats.assign(**keys, **labels), claim_values(stats), params
 
 
-def choices_table(values_by_choice: dict[str, pd.DataFrame], level: float = LEVEL) -> pd.DataFrame:
+def choices_table(
+    values_by_choice: dict[str, pd.DataFrame], level: float = LEVEL, labels: dict[str, str] | None = None
+) -> pd.DataFrame:
     """Claims by rows, choices by columns (long format: one row per claim and choice) and a
     ``robust`` column per claim: the verdict if every choice gives it, else the choices that differ."""
     rows = []
     for choice, values in values_by_choice.items():
-        for row in claim_table(values, level).to_dict("records"):
+        for row in claim_table(values, level, labels).to_dict("records"):
             rows.append({"choice": choice, **row})
     table = pd.DataFrame(rows)
     robust = {}
@@ -569,24 +657,27 @@ def evaluate_study(
     startup_strain: float,
     rotation_strain: float,
     window: float,
+    compared: Compared,
 ) -> dict[str, pd.DataFrame]:
     """Every choice of :func:`study_choices` on one study: ``statistics`` (per seed and angle),
     ``values`` (T per claim, seed and angle) and ``fits`` (per-seed parameters), each with a
-    ``choice`` column. The theta = 0 baseline is left out when the study has no theta = 0 run."""
+    ``choice`` column. The theta = 0 baseline is left out when the study has no theta = 0 run,
+    the published parameters when a compared model has none."""
     has_zero = bool(np.any(np.abs(rotation_runs["theta"].to_numpy(dtype=float)) < _ANGLE_TOL))
+    published = all(model.published is not None for model in compared)
     out = {"statistics": [], "values": [], "fits": []}
-    for choice in study_choices(window, rotation_strain):
+    for choice in study_choices(window, rotation_strain, published):
         if choice.baseline == "continuation" and not has_zero:
             continue
-        results = study_claim_values(startup_runs, rotation_runs, phi, steady_window, startup_strain, choice)
+        results = study_claim_values(startup_runs, rotation_runs, phi, steady_window, startup_strain, choice, compared)
         for key, table in zip(("statistics", "values", "fits"), results):
             out[key].append(table.assign(choice=choice.name))
     return {key: pd.concat(blocks, ignore_index=True) for key, blocks in out.items()}
 
 
-def evaluate_dataset(folder, window: float) -> pd.DataFrame:
+def evaluate_dataset(folder, window: float, compared: Compared) -> pd.DataFrame:
     """T per claim, seed and angle of a reference dataset under the primary choices (its own phi,
-    steady window and startup strain; ``window`` after the rotation)."""
+    steady window and startup strain; ``window`` after the rotation), comparing ``compared``."""
     from suspension_fabric.study.dataset import read_fabric_runs  # the dataset module needs the simulation stack
 
     record, startup, rotation = read_fabric_runs(folder)
@@ -603,5 +694,6 @@ def evaluate_dataset(folder, window: float) -> pd.DataFrame:
         config["analysis"]["steady_window"],
         config["run"]["startup_strain"],
         Choice("primary", window),
+        compared,
     )
     return values

@@ -36,8 +36,7 @@ from scipy.optimize import least_squares
 from suspension_fabric.analysis.fabric import COMPONENTS
 from suspension_fabric.analysis.seed_statistics import LEVEL, jackknife, t_interval
 from suspension_fabric.analysis.tables import fabric_tensors
-
-from . import fabric_models
+from suspension_fabric.models import fabric_models
 
 __all__ = [
     "by_seed",
@@ -261,7 +260,8 @@ def leaderboard(
     phi: float,
     startup_strain: float,
     folds: int,
-    reference: str = "gw",
+    *,
+    reference: str,
     level: float = LEVEL,
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
     """The leaderboard (one row per model, fitting mode and component: in-sample and held-out

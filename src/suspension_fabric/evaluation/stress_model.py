@@ -44,13 +44,14 @@ import pandas as pd
 from suspension_fabric.analysis.fabric import COMPONENTS
 from suspension_fabric.analysis.seed_statistics import LEVEL, bootstrap_means, t_interval
 from suspension_fabric.analysis.tables import TOLERANCE, fabric_tensors, settle_strain, steady_state
+from suspension_fabric.models import stress_relations as relations
+from suspension_fabric.models.stress_relations import relation_terms
 
-from . import stress_relations as relations
 from .model_vs_simulation import error_sizes
-from .stress_relations import relation_terms
 
 __all__ = [
-    "SOURCES",
+    "SIMULATED",
+    "source_labels",
     "PREDICTED_COLUMNS",
     "relation_terms",
     "steady_value",
@@ -67,8 +68,8 @@ __all__ = [
     "moving_average",
 ]
 
-#: Fabric sources of the stress relation, with display names.
-SOURCES = {"simulation": "simulated <nn>", "gw": "G-W fabric (Eq. 1)", "modified": "modified G-W fabric (Eq. 2)"}
+#: The fabric source that is the simulation's own <nn> (the others are the models of fits.json).
+SIMULATED = "simulation"
 #: Quantities a prediction gives, each in units of eta_f gammadot.
 PREDICTED_COLUMNS = relations.STRESS_QUANTITIES
 
@@ -101,9 +102,14 @@ def source_steady_fabrics(fits: dict) -> dict[str, np.ndarray]:
     model of fits.json's ``models`` (models.fabric)."""
     simulated = fabric_tensors({name: value["mean"] for name, value in fits["targets"].items() if name in COMPONENTS})
     return {
-        "simulation": simulated,
+        SIMULATED: simulated,
         **{key: fabric_tensors(entry["steady_state"]) for key, entry in fits["models"].items()},
     }
+
+
+def source_labels(fits: dict) -> dict[str, str]:
+    """{source: display name} of the fabric sources of :func:`source_steady_fabrics`."""
+    return {SIMULATED: "simulated <nn>", **{key: f"{entry['label']} fabric" for key, entry in fits["models"].items()}}
 
 
 def relation_stress(fabric, coefficients: dict, phi: float) -> pd.DataFrame:
@@ -122,10 +128,11 @@ def relation_fits(stress_steady: pd.DataFrame, fits: dict) -> pd.DataFrame:
     con, con_sem = steady_value(stress_steady, "contact_12")
     measured = {name: steady_value(stress_steady, name) for name in ("eta_r", "N1", "N2", "Pi")}
     rows = []
+    labels = source_labels(fits)
     for source, fabric in source_steady_fabrics(fits).items():
         coefficients = fit_relation(fabric, lub, con, lub_sem, con_sem)
         predicted = relation_stress(fabric, coefficients, fits["phi"]).iloc[0]
-        row = {"source": source, **coefficients}
+        row = {"source": source, "label": labels[source], **coefficients}
         for name, (mean, sem) in measured.items():
             row[f"{name}_predicted"] = float(predicted[name])
             row[f"{name}_simulated"] = mean

@@ -2,7 +2,7 @@
 scored per seed on flows none of them was fitted to.
 
 Fabric models. Each model keeps the parameters of its two fitting modes in the rotation benchmark
-(:mod:`suspension_fabric.models.model_benchmark`): ``steady``, fitted on the startup's steady
+(:mod:`suspension_fabric.evaluation.model_benchmark`): ``steady``, fitted on the startup's steady
 state (fits.json), and ``global``, fitted on the startup and every rotation's transient
 (model_parameters.csv). From the seed-mean fabric at rest it predicts <nn> along each protocol
 (:func:`suspension_fabric.models.fabric_models.protocol_fabric`), in the frame of the current
@@ -33,10 +33,10 @@ import pandas as pd
 from suspension_fabric.analysis.fabric import COMPONENTS
 from suspension_fabric.analysis.seed_statistics import LEVEL, t_interval
 from suspension_fabric.io.protocols import Protocol
+from suspension_fabric.models import fabric_models
+from suspension_fabric.models.stress_relations import coefficients, relation_stress
 
-from . import fabric_models
 from .model_benchmark import by_seed
-from .stress_relations import coefficients, relation_stress
 
 __all__ = [
     "ProtocolCurves",
@@ -145,7 +145,8 @@ def fabric_protocol_leaderboard(
     curves: Mapping[str, ProtocolCurves],
     phi: float,
     n12_ss: float,
-    reference: str = "gw",
+    *,
+    reference: str,
     level: float = LEVEL,
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
     """(leaderboard, predictions): one row per model, mode, protocol and component (the six and
@@ -209,7 +210,8 @@ def stress_protocol_leaderboard(
     steady: Mapping[str, float],
     curves: Mapping[str, ProtocolCurves],
     phi: float,
-    reference: str = "gw",
+    *,
+    reference: str,
     level: float = LEVEL,
 ) -> pd.DataFrame:
     """One row per relation, protocol and quantity of :data:`STRESS_SCORED`: the mean square

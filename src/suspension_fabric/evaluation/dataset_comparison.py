@@ -5,7 +5,7 @@ Per seed, statistics linear in the data: the mean of each steady quantity over t
 window of startup shear (fabric <nn>_11, _22, _33, _12 and Z; stress eta_r, N1, N2, Pi where the
 runs recorded it) and, at every rotation angle, the integrated viscosity deficit after the
 rotation V_s(theta) = integral_0^W (1 - eta_r,s / eta_r^ss,s) dgamma
-(:func:`suspension_fabric.models.stress_model.viscosity_deficits`). Per dataset: the seed mean with its
+(:func:`suspension_fabric.evaluation.stress_model.viscosity_deficits`). Per dataset: the seed mean with its
 t-interval; against the study: the difference of the means with Welch's interval (independent
 seeds, unequal spreads), "differs" if it excludes 0, "agrees" otherwise.
 """
@@ -16,7 +16,7 @@ import pandas as pd
 
 from suspension_fabric.analysis.seed_statistics import LEVEL, t_interval, welch_interval
 from suspension_fabric.analysis.stress import DERIVED_COLUMNS
-from suspension_fabric.models.stress_model import seed_steady_viscosity, viscosity_deficits
+from suspension_fabric.evaluation.stress_model import seed_steady_viscosity, viscosity_deficits
 
 __all__ = ["FABRIC_QUANTITIES", "STRESS_QUANTITIES", "per_seed_statistics", "comparison_table"]
 

@@ -1,0 +1,171 @@
+"""Self-contained HTML pages of captioned tables, and the number formats of every report page.
+
+The report of Snakemake 9 shows an HTML result inline (in a frame) but offers a CSV or TSV only as a
+download, so the numbers a reader wants next to the figures are turned into small HTML pages: one
+module per page (``fits_page``, ``steady_state_page``, ``model_errors_page``, ``leaderboard_pages``,
+``verdicts_page``, ``stress_page``, ``map_page``), each a DataFrame of strings with human-readable
+column names written by :func:`write_html_tables`. Uncertain values are written "value ± error"
+(:func:`format_value_error`) or "value [low, high]" (:func:`format_interval`).
+"""
+
+from __future__ import annotations
+
+import html
+import math
+import os
+from pathlib import Path
+
+import pandas as pd
+
+from suspension_fabric.analysis.fabric import COMPONENTS
+
+__all__ = [
+    "MISSING",
+    "PROTOCOL_LABELS",
+    "is_missing",
+    "format_number",
+    "format_value_error",
+    "format_interval",
+    "component_label",
+    "components_label",
+    "write_html_tables",
+]
+
+#: Shown for a value that does not exist (e.g. an error the fit could not propagate).
+MISSING = "—"
+
+
+_SUBSCRIPT = str.maketrans("0123456789", "₀₁₂₃₄₅₆₇₈₉")
+
+
+PROTOCOL_LABELS = {"startup": "startup shear", "rotation": "shear rotation"}
+
+
+def is_missing(x) -> bool:
+    return x is None or (isinstance(x, float) and math.isnan(x))
+
+
+def format_number(value, significant: int = 4) -> str:
+    """``value`` to ``significant`` significant figures (no exponent between 1e-4 and 1e6)."""
+    if is_missing(value):
+        return MISSING
+    value = float(value) + 0.0  # no "-0"
+    if value == 0.0 or not math.isfinite(value):
+        return f"{value:g}"
+    if 1e-4 <= abs(value) < 1e6:
+        decimals = max(significant - 1 - math.floor(math.log10(abs(value))), 0)
+        return f"{value:.{decimals}f}"
+    return f"{value:.{significant - 1}e}"
+
+
+def format_value_error(value, error, error_digits: int = 2) -> str:
+    """Format as "value ± error": the error to ``error_digits`` significant figures and the
+    value rounded to the same decimal place, e.g. (10.7474, 0.18753) -> "10.75 ± 0.19".
+
+    A missing error (None or NaN, as fits.json's null) gives "value ± —", a zero or
+    infinite one "value ± 0" / "value ± inf", with the value to 4 significant figures.
+    Very large or small numbers share one power of ten: "(1.234 ± 0.056)e-9".
+    """
+    if is_missing(value):
+        return MISSING
+    value = float(value)
+    if is_missing(error):
+        return f"{format_number(value)} ± {MISSING}"
+    error = abs(float(error))
+    if error == 0.0 or not math.isfinite(error) or not math.isfinite(value):
+        return f"{format_number(value)} ± {error:g}"
+    exponent = math.floor(math.log10(error))
+    decimals = error_digits - 1 - exponent
+    # rounding may carry into a new digit (0.0996 -> 0.10): recompute on the rounded error
+    rounded = round(error, decimals)
+    if rounded > 0 and math.floor(math.log10(rounded)) > exponent:
+        decimals -= 1
+        rounded = round(error, decimals)
+    if decimals < -4 or decimals > 8:  # very large or very small: one shared power of ten
+        shared = math.floor(math.log10(max(abs(value), rounded)))
+        shown = max(decimals + shared, 0)
+        scale = 10.0**shared
+        return f"({value / scale:.{shown}f} ± {rounded / scale:.{shown}f})e{shared:+d}"
+    shown = max(decimals, 0)
+    return f"{round(value, decimals) + 0.0:.{shown}f} ± {rounded:.{shown}f}"
+
+
+def format_interval(value, low, high, digits: int = 2) -> str:
+    """Format as "value [low, high]", all three rounded to the decimal place of the interval's
+    width to ``digits`` significant figures, e.g. (0.2791, 0.1434, 0.4148) -> "0.28 [0.14, 0.41]".
+    A missing or infinite bound (one seed) gives "value [—]"."""
+    if is_missing(value):
+        return MISSING
+    value = float(value)
+    if is_missing(low) or is_missing(high) or not (math.isfinite(float(low)) and math.isfinite(float(high))):
+        return f"{format_number(value)} [{MISSING}]"
+    low, high = float(low), float(high)
+    width = high - low
+    if width <= 0.0 or not math.isfinite(value):
+        return f"{format_number(value)} [{format_number(low)}, {format_number(high)}]"
+    decimals = max(digits - 1 - math.floor(math.log10(width)), 0)
+    shown = [f"{round(x, decimals) + 0.0:.{decimals}f}" for x in (value, low, high)]
+    return f"{shown[0]} [{shown[1]}, {shown[2]}]"
+
+
+def component_label(name: str) -> str:
+    """Display name of a fabric component or quantity: "n12" -> "⟨nn⟩₁₂", "Z" -> "Z"."""
+    if name in COMPONENTS:
+        return f"⟨nn⟩{name[1:].translate(_SUBSCRIPT)}"
+    return name
+
+
+def components_label(names) -> str:
+    return ", ".join(component_label(n) for n in names)
+
+
+_STYLE = """
+body { font-family: system-ui, -apple-system, "Segoe UI", Roboto, Helvetica, Arial, sans-serif;
+       font-size: 14px; color: #1f2328; margin: 1.5em; }
+h1 { font-size: 1.25em; margin: 0 0 0.8em 0; }
+table { border-collapse: collapse; margin: 0 0 1.8em 0; }
+caption { caption-side: top; text-align: left; font-weight: 600; padding-bottom: 0.5em; max-width: 60em; }
+th, td { padding: 0.3em 0.9em; text-align: left; border-bottom: 1px solid #d0d7de; white-space: nowrap; }
+thead th { border-bottom: 2px solid #57606a; }
+td { font-variant-numeric: tabular-nums; }
+tbody tr:nth-child(even) { background: #f6f8fa; }
+p.note { color: #57606a; max-width: 60em; margin: -1.2em 0 1.8em 0; }
+"""
+
+
+def _table_html(frame: pd.DataFrame, caption: str, note: str | None) -> str:
+    head = "".join(f'<th scope="col">{html.escape(str(c))}</th>' for c in frame.columns)
+    body = "\n".join(
+        "<tr>" + "".join(f"<td>{html.escape(str(v))}</td>" for v in row) + "</tr>"
+        for row in frame.itertuples(index=False, name=None)
+    )
+    text = (
+        f"<table>\n<caption>{html.escape(caption)}</caption>\n<thead><tr>{head}</tr></thead>\n"
+        f"<tbody>\n{body}\n</tbody>\n</table>\n"
+    )
+    if note:
+        text += f'<p class="note">{html.escape(note)}</p>\n'
+    return text
+
+
+def write_html_tables(path: str | os.PathLike, title: str, tables) -> Path:
+    """Write one self-contained HTML page (inline style, UTF-8) with captioned tables.
+
+    ``tables`` is a sequence of ``(caption, DataFrame)`` or ``(caption, DataFrame, note)``;
+    every cell is written as text (HTML-escaped). The file is replaced atomically.
+    """
+    sections = []
+    for entry in tables:
+        caption, frame, note = (*entry, None)[:3]
+        sections.append(_table_html(frame, caption, note))
+    page = (
+        '<!DOCTYPE html>\n<html lang="en">\n<head>\n<meta charset="utf-8">\n'
+        f"<title>{html.escape(title)}</title>\n<style>{_STYLE}</style>\n</head>\n<body>\n"
+        f"<h1>{html.escape(title)}</h1>\n" + "".join(sections) + "</body>\n</html>\n"
+    )
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.tmp")
+    tmp.write_text(page, encoding="utf-8")
+    os.replace(tmp, path)
+    return path
