@@ -7,14 +7,24 @@ import pandas as pd
 import pytest
 
 from suspension_fabric.analysis.fabric import (
+    FOURTH_MOMENT_COMPONENTS,
+    HARMONIC_COLUMNS,
     FabricAnalysis,
+    direction_moments,
     fabric_tensor,
     near_contact_pairs,
     open_dump,
+    real_spherical_harmonics,
 )
 from suspension_fabric.analysis.fabric_reference import brute_force_fabric_tensor, brute_force_near_contacts
 from suspension_fabric.analysis.frames import simulation_to_paper
-from suspension_fabric.analysis.tables import TABLE_COLUMNS, fabric_table, read_fabric_table, write_fabric_table
+from suspension_fabric.analysis.tables import (
+    MOMENT_COLUMNS,
+    TABLE_COLUMNS,
+    fabric_table,
+    read_fabric_table,
+    write_fabric_table,
+)
 from suspension_fabric.io.dumpio import DumpFrame, TriclinicBox, scan_dump, write_lammps_dump
 
 EPS = 0.01
@@ -292,7 +302,7 @@ def test_trajectory_to_table_matches_kernel(tmp_path, columns):
         expected_n_atoms=160,
     ).run()
     table = fabric_table(analysis, seed=3)
-    assert list(table.columns) == list(TABLE_COLUMNS)
+    assert list(table.columns) == [*TABLE_COLUMNS, *MOMENT_COLUMNS]
     assert len(table) == len(frames)
     for row, frame in zip(table.itertuples(), frames):
         fabric, n_pairs = fabric_tensor(frame.positions, frame.radii, frame.box.mdanalysis_dimensions())
@@ -308,8 +318,47 @@ def test_trajectory_to_table_matches_kernel(tmp_path, columns):
     assert table["phi"].iloc[0] == pytest.approx(phi, rel=1e-6)
     assert (table["seed"] == 3).all() and (table["theta"] == 45.0).all() and (table["N"] == 160).all()
     csv = write_fabric_table(table, tmp_path / "run.csv")
-    pd.testing.assert_frame_equal(read_fabric_table(csv), table)
-    pd.testing.assert_frame_equal(pd.read_csv(csv), table)
+    pd.testing.assert_frame_equal(read_fabric_table(csv, moments=True), table, rtol=1e-8, atol=1e-15)
+    pd.testing.assert_frame_equal(read_fabric_table(csv), table[list(TABLE_COLUMNS)])  # exact
+    pd.testing.assert_frame_equal(pd.read_csv(csv), table, rtol=1e-8, atol=1e-15)
+    # a table made before the moments were recorded reads with them empty
+    table[list(TABLE_COLUMNS)].to_csv(tmp_path / "old.csv", index=False)
+    old = read_fabric_table(tmp_path / "old.csv", moments=True)
+    assert list(old.columns) == list(table.columns) and old[list(MOMENT_COLUMNS)].isna().all().all()
+
+
+def test_real_spherical_harmonics_are_orthonormal():
+    """integral over the sphere of Y_lm Y_l'm' = delta for every recorded (l, m): Gauss-Legendre in
+    cos(polar) (24 nodes, exact to degree 47) times the trapezoidal rule in the azimuth (48 points,
+    exact to trigonometric degree 47), exact for these products of degree 12."""
+    cosines, weights = np.polynomial.legendre.leggauss(24)
+    azimuths = np.arange(48) * 2.0 * np.pi / 48
+    sines = np.sqrt(1.0 - cosines**2)
+    normals = np.stack(
+        np.broadcast_arrays(
+            sines[:, None] * np.cos(azimuths)[None, :], sines[:, None] * np.sin(azimuths)[None, :], cosines[:, None]
+        ),
+        axis=-1,
+    ).reshape(-1, 3)
+    values = real_spherical_harmonics(normals)
+    quadrature = (weights[:, None] * np.full(48, 2.0 * np.pi / 48)[None, :]).ravel()
+    gram = values.T @ (quadrature[:, None] * values)
+    np.testing.assert_allclose(gram, np.eye(len(HARMONIC_COLUMNS)), atol=1e-12)
+
+
+def test_direction_moments_of_a_hand_made_configuration():
+    """Three pairs along e1, e2 and (e1 + e3)/sqrt(2), N = 4 particles: <nn> = (1/4) sum n n,
+    <nnnn>_ijkl = (1/4) sum n_i n_j n_k n_l written out per component, and a_00 = (3/4)/sqrt(4 pi)."""
+    s = 1.0 / np.sqrt(2.0)
+    normals = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [s, 0.0, s]])
+    second, fourth, harmonics = direction_moments(normals, 4)
+    np.testing.assert_allclose(second, np.array([[1.5, 0.0, 0.5], [0.0, 1.0, 0.0], [0.5, 0.0, 0.5]]) / 4, atol=1e-15)
+    by_name = dict(zip(FOURTH_MOMENT_COMPONENTS, fourth))
+    assert by_name["n1111"] == pytest.approx((1.0 + 0.25) / 4)
+    assert by_name["n2222"] == pytest.approx(1.0 / 4)
+    assert by_name["n1113"] == by_name["n1133"] == by_name["n1333"] == by_name["n3333"] == pytest.approx(0.25 / 4)
+    assert by_name["n1122"] == by_name["n1222"] == by_name["n2233"] == 0.0
+    assert harmonics[HARMONIC_COLUMNS.index("Y0_0")] == pytest.approx(0.75 / np.sqrt(4.0 * np.pi))
 
 
 # ---- bad input -------------------------------------------------------------------------

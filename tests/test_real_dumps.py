@@ -40,6 +40,7 @@ Tolerances of (B) (float32 round-off, derived, not fitted)
 
 from __future__ import annotations
 
+import itertools
 import re
 import shutil
 
@@ -175,6 +176,7 @@ def reference(positions, radii, box_rows, basis) -> dict:
         "separations": separations,
         "fabric_simulation": normals.T @ normals / n,
         "fabric": paper_normals.T @ paper_normals / n,
+        "paper_normals": paper_normals,
         "n_pairs": len(pairs),
         "volume_fraction": np.sum(4.0 / 3.0 * np.pi * radii**3) / abs(np.linalg.det(box_rows)),
         "delta": delta,
@@ -334,6 +336,43 @@ def test_fabric_analysis_matches_brute_force_in_the_paper_frame(name, analyses, 
         assert ref["volume_fraction"] == pytest.approx(PHI, rel=1e-9)
         # the frame mapping is visible at this tolerance (a wrong one would not pass)
         assert np.abs(ref["fabric"] - ref["fabric_simulation"]).max() > 100 * tol
+
+
+def full_fourth_moment(results, k) -> np.ndarray:
+    """The 3x3x3x3 <nnnn> of frame k from its 15 named components (n1111 ... n3333)."""
+    tensor = np.empty((3, 3, 3, 3))
+    for a, b, c, d in itertools.product(range(3), repeat=4):
+        tensor[a, b, c, d] = results["n" + "".join(str(i + 1) for i in sorted((a, b, c, d)))][k]
+    return tensor
+
+
+@pytest.mark.parametrize("name", list(RUNS))
+def test_fourth_moment_and_harmonics_match_brute_force_in_the_paper_frame(name, analyses, references):
+    """<nnnn>_abcd = (1/N) sum over the brute-force near contacts of (n.e_a)(n.e_b)(n.e_c)(n.e_d), e_a
+    the paper basis of the run's shear written out in this file, within twice the fabric's float32
+    tolerance (|d(n_a n_b n_c n_d)| <= 4 |dn|); the trace identity <nnnn>_abkk = <nn>_ab to round-off;
+    and the spherical-harmonic amplitudes against their polynomials in n (polar axis e3, azimuth
+    from e1): a_00 = (Z/2) / sqrt(4 pi), a_20 = sqrt(5/(16 pi)) (3 <nn>_33 - Tr<nn>),
+    a_2,2 = sqrt(15/(16 pi)) (<nn>_11 - <nn>_22), a_2,-2 = sqrt(15/(4 pi)) <nn>_12,
+    a_40 = (3/16) sqrt(1/pi) (35 <nnnn>_3333 - 30 <nn>_33 + 3 Tr<nn>), each from the brute force."""
+    results, refs = analyses[name], references[name]
+    for k, ref in enumerate(refs):
+        tol = 2.0 * ref["tensor_tol"]
+        n = ref["paper_normals"]
+        brute = np.einsum("pa,pb,pc,pd->abcd", n, n, n, n) / N_PARTICLES
+        fourth = full_fourth_moment(results, k)
+        np.testing.assert_allclose(fourth, brute, rtol=0, atol=tol, err_msg=f"{name} step {ref['step']}")
+        np.testing.assert_allclose(np.einsum("abkk->ab", fourth), results.fabric[k], rtol=0, atol=1e-12)
+        second, trace = ref["fabric"], np.trace(ref["fabric"])
+        expected = {
+            "Y0_0": trace / np.sqrt(4.0 * np.pi),
+            "Y2_0": np.sqrt(5.0 / (16.0 * np.pi)) * (3.0 * second[2, 2] - trace),
+            "Y2_p2": np.sqrt(15.0 / (16.0 * np.pi)) * (second[0, 0] - second[1, 1]),
+            "Y2_m2": np.sqrt(15.0 / (4.0 * np.pi)) * second[0, 1],
+            "Y4_0": 3.0 / 16.0 * np.sqrt(1.0 / np.pi) * (35.0 * brute[2, 2, 2, 2] - 30.0 * second[2, 2] + 3.0 * trace),
+        }
+        for column, value in expected.items():
+            assert results[column][k] == pytest.approx(value, abs=4.0 * tol), (name, ref["step"], column)
 
 
 def test_first_rotated_frame_is_the_last_startup_frame_rotated(startup, rotation, analyses):

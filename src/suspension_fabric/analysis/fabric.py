@@ -10,6 +10,21 @@ Definitions (see the package docstring for the frames)
     number of particles, so that Tr<nn> = n_pairs / N = Z / 2 with Z = 2 n_pairs / N
     the near-contact coordination number.
 
+Fourth moment and direction distribution (:func:`direction_moments`)
+    <nnnn>_ijkl = (1/N) sum over near contacts of n_i n_j n_k n_l, the same normalisation, so that
+    <nnnn>_ijkk = <nn>_ij (|n| = 1); its 15 independent components (i <= j <= k <= l) are
+    :data:`FOURTH_MOMENT_COMPONENTS`. The distribution of near-contact directions per particle,
+    f(n) = (1/N) sum over near contacts of delta(n - n_c), symmetrised over n and -n (a pair has
+    no sign), is written as sum over even l and m of a_lm Y_lm(n) with the real orthonormal
+    spherical harmonics Y_lm (integral over the sphere of Y_lm Y_l'm' = delta), so that
+    a_lm = (1/N) sum over near contacts of Y_lm(n_c); recorded up to l = 6
+    (:data:`HARMONIC_COLUMNS`, ``Y<l>_<m>`` with m written ``m2`` for -2, ``p2`` for +2). Polar axis
+    e3 (vorticity), azimuth from e1 (flow) towards e2 (gradient); Y_l0 is the Legendre
+    polynomial's, Y_lm for m > 0 sqrt(2) (-1)^m Re and for m < 0 sqrt(2) (-1)^m Im of the complex
+    Y_l^|m| (scipy.special.sph_harm_y). Hence a_00 = (Z/2) / sqrt(4 pi), and the l = 2 and l = 4
+    amplitudes are linear in <nn> and <nnnn> (e.g. a_20 = sqrt(5 / (16 pi)) (3 <nn>_33 - Tr<nn>)).
+    Both in the frame of the current flow, as <nn>.
+
 Frames
     :func:`fabric_tensor` works in the simulation frame (LAMMPS x, y, z; z is the
     gradient direction). :class:`FabricAnalysis` reports the paper frame of the
@@ -42,10 +57,11 @@ import numpy as np
 from MDAnalysis.analysis.base import AnalysisBase
 from MDAnalysis.lib.distances import self_capped_distance
 from MDAnalysis.lib.mdamath import triclinic_box, triclinic_vectors
+from scipy.special import sph_harm_y
 
 from suspension_fabric.io.dumpio import scan_dump
 
-from .frames import simulation_to_paper
+from .frames import paper_basis_in_simulation_frame, simulation_to_paper
 
 __all__ = [
     "DEFAULT_EPS",
@@ -54,6 +70,12 @@ __all__ = [
     "box_vectors",
     "near_contact_pairs",
     "fabric_tensor",
+    "contact_normals",
+    "FOURTH_MOMENT_COMPONENTS",
+    "HARMONIC_ORDERS",
+    "HARMONIC_COLUMNS",
+    "real_spherical_harmonics",
+    "direction_moments",
     "tensor_components",
     "open_dump",
     "FabricAnalysis",
@@ -72,6 +94,26 @@ COMPONENTS: dict[str, tuple[int, int]] = {
     "n13": (0, 2),
     "n23": (1, 2),
 }
+
+#: The 15 independent components of the fully symmetric <nnnn> (i <= j <= k <= l), named as the
+#: fabric table's columns, with their (i, j, k, l) indices.
+FOURTH_MOMENT_COMPONENTS: dict[str, tuple[int, int, int, int]] = {
+    f"n{i + 1}{j + 1}{k + 1}{l + 1}": (i, j, k, l)
+    for i in range(3)
+    for j in range(i, 3)
+    for k in range(j, 3)
+    for l in range(k, 3)  # noqa: E741 (the index's name in the formula)
+}
+#: Orders of the spherical-harmonic amplitudes recorded (the odd ones vanish: a pair has no sign).
+HARMONIC_ORDERS: tuple[int, ...] = (0, 2, 4, 6)
+
+
+def _harmonic_name(l: int, m: int) -> str:  # noqa: E741
+    return f"Y{l}_{'m' if m < 0 else 'p' if m > 0 else ''}{abs(m)}"
+
+
+#: Columns of the spherical-harmonic amplitudes a_lm, l in HARMONIC_ORDERS, m = -l ... l.
+HARMONIC_COLUMNS: tuple[str, ...] = tuple(_harmonic_name(l, m) for l in HARMONIC_ORDERS for m in range(-l, l + 1))
 
 # Relative widening of the neighbour-search cutoff: the search runs in float32
 # inside MDAnalysis, the exact test afterwards in float64.
@@ -195,18 +237,51 @@ def near_contact_pairs(positions, radii, dimensions, eps: float = DEFAULT_EPS) -
     return NearContacts(candidates[is_contact][order], separations[is_contact][order], gaps[is_contact][order])
 
 
+def contact_normals(positions, radii, dimensions, eps: float = DEFAULT_EPS) -> np.ndarray:
+    """Unit centre-to-centre vectors (n_pairs, 3) of the near-contact pairs, simulation frame
+    (arguments as in :func:`near_contact_pairs`)."""
+    separations = near_contact_pairs(positions, radii, dimensions, eps).separations
+    return separations / np.linalg.norm(separations, axis=1)[:, None] if len(separations) else np.zeros((0, 3))
+
+
 def fabric_tensor(positions, radii, dimensions, eps: float = DEFAULT_EPS) -> tuple[np.ndarray, int]:
     """Fabric <nn> (3x3, simulation frame) and the number of near-contact pairs.
 
     <nn>_kl = (1/N) sum over near-contact pairs (each once) of n_k n_l, N = len(positions),
     so the trace is n_pairs / N = Z / 2. Arguments as in :func:`near_contact_pairs`.
     """
-    contacts = near_contact_pairs(positions, radii, dimensions, eps)
-    n_particles = len(positions)
-    if len(contacts) == 0:
-        return np.zeros((3, 3)), 0
-    normals = contacts.separations / np.linalg.norm(contacts.separations, axis=1)[:, None]
-    return normals.T @ normals / n_particles, len(contacts)
+    normals = contact_normals(positions, radii, dimensions, eps)
+    return normals.T @ normals / len(positions), len(normals)
+
+
+def real_spherical_harmonics(normals) -> np.ndarray:
+    """Y_lm(n) (module docstring) of unit vectors (..., 3) for the orders of HARMONIC_ORDERS, in the
+    order of HARMONIC_COLUMNS: shape (..., len(HARMONIC_COLUMNS))."""
+    normals = np.asarray(normals, dtype=float)
+    polar = np.arccos(np.clip(normals[..., 2], -1.0, 1.0))
+    azimuth = np.arctan2(normals[..., 1], normals[..., 0])
+    values = []
+    for l in HARMONIC_ORDERS:  # noqa: E741
+        for m in range(-l, l + 1):
+            complex_y = sph_harm_y(l, abs(m), polar, azimuth)
+            if m == 0:
+                values.append(complex_y.real)
+            else:
+                part = complex_y.imag if m < 0 else complex_y.real
+                values.append(np.sqrt(2.0) * (-1.0) ** m * part)
+    return np.stack(values, axis=-1)
+
+
+def direction_moments(normals, n_particles: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(<nn> 3x3, <nnnn>'s :data:`FOURTH_MOMENT_COMPONENTS` (15,), the amplitudes a_lm of
+    :data:`HARMONIC_COLUMNS`) of near-contact normals (n_pairs, 3) in the frame they are given in,
+    each summed over the pairs and divided by the number of particles (module docstring)."""
+    normals = np.asarray(normals, dtype=float).reshape(-1, 3)
+    second = normals.T @ normals / n_particles
+    index = np.array(list(FOURTH_MOMENT_COMPONENTS.values()))
+    fourth = np.prod(normals[:, index], axis=-1).sum(axis=0) / n_particles
+    harmonics = real_spherical_harmonics(normals).sum(axis=0) / n_particles
+    return second, fourth, harmonics
 
 
 def tensor_components(tensors) -> dict[str, np.ndarray]:
@@ -289,6 +364,10 @@ class FabricAnalysis(AnalysisBase):
         the frame's strain, e2 gradient, e3 = e1 x e2); ``fabric_simulation`` the same in x, y, z.
     n11, n22, n33, n12, n13, n23
         Components of ``fabric``.
+    fourth_moment, harmonics
+        (n_frames, 15) <nnnn> (:data:`FOURTH_MOMENT_COMPONENTS`, also one result each, e.g.
+        ``n1122``) and (n_frames, 28) the amplitudes a_lm of the near-contact directions
+        (:data:`HARMONIC_COLUMNS`, also one result each), in the frame of the current flow.
     n_pairs, coordination
         Number of near-contact pairs and Z = 2 n_pairs / N.
     volume_fraction
@@ -355,6 +434,8 @@ class FabricAnalysis(AnalysisBase):
         self.results.fabric_simulation = np.zeros((self.n_frames, 3, 3))
         self.results.n_pairs = np.zeros(self.n_frames, dtype=np.int64)
         self.results.volume_fraction = np.zeros(self.n_frames)
+        self.results.fourth_moment = np.zeros((self.n_frames, len(FOURTH_MOMENT_COMPONENTS)))
+        self.results.harmonics = np.zeros((self.n_frames, len(HARMONIC_COLUMNS)))
 
     def _single_frame(self):
         ts = self._ts
@@ -369,22 +450,38 @@ class FabricAnalysis(AnalysisBase):
         if ts.dimensions is None:
             raise ValueError(f"{where}: no box")
         try:
-            fabric, n_pairs = fabric_tensor(positions, radii, ts.dimensions, self.eps)
+            normals = contact_normals(positions, radii, ts.dimensions, self.eps)
             volume = abs(np.linalg.det(box_vectors(ts.dimensions)))
         except ValueError as err:
             raise ValueError(f"{where}: {err}") from err
         index = self._frame_index
+        # the higher moments in the frame of this frame's flow (rotating them afterwards would need
+        # the Wigner matrices of every order)
+        basis = paper_basis_in_simulation_frame(np.radians(self._flow_angle_deg(step)))
+        _, fourth, harmonics = direction_moments(normals @ basis.T, self.n_particles)
         self.results.step[index] = step
-        self.results.fabric_simulation[index] = fabric
-        self.results.n_pairs[index] = n_pairs
+        self.results.fabric_simulation[index] = normals.T @ normals / self.n_particles
+        self.results.n_pairs[index] = len(normals)
+        self.results.fourth_moment[index] = fourth
+        self.results.harmonics[index] = harmonics
         self.results.volume_fraction[index] = np.sum(4.0 / 3.0 * np.pi * radii**3) / volume
+
+    def _strain(self, step):
+        return (np.asarray(step) - self.shear_start_step) * self.dt * self.shear_rate
+
+    def _flow_angle_deg(self, step):
+        return self.flow_angle_deg + self.turning_deg_per_strain * self._strain(step)
 
     def _conclude(self):
         results = self.results
         results.n_particles = self.n_particles
-        results.strain = (results.step - self.shear_start_step) * self.dt * self.shear_rate
-        results.flow_angle_deg = self.flow_angle_deg + self.turning_deg_per_strain * results.strain
+        results.strain = self._strain(results.step)
+        results.flow_angle_deg = self._flow_angle_deg(results.step)
         results.fabric = simulation_to_paper(results.fabric_simulation, np.radians(results.flow_angle_deg))
         for name, values in tensor_components(results.fabric).items():
             results[name] = values
+        for k, name in enumerate(FOURTH_MOMENT_COMPONENTS):
+            results[name] = results.fourth_moment[:, k]
+        for k, name in enumerate(HARMONIC_COLUMNS):
+            results[name] = results.harmonics[:, k]
         results.coordination = 2.0 * results.n_pairs / self.n_particles

@@ -17,10 +17,20 @@ Per-run table (one row per analysed frame; CSV written by :func:`write_fabric_ta
     n11 n22 n33 n12 n13 n23
              fabric components <nn>_kl (1/N sum over near contacts of n_k n_l)
     Z        near-contact coordination number, 2 n_pairs / N = 2 Tr<nn>
+    n1111 ... n3333
+             the 15 independent components of <nnnn> (i <= j <= k <= l), same
+             normalisation, same frame (MOMENT_COLUMNS)
+    Y0_0 ... Y6_p6
+             spherical-harmonic amplitudes a_lm of the near-contact directions,
+             l = 0, 2, 4, 6 (suspension_fabric.analysis.fabric)
     ======== ===============================================================
 
+    The last two groups are absent from tables made before they were recorded;
+    :func:`read_fabric_table` with ``moments=True`` reads them as empty (NaN).
+
     The file is plain comma-separated text with one header line, no index column,
-    floats written with full round-trip precision (pandas ``to_csv`` defaults);
+    floats written with full round-trip precision (pandas ``to_csv`` defaults), the moment
+    columns with MOMENT_DIGITS = 9 significant digits;
     ``pandas.read_csv(path)`` reads it, :func:`read_fabric_table` also checks it.
 
 Seed aggregation (:func:`aggregate_seeds`)
@@ -52,12 +62,13 @@ import pandas as pd
 
 from suspension_fabric.io.runinfo import read_run_info
 
-from .fabric import COMPONENTS, DEFAULT_EPS, FabricAnalysis
+from .fabric import COMPONENTS, DEFAULT_EPS, FOURTH_MOMENT_COMPONENTS, HARMONIC_COLUMNS, FabricAnalysis
 
 __all__ = [
     "METADATA_COLUMNS",
     "VALUE_COLUMNS",
     "TABLE_COLUMNS",
+    "MOMENT_COLUMNS",
     "fabric_table",
     "run_fabric_table",
     "write_fabric_table",
@@ -73,6 +84,12 @@ __all__ = [
 METADATA_COLUMNS: tuple[str, ...] = ("seed", "theta", "N", "phi")
 VALUE_COLUMNS: tuple[str, ...] = (*COMPONENTS, "Z")
 TABLE_COLUMNS: tuple[str, ...] = (*METADATA_COLUMNS, "step", "strain", *VALUE_COLUMNS)
+#: The per-frame columns after TABLE_COLUMNS in a run's fabric table: <nnnn> and the spherical-harmonic
+#: amplitudes of the near-contact directions (suspension_fabric.analysis.fabric), empty in the
+#: tables made before they were recorded.
+MOMENT_COLUMNS: tuple[str, ...] = (*FOURTH_MOMENT_COMPONENTS, *HARMONIC_COLUMNS)
+#: Significant digits of the MOMENT_COLUMNS in a written table (the others: full round-trip precision).
+MOMENT_DIGITS = 9
 #: The relative band of "settled" and "agrees": a series has settled when its relative deviation
 #: stays within it, and a steady value agrees with the simulation when within it.
 TOLERANCE = 0.1
@@ -110,9 +127,10 @@ def fabric_table(analysis, *, seed: int, phi: float | None = None) -> pd.DataFra
             "strain": np.asarray(results.strain, dtype=float),
             **{name: np.asarray(results[name], dtype=float) for name in COMPONENTS},
             "Z": np.asarray(results.coordination, dtype=float),
+            **{name: np.asarray(results[name], dtype=float) for name in MOMENT_COLUMNS},
         }
     )
-    return table[list(TABLE_COLUMNS)]
+    return table[[*TABLE_COLUMNS, *MOMENT_COLUMNS]]
 
 
 def run_fabric_table(
@@ -153,7 +171,11 @@ def write_fabric_table(table: pd.DataFrame, path: str | os.PathLike) -> Path:
     """Write a per-run (or concatenated) fabric table as CSV (format in the module docstring)."""
     path = Path(path)
     _check_table(table, str(path))
-    table[list(TABLE_COLUMNS)].to_csv(path, index=False)
+    written = table[[*TABLE_COLUMNS, *(c for c in MOMENT_COLUMNS if c in table.columns)]].copy()
+    for column in MOMENT_COLUMNS:  # far below the seeds' scatter; a third of the file at full precision
+        if column in written:
+            written[column] = [f"{value:.{MOMENT_DIGITS}g}" for value in written[column]]
+    written.to_csv(path, index=False)
     return path
 
 
@@ -200,11 +222,14 @@ def read_table_csv(path: str | os.PathLike, what: str, unrecorded_ok=()) -> pd.D
     return table
 
 
-def read_fabric_table(path: str | os.PathLike) -> pd.DataFrame:
+def read_fabric_table(path: str | os.PathLike, moments: bool = False) -> pd.DataFrame:
     """Read a fabric-table CSV, checking its structure (:func:`read_table_csv`) and columns; errors
-    name the file."""
-    table = read_table_csv(path, "fabric table")
-    return _check_table(table, str(path))[list(TABLE_COLUMNS)]
+    name the file. The columns of TABLE_COLUMNS and, with ``moments``, of MOMENT_COLUMNS too (NaN
+    in a table made before they were recorded)."""
+    table = _check_table(read_table_csv(path, "fabric table", unrecorded_ok=MOMENT_COLUMNS), str(path))
+    if not moments:
+        return table[list(TABLE_COLUMNS)]
+    return table.reindex(columns=[*TABLE_COLUMNS, *MOMENT_COLUMNS])
 
 
 def _seed_series(group: pd.DataFrame, theta: float) -> dict[int, pd.DataFrame]:
