@@ -49,7 +49,8 @@ stages under it, checked by tests/test_layout.py)
                    for the overlap check
     models      -- gillissen_wilson (G-W and modified G-W: closure, exact integration, steady
                    states, fits, rotations), fabric_models and stress_relations (the plug-in
-                   interfaces; plugins loads user files), fits_file (fits.json, format 2)
+                   interfaces; plugins loads user files), closures (<nnnn> from <nn>: linear,
+                   quadratic, hybrid), fits_file (fits.json, format 2)
     study       -- config (schema validation, cross-key checks), campaign (state points),
                    dataset (reference datasets: load, rebuild)
     evaluation  -- model_vs_simulation (fits, predictions, errors), stress_model (the G-W stress

@@ -1,0 +1,75 @@
+"""Closures: the fourth moment <nnnn> written in terms of the second, <nn>.
+
+Every closure here is defined in the fibre-suspension literature for the unit-trace orientation
+tensor a = <nn> / Tr<nn>; the near-contact fabric's trace is Z/2, not 1, so each is applied to a
+and scaled back: <nnnn> ~ Tr<nn> A(a). All take (..., 3, 3) and return (..., 3, 3, 3, 3).
+
+linear (the paper's, :func:`suspension_fabric.models.gillissen_wilson.hinch_leal_closure`)
+    A_ijkl = -(1/35)(d_ij d_kl + d_ik d_jl + d_il d_jk)
+             + (1/7)(d_ij a_kl + d_ik a_jl + d_il a_jk + a_ij d_kl + a_ik d_jl + a_il d_jk);
+    exact for an isotropic distribution (Hand, J. Fluid Mech. 13, 1962; Hinch and Leal,
+    J. Fluid Mech. 76, 1976).
+quadratic
+    A_ijkl = a_ij a_kl; exact for perfect alignment, a = e e (Doi, J. Polym. Sci. 19, 1981).
+hybrid
+    A = (1 - f) A_linear + f A_quadratic with f = 1 - 27 det(a), 0 for isotropy and 1 for
+    perfect alignment (Advani and Tucker, J. Rheol. 31, 1987).
+
+Each keeps the trace identity A_ijkk = a_ij (the linear and hybrid ones over every index pair,
+the quadratic one over the last pair: a_ij a_kl is symmetric in (ij) and in (kl) only).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from .gillissen_wilson import hinch_leal_closure
+
+__all__ = ["CLOSURES", "linear_closure", "quadratic_closure", "hybrid_closure", "normalised"]
+
+
+def normalised(fabric) -> tuple[np.ndarray, np.ndarray]:
+    """(a, Tr<nn>): the unit-trace orientation tensor of fabric(s) (..., 3, 3) and the trace
+    (..., 1, 1, 1, 1) that scales a closure's A(a) back to <nnnn>; a fabric without contacts
+    (trace 0) gives a = I/3, whose closures all vanish after scaling."""
+    fabric = np.asarray(fabric, dtype=float)
+    trace = np.trace(fabric, axis1=-2, axis2=-1)
+    safe = np.where(trace > 0.0, trace, 1.0)[..., None, None]
+    a = np.where(trace[..., None, None] > 0.0, fabric / safe, np.eye(3) / 3.0)
+    return a, trace[..., None, None, None, None]
+
+
+def _unit_linear(a) -> np.ndarray:
+    return hinch_leal_closure(a)  # linear in a: the paper's closure at unit trace
+
+
+def _unit_quadratic(a) -> np.ndarray:
+    return np.einsum("...ij,...kl->...ijkl", a, a)
+
+
+def _unit_hybrid(a) -> np.ndarray:
+    f = (1.0 - 27.0 * np.linalg.det(a))[..., None, None, None, None]
+    return (1.0 - f) * _unit_linear(a) + f * _unit_quadratic(a)
+
+
+def _scaled(unit: Callable) -> Callable:
+    def closure(fabric) -> np.ndarray:
+        a, trace = normalised(fabric)
+        return trace * unit(a)
+
+    closure.__doc__ = f"<nnnn> ~ Tr<nn> A(<nn>/Tr<nn>) with the {unit.__name__[6:]} closure (module docstring)."
+    return closure
+
+
+linear_closure = _scaled(_unit_linear)
+quadratic_closure = _scaled(_unit_quadratic)
+hybrid_closure = _scaled(_unit_hybrid)
+
+#: The closures by name.
+CLOSURES: dict[str, Callable] = {
+    "linear": linear_closure,
+    "quadratic": quadratic_closure,
+    "hybrid": hybrid_closure,
+}
