@@ -3,6 +3,7 @@ figures with no simulation job, and a study that does not describe the dataset i
 
 from __future__ import annotations
 
+import hashlib
 import json
 import shutil
 
@@ -11,15 +12,18 @@ import pandas as pd
 import pytest
 import yaml
 
+from suspension_fabric.analysis.tables import MOMENT_COLUMNS, read_fabric_table, write_fabric_table
 from suspension_fabric.io.stressio import read_stress_table
 from suspension_fabric.study.config import load_config
 from suspension_fabric.study.dataset import (
     DATASET_FORMAT,
+    _checked_file,
     export_dataset,
     has_run_tables,
     import_run_table,
     read_dataset,
     read_dataset_stress,
+    refresh_fabric_tables,
     run_names,
 )
 from workflow_helpers import REPO, RESULTS, copy_workflow, dry_run_jobs, snakemake
@@ -195,3 +199,35 @@ def test_load_reads_a_dataset_and_a_results_folder_alike(study, dataset, tmp_pat
     monkeypatch.chdir(tmp_path)
     exec(compile(example.replace("\n    ", "\n").strip(), "dataset docstring", "exec"), namespace)
     assert namespace["reference"].steady_fabric.set_index("quantity").loc["n12", "mean"] < 0
+
+
+def test_refresh_brings_the_remade_fabric_tables_in_and_refuses_a_changed_fabric(study, dataset, tmp_path):
+    """refresh_fabric_tables: a dataset whose fabric tables predate the fourth moment (its <nn> columns
+    only) takes the study's remade tables run by run, with their checksums and the refresh recorded;
+    a remade table whose <nn> differs from the recorded one in one digit is refused, naming the run."""
+    old = tmp_path / "old"
+    shutil.copytree(dataset, old)
+    record = json.loads((old / "dataset.json").read_text())
+    for key in record["files"]:
+        if key.endswith("fabric.csv"):
+            read_fabric_table(old / key).to_csv(old / key, index=False)  # as written before the moments
+            record["files"][key] = hashlib.sha256((old / key).read_bytes()).hexdigest()
+    (old / "dataset.json").write_text(json.dumps(record))
+    config = load_config(study / "config/test.yaml")
+    assert read_fabric_table(old / "seed1/startup/fabric.csv", moments=True)[list(MOMENT_COLUMNS)].isna().all().all()
+
+    replaced = refresh_fabric_tables(config, study / RESULTS, old)
+    assert replaced == run_names(config)
+    refreshed = read_dataset(old)
+    assert refreshed["refreshes"][-1]["runs"] == replaced
+    for name in replaced:
+        table = read_fabric_table(_checked_file(old, refreshed, f"{name}/fabric.csv"), moments=True)
+        assert table[list(MOMENT_COLUMNS)].notna().all().all()
+
+    results = tmp_path / "results"
+    shutil.copytree(study / RESULTS, results, ignore=shutil.ignore_patterns("*.dump", "*.rst"))
+    changed = read_fabric_table(results / "seed2/rotation_theta90/fabric.csv", moments=True)
+    changed.loc[3, "n12"] += 1e-12
+    write_fabric_table(changed, results / "seed2/rotation_theta90/fabric.csv")
+    with pytest.raises(ValueError, match="seed2/rotation_theta90/fabric.csv: its seed, theta"):
+        refresh_fabric_tables(config, results, old)

@@ -33,6 +33,7 @@ __all__ = [
     "steady_state_drift",
     "point_row",
     "map_table",
+    "fitted_columns",
     "MAP_QUANTITIES",
 ]
 
@@ -96,6 +97,19 @@ def _model_columns(role: str, entry: dict) -> dict:
         variance = relative[0] ** 2 + relative[1] ** 2 - 2 * rho * relative[0] * relative[1]
         out[f"{role}_A_over_beta"] = ratio
         out[f"{role}_A_over_beta_err"] = abs(ratio) * np.sqrt(max(variance, 0.0))
+    return out
+
+
+def fitted_columns(table: pd.DataFrame) -> list[tuple[str, str, str, str]]:
+    """(model label, parameter, column, error column) of every fitted parameter of the compared
+    models in a map table (the ``<role>_<parameter>`` columns of :func:`_model_columns`)."""
+    out = []
+    for role in ("reference", "challenger"):
+        labels = table[f"{role}_model"].dropna() if f"{role}_model" in table else []
+        model = str(labels.iloc[0]) if len(labels) else role
+        for column in table.columns:
+            if column.startswith(f"{role}_") and column.endswith("_err"):
+                out.append((model, column[len(role) + 1 : -len("_err")], column[: -len("_err")], column))
     return out
 
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from suspension_fabric.evaluation.state_map import bgp_viscosities
+from suspension_fabric.evaluation.state_map import bgp_viscosities, fitted_columns
 
 from .figures import plt, save_figure
 
@@ -78,17 +78,11 @@ def _finish(table: pd.DataFrame, fig, axes):
 
 def model_panels(table: pd.DataFrame) -> list[tuple[str, str, str]]:
     """(column, error column, label) of every fitted parameter of the compared models in the map
-    table (``<role>_<parameter>`` with its ``_err``; state_map.point_row), the model by its label."""
-    panels = []
-    for role in ("reference", "challenger"):
-        labels = table.get(f"{role}_model", pd.Series(dtype=object)).dropna()
-        model = str(labels.iloc[0]) if len(labels) else role
-        for column in table.columns:
-            if column.startswith(f"{role}_") and column.endswith("_err"):
-                value = column[: -len("_err")]
-                name = value[len(role) + 1 :]
-                panels.append((value, column, f"{model} {_PARAMETER_TEX.get(name, name)}"))
-    return panels
+    table (state_map.fitted_columns), the model by its label."""
+    return [
+        (column, error, f"{model} {_PARAMETER_TEX.get(name, name)}")
+        for model, name, column, error in fitted_columns(table)
+    ]
 
 
 def figure_map_models(table: pd.DataFrame):

@@ -7,6 +7,8 @@ from pathlib import Path
 
 import pandas as pd
 
+from suspension_fabric.evaluation.state_map import fitted_columns
+
 from .html_tables import MISSING, format_interval, format_value_error, is_missing, write_html_tables
 
 __all__ = ["map_display_table", "write_map_page"]
@@ -26,23 +28,14 @@ _PARAMETER_LABELS = {"beta": "β", "A_over_beta": "A/β"}
 _MAP_CLAIMS = ("C3'", "C4'")
 
 
-def _fitted_columns(table: pd.DataFrame) -> list[tuple[str, str, str]]:
-    """(column, error column, heading) of the compared models' parameters (state_map.point_row)."""
-    out = []
-    for role in ("reference", "challenger"):
-        labels = table[f"{role}_model"].dropna() if f"{role}_model" in table else []
-        model = str(labels.iloc[0]) if len(labels) else role
-        for column in table.columns:
-            if column.startswith(f"{role}_") and column.endswith("_err"):
-                name = column[len(role) + 1 : -len("_err")]
-                out.append((column[: -len("_err")], column, f"{model} {_PARAMETER_LABELS.get(name, name)}"))
-    return out
-
-
 def map_display_table(table: pd.DataFrame) -> pd.DataFrame:
     """The map table (state_map.map_table) as text: state point, engine, steady-state check,
     each value with its error, the paired model-error claims with interval and verdict."""
-    rows, fitted = [], _fitted_columns(table)
+    rows = []
+    fitted = [
+        (column, error, f"{model} {_PARAMETER_LABELS.get(name, name)}")
+        for model, name, column, error in fitted_columns(table)
+    ]
     for entry in table.to_dict("records"):  # not itertuples: "C3'_mean" is no identifier
         row = {"φ": f"{entry['phi']:.2f}", "μ": f"{entry['mu']:g}", "steady state": entry["steady"]}
         simulated = not str(entry["steady"]).startswith("not run")

@@ -21,6 +21,13 @@ config must describe the same simulations (:func:`check_config_matches`).
 
     python -m suspension_fabric.study.dataset export --config config/paper.yaml --to data/reference
 
+Tables that gain columns (the fourth moment of the fabric) are brought into a dataset run by run,
+as the study that remakes them finishes its runs (:func:`refresh_fabric_tables`): a run's new
+fabric table replaces the recorded one only if its <nn>, Z, steps and strains are those recorded,
+so the dataset's fits and verdicts stand; the record keeps the list of refreshes::
+
+    python -m suspension_fabric.study.dataset refresh --config config/paper.yaml --to data/reference
+
 From Python, :func:`load` reads a dataset folder or a finished study's results folder into
 pandas DataFrames with their provenance::
 
@@ -49,7 +56,7 @@ import numpy as np
 import pandas as pd
 
 from suspension_fabric.analysis.stress import read_stress_csv, recorded_value_columns
-from suspension_fabric.analysis.tables import VALUE_COLUMNS, read_fabric_table, steady_state
+from suspension_fabric.analysis.tables import TABLE_COLUMNS, VALUE_COLUMNS, read_fabric_table, steady_state
 from suspension_fabric.io.stressio import read_stress_table
 from suspension_fabric.models.fits_file import read_fits, upgrade_fits
 from suspension_fabric.simulation.lammps.plugin import plugin_sources
@@ -64,6 +71,7 @@ __all__ = [
     "run_names",
     "paper_run_names",
     "export_dataset",
+    "refresh_fabric_tables",
     "read_dataset",
     "check_config_matches",
     "import_run_table",
@@ -184,6 +192,40 @@ def export_dataset(
     }
     (target / DATASET_FILE).write_text(json.dumps(record, indent=1) + "\n")
     return record
+
+
+def refresh_fabric_tables(config: dict, results: Path, target: Path, *, repository: Path | None = None) -> list[str]:
+    """Replace the fabric tables of the dataset ``target`` by those of the finished runs of its
+    study in ``results`` whose recorded columns (TABLE_COLUMNS: <nn>, Z, steps, strains, ...) are
+    exactly the dataset's, e.g. remade with the fourth moment; returns the runs replaced. A run whose
+    columns differ is an error naming it (the dataset would no longer be the one its fits came from);
+    runs without a new table are left as they are. Checksums are updated and the refresh recorded
+    (``refreshes``: commit, time, the runs)."""
+    record = read_dataset(target)
+    check_config_matches(config, record, target)
+    replaced = []
+    for name in run_names(record["config"]):
+        source = results / name / "fabric.csv"
+        key = f"{name}/fabric.csv"
+        if not source.is_file() or key not in record["files"]:
+            continue
+        new, old = read_fabric_table(source, moments=True), read_fabric_table(_checked_file(target, record, key))
+        if not new[list(TABLE_COLUMNS)].equals(old):
+            raise ValueError(f"{source}: its {', '.join(TABLE_COLUMNS)} differ from the dataset's {target / key}")
+        shutil.copy(source, target / key)
+        record["files"][key] = _sha256(target / key)
+        replaced.append(name)
+    if replaced:
+        record.setdefault("refreshes", []).append(
+            {
+                "git_commit": _git_commit(repository or Path.cwd()),
+                "refreshed_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
+                "tables": "fabric.csv",
+                "runs": replaced,
+            }
+        )
+        (target / DATASET_FILE).write_text(json.dumps(record, indent=1) + "\n")
+    return replaced
 
 
 def read_dataset(folder: Path) -> dict:
@@ -417,7 +459,7 @@ def load(path: str | Path) -> Loaded:
 
 
 def main(argv: list[str] | None = None) -> None:
-    parser = argparse.ArgumentParser(description="Export a finished study's tables as a dataset.")
+    parser = argparse.ArgumentParser(description="Export a finished study's tables as a dataset, or refresh them.")
     sub = parser.add_subparsers(dest="command", required=True)
     export = sub.add_parser("export", help="copy results/<study> tables into a dataset folder")
     export.add_argument("--config", type=Path, required=True, help="the study's config file")
@@ -428,8 +470,18 @@ def main(argv: list[str] | None = None) -> None:
         action="store_true",
         help="leave out each run's raw stress table (stress.csv.gz), which no rule reads",
     )
+    refresh = sub.add_parser(
+        "refresh", help="replace a dataset's fabric tables by those remade in results/<study> (same <nn>, more columns)"
+    )
+    refresh.add_argument("--config", type=Path, required=True, help="the study's config file")
+    refresh.add_argument("--to", type=Path, required=True, help="the dataset folder")
+    refresh.add_argument("--results", type=Path, help="default: results/<study>")
     args = parser.parse_args(argv)
     config = load_config(args.config)
+    if args.command == "refresh":
+        replaced = refresh_fabric_tables(config, args.results or Path("results") / config["study"], args.to)
+        print(f"{args.to}: {len(replaced)} fabric tables refreshed")
+        return
     if config["campaign"] and args.results:
         parser.error("--results applies to a single study; a campaign's points are read from results/<study>/<point>")
     # a campaign: one dataset per point, <to>/<point>
