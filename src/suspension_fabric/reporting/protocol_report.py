@@ -8,7 +8,8 @@ components <nn>_12 and <nn>_23 (the diagonal components, which G-W fitted on the
 misses by construction, dominate the six-component mean), each with the paired per-seed
 difference from G-W's steady fit and its t-interval; then every stress relation's error of eta_r
 (in units of (eta_r^ss)^2) and its paired difference from the G-W relation. A difference whose
-interval lies wholly below zero is marked "better", wholly above "worse", else "not decided".
+interval lies wholly below zero is marked "better", wholly above "worse", both bounds round-off
+"identical", else "not decided".
 
 Then, per protocol, the simulations' late state of every segment after the startup (the second
 half of the segment, :func:`suspension_fabric.analysis.protocol_tables.segment_states`): Z, <nn>_12,
@@ -26,9 +27,15 @@ from suspension_fabric.evaluation.protocol_benchmark import ALL_COMPONENTS
 
 __all__ = ["summary_markdown", "states_markdown", "comparison", "SHOWN", "STATE_QUANTITIES"]
 
+#: Shown as 0: values this small are round-off (a component every model keeps at 0 by symmetry).
+ROUND_OFF = 1e-12
+
 
 def comparison(low: float, high: float) -> str:
-    """The reading of a difference's interval: better (below 0), worse (above), not decided."""
+    """The reading of a difference's interval: better (below 0), worse (above), identical (both
+    bounds round-off: the same prediction, e.g. a component both models keep at 0), not decided."""
+    if max(abs(low), abs(high)) <= ROUND_OFF:
+        return "identical"
     if high < 0.0:
         return "better"
     if low > 0.0:
@@ -36,8 +43,12 @@ def comparison(low: float, high: float) -> str:
     return "not decided"
 
 
+def _number(value: float) -> str:
+    return f"{value:.3g}" if abs(value) > ROUND_OFF else "0"
+
+
 def _interval(mean: float, low: float, high: float) -> str:
-    return f"{mean:.3g} [{low:.3g}, {high:.3g}]"
+    return f"{_number(mean)} [{_number(low)}, {_number(high)}]"
 
 
 #: The fabric scores shown: the mean over the six components, and the two shear components the
@@ -46,7 +57,7 @@ SHOWN = (ALL_COMPONENTS, "n12", "n23")
 
 
 #: The late-state quantities shown: fabric table columns, then stress table columns.
-STATE_QUANTITIES = {"Z": "Z", "n12": "<nn>_12", "n23": "<nn>_23", "eta_r": "eta_r", "Pi": "Pi"}
+STATE_QUANTITIES = {"Z": "Z", "n12": "⟨nn⟩₁₂", "n23": "⟨nn⟩₂₃", "eta_r": "η_r", "Pi": "Π"}
 
 
 def _segment_name(row) -> str:
@@ -62,8 +73,8 @@ def states_markdown(states: pd.DataFrame, level: float) -> list[str]:
     shown = states[states["quantity"].isin(list(STATE_QUANTITIES))]
     lines = [
         f"Late state of each segment (its second half), seed mean; in brackets the per-seed difference from the "
-        f"startup's steady state [{percent} t-interval] and its reading (higher, lower, not decided). <nn> in the "
-        "frame of the current flow; eta_r and Pi in units of eta_f gammadot.",
+        f"startup's steady state [{percent} t-interval] and its reading (higher, lower, not decided). ⟨nn⟩ in the "
+        "frame of the current flow; η_r and Π in units of η_f γ̇.",
         "",
     ]
     for protocol, rows in shown.groupby("protocol", sort=False):
@@ -82,7 +93,7 @@ def states_markdown(states: pd.DataFrame, level: float) -> list[str]:
             cells = []
             for q in quantities:
                 r = by_quantity.loc[q]
-                reading = {"better": "lower", "worse": "higher"}.get(
+                reading = {"better": "lower", "worse": "higher", "identical": "identical"}.get(
                     comparison(r["difference_low"], r["difference_high"]), "not decided"
                 )
                 shift = _interval(r["difference"], r["difference_low"], r["difference_high"])
@@ -125,13 +136,13 @@ def summary_markdown(
     relation = stress_board.loc[stress_board["relation"] == reference_relation, "label"].iloc[0]
     lines = [
         f"Each cell: error [{percent} interval]; minus {label} fitted on the steady state (stress: minus the "
-        f"{relation}) [{percent} interval] and its reading. Fabric errors in units of (<nn>_12^ss)^2, eta_r's in "
-        "(eta_r^ss)^2.",
+        f"{relation}) [{percent} interval] and its reading. Fabric errors in units of (⟨nn⟩₁₂ˢˢ)², η_r's in "
+        "(η_rˢˢ)².",
         "",
     ]
     for protocol in dict.fromkeys(board["protocol"]):
         mine = board[board["protocol"] == protocol]
-        names = {ALL_COMPONENTS: "six components", "n12": "<nn>_12", "n23": "<nn>_23"}
+        names = {ALL_COMPONENTS: "six components", "n12": "⟨nn⟩₁₂", "n23": "⟨nn⟩₂₃"}
         lines += [
             f"**{protocol}**",
             "",
@@ -144,7 +155,7 @@ def summary_markdown(
             is_reference = model == reference and mode == "steady"
             cells = [_cell(by_component.loc[c], reference, is_reference) for c in SHOWN]
             lines.append(f"| {rows['label'].iloc[0]} | {fitted} | " + " | ".join(cells) + " |")
-        lines += ["", "| stress relation | eta_r |", "|---|---|"]
+        lines += ["", "| stress relation | η_r |", "|---|---|"]
         for _, row in eta[eta["protocol"] == protocol].iterrows():
             cell = _cell(row, reference_relation, row["relation"] == reference_relation)
             lines.append(f"| {row['label']} | {cell} |")
