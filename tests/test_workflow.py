@@ -36,6 +36,19 @@ def test_study_produces_figures_fits_and_error_table(study):
     assert set(rotation["model"]) == {"gw", "modified", "separate_rates"}  # models.fabric (default list)
     runs = pd.read_csv(results / "tables" / "rotation_runs.csv")
     assert sorted(runs["seed"].unique()) == [1, 2]
+    # the closures against the measured fourth moment: every closure, both measures, both seeds
+    closures = pd.read_csv(results / "tables" / "closure_errors.csv")
+    assert set(closures["closure"]) == {"linear", "quadratic", "hybrid"} and set(closures["measure"]) == {
+        "full",
+        "drive",
+    }
+    assert set(zip(closures["protocol"], closures["theta"])) == {
+        ("startup", 0.0),
+        ("rotation", 0.0),
+        ("rotation", 90.0),
+    }
+    assert (closures["n_seeds"] == 2).all() and (closures["mean"] > 0).all()
+    assert (results / "figures" / "closures.png").stat().st_size > 10_000
 
 
 def test_study_produces_the_stress_tables_figures_and_relation(study):

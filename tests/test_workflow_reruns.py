@@ -44,7 +44,7 @@ CASES = {
     "analysis.eps": (["analysis={eps: 0.02}"], FABRIC, set()),
     "analysis.steady_window": (
         ["analysis={steady_window: [0.15, 0.3]}"],
-        {("aggregate_startup", ""), ("aggregate_stress_startup", "")},
+        {("aggregate_startup", ""), ("aggregate_stress_startup", ""), ("closure_tests", "")},
         set(),
     ),
     "models.polar_angle_step_deg": (["models={polar_angle_step_deg: 10}"], {("predict", "")}, set()),
@@ -88,12 +88,19 @@ CASES = {
             ("stress_relation", ""),
             ("benchmark_models", ""),
             ("benchmark_stress_relations", ""),
+            ("closure_tests", ""),
         },
         set(),
     ),
     "verdicts.window": (
         ["verdicts={window: 0.05}"],
-        {("claims", ""), ("stress_relation", ""), ("benchmark_models", ""), ("benchmark_stress_relations", "")},
+        {
+            ("claims", ""),
+            ("stress_relation", ""),
+            ("benchmark_models", ""),
+            ("benchmark_stress_relations", ""),
+            ("closure_tests", ""),
+        },
         set(),
     ),
     "verdicts.models": (

@@ -102,6 +102,7 @@ def study_targets(study):
         *rules.fit_models.output,
         rules.model_errors.output.table,
         *rules.benchmark_models.output,
+        *rules.closure_tests.output,
         *rules.report_tables.output,
         *rules.verdicts.output,
         *rules.figure_claims.output,

@@ -183,3 +183,29 @@ rule benchmark_protocols:
         f"{RESULTS}/logs/benchmark_protocols.log",
     script:
         "../scripts/benchmark_protocols.py"
+
+
+rule closure_tests:
+    """Each closure of <nnnn> (models.closures) against the measured fourth moment, per seed: in the
+    steady startup and over the first verdicts.window strain after each rotation; the implied
+    direction distributions a short strain after rotations by 90 and 180 degrees."""
+    input:
+        startup=seed_runs(f"{RESULTS}/seed{{seed}}/startup/fabric.csv"),
+        rotation=seed_runs(f"{RESULTS}/seed{{seed}}/rotation_theta{{angle}}/fabric.csv"),
+    output:
+        table=f"{RESULTS}/tables/closure_errors.csv",
+        per_seed=f"{RESULTS}/tables/closure_errors_per_seed.csv",
+        pdf=f"{RESULTS}/figures/closures.pdf",
+        png=report(f"{RESULTS}/figures/closures.png", caption="../report/closures.rst", category="Figures"),
+    params:
+        steady_window=setting("analysis", "steady_window"),
+        window=setting("verdicts", "window"),
+        level=setting("verdicts", "level"),
+        # the distributions drawn half a strain after the rotation, or at the window's end if sooner
+        snapshot_strain=lambda wildcards: min(0.5, STUDIES[wildcards.study]["verdicts"]["window"]),
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/closure_tests.log",
+    script:
+        "../scripts/closure_tests.py"
