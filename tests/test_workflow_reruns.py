@@ -53,7 +53,7 @@ CASES = {
         ["angles_deg=[0, 90, 45]"],
         {("shear_segment", f"seed={s}, run=rotation_theta45") for s in SEEDS}
         | {(table, f"seed={s}, run=rotation_theta45") for s in SEEDS for table in ("fabric_table", "stress_table")}
-        | {("aggregate_rotation", ""), ("aggregate_stress_rotation", "")},
+        | {("aggregate_rotation", ""), ("aggregate_stress_rotation", ""), ("closure_tests", "")},
         {("shear_segment", f"seed={s}, run=rotation_theta45") for s in SEEDS},
     ),
     "seeds (one added)": (
@@ -72,6 +72,7 @@ CASES = {
             ("aggregate_rotation", ""),
             ("aggregate_stress_startup", ""),
             ("aggregate_stress_rotation", ""),
+            ("closure_tests", ""),
         },
         {
             ("pack", "seed=3"),

@@ -56,9 +56,10 @@ stages under it, checked by tests/test_layout.py)
     evaluation  -- model_vs_simulation (fits, predictions, errors), stress_model (the G-W stress
                    relation against the simulation), model_benchmark, stress_benchmark and
                    protocol_benchmark (held-out scores), claims and verdicts (the paper's claims
-                   decided), dataset_comparison, state_map
-    reporting   -- figures, map_figures, protocol_figures, the report pages (html_tables and one
-                   module per page), protocol_report
+                   decided), dataset_comparison, state_map, closure_tests (the closures
+                   against the measured <nnnn>)
+    reporting   -- figures, map_figures, protocol_figures, closure_figures, the report pages
+                   (html_tables and one module per page), protocol_report
     workflow_io -- logging helper of the Snakemake scripts
 """
 

@@ -24,9 +24,9 @@ config must describe the same simulations (:func:`check_config_matches`).
 Tables that gain columns (the fourth moment of the fabric) are brought into a dataset run by run,
 as the study that remakes them finishes its runs (:func:`refresh_fabric_tables`): a run's new
 fabric table replaces the recorded one only if its <nn>, Z, steps and strains are those recorded,
-so the dataset's fits and verdicts stand; the record keeps the list of refreshes::
-
-    python -m suspension_fabric.study.dataset refresh --config config/paper.yaml --to data/reference
+so the dataset's fits and verdicts stand; the record keeps the list of refreshes (from the
+shell: ``python -m suspension_fabric.study.dataset refresh --config config/paper.yaml --to
+data/reference``).
 
 From Python, :func:`load` reads a dataset folder or a finished study's results folder into
 pandas DataFrames with their provenance::
