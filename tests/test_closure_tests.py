@@ -69,3 +69,12 @@ def test_low_order_amplitudes_follow_from_the_fourth_moment():
     _, fourth, harmonics = direction_moments(normals, 17)
     low = [HARMONIC_COLUMNS.index(name) for name in closure_tests.LOW_ORDER_COLUMNS]
     np.testing.assert_allclose(closure_tests.amplitudes_from_moments(fourth), harmonics[low], atol=1e-13)
+
+
+def test_tables_made_before_the_fourth_moment_give_empty_results_with_their_columns():
+    """A study on a dataset whose tables lack the moments: no frame, no row, the table's columns."""
+    table = table_of([np.eye(3)])
+    table[list(FOURTH_MOMENT_COMPONENTS)] = np.nan
+    per_seed = closure_tests.seed_window_errors(closure_tests.frame_errors(table), (0.0, 1.0))
+    result = closure_tests.closure_error_table(per_seed)
+    assert result.empty and {"closure", "theta", "measure", "mean", "difference", "level"} <= set(result.columns)

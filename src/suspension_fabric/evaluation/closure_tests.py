@@ -100,7 +100,8 @@ def seed_window_errors(errors: pd.DataFrame, window, group: str = "theta") -> pd
 
 def closure_error_table(per_seed: pd.DataFrame, level: float = LEVEL, group: str = "theta") -> pd.DataFrame:
     """One row per closure, ``group`` value and measure: the mean over seeds with its t-interval
-    and the paired per-seed difference from :data:`REFERENCE_CLOSURE` (NaN for the reference itself)."""
+    and the paired per-seed difference from :data:`REFERENCE_CLOSURE` (NaN for the reference itself);
+    no rows (the same columns) when no run recorded the fourth moment."""
     rows = []
     reference = per_seed[per_seed["closure"] == REFERENCE_CLOSURE].set_index([group, "seed"])
     for (name, key), mine in per_seed.groupby(["closure", group], sort=False):
@@ -121,11 +122,9 @@ def closure_error_table(per_seed: pd.DataFrame, level: float = LEVEL, group: str
                 shift = t_interval((mine[measure] - base).to_numpy(), level)
                 row.update(difference=shift.mean, difference_low=shift.low, difference_high=shift.high)
             rows.append(row)
-    table = pd.DataFrame(rows)
-    for column in ("difference", "difference_low", "difference_high"):
-        if column not in table:
-            table[column] = np.nan
-    return table.assign(level=level)
+    columns = ["closure", group, "measure", "n_seeds", "mean", "low", "high"]
+    columns += ["difference", "difference_low", "difference_high"]
+    return pd.DataFrame(rows, columns=columns).assign(level=level)
 
 
 @functools.cache

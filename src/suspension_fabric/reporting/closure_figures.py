@@ -69,7 +69,10 @@ def figure_closures(table: pd.DataFrame, snapshots: pd.DataFrame, window: float,
     ax.set_ylabel(r"$\|\hat E:(C - M)\| / \|\hat E:M\|$ over the first " + f"{window:g} strain")
     ax.set_title(f"(a) closure error, seed mean [{100 * level:g}% t-interval]", fontsize=10)
     ax.set_ylim(bottom=0.0)
-    ax.legend(fontsize=8)
+    if drive.empty:
+        ax.text(0.5, 0.5, "no run recorded\nthe fourth moment", ha="center", va="center", transform=ax.transAxes)
+    else:
+        ax.legend(fontsize=8)
     low_order = [HARMONIC_COLUMNS.index(name) for name in LOW_ORDER_COLUMNS]
     for row_index, theta in enumerate((90.0, 180.0)):
         snapshot = snapshots[np.isclose(snapshots["theta"], theta)]
