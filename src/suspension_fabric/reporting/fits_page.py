@@ -18,6 +18,7 @@ from .html_tables import (
     format_number,
     format_value_error,
     is_missing,
+    parameter_label,
     write_html_tables,
 )
 
@@ -33,8 +34,6 @@ __all__ = [
 #: Columns of :func:`fit_parameters_table` with the parameter ± its two errors.
 JACKKNIFE_COLUMN = "Value ± 1σ (jackknife over seeds)"
 PROPAGATED_COLUMN = "Value ± 1σ (propagated)"
-#: Parameter names as shown.
-_PARAMETER_LABELS = {"beta": "β", "beta_e": "β_e", "beta_c": "β_c"}
 
 
 def fit_parameters_table(fits: dict) -> pd.DataFrame:
@@ -46,7 +45,7 @@ def fit_parameters_table(fits: dict) -> pd.DataFrame:
             rows.append(
                 {
                     "Model": entry["label"],
-                    "Parameter": _PARAMETER_LABELS.get(name, name),
+                    "Parameter": parameter_label(name),
                     JACKKNIFE_COLUMN: format_value_error(value, entry["errors"].get(name)),
                     PROPAGATED_COLUMN: format_value_error(value, entry.get("errors_propagated", {}).get(name)),
                     "Fitted to (steady state)": components_label(entry["fitted_to"]),

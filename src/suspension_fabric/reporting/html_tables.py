@@ -28,6 +28,7 @@ __all__ = [
     "format_interval",
     "component_label",
     "components_label",
+    "parameter_label",
     "write_html_tables",
 ]
 
@@ -106,6 +107,15 @@ def format_interval(value, low, high, digits: int = 2) -> str:
     decimals = max(digits - 1 - math.floor(math.log10(width)), 0)
     shown = [f"{round(x, decimals) + 0.0:.{decimals}f}" for x in (value, low, high)]
     return f"{shown[0]} [{shown[1]}, {shown[2]}]"
+
+
+#: Model parameters as shown (any other name as it is).
+_PARAMETER_LABELS = {"beta": "β", "beta_e": "β_e", "beta_c": "β_c", "A_over_beta": "A/β"}
+
+
+def parameter_label(name: str) -> str:
+    """Display name of a model parameter: "beta" -> "β", "A_over_beta" -> "A/β"."""
+    return _PARAMETER_LABELS.get(name, name)
 
 
 def component_label(name: str) -> str:

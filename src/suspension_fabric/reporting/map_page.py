@@ -9,7 +9,7 @@ import pandas as pd
 
 from suspension_fabric.evaluation.state_map import fitted_columns
 
-from .html_tables import MISSING, format_interval, format_value_error, is_missing, write_html_tables
+from .html_tables import MISSING, format_interval, format_value_error, is_missing, parameter_label, write_html_tables
 
 __all__ = ["map_display_table", "write_map_page"]
 
@@ -22,8 +22,6 @@ _MAP_VALUES = (
     ("N1", "N1_sem", "N₁"),
     ("N2", "N2_sem", "N₂"),
 )
-#: Parameter names as shown.
-_PARAMETER_LABELS = {"beta": "β", "A_over_beta": "A/β"}
 #: Claims shown per point: the paired model-error statistics
 _MAP_CLAIMS = ("C3'", "C4'")
 
@@ -33,8 +31,7 @@ def map_display_table(table: pd.DataFrame) -> pd.DataFrame:
     each value with its error, the paired model-error claims with interval and verdict."""
     rows = []
     fitted = [
-        (column, error, f"{model} {_PARAMETER_LABELS.get(name, name)}")
-        for model, name, column, error in fitted_columns(table)
+        (column, error, f"{model} {parameter_label(name)}") for model, name, column, error in fitted_columns(table)
     ]
     for entry in table.to_dict("records"):  # not itertuples: "C3'_mean" is no identifier
         row = {"φ": f"{entry['phi']:.2f}", "μ": f"{entry['mu']:g}", "steady state": entry["steady"]}
