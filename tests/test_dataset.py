@@ -96,6 +96,35 @@ def test_export_without_raw_stress_keeps_what_rules_read(study, tmp_path):
     assert sorted(startup["seed"].unique()) == config["seeds"] and sorted(rotation["theta"].unique()) == [0.0, 90.0]
 
 
+def test_an_export_from_another_machine_keeps_the_runs_it_lacks(study, dataset, tmp_path):
+    """A study grown by a seed and exported from results that lack the runs already exported (a new
+    machine): those runs are kept with their checksums, the new seed's are added, and the fits,
+    made on fewer seeds than the dataset now holds, are left out; a dataset of other physics is
+    refused by key and left as it was."""
+    config = load_config(study / "config/test.yaml")
+    target = tmp_path / "grown"
+    shutil.copytree(dataset, target)
+    old = read_dataset(target)
+    results = tmp_path / "results"
+    extra = max(config["seeds"]) + 1
+    for name in run_names(config):
+        if name.startswith(f"seed{config['seeds'][0]}/"):  # one seed's runs, renamed as a new seed's
+            new = results / name.replace(f"seed{config['seeds'][0]}/", f"seed{extra}/")
+            shutil.copytree(study / RESULTS / name, new)
+    shutil.copy(study / RESULTS / "fits.json", results / "fits.json")
+    grown = dict(config, seeds=[*config["seeds"], extra])
+    record = export_dataset(grown, results, target)
+    assert record["runs_missing"] == [] and record["fits"] is None
+    assert {k: v for k, v in record["files"].items() if k in old["files"]} == old["files"]
+    assert len(record["files"]) == 4 * len(run_names(grown))
+    assert read_dataset(target)["files"] == record["files"]
+
+    other = dict(grown, forces=dict(grown["forces"], mu=grown["forces"]["mu"] + 0.1))
+    with pytest.raises(ValueError, match=r"config key 'forces' .*nothing was overwritten"):
+        export_dataset(other, results, target)
+    assert read_dataset(target)["files"] == record["files"]
+
+
 def test_a_study_on_the_dataset_runs_no_simulation_and_reproduces_the_fits(study, dataset, tmp_path):
     workdir = copy_workflow(tmp_path)
     config = yaml.safe_load((workdir / "config/test.yaml").read_text())

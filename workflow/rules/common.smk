@@ -114,6 +114,7 @@ def study_targets(study):
             *rules.stress_relation.output,
             *rules.benchmark_stress_relations.output,
             *rules.report_stress.output,
+            *rules.error_decomposition.output,
         ]
         if STUDIES[study]["verdicts"]["comparisons"]:
             targets += rules.compare_datasets.output

@@ -209,3 +209,31 @@ rule closure_tests:
         f"{RESULTS}/logs/closure_tests.log",
     script:
         "../scripts/closure_tests.py"
+
+
+rule error_decomposition:
+    """G-W's error after a rotation taken apart: integrated with the closure, with the closure's measured
+    error removed along each run, and with the measured <nnnn> in its place, per seed; the G-W stress
+    relation's N1, N2 and Pi from G-W's fabric, the measured <nn> and the measured <nnnn>."""
+    input:
+        startup=seed_runs(f"{RESULTS}/seed{{seed}}/startup/fabric.csv"),
+        rotation=seed_runs(f"{RESULTS}/seed{{seed}}/rotation_theta{{angle}}/fabric.csv"),
+        stress_startup=rules.aggregate_stress_startup.output.runs,
+        stress_rotation=rules.aggregate_stress_rotation.output.runs,
+    output:
+        table=f"{RESULTS}/tables/error_decomposition.csv",
+        per_seed=f"{RESULTS}/tables/error_decomposition_per_seed.csv",
+        stress=f"{RESULTS}/tables/stress_decomposition.csv",
+        stress_per_seed=f"{RESULTS}/tables/stress_decomposition_per_seed.csv",
+        summary=f"{RESULTS}/tables/error_decomposition.md",
+    params:
+        phi=setting("particles", "phi"),
+        steady_window=setting("analysis", "steady_window"),
+        window=setting("verdicts", "window"),
+        level=setting("verdicts", "level"),
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/error_decomposition.log",
+    script:
+        "../scripts/error_decomposition.py"

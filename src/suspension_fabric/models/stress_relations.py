@@ -53,6 +53,7 @@ __all__ = [
     "resolve_relations",
     "coefficients",
     "relation_stress",
+    "stress_from_forms",
     "STRESS_QUANTITIES",
     "relation_terms",
 ]
@@ -198,6 +199,12 @@ def relation_stress(
     with the solvent and Einstein terms), the normal stress differences, the particle pressure
     and the shear components of the total and of both terms."""
     hydro, contact = relation.forms(np.asarray(fabric, dtype=float), relation.check(params))
+    return stress_from_forms(hydro, contact, coefficient, phi)
+
+
+def stress_from_forms(hydro, contact, coefficient: Mapping[str, float], phi: float) -> dict[str, np.ndarray]:
+    """:func:`relation_stress` from the forms (H, C) themselves (..., 3, 3), e.g. the G-W forms
+    <nnnn>:E^ and <nnnn>:E^_c of a measured <nnnn>."""
     lubrication, contacts = coefficient["a_H"] * hydro, coefficient["a_C"] * contact
     particle = lubrication + contacts
     eta = particle[..., 0, 1] + 1.0 + EINSTEIN_COEFFICIENT * phi

@@ -156,16 +156,23 @@ def export_dataset(
     Runs without their analysed tables yet (:data:`RUN_TABLES`, made by the rules fabric_table
     and stress_table) are skipped and listed as missing, so a dataset can be exported while a study
     is still running and completed later, and a run is never exported without its stress table
-    (a dataset lacking one run's stress table would drop the stress of every run). Returns the
-    dataset record.
+    (a dataset lacking one run's stress table would drop the stress of every run). A run that
+    ``target`` already holds and ``results`` lacks is kept (its files checked against their
+    checksums), so a study grown by seeds or angles on another machine completes its dataset; a
+    ``target`` whose runs were simulated with other settings is refused, naming the key. Returns
+    the dataset record.
     """
     results, target = Path(results), Path(target)
+    kept = _runs_to_keep(config, target)
     target.mkdir(parents=True, exist_ok=True)
     files, missing = {}, []
     for name in run_names(config):
         source = results / name
         if not all((source / table).is_file() for table in ("run_complete.json", *RUN_TABLES)):
-            missing.append(name)
+            if name in kept:
+                files.update(kept[name])
+            else:
+                missing.append(name)
             continue
         (target / name).mkdir(parents=True, exist_ok=True)
         shutil.copy(source / "run_complete.json", target / name / "run.json")
@@ -178,13 +185,16 @@ def export_dataset(
         for file in (*copied, "run.json"):
             files[f"{name}/{file}"] = _sha256(target / name / file)
     fits_file = results / "fits.json"
+    fits = read_fits(fits_file) if fits_file.is_file() and not missing else None
+    if fits is not None and fits.get("provenance", {}).get("seeds", config["seeds"]) != config["seeds"]:
+        fits = None  # fitted on other seeds than the dataset holds (runs kept from an earlier export)
     record = {
         "format": DATASET_FORMAT,
         "study": config["study"],
         "config": config,
         "runs_missing": missing,
         "files": files,
-        "fits": read_fits(fits_file) if fits_file.is_file() and not missing else None,
+        "fits": fits,
         "versions": {name: importlib.metadata.version(name) for name in VERSIONED_PACKAGES},
         "plugin_sources_sha256": _plugin_hash(),
         "git_commit": _git_commit(repository or Path.cwd()),
@@ -192,6 +202,36 @@ def export_dataset(
     }
     (target / DATASET_FILE).write_text(json.dumps(record, indent=1) + "\n")
     return record
+
+
+def _runs_to_keep(config: dict, target: Path) -> dict[str, dict[str, str]]:
+    """{run: {file key: checksum}} of the runs the dataset ``target`` already holds that are runs
+    of ``config`` (none if there is no dataset yet); ``ValueError`` naming the key if its runs were
+    simulated with other settings than ``config``'s (seeds and angles may differ)."""
+    if not (target / DATASET_FILE).is_file():
+        return {}
+    record = read_dataset(target)
+    here, there = _what_was_simulated(config), _what_was_simulated(record["config"])
+    for name in set(here["protocols"]) & set(there["protocols"]):
+        if here["protocols"][name] != there["protocols"][name]:
+            raise ValueError(
+                f"{target} holds runs of protocol '{name}' with other segments ({there['protocols'][name]!r}): "
+                "export to another folder (nothing was overwritten)"
+            )
+    for key in here:
+        if key not in ("seeds", "angles_deg", "protocols") and here[key] != there[key]:
+            raise ValueError(
+                f"{target} holds runs simulated with config key '{key}' = {there[key]!r}, not {here[key]!r}: "
+                "export to another folder (nothing was overwritten)"
+            )
+    kept = {}
+    for name in run_names(config):
+        keys = [key for key in record["files"] if key.startswith(f"{name}/")]
+        if keys:
+            for key in keys:
+                _checked_file(target, record, key)
+            kept[name] = {key: record["files"][key] for key in keys}
+    return kept
 
 
 def refresh_fabric_tables(config: dict, results: Path, target: Path, *, repository: Path | None = None) -> list[str]:
