@@ -54,12 +54,13 @@ def setting(*keys):
 
 
 def plugin_files(kind):
-    """An input function: the Python files of the study's user-defined plug-ins of models.<kind>
-    (entries 'file.py:NAME'), so that editing one reruns what depends on it."""
+    """An input function: the files of the study's user-defined plug-ins of models.<kind> (entries
+    'file.py:NAME' and model files 'model.json'), so that editing one reruns what depends on it."""
 
     def files(wildcards):
         specs = STUDIES[wildcards.study]["models"][kind]
-        return [spec.rpartition(":")[0] for spec in specs if spec.rpartition(":")[0].endswith(".py")]
+        files = [spec.rpartition(":")[0] for spec in specs if spec.rpartition(":")[0].endswith(".py")]
+        return files + [spec for spec in specs if spec.endswith(".json")]
 
     return files
 
@@ -73,9 +74,10 @@ def compared_models(wildcards):
 
 
 def compared_model_files(wildcards):
-    """An input function: the Python files of the compared models that are user plug-ins."""
-    locations = [spec.rpartition(":")[0] for spec in compared_models(wildcards).values()]
-    return [location for location in locations if location.endswith(".py")]
+    """An input function: the files of the compared models that are user plug-ins or model files."""
+    specs = list(compared_models(wildcards).values())
+    locations = [spec.rpartition(":")[0] for spec in specs]
+    return [location for location in locations if location.endswith(".py")] + [s for s in specs if s.endswith(".json")]
 
 
 def seed_runs(path):
@@ -103,6 +105,7 @@ def study_targets(study):
         rules.model_errors.output.table,
         *rules.benchmark_models.output,
         *rules.closure_tests.output,
+        *rules.discover_model.output,
         *rules.report_tables.output,
         *rules.verdicts.output,
         *rules.figure_claims.output,

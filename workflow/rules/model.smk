@@ -237,3 +237,35 @@ rule error_decomposition:
         f"{RESULTS}/logs/error_decomposition.log",
     script:
         "../scripts/error_decomposition.py"
+
+
+rule discover_model:
+    """A fabric model found by sparse regression (weak form, sequentially thresholded least squares) on the
+    startup and the rotations, its terms chosen by held-out error over folds of angles; scored against
+    G-W fitted on the steady state, with the target of half G-W's held-out error net of the noise."""
+    input:
+        fits=rules.fit_models.output[0],
+        startup_runs=rules.aggregate_startup.output.runs,
+        rotation_runs=rules.aggregate_rotation.output.runs,
+        model_files=plugin_files("fabric"),
+    output:
+        model=f"{RESULTS}/sparse_model.json",
+        supports=f"{RESULTS}/tables/sparse_model_supports.csv",
+        coefficients=f"{RESULTS}/tables/sparse_model_coefficients.csv",
+        target=f"{RESULTS}/tables/sparse_model_target.csv",
+        steady=f"{RESULTS}/tables/sparse_model_steady.csv",
+        summary=f"{RESULTS}/tables/sparse_model.md",
+    params:
+        models=setting("models", "fabric"),
+        folds=setting("models", "held_out_folds"),
+        startup_strain=setting("run", "startup_strain"),
+        steady_window=setting("analysis", "steady_window"),
+        window=setting("verdicts", "window"),
+        reference=setting("verdicts", "models", "reference"),
+        level=setting("verdicts", "level"),
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/discover_model.log",
+    script:
+        "../scripts/discover_model.py"

@@ -292,8 +292,14 @@ BUILT_IN = {m.key: m for m in (GW, MODIFIED, SEPARATE_RATES)}
 
 # --------------------------------------------------------------------------- loading
 def load_model(spec: str) -> FabricModel:
-    """A model from its config entry: a built-in key, ``package.module:attribute`` or
-    ``path/to/file.py:attribute`` (the attribute a :class:`FabricModel`)."""
+    """A model from its config entry: a built-in key, ``package.module:attribute``,
+    ``path/to/file.py:attribute`` (the attribute a :class:`FabricModel`) or a model file
+    ``path/to/model.json`` written by the project (a sparse-regression model,
+    :func:`suspension_fabric.models.sparse_fabric.read_model_file`)."""
+    if spec.endswith(".json"):
+        from .sparse_fabric import read_model_file  # the sparse model is itself a FabricModel
+
+        return read_model_file(spec)
     return load_plugin(spec, BUILT_IN, FabricModel, ModelError, "model")
 
 
@@ -329,7 +335,7 @@ def integrate(
 ) -> np.ndarray:
     """<nn>(gamma) from ``fabric0`` under a constant velocity gradient, shape
     ``batch + (len(strains), 3, 3)`` (``fabric0`` and the gradient broadcast): exact propagation
-    for an affine model, ``solve_ivp`` (DOP853) per fabric otherwise."""
+    for an affine model, ``solve_ivp`` (DOP853) on the whole batch as one system otherwise."""
     params = fabric_model.check(params)
     strains = as_strains(strains)
     flow = flow_of(velocity_gradient)
@@ -337,14 +343,16 @@ def integrate(
     if fabric_model.affine:
         M, b = affine_system(fabric_model, flow, params, phi)
         return vec_to_sym(solve_affine(M, b, sym_to_vec(fabric0), strains))
+    # the whole batch as one system: the right-hand side broadcasts over it
     batch = np.broadcast_shapes(fabric0.shape[:-2], flow.grad_hat.shape[:-2])
-    starts = np.broadcast_to(fabric0, batch + (3, 3)).reshape(-1, 3, 3)
-    flows = [np.broadcast_to(t, batch + (3, 3)).reshape(-1, 3, 3) for t in flow]
-    out = np.empty((len(starts), len(strains), 3, 3))
-    for k, start in enumerate(starts):
-        one = Flow(*(t[k] for t in flows))
-        rhs = partial(_rhs_vec, fabric_model, flow=one, params=params, phi=phi)
-        out[k] = vec_to_sym(_solve_ode(fabric_model, rhs, sym_to_vec(start), strains, rtol, atol))
+    starts = sym_to_vec(np.broadcast_to(fabric0, batch + (3, 3)).reshape(-1, 3, 3))
+    flows = Flow(*(np.broadcast_to(t, batch + (3, 3)).reshape(-1, 3, 3) for t in flow))
+
+    def rhs(v):
+        return _rhs_vec(fabric_model, v.reshape(-1, 6), flows, params, phi).ravel()
+
+    solved = _solve_ode(fabric_model, rhs, starts.ravel(), strains, rtol, atol)  # (strains, batch * 6)
+    out = vec_to_sym(solved.reshape(len(strains), -1, 6).swapaxes(0, 1))
     return out.reshape(batch + (len(strains), 3, 3))
 
 

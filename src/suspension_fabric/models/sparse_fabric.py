@@ -1,0 +1,164 @@
+"""A fabric model found by sparse regression: d<nn>/dgamma on a library of frame-indifferent terms.
+
+The right-hand side is the co-rotational derivative plus a linear combination of isotropic
+tensor functions of the fabric X = <nn> and the normalised strain rate's extensional and
+compressional parts Eh_e, Eh_c (:func:`suspension_fabric.models.gillissen_wilson.split_strain_rate`),
+
+    dX/dgamma = Wh.X - X.Wh + r sum_k c_k Theta_k(X),   Wh = (Lh - Lh^T)/2,            (1)
+
+with the library :data:`LIBRARY` up to second order in X (every term is symmetric and turns with
+the flow, so (1) is frame indifferent; the co-rotational part is fixed at 1 for the same reason).
+G-W with the paper's closure lies in the span of the terms of order <= 1. The coefficients c_k come
+from a regression on simulated fabric curves (:mod:`suspension_fabric.evaluation.model_discovery`);
+the one parameter of the model, the rate r (1 where it was fitted), is what a new state point
+refits, on the steady <nn>_12 as G-W refits beta.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable, Mapping
+from pathlib import Path
+
+import numpy as np
+
+from .fabric_models import FabricModel, Flow, ModelError, Parameter
+
+__all__ = [
+    "LIBRARY",
+    "ORDER",
+    "MODEL_FILE_FORMAT",
+    "library_terms",
+    "corotational",
+    "sparse_model",
+    "write_model_file",
+    "read_model_file",
+]
+
+#: Format of a model file (:func:`write_model_file`).
+MODEL_FILE_FORMAT = 1
+
+
+def _trace(x) -> np.ndarray:
+    return np.trace(x, axis1=-2, axis2=-1)[..., None, None]
+
+
+def _dot(a, b) -> np.ndarray:
+    return np.einsum("...ij,...ij->...", a, b)[..., None, None]
+
+
+def _sym(a, x) -> np.ndarray:
+    return a @ x + x @ a
+
+
+_I = np.eye(3)
+
+#: The library: name -> Theta(X, flow), each broadcasting over leading axes of X.
+LIBRARY: dict[str, Callable[[np.ndarray, Flow], np.ndarray]] = {
+    # order 0: formation on the compressional axis, extensional drive, isotropic formation
+    "Ec": lambda x, f: np.broadcast_to(f.e_comp, x.shape),
+    "Ee": lambda x, f: np.broadcast_to(f.e_ext, x.shape),
+    "tr(Ec) I": lambda x, f: np.broadcast_to(_trace(f.e_comp) * _I, x.shape),
+    # order 1
+    "X": lambda x, f: x,
+    "tr(X) I": lambda x, f: _trace(x) * _I,
+    "tr(X) Ec": lambda x, f: _trace(x) * f.e_comp,
+    "tr(X) Ee": lambda x, f: _trace(x) * f.e_ext,
+    "Ec.X + X.Ec": lambda x, f: _sym(f.e_comp, x),
+    "Ee.X + X.Ee": lambda x, f: _sym(f.e_ext, x),
+    "(Ec:X) I": lambda x, f: _dot(f.e_comp, x) * _I,
+    "(Ee:X) I": lambda x, f: _dot(f.e_ext, x) * _I,
+    # order 2
+    "X.X": lambda x, f: x @ x,
+    "tr(X) X": lambda x, f: _trace(x) * x,
+    "(Ec:X) X": lambda x, f: _dot(f.e_comp, x) * x,
+    "(Ee:X) X": lambda x, f: _dot(f.e_ext, x) * x,
+    "X.Ec.X": lambda x, f: x @ f.e_comp @ x,
+    "X.Ee.X": lambda x, f: x @ f.e_ext @ x,
+    "(X:X) I": lambda x, f: _dot(x, x) * _I,
+    "tr(X)^2 I": lambda x, f: _trace(x) ** 2 * _I,
+    "tr(X) (Ec.X + X.Ec)": lambda x, f: _trace(x) * _sym(f.e_comp, x),
+    "tr(X) (Ee.X + X.Ee)": lambda x, f: _trace(x) * _sym(f.e_ext, x),
+    "tr(X) (Ec:X) I": lambda x, f: _trace(x) * _dot(f.e_comp, x) * _I,
+    "tr(X) (Ee:X) I": lambda x, f: _trace(x) * _dot(f.e_ext, x) * _I,
+}
+#: Each term's order in X.
+ORDER = {name: 0 if k < 3 else 1 if k < 11 else 2 for k, name in enumerate(LIBRARY)}
+
+
+def corotational(fabric, flow: Flow) -> np.ndarray:
+    """Wh.X - X.Wh: how the components of X change as the flow's vorticity turns it."""
+    spin = 0.5 * (flow.grad_hat - np.swapaxes(flow.grad_hat, -1, -2))
+    return spin @ fabric - fabric @ spin
+
+
+def library_terms(fabric, flow: Flow, names=None) -> np.ndarray:
+    """Theta_k(X) of the named terms (default all), stacked on a new axis -3: (..., K, 3, 3)."""
+    fabric = np.asarray(fabric, dtype=float)
+    names = list(LIBRARY) if names is None else list(names)
+    return np.stack([np.broadcast_to(LIBRARY[name](fabric, flow), fabric.shape) for name in names], axis=-3)
+
+
+def sparse_model(
+    coefficients: Mapping[str, float], key: str = "sparse", label: str = "sparse regression"
+) -> FabricModel:
+    """The :class:`~suspension_fabric.models.fabric_models.FabricModel` of (1) with the given
+    {term: c_k} (terms of :data:`LIBRARY`); its parameter is the rate r, fitted on the steady
+    <nn>_12."""
+    unknown = set(coefficients) - set(LIBRARY)
+    if unknown or not coefficients:
+        raise ModelError(f"sparse model terms {sorted(unknown) or '(none)'}: expected terms of LIBRARY {list(LIBRARY)}")
+    names = list(coefficients)
+    values = np.array([float(coefficients[name]) for name in names])
+
+    def rhs(fabric, flow, params, phi):
+        fabric = np.asarray(fabric, dtype=float)
+        terms = library_terms(fabric, flow, names)
+        return corotational(fabric, flow) + params["rate"] * np.einsum("k,...kij->...ij", values, terms)
+
+    affine = all(ORDER[name] <= 1 for name in names)
+    text = " + ".join(f"{value:+.4g} {name}" for name, value in zip(names, values))
+    return FabricModel(
+        key=key,
+        label=label,
+        parameters=(Parameter("rate", 1e-3, 1e3, 1.0),),
+        steady_targets=("12",),
+        rhs=rhs,
+        affine=affine,
+        description=f"dX/dgamma = Wh.X - X.Wh + rate ({text})",
+    )
+
+
+def write_model_file(path, coefficients: Mapping[str, float], errors: Mapping[str, float], source: dict) -> Path:
+    """A sparse model as a file a config names in ``models.fabric`` (``path/to/model.json``): its
+    terms' coefficients and their errors, and where they were fitted (``source``)."""
+    record = {
+        "format": MODEL_FILE_FORMAT,
+        "kind": "sparse",
+        "coefficients": {name: float(value) for name, value in coefficients.items()},
+        "errors": {name: float(errors[name]) for name in coefficients},
+        "source": source,
+    }
+    path = Path(path)
+    path.write_text(json.dumps(record, indent=1) + "\n")
+    return path
+
+
+def read_model_file(path) -> FabricModel:
+    """The model of a file of :func:`write_model_file`; errors name the file."""
+    path = Path(path)
+    if not path.is_file():
+        raise ModelError(f"model file {path} not found")
+    try:
+        record = json.loads(path.read_text())
+    except json.JSONDecodeError as failure:
+        raise ModelError(f"model file {path}: not JSON ({failure})") from failure
+    if record.get("format") != MODEL_FILE_FORMAT or record.get("kind") != "sparse":
+        raise ModelError(
+            f"model file {path}: format {record.get('format')!r}, kind {record.get('kind')!r}; "
+            f"expected format {MODEL_FILE_FORMAT}, kind 'sparse'"
+        )
+    try:
+        return sparse_model(record["coefficients"])
+    except ModelError as failure:
+        raise ModelError(f"model file {path}: {failure}") from failure

@@ -1,0 +1,61 @@
+"""Snakemake: a fabric model found by sparse regression, its terms chosen by held-out error, scored
+against the reference model (rule discover_model)."""
+
+from pathlib import Path
+
+from suspension_fabric.analysis import tables
+from suspension_fabric.evaluation import model_benchmark, model_discovery
+from suspension_fabric.models.fabric_models import resolve_models
+from suspension_fabric.models.fits_file import read_fits
+from suspension_fabric.models.sparse_fabric import sparse_model, write_model_file
+from suspension_fabric.workflow_io import job_study_config, logged
+
+sm = snakemake  # noqa: F821 (injected by Snakemake)
+with logged(sm.log[0]):
+    fits = read_fits(sm.input.fits)
+    startup_runs = tables.read_fabric_table(sm.input.startup_runs)
+    rotation_runs = tables.read_fabric_table(sm.input.rotation_runs)
+    curves = model_benchmark.seed_curves(startup_runs, rotation_runs, sm.params.window, sm.params.steady_window)
+    try:
+        found = model_discovery.discover(
+            startup_runs,
+            rotation_runs,
+            curves,
+            fits["phi"],
+            sm.params.startup_strain,
+            sm.params.folds,
+            sm.params.steady_window,
+            sm.params.level,
+        )
+    except ValueError as failure:  # e.g. no candidate can be integrated on a tiny study
+        found, reason = None, str(failure)
+        print(f"no sparse model: {reason}")
+    if found is None:
+        for name in ("supports", "coefficients", "target", "steady"):
+            Path(sm.output[name]).write_text("")
+        Path(sm.output.model).write_text("{}\n")
+        Path(sm.output.summary).write_text(f"No sparse model was found on this study: {reason}\n")
+    else:
+        reference = resolve_models(sm.params.models)[sm.params.reference]
+        _, predicted = model_benchmark.model_curves(
+            reference, fits["models"][reference.key]["parameters"], fits["phi"], curves, sm.params.startup_strain
+        )
+        target = model_discovery.target_table(
+            found["held_out"], model_benchmark.seed_errors(predicted, curves), curves, sm.params.level
+        )
+        model = sparse_model(found["coefficients"])
+        steady = model_discovery.steady_table(model, curves, fits["targets"], fits["phi"])
+        study = job_study_config(sm)
+        write_model_file(
+            sm.output.model,
+            found["coefficients"],
+            found["errors"],
+            {"study": study["study"], "seeds": study["seeds"], "angles_deg": study["angles_deg"], "phi": fits["phi"]},
+        )
+        found["supports"].to_csv(sm.output.supports, index=False)
+        model_discovery.coefficient_table(found).to_csv(sm.output.coefficients, index=False)
+        target.to_csv(sm.output.target, index=False)
+        steady.to_csv(sm.output.steady, index=False)
+        summary = model_discovery.summary_markdown(found, target, steady, reference.label)
+        Path(sm.output.summary).write_text(summary)
+        print(summary)
