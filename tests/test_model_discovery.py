@@ -166,3 +166,41 @@ def test_a_model_file_round_trips_and_bad_files_are_named(tmp_path):
     (tmp_path / "other.json").write_text(json.dumps(dict(record, kind="neural")))
     with pytest.raises(ModelError, match="kind 'neural'; expected format 1, kind 'sparse'"):
         read_model_file(tmp_path / "other.json")
+
+
+def test_the_quadratic_form_of_a_model_is_its_right_hand_side():
+    """Every combination of library terms is at most quadratic in X, so b + M v + T(v, v) from
+    values at 28 fabrics reproduces it anywhere; a model with every term evaluates through it."""
+    from suspension_fabric.models.sparse_fabric import quadratic_form
+
+    values = {name: np.sin(k + 1.0) for k, name in enumerate(LIBRARY)}
+    fabrics = random_fabrics(7, seed=8)
+
+    def combination(x):
+        return np.einsum("k,...kij->...ij", np.array(list(values.values())), library_terms(x, FLOW, list(values)))
+
+    b, M, T = quadratic_form(combination)
+    v = sym_to_vec(fabrics)
+    np.testing.assert_allclose(
+        b + v @ M.T + np.einsum("ijk,nj,nk->ni", T, v, v), sym_to_vec(combination(fabrics)), atol=1e-12
+    )
+    model = sparse_model(values)
+    np.testing.assert_allclose(
+        model.rhs(fabrics, FLOW, {"rate": 0.7}, PHI),
+        corotational(fabrics, FLOW) + 0.7 * combination(fabrics),
+        atol=1e-12,
+    )
+
+
+def test_the_steady_state_from_the_fitted_one_is_the_integrated_one(tmp_path):
+    """A model holding a given steady fabric at r = 1 (its file records it): Newton's method from it
+    at another rate finds the state that integrating from no contacts reaches."""
+    coefficients = gw_in_the_library(FAST_BETA) | {"X.X": -0.05}
+    model = sparse_model(coefficients)
+    anchor = fabric_models.startup_shear(model, [40.0], {"rate": 1.0}, PHI)[0]
+    path = write_model_file(tmp_path / "m.json", coefficients, dict.fromkeys(coefficients, 0.0), {}, anchor)
+    loaded = read_model_file(path)
+    assert loaded.steady is not None
+    for rate in (1.0, 1.4):
+        integrated = fabric_models.startup_shear(model, [60.0], {"rate": rate}, PHI)[0]
+        np.testing.assert_allclose(fabric_models.steady_state(loaded, {"rate": rate}, PHI), integrated, atol=1e-8)

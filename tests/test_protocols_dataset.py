@@ -36,6 +36,7 @@ def test_the_dataset_serves_the_rebuild_and_is_small():
 def test_the_rebuild_plans_no_simulation_and_writes_the_documented_results(tmp_path):
     workdir = copy_workflow(tmp_path)
     shutil.copytree(DATASET, workdir / "data" / "protocols")
+    shutil.copytree(REPO / "data" / "models", workdir / "data" / "models")  # the sparse model it scores
     plan = snakemake(workdir, "--configfile", CONFIG, "-n")
     assert plan.returncode == 0, (plan.stdout + plan.stderr)[-3000:]
     rules = {job["rule"] for job in dry_run_jobs(plan.stdout + plan.stderr)}

@@ -43,7 +43,7 @@ with logged(sm.log[0]):
         target = model_discovery.target_table(
             found["held_out"], model_benchmark.seed_errors(predicted, curves), curves, sm.params.level
         )
-        model = sparse_model(found["coefficients"])
+        model = sparse_model(found["coefficients"], steady_fabric=found["steady_fabric"])
         steady = model_discovery.steady_table(model, curves, fits["targets"], fits["phi"])
         study = job_study_config(sm)
         write_model_file(
@@ -51,6 +51,7 @@ with logged(sm.log[0]):
             found["coefficients"],
             found["errors"],
             {"study": study["study"], "seeds": study["seeds"], "angles_deg": study["angles_deg"], "phi": fits["phi"]},
+            found["steady_fabric"],
         )
         found["supports"].to_csv(sm.output.supports, index=False)
         model_discovery.coefficient_table(found).to_csv(sm.output.coefficients, index=False)

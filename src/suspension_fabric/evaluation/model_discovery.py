@@ -183,21 +183,22 @@ def constrained_least_squares(A, y, support, constraint) -> np.ndarray:
 
 
 def _fitted(system, support, names) -> dict[str, float]:
-    A, y, constraint = system
-    coefficients = constrained_least_squares(A, y, support, constraint)
+    A, y, (C, d, _) = system
+    coefficients = constrained_least_squares(A, y, support, (C, d))
     return {name: float(c) for name, c, kept in zip(names, coefficients, support) if kept}
 
 
 def _training_system(startup, rotation, seeds, thetas, names, steady_window):
-    """(A, y, (C, d)): the weak form over the seeds' startups and rotations at ``thetas``, and the
-    constraint that the model holds the seeds' mean steady fabric over ``steady_window``."""
+    """(A, y, (C, d, X_ss)): the weak form over the seeds' startups and rotations at ``thetas``, and
+    the constraint that the model holds the seeds' mean steady fabric X_ss over ``steady_window``."""
     curves = [startup[key] for key in startup if key[0] in seeds]
     low, high = steady_window
     steady = np.concatenate(
         [fabrics[(strains >= low - 1e-9) & (strains <= high + 1e-9)] for strains, fabrics in curves]
     )
     curves += [rotation[key] for key in rotation if key[0] in seeds and np.any(np.isclose(key[1], thetas))]
-    return (*weak_form_system(curves, names), steady_constraint(steady.mean(axis=0), names))
+    steady = steady.mean(axis=0)
+    return (*weak_form_system(curves, names), (*steady_constraint(steady, names), steady))
 
 
 def _predicted_errors(model, curves: SeedCurves, phi, startup_strain, thetas) -> np.ndarray:
@@ -294,6 +295,7 @@ def discover(
     errors_jackknife = {name: jackknife(lambda s, name=name: coefficient(s, name), seeds)[1] for name in coefficients}
     return {
         "library": names,
+        "steady_fabric": system[2][2],
         "window_frames": WINDOW_FRAMES,
         "folds": folds,
         "supports": table,
@@ -407,6 +409,11 @@ def coefficient_table(found: dict) -> pd.DataFrame:
     )
 
 
+def _percent(value: float) -> str:
+    """A signed percentage with two decimals; round-off (below 0.005%) reads 0.00%."""
+    return "0.00%" if abs(value) < 5e-5 else f"{value:+.2%}"
+
+
 def _interval(mean, low, high) -> str:
     return f"{mean:.3g} [{low:.3g}, {high:.3g}]"
 
@@ -457,7 +464,7 @@ def summary_markdown(found: dict, target: pd.DataFrame, steady: pd.DataFrame, re
     for _, row in steady.iterrows():
         lines.append(
             f"| {_LABELS[row['component']]} | {row['rate']:.4g} ({row['fit'].replace('<nn>_12', '⟨nn⟩₁₂')}) | "
-            f"{row['model']:.4g} | {row['simulated']:.4g} | {row['relative_difference']:+.2%} | "
+            f"{row['model']:.4g} | {row['simulated']:.4g} | {_percent(row['relative_difference'])} | "
             f"{row['tolerance']:.0%} ({'within' if row['within'] else 'outside'}) |"
         )
     shear = target.set_index("component")

@@ -21,11 +21,15 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 
 import numpy as np
+import scipy.optimize
 
-from .fabric_models import FabricModel, Flow, ModelError, Parameter
+from suspension_fabric.analysis.frames import simple_shear_gradient, sym_to_vec, vec_to_sym
+
+from .fabric_models import FabricModel, Flow, ModelError, Parameter, flow_of
 
 __all__ = [
     "LIBRARY",
+    "quadratic_form",
     "ORDER",
     "MODEL_FILE_FORMAT",
     "library_terms",
@@ -52,6 +56,7 @@ def _sym(a, x) -> np.ndarray:
 
 
 _I = np.eye(3)
+_SHEAR = flow_of(simple_shear_gradient())
 
 #: The library: name -> Theta(X, flow), each broadcasting over leading axes of X.
 LIBRARY: dict[str, Callable[[np.ndarray, Flow], np.ndarray]] = {
@@ -99,25 +104,98 @@ def library_terms(fabric, flow: Flow, names=None) -> np.ndarray:
     return np.stack([np.broadcast_to(LIBRARY[name](fabric, flow), fabric.shape) for name in names], axis=-3)
 
 
+def _steady_from(anchor: np.ndarray, rhs: Callable, rate: float) -> np.ndarray:
+    """The steady fabric in simple shear at ``rate``: the root of the right-hand side nearest the
+    fabric the model was fitted to hold (Powell's hybrid method from ``anchor``), accepted if it
+    attracts (every eigenvalue of the Jacobian, by central differences, has a negative real part);
+    otherwise ``ModelError``."""
+    flow = _SHEAR
+
+    def residual(v):
+        return sym_to_vec(rhs(vec_to_sym(v), flow, {"rate": rate}, None))
+
+    solution = scipy.optimize.root(residual, sym_to_vec(anchor), method="hybr", tol=1e-13)
+    if not solution.success or np.abs(residual(solution.x)).max() > 1e-10:
+        raise ModelError(f"sparse model: no steady state near the fitted one at rate {rate:g} ({solution.message})")
+    step = 1e-6
+    jacobian = np.stack(
+        [(residual(solution.x + step * e) - residual(solution.x - step * e)) / (2 * step) for e in np.eye(6)], axis=1
+    )
+    if not np.all(np.linalg.eigvals(jacobian).real < 0.0):
+        raise ModelError(f"sparse model: the steady state at rate {rate:g} does not attract")
+    return vec_to_sym(solution.x)
+
+
+def quadratic_form(function) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(b, M, T) with function(X) = b + M v + T(v, v) on 6-vectors v of X (T symmetric in its last
+    two indices), for a function of symmetric tensors that is at most quadratic, as every
+    combination of :data:`LIBRARY` terms is: from its values at 0, +-e_j and e_j + e_k."""
+    basis = np.eye(6)
+    pairs = [(j, k) for j in range(6) for k in range(j + 1, 6)]
+    points = np.concatenate([np.zeros((1, 6)), basis, -basis, [basis[j] + basis[k] for j, k in pairs]])
+    values = sym_to_vec(function(vec_to_sym(points)))
+    constant, plus, minus, mixed = values[0], values[1:7], values[7:13], values[13:]
+    linear = ((plus - minus) / 2.0).T
+    quadratic = np.zeros((6, 6, 6))
+    for j in range(6):
+        quadratic[:, j, j] = (plus[j] + minus[j]) / 2.0 - constant
+    for (j, k), value in zip(pairs, mixed):
+        quadratic[:, j, k] = quadratic[:, k, j] = (value - plus[j] - plus[k] + constant) / 2.0
+    return constant, linear, quadratic
+
+
+def _single_flow(flow: Flow) -> Flow | None:
+    """The flow as one (3, 3) flow if every entry of a batch is the same, else None."""
+    grad = np.asarray(flow.grad_hat)
+    if grad.ndim == 2:
+        return flow
+    flat = grad.reshape(-1, 3, 3)
+    if np.all(flat == flat[0]):
+        return Flow(*(np.asarray(t).reshape(-1, 3, 3)[0] for t in flow))
+    return None
+
+
 def sparse_model(
-    coefficients: Mapping[str, float], key: str = "sparse", label: str = "sparse regression"
+    coefficients: Mapping[str, float],
+    key: str = "sparse",
+    label: str = "sparse regression",
+    steady_fabric=None,
 ) -> FabricModel:
     """The :class:`~suspension_fabric.models.fabric_models.FabricModel` of (1) with the given
     {term: c_k} (terms of :data:`LIBRARY`); its parameter is the rate r, fitted on the steady
-    <nn>_12."""
+    <nn>_12. ``steady_fabric``: the steady fabric the fit held at r = 1, from which the steady
+    state at any r is found by Newton's method (:func:`_steady_from`; else by integration)."""
     unknown = set(coefficients) - set(LIBRARY)
     if unknown or not coefficients:
         raise ModelError(f"sparse model terms {sorted(unknown) or '(none)'}: expected terms of LIBRARY {list(LIBRARY)}")
     names = list(coefficients)
     values = np.array([float(coefficients[name]) for name in names])
 
+    def combination(fabric, flow):
+        return np.einsum("k,...kij->...ij", values, library_terms(fabric, flow, names))
+
+    polynomials = {}
+
     def rhs(fabric, flow, params, phi):
         fabric = np.asarray(fabric, dtype=float)
-        terms = library_terms(fabric, flow, names)
-        return corotational(fabric, flow) + params["rate"] * np.einsum("k,...kij->...ij", values, terms)
+        single = _single_flow(flow)
+        if single is None:  # flows that differ across the batch: the terms themselves
+            return corotational(fabric, flow) + params["rate"] * combination(fabric, flow)
+        key = single.grad_hat.tobytes()
+        if key not in polynomials:
+            polynomials.clear()
+            polynomials[key] = quadratic_form(lambda x: combination(x, single))
+        constant, linear, quadratic = polynomials[key]
+        v = sym_to_vec(fabric)
+        terms = constant + v @ linear.T + np.einsum("ijk,...j,...k->...i", quadratic, v, v)
+        return corotational(fabric, single) + params["rate"] * vec_to_sym(terms)
 
     affine = all(ORDER[name] <= 1 for name in names)
     text = " + ".join(f"{value:+.4g} {name}" for name, value in zip(names, values))
+    steady = None
+    if steady_fabric is not None and not affine:
+        anchor = np.asarray(steady_fabric, dtype=float)
+        steady = lambda params, phi: _steady_from(anchor, rhs, params["rate"])  # noqa: E731
     return FabricModel(
         key=key,
         label=label,
@@ -125,18 +203,23 @@ def sparse_model(
         steady_targets=("12",),
         rhs=rhs,
         affine=affine,
+        steady=steady,
         description=f"dX/dgamma = Wh.X - X.Wh + rate ({text})",
     )
 
 
-def write_model_file(path, coefficients: Mapping[str, float], errors: Mapping[str, float], source: dict) -> Path:
+def write_model_file(
+    path, coefficients: Mapping[str, float], errors: Mapping[str, float], source: dict, steady_fabric=None
+) -> Path:
     """A sparse model as a file a config names in ``models.fabric`` (``path/to/model.json``): its
-    terms' coefficients and their errors, and where they were fitted (``source``)."""
+    terms' coefficients and their errors, the steady fabric it holds (if any) and where they were
+    fitted (``source``)."""
     record = {
         "format": MODEL_FILE_FORMAT,
         "kind": "sparse",
         "coefficients": {name: float(value) for name, value in coefficients.items()},
         "errors": {name: float(errors[name]) for name in coefficients},
+        "steady_fabric": None if steady_fabric is None else np.asarray(steady_fabric, dtype=float).tolist(),
         "source": source,
     }
     path = Path(path)
@@ -159,6 +242,6 @@ def read_model_file(path) -> FabricModel:
             f"expected format {MODEL_FILE_FORMAT}, kind 'sparse'"
         )
     try:
-        return sparse_model(record["coefficients"])
+        return sparse_model(record["coefficients"], steady_fabric=record.get("steady_fabric"))
     except ModelError as failure:
         raise ModelError(f"model file {path}: {failure}") from failure
