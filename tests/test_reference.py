@@ -133,6 +133,6 @@ def test_the_reference_study_rebuilds_the_fits_without_simulating(tmp_path):
     committed = json.loads((REPO / "data" / "models" / "sparse_reference.json").read_text())
     assert made["coefficients"].keys() == committed["coefficients"].keys()
     for name, value in committed["coefficients"].items():
-        assert made["coefficients"][name] == pytest.approx(value, rel=1e-9), name
+        assert made["coefficients"][name] == pytest.approx(value, rel=1e-7), name  # summation order, BLAS
     target = pd.read_csv(workdir / "results/reference/tables/sparse_model_target.csv").set_index("component")
     assert target.loc["n12", "target_met"] and target.loc["n23", "target_met"]

@@ -85,20 +85,18 @@ def run_curves(runs: pd.DataFrame) -> dict[tuple[int, float], tuple[np.ndarray, 
 
 
 def _window_integrals(values, strains, ends) -> np.ndarray:
-    """Integral of ``values`` (S, ...) over each window [ends[i], ends[i+1]]: composite Simpson
-    where a window has an even number of equal steps (exact for cubics), else the trapezoidal rule."""
-    out = []
-    for start, stop in zip(ends[:-1], ends[1:]):
-        part, grid = values[start : stop + 1], strains[start : stop + 1]
-        steps = np.diff(grid)
-        if len(steps) % 2 == 0 and np.allclose(steps, steps[0], rtol=1e-6):
-            weights = np.ones(len(grid))
-            weights[1:-1:2], weights[2:-1:2] = 4.0, 2.0
-            weights *= steps[0] / 3.0
-        else:
-            weights = 0.5 * (np.concatenate([steps, [0.0]]) + np.concatenate([[0.0], steps]))
-        out.append(np.tensordot(weights, part, axes=1))
-    return np.stack(out)
+    """Integral of ``values`` (S, ...) over each window [ends[i], ends[i+1]] (windows of equal
+    length): composite Simpson where a window has an even number of equal steps (exact for
+    cubics), else the trapezoidal rule."""
+    length = ends[1] - ends[0]
+    index = ends[:-1, None] + np.arange(length + 1)  # (W, frames)
+    steps = np.diff(strains[index], axis=1)  # (W, length)
+    trapezoid = 0.5 * (np.pad(steps, ((0, 0), (0, 1))) + np.pad(steps, ((0, 0), (1, 0))))
+    simpson = np.ones(length + 1)
+    simpson[1:-1:2], simpson[2:-1:2] = 4.0, 2.0
+    uniform = np.all(np.abs(steps - steps[:, :1]) <= 1e-6 * np.abs(steps[:, :1]), axis=1) & (length % 2 == 0)
+    weights = np.where(uniform[:, None], simpson[None, :] * steps[:, :1] / 3.0, trapezoid)
+    return np.einsum("wf,wf...->w...", weights, values[index])
 
 
 def weak_form_system(curves, names=None, window: int = WINDOW_FRAMES) -> tuple[np.ndarray, np.ndarray]:
@@ -188,17 +186,25 @@ def _fitted(system, support, names) -> dict[str, float]:
     return {name: float(c) for name, c, kept in zip(names, coefficients, support) if kept}
 
 
-def _training_system(startup, rotation, seeds, thetas, names, steady_window):
+def _training_system(startup, rotation, seeds, thetas, names, steady_window, blocks: dict):
     """(A, y, (C, d, X_ss)): the weak form over the seeds' startups and rotations at ``thetas``, and
-    the constraint that the model holds the seeds' mean steady fabric X_ss over ``steady_window``."""
-    curves = [startup[key] for key in startup if key[0] in seeds]
+    the constraint that the model holds the seeds' mean steady fabric X_ss over ``steady_window``.
+    ``blocks`` keeps each curve's rows of the weak form, made once."""
+    keys = [("startup", key) for key in startup if key[0] in seeds]
     low, high = steady_window
     steady = np.concatenate(
-        [fabrics[(strains >= low - 1e-9) & (strains <= high + 1e-9)] for strains, fabrics in curves]
-    )
-    curves += [rotation[key] for key in rotation if key[0] in seeds and np.any(np.isclose(key[1], thetas))]
-    steady = steady.mean(axis=0)
-    return (*weak_form_system(curves, names), (*steady_constraint(steady, names), steady))
+        [
+            fabrics[(strains >= low - 1e-9) & (strains <= high + 1e-9)]
+            for strains, fabrics in (startup[k] for _, k in keys)
+        ]
+    ).mean(axis=0)
+    keys += [("rotation", key) for key in rotation if key[0] in seeds and np.any(np.isclose(key[1], thetas))]
+    for kind, key in keys:
+        if (kind, key) not in blocks:
+            blocks[(kind, key)] = weak_form_system([(startup if kind == "startup" else rotation)[key]], names)
+    A = np.concatenate([blocks[k][0] for k in keys])
+    y = np.concatenate([blocks[k][1] for k in keys])
+    return A, y, (*steady_constraint(steady, names), steady)
 
 
 def _predicted_errors(model, curves: SeedCurves, phi, startup_strain, thetas) -> np.ndarray:
@@ -219,12 +225,12 @@ def held_out_support_errors(
     other folds of angles (all seeds); ``startup`` and ``rotation`` are :func:`run_curves`."""
     names = list(LIBRARY)
     seeds = set(int(s) for s in curves.seeds)
-    out = []
+    out, blocks = [], {}
     for support in supports:
         total = np.zeros((len(curves.seeds), 6))
         for held in angle_folds(curves.thetas, folds):
             train = curves.thetas[~np.isin(curves.thetas, held)]
-            system = _training_system(startup, rotation, seeds, train, names, steady_window)
+            system = _training_system(startup, rotation, seeds, train, names, steady_window, blocks)
             model = sparse_model(_fitted(system, support, names))
             total += _predicted_errors(model, curves, phi, startup_strain, held) * len(held)
         out.append(total / len(curves.thetas))
@@ -260,7 +266,8 @@ def discover(
     names = list(LIBRARY)
     startup, rotation = run_curves(startup_runs), run_curves(rotation_runs)
     seeds = [int(s) for s in curves.seeds]
-    system = _training_system(startup, rotation, set(seeds), curves.thetas, names, steady_window)
+    blocks = {}
+    system = _training_system(startup, rotation, set(seeds), curves.thetas, names, steady_window, blocks)
     supports = candidate_supports(*system[:2])
     errors = held_out_support_errors(startup, rotation, curves, supports, phi, startup_strain, folds, steady_window)
     table = []
@@ -286,7 +293,9 @@ def discover(
         key = tuple(subset)
         if key not in cache:
             cache[key] = _fitted(
-                _training_system(startup, rotation, set(subset), curves.thetas, names, steady_window), support, names
+                _training_system(startup, rotation, set(subset), curves.thetas, names, steady_window, blocks),
+                support,
+                names,
             )
         return cache[key][name]
 
