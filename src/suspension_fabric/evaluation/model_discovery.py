@@ -219,11 +219,20 @@ def _predicted_errors(model, curves: SeedCurves, phi, startup_strain, thetas) ->
 
 
 def held_out_support_errors(
-    startup, rotation, curves: SeedCurves, supports, phi: float, startup_strain: float, folds: int, steady_window
+    startup,
+    rotation,
+    curves: SeedCurves,
+    supports,
+    phi: float,
+    startup_strain: float,
+    folds: int,
+    steady_window,
+    names=None,
 ) -> list[np.ndarray]:
-    """Per support, the (seeds, 6) errors of every angle predicted by a fit on the startup and the
-    other folds of angles (all seeds); ``startup`` and ``rotation`` are :func:`run_curves`."""
-    names = list(LIBRARY)
+    """Per support (masks over ``names``, default the whole library), the (seeds, 6) errors of every
+    angle predicted by a fit on the startup and the other folds of angles (all seeds); ``startup``
+    and ``rotation`` are :func:`run_curves`."""
+    names = list(LIBRARY) if names is None else list(names)
     seeds = set(int(s) for s in curves.seeds)
     out, blocks = [], {}
     for support in supports:
@@ -258,18 +267,22 @@ def discover(
     folds: int,
     steady_window,
     level: float = LEVEL,
+    max_order: int = 2,
 ) -> dict:
     """The sparse model of a study: every candidate support with its held-out error (mean over
     seeds of the six components' sum, with its t-interval), the chosen support's coefficients
     fitted on every angle with their seed jackknife errors, and its per-seed held-out errors
-    (seeds, 6) for the comparison with other models."""
-    names = list(LIBRARY)
+    (seeds, 6) for the comparison with other models. ``max_order``: the library's terms up to this
+    order in <nn> only (1: models affine in <nn>, as G-W is)."""
+    names = [name for name in LIBRARY if ORDER[name] <= max_order]
     startup, rotation = run_curves(startup_runs), run_curves(rotation_runs)
     seeds = [int(s) for s in curves.seeds]
     blocks = {}
     system = _training_system(startup, rotation, set(seeds), curves.thetas, names, steady_window, blocks)
     supports = candidate_supports(*system[:2])
-    errors = held_out_support_errors(startup, rotation, curves, supports, phi, startup_strain, folds, steady_window)
+    errors = held_out_support_errors(
+        startup, rotation, curves, supports, phi, startup_strain, folds, steady_window, names
+    )
     table = []
     for support, error in zip(supports, errors):
         total = t_interval(error.sum(axis=1), level) if np.all(np.isfinite(error)) else None
