@@ -173,3 +173,22 @@ def test_two_exact_separate_rates_solutions_are_told_apart_by_the_unfitted_compo
         n22 = fm.steady_state(fm.SEPARATE_RATES, near, PHI)[1, 1]
         fitted = fm.fit_steady(fm.SEPARATE_RATES, {**targets, "22": n22}, PHI)
         assert fitted["beta_e"] == pytest.approx(beta_e, rel=1e-3)
+
+
+def test_g_w_with_the_hybrid_closure_is_g_w_where_the_closures_agree():
+    """At an isotropic fabric (det(a) = 1/27, so f = 0) the hybrid closure is the paper's: the
+    right-hand sides agree; elsewhere they differ, and the steady state found by Newton's method
+    is the one integration from no contacts reaches."""
+    flow = fm.flow_of(simple_shear_gradient())
+    params = {"beta": 11.0}
+    iso = 0.6 * np.eye(3)
+    np.testing.assert_allclose(
+        fm.GW_HYBRID.rhs(iso, flow, params, 0.45), fm.GW.rhs(iso, flow, params, 0.45), atol=1e-14
+    )
+    aligned = np.diag([0.8, 0.3, 0.2]) + 0.1 * (np.eye(3)[[0]].T @ np.eye(3)[[1]] + np.eye(3)[[1]].T @ np.eye(3)[[0]])
+    assert not np.allclose(
+        fm.GW_HYBRID.rhs(aligned, flow, params, 0.45), fm.GW.rhs(aligned, flow, params, 0.45)
+    )
+    steady = fm.steady_state(fm.GW_HYBRID, params, 0.45)
+    integrated = fm.startup_shear(fm.GW_HYBRID, [60.0], params, 0.45)[0]
+    np.testing.assert_allclose(steady, integrated, atol=1e-9)
