@@ -18,8 +18,9 @@ changing. A grid of thresholds gives supports of decreasing size (:func:`candida
 Held-out choice (:func:`held_out_support_errors`): the angles are split into folds as in the model
 benchmark (:func:`suspension_fabric.evaluation.model_benchmark.angle_folds`); for each support,
 the coefficients are refitted on the startup and the other folds and the held-out angles are
-predicted from the models' own state (startup from the seed-mean fabric at strain 0, then the
-rotation), scored per seed as the benchmark scores (:func:`~suspension_fabric.evaluation.model_benchmark.seed_errors`).
+predicted from the model's own state (each seed's startup from that seed's fabric at strain 0,
+then the rotation; a candidate that diverges from any seed's start is out), scored per seed as
+the benchmark scores (:func:`~suspension_fabric.evaluation.model_benchmark.seed_errors`).
 Of the supports whose held-out error summed over the six components is within one standard error
 (over seeds) of the least, the one with the fewest terms is chosen; its coefficients are then
 fitted on every angle, with a jackknife over seeds (leave one seed out, refit) for their errors.
@@ -208,14 +209,19 @@ def _training_system(startup, rotation, seeds, thetas, names, steady_window, blo
 
 
 def _predicted_errors(model, curves: SeedCurves, phi, startup_strain, thetas) -> np.ndarray:
-    """Per seed and component the model's errors at ``thetas`` (inf if it cannot be integrated)."""
-    try:
-        _, rotation = model_curves(model, {"rate": 1.0}, phi, curves, startup_strain, thetas)
-    except (fabric_models.ModelError, ValueError, np.linalg.LinAlgError, FloatingPointError):
-        return np.full((len(curves.seeds), 6), np.inf)
-    if not np.all(np.isfinite(rotation)):
-        return np.full((len(curves.seeds), 6), np.inf)
-    return seed_errors(rotation, curves, thetas)
+    """Per seed and component the model's errors at ``thetas``, each seed predicted from its own
+    fabric at strain 0 of its startup (a model that diverges from any seed's start scores inf)."""
+    errors = np.empty((len(curves.seeds), 6))
+    for i in range(len(curves.seeds)):
+        own = curves._replace(fabric0=curves.startup[i, 0])
+        try:
+            _, rotation = model_curves(model, {"rate": 1.0}, phi, own, startup_strain, thetas)
+        except (fabric_models.ModelError, ValueError, np.linalg.LinAlgError, FloatingPointError):
+            return np.full((len(curves.seeds), 6), np.inf)
+        if not np.all(np.isfinite(rotation)):
+            return np.full((len(curves.seeds), 6), np.inf)
+        errors[i] = seed_errors(rotation, curves, thetas)[i]
+    return errors
 
 
 def held_out_support_errors(
