@@ -16,16 +16,16 @@ refits, on the steady <nn>_12 as G-W refits beta.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from collections.abc import Callable, Mapping
 from pathlib import Path
 
 import numpy as np
-import scipy.optimize
 
-from suspension_fabric.analysis.frames import simple_shear_gradient, sym_to_vec, vec_to_sym
+from suspension_fabric.analysis.frames import sym_to_vec, vec_to_sym
 
-from .fabric_models import FabricModel, Flow, ModelError, Parameter, flow_of
+from .fabric_models import FabricModel, Flow, ModelError, Parameter, newton_steady
 
 __all__ = [
     "LIBRARY",
@@ -56,7 +56,6 @@ def _sym(a, x) -> np.ndarray:
 
 
 _I = np.eye(3)
-_SHEAR = flow_of(simple_shear_gradient())
 
 #: The library: name -> Theta(X, flow), each broadcasting over leading axes of X.
 LIBRARY: dict[str, Callable[[np.ndarray, Flow], np.ndarray]] = {
@@ -104,28 +103,6 @@ def library_terms(fabric, flow: Flow, names=None) -> np.ndarray:
     return np.stack([np.broadcast_to(LIBRARY[name](fabric, flow), fabric.shape) for name in names], axis=-3)
 
 
-def _steady_from(anchor: np.ndarray, rhs: Callable, rate: float) -> np.ndarray:
-    """The steady fabric in simple shear at ``rate``: the root of the right-hand side nearest the
-    fabric the model was fitted to hold (Powell's hybrid method from ``anchor``), accepted if it
-    attracts (every eigenvalue of the Jacobian, by central differences, has a negative real part);
-    otherwise ``ModelError``."""
-    flow = _SHEAR
-
-    def residual(v):
-        return sym_to_vec(rhs(vec_to_sym(v), flow, {"rate": rate}, None))
-
-    solution = scipy.optimize.root(residual, sym_to_vec(anchor), method="hybr", tol=1e-13)
-    if not solution.success or np.abs(residual(solution.x)).max() > 1e-10:
-        raise ModelError(f"sparse model: no steady state near the fitted one at rate {rate:g} ({solution.message})")
-    step = 1e-6
-    jacobian = np.stack(
-        [(residual(solution.x + step * e) - residual(solution.x - step * e)) / (2 * step) for e in np.eye(6)], axis=1
-    )
-    if not np.all(np.linalg.eigvals(jacobian).real < 0.0):
-        raise ModelError(f"sparse model: the steady state at rate {rate:g} does not attract")
-    return vec_to_sym(solution.x)
-
-
 def quadratic_form(function) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(b, M, T) with function(X) = b + M v + T(v, v) on 6-vectors v of X (T symmetric in its last
     two indices), for a function of symmetric tensors that is at most quadratic, as every
@@ -164,7 +141,8 @@ def sparse_model(
     """The :class:`~suspension_fabric.models.fabric_models.FabricModel` of (1) with the given
     {term: c_k} (terms of :data:`LIBRARY`); its parameter is the rate r, fitted on the steady
     <nn>_12. ``steady_fabric``: the steady fabric the fit held at r = 1, from which the steady
-    state at any r is found by Newton's method (:func:`_steady_from`; else by integration)."""
+    state at any r is found by Newton's method
+    (:func:`~suspension_fabric.models.fabric_models.newton_steady`; else by integration)."""
     unknown = set(coefficients) - set(LIBRARY)
     if unknown or not coefficients:
         raise ModelError(f"sparse model terms {sorted(unknown) or '(none)'}: expected terms of LIBRARY {list(LIBRARY)}")
@@ -192,20 +170,19 @@ def sparse_model(
 
     affine = all(ORDER[name] <= 1 for name in names)
     text = " + ".join(f"{value:+.4g} {name}" for name, value in zip(names, values))
-    steady = None
-    if steady_fabric is not None and not affine:
-        anchor = np.asarray(steady_fabric, dtype=float)
-        steady = lambda params, phi: _steady_from(anchor, rhs, params["rate"])  # noqa: E731
-    return FabricModel(
+    model = FabricModel(
         key=key,
         label=label,
         parameters=(Parameter("rate", 1e-3, 1e3, 1.0),),
         steady_targets=("12",),
         rhs=rhs,
         affine=affine,
-        steady=steady,
         description=f"dX/dgamma = Wh.X - X.Wh + rate ({text})",
     )
+    if steady_fabric is None or affine:
+        return model
+    anchor = np.asarray(steady_fabric, dtype=float)
+    return dataclasses.replace(model, steady=lambda params, phi: newton_steady(model, params, phi, anchor))
 
 
 def write_model_file(
