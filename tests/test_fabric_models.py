@@ -186,9 +186,7 @@ def test_g_w_with_the_hybrid_closure_is_g_w_where_the_closures_agree():
         fm.GW_HYBRID.rhs(iso, flow, params, 0.45), fm.GW.rhs(iso, flow, params, 0.45), atol=1e-14
     )
     aligned = np.diag([0.8, 0.3, 0.2]) + 0.1 * (np.eye(3)[[0]].T @ np.eye(3)[[1]] + np.eye(3)[[1]].T @ np.eye(3)[[0]])
-    assert not np.allclose(
-        fm.GW_HYBRID.rhs(aligned, flow, params, 0.45), fm.GW.rhs(aligned, flow, params, 0.45)
-    )
+    assert not np.allclose(fm.GW_HYBRID.rhs(aligned, flow, params, 0.45), fm.GW.rhs(aligned, flow, params, 0.45))
     steady = fm.steady_state(fm.GW_HYBRID, params, 0.45)
     integrated = fm.startup_shear(fm.GW_HYBRID, [60.0], params, 0.45)[0]
     np.testing.assert_allclose(steady, integrated, atol=1e-9)
