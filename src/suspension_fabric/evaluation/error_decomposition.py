@@ -126,8 +126,8 @@ def gw_drive(rate_break: float) -> np.ndarray:
 
 def gw_source(rate_form: float, rate_iso: float, phi: float) -> np.ndarray:
     """The fabric-independent term (phi/15)(2 b_c Eh_c + a Tr(Eh_c) I) of (1), subtracted;
-    b_c = a = beta in G-W."""
-    return (phi / 15.0) * (2.0 * rate_form * _FLOW.e_comp + rate_iso * np.trace(_FLOW.e_comp) * np.eye(3))
+    b_c = a = beta in G-W (the paper's creation term, :func:`gillissen_wilson.source_part`)."""
+    return -gw_equations.source_part(_FLOW.e_comp, rate_form, rate_iso, phi)
 
 
 def _convection(fabric) -> np.ndarray:

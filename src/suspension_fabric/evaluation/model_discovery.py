@@ -48,7 +48,6 @@ __all__ = [
     "THRESHOLDS",
     "run_curves",
     "weak_form_system",
-    "least_squares",
     "stlsq",
     "candidate_supports",
     "held_out_support_errors",
@@ -117,14 +116,6 @@ def weak_form_system(curves, names=None, window: int = WINDOW_FRAMES) -> tuple[n
     if not rows_y:
         raise ValueError(f"no curve has {window} frames: nothing to regress")
     return np.concatenate(rows_a), np.concatenate(rows_y)
-
-
-def least_squares(A, y, support) -> np.ndarray:
-    """Coefficients of every column, 0 outside ``support`` (bool mask), least squares inside."""
-    coefficients = np.zeros(A.shape[1])
-    if support.any():
-        coefficients[support] = np.linalg.lstsq(A[:, support], y, rcond=None)[0]
-    return coefficients
 
 
 def stlsq(A, y, threshold: float, max_iterations: int = 50) -> np.ndarray:
@@ -346,11 +337,8 @@ def noise_floor(curves: SeedCurves) -> np.ndarray:
     (0, W] in units of (<nn>_12^ss)^2, averaged over the strains and angles: what a perfect model
     scores on one seed."""
     after = curves.rotation_strains > 0.0
-    values = curves.rotation[:, :, after][..., _ROWS, _COLS] / curves.n12_ss  # (seeds, angles, R, 6)
+    values = sym_to_vec(curves.rotation[:, :, after]) / curves.n12_ss  # (seeds, angles, R, 6)
     return np.var(values, axis=0, ddof=1).mean(axis=(0, 1))
-
-
-_ROWS, _COLS = np.array([0, 1, 2, 0, 0, 1]), np.array([0, 1, 2, 1, 2, 2])
 
 
 def target_table(

@@ -297,12 +297,8 @@ def _hybrid_rhs(fabric, flow: Flow, params, phi):
     fourth = hybrid_closure(fabric)
     drive = 2.0 * flow.e_hat + beta * flow.e_ext
     convective = flow.grad_hat @ fabric + fabric @ np.swapaxes(flow.grad_hat, -1, -2)
-    source = (
-        (phi / 15.0)
-        * beta
-        * (2.0 * flow.e_comp + np.trace(flow.e_comp, axis1=-2, axis2=-1)[..., None, None] * np.eye(3))
-    )
-    return convective - np.einsum("...kl,...ijkl->...ij", drive, fourth) - source
+    creation = paper_models.source_part(flow.e_comp, beta, beta, phi)
+    return convective - np.einsum("...kl,...ijkl->...ij", drive, fourth) + creation
 
 
 def newton_steady(fabric_model: FabricModel, params, phi, start) -> np.ndarray:

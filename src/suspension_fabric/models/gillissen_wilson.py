@@ -50,6 +50,7 @@ from suspension_fabric.analysis.frames import (
 
 __all__ = [
     "hinch_leal_closure",
+    "source_part",
     "contract_closure",
     "split_strain_rate",
     "fabric_rhs",
@@ -191,8 +192,8 @@ def _linear_part(fabric, grad_hat, e_ext, beta):
     return convective - contract_closure(2.0 * grad_hat + beta * e_ext, fabric)
 
 
-def _source_part(e_comp, beta, A, phi):
-    """Fabric-independent contact creation by compression."""
+def source_part(e_comp, beta, A, phi):
+    """Fabric-independent contact creation by compression: -(phi/15)(2 beta Eh_c + A Tr(Eh_c) I)."""
     tr_c = np.trace(e_comp, axis1=-2, axis2=-1)[..., None, None]
     return -(phi / 15.0) * (2.0 * beta * e_comp + A * tr_c * np.eye(3))
 
@@ -201,7 +202,7 @@ def closure_model_rhs(fabric, grad_hat, e_ext, e_comp, rate_break, rate_form, ra
     """Lh.X + X.Lh^T - 2 Lh:<nnnn> - b_e Eh_e:<nnnn> - b_c (phi/15) 2 Eh_c - a (phi/15) Tr(Eh_c) delta
     with the paper's closure, for breaking, directed-formation and isotropic rates (b_e, b_c, a);
     paper Eq. 2 is (beta, beta, A). No argument checks (the kinematics of :func:`split_strain_rate`)."""
-    return _linear_part(fabric, grad_hat, e_ext, rate_break) + _source_part(e_comp, rate_form, rate_iso, phi)
+    return _linear_part(fabric, grad_hat, e_ext, rate_break) + source_part(e_comp, rate_form, rate_iso, phi)
 
 
 def fabric_rhs(fabric, velocity_gradient, beta, A=None, phi=0.45) -> np.ndarray:
@@ -224,7 +225,7 @@ def _affine_system(velocity_gradient, beta, A, phi):
         basis, grad_hat[..., None, :, :], e_ext[..., None, :, :], beta
     )  # (..., 6, 3, 3), one image per basis tensor
     M = np.swapaxes(sym_to_vec(columns), -1, -2)
-    b = sym_to_vec(_source_part(e_comp, beta, A, phi))
+    b = sym_to_vec(source_part(e_comp, beta, A, phi))
     return M, b
 
 
