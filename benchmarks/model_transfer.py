@@ -1,12 +1,15 @@
-"""Does a fabric model found at one state point transfer to the map's others? A sparse model
-(rule discover_model) refits only its rate r on each point's steady <nn>_12, as G-W refits beta
-there; each point's rotations are then predicted from the models' own state and scored per seed
-as the model benchmark scores (units of (<nn>_12^ss)^2), with the paired difference from G-W
-fitted on the steady state (95% t-interval over the point's seeds). With ``--max-order 1`` the
-model is first found again on the reference with terms of order <= 1 in <nn> only (affine, as G-W).
+"""Does a fabric model found at one state point transfer to the map's others? A model (a sparse
+model file of rule discover_model, or any models.fabric entry such as gw_hybrid) refits only what
+G-W refits, its parameters on each point's steady components it names (a sparse model: its rate r
+on the steady <nn>_12, as G-W refits beta there); each point's rotations are then predicted from
+the models' own state and scored per seed as the model benchmark scores (units of
+(<nn>_12^ss)^2), with the paired difference from G-W fitted on the steady state (95% t-interval
+over the point's seeds). With ``--max-order 1`` the model is first found again on the reference
+with terms of order <= 1 in <nn> only (affine, as G-W).
 
     .venv/bin/python benchmarks/model_transfer.py data/models/sparse_reference.json data/campaign
     .venv/bin/python benchmarks/model_transfer.py --max-order 1 results/reference data/campaign
+    .venv/bin/python benchmarks/model_transfer.py gw_hybrid data/campaign
 """
 
 from __future__ import annotations
@@ -36,8 +39,8 @@ def found_again(results: Path, max_order: int) -> Path:
     return write_model_file(path, found["coefficients"], found["errors"], {}, found["steady_fabric"])
 
 
-def transfer(model_file: Path, campaign: Path) -> pd.DataFrame:
-    model = fabric_models.load_model(str(model_file))
+def transfer(model_spec: str, campaign: Path) -> pd.DataFrame:
+    model = fabric_models.load_model(model_spec)
     rows = []
     for folder in sorted(p for p in campaign.iterdir() if (p / "dataset.json").is_file()):
         loaded = load(folder)
@@ -50,13 +53,14 @@ def transfer(model_file: Path, campaign: Path) -> pd.DataFrame:
         reference = model_benchmark.seed_errors(gw, curves)
         row = {"point": folder.name, "seeds": len(curves.seeds)}
         try:
-            params = fabric_models.fit_steady(model, {"12": fits["targets"]["n12"]["mean"]}, phi)
+            wanted = {c: fits["targets"][f"n{c}"]["mean"] for c in model.steady_targets}
+            params = fabric_models.fit_steady(model, wanted, phi)
             _, predicted = model_benchmark.model_curves(model, params, phi, curves, startup)
             errors = model_benchmark.seed_errors(predicted, curves)
         except (fabric_models.ModelError, ValueError) as failure:
-            rows.append({**row, "rate": float("nan"), "failure": str(failure)[:80]})
+            rows.append({**row, "parameters": "", "failure": str(failure)[:80]})
             continue
-        row["rate"] = params["rate"]
+        row["parameters"] = ", ".join(f"{name} {value:.4g}" for name, value in params.items())
         for c, name in ((3, "n12"), (5, "n23")):
             difference = t_interval(errors[:, c] - reference[:, c])
             row[f"{name}_model"], row[f"{name}_gw"] = errors[:, c].mean(), reference[:, c].mean()
@@ -67,13 +71,15 @@ def transfer(model_file: Path, campaign: Path) -> pd.DataFrame:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("model", type=Path, help="a model file, or with --max-order a study's results folder")
+    parser.add_argument(
+        "model", help="a models.fabric entry (a key or a model file), or with --max-order a study's results folder"
+    )
     parser.add_argument("campaign", type=Path, help="a folder of datasets, one per state point")
     parser.add_argument("--max-order", type=int, help="find the model again on the study with terms up to this order")
     args = parser.parse_args()
-    model_file = found_again(args.model, args.max_order) if args.max_order else args.model
+    model = str(found_again(Path(args.model), args.max_order)) if args.max_order else args.model
     with pd.option_context("display.width", 250, "display.max_columns", 20):
-        print(transfer(model_file, args.campaign).to_string(index=False, float_format=lambda x: f"{x:.4g}"))
+        print(transfer(model, args.campaign).to_string(index=False, float_format=lambda x: f"{x:.4g}"))
 
 
 if __name__ == "__main__":

@@ -10,7 +10,13 @@ import numpy as np
 import pytest
 
 from suspension_fabric.analysis.fabric import FOURTH_MOMENT_COMPONENTS, direction_moments
-from suspension_fabric.models.closures import CLOSURES, hybrid_closure, linear_closure, quadratic_closure
+from suspension_fabric.models.closures import (
+    CLOSURES,
+    contract_hybrid,
+    hybrid_closure,
+    linear_closure,
+    quadratic_closure,
+)
 from suspension_fabric.models.gillissen_wilson import hinch_leal_closure
 
 
@@ -93,3 +99,16 @@ def test_every_closure_keeps_the_trace_identity(name):
     np.testing.assert_allclose(closed, np.swapaxes(closed, 0, 1), atol=1e-15)
     np.testing.assert_allclose(closed, np.swapaxes(closed, 2, 3), atol=1e-15)
     np.testing.assert_array_equal(CLOSURES[name](np.zeros((3, 3))), np.zeros((3, 3, 3, 3)))
+
+
+def test_the_contracted_hybrid_closure_equals_the_contraction_of_the_formed_tensor():
+    """contract_hybrid(T, X)_ij = T_kl <nnnn>_ijkl of hybrid_closure(X), for random symmetric
+    fabrics (one without contacts) and strain-rate-like symmetric T, broadcast over a batch."""
+    rng = np.random.default_rng(11)
+    half = rng.normal(size=(5, 3, 3))
+    fabrics = np.einsum("...ik,...jk->...ij", half, half) / 10.0
+    fabrics[0] = 0.0
+    drive = rng.normal(size=(5, 3, 3))
+    drive = drive + np.swapaxes(drive, -1, -2)
+    formed = np.einsum("...kl,...ijkl->...ij", drive, hybrid_closure(fabrics))
+    np.testing.assert_allclose(contract_hybrid(drive, fabrics), formed, rtol=1e-12, atol=1e-14)

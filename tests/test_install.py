@@ -18,7 +18,11 @@ REPO = Path(__file__).resolve().parents[1]
 pytestmark = pytest.mark.lammps
 
 PROBE = """
-import json
+import importlib, json, pkgutil
+import suspension_fabric
+modules = sorted(m.name for m in pkgutil.walk_packages(suspension_fabric.__path__, "suspension_fabric."))
+for name in modules:
+    importlib.import_module(name)
 from suspension_fabric.io import resources
 from suspension_fabric.simulation.lammps import ShearSettings, pack, run_startup
 from suspension_fabric.simulation.lammps.plugin import plugin_path
@@ -28,7 +32,7 @@ run = run_startup("startup", packing.data_file, 0.002, progress=None,
                                          restart_strain=0.001))
 print(json.dumps({"checkout": str(resources.editable_checkout()), "schema": str(resources.SCHEMA_PATH),
                   "scripts": str(resources.LAMMPS_SCRIPTS_DIR), "sources": str(resources.PLUGIN_SOURCE_DIR),
-                  "plugin": str(plugin_path()), "strain": run.strain}))
+                  "plugin": str(plugin_path()), "strain": run.strain, "modules": modules}))
 """
 
 
@@ -62,3 +66,12 @@ def test_a_regular_install_runs_without_the_checkout(tmp_path):
     assert found["scripts"] == str(engine / "inputs") and found["sources"] == str(engine / "plugin_source")
     assert found["plugin"] == str(tmp_path / "plugin" / "libsuspension_fabric_lammps.so")
     assert found["strain"] == pytest.approx(0.002)
+    # every module of the source tree is installed and imports (a package left out of pyproject.toml's
+    # list would be missing from a cluster's install)
+    tree = REPO / "src"
+    in_source = sorted(
+        ".".join(path.relative_to(tree).with_suffix("").parts).removesuffix(".__init__")
+        for path in (tree / "suspension_fabric").rglob("*.py")
+        if "plugin_source" not in path.parts
+    )
+    assert sorted(set(found["modules"]) | {"suspension_fabric"}) == in_source

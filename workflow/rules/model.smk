@@ -95,7 +95,8 @@ rule stress_relation:
 
 rule benchmark_models:
     """Every model of models.fabric scored on held-out rotation angles: steady and global fits, in-sample and
-    held-out mean square errors per seed with t-intervals, the paired difference from G-W, AIC."""
+    held-out mean square errors per seed with t-intervals, the paired difference from G-W, AIC; and each
+    model against the refined-model targets (held-out error, overshoot, steady state)."""
     input:
         fits=rules.fit_models.output[0],
         startup_runs=rules.aggregate_startup.output.runs,
@@ -105,6 +106,8 @@ rule benchmark_models:
         leaderboard=f"{RESULTS}/tables/leaderboard.csv",
         parameters=f"{RESULTS}/tables/model_parameters.csv",
         page=report(f"{RESULTS}/tables/leaderboard.html", caption="../report/table_leaderboard.rst", category="Tables"),
+        targets=f"{RESULTS}/tables/model_targets.csv",
+        targets_summary=f"{RESULTS}/tables/model_targets.md",
     params:
         models=setting("models", "fabric"),
         folds=setting("models", "held_out_folds"),
@@ -253,6 +256,7 @@ rule discover_model:
         supports=f"{RESULTS}/tables/sparse_model_supports.csv",
         coefficients=f"{RESULTS}/tables/sparse_model_coefficients.csv",
         target=f"{RESULTS}/tables/sparse_model_target.csv",
+        overshoot=f"{RESULTS}/tables/sparse_model_overshoot.csv",
         steady=f"{RESULTS}/tables/sparse_model_steady.csv",
         summary=f"{RESULTS}/tables/sparse_model.md",
     params:

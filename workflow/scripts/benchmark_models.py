@@ -1,7 +1,9 @@
 """Snakemake: the fabric-model benchmark on held-out rotation angles and its leaderboard (rule benchmark_models)."""
 
+from pathlib import Path
+
 from suspension_fabric.analysis import tables
-from suspension_fabric.evaluation import model_benchmark
+from suspension_fabric.evaluation import model_benchmark, model_targets
 from suspension_fabric.models.fabric_models import resolve_models
 from suspension_fabric.models.fits_file import read_fits
 from suspension_fabric.reporting.leaderboard_pages import write_leaderboard_page
@@ -16,8 +18,9 @@ with logged(sm.log[0]):
         sm.params.window,
         sm.params.steady_window,
     )
-    board, parameters = model_benchmark.leaderboard(
-        resolve_models(sm.params.models),
+    models = resolve_models(sm.params.models)
+    board, parameters, held_out = model_benchmark.leaderboard(
+        models,
         fits["models"],
         curves,
         fits["phi"],
@@ -30,3 +33,19 @@ with logged(sm.log[0]):
     parameters.to_csv(sm.output.parameters, index=False)
     print(write_leaderboard_page(board, parameters, sm.output.page, sm.params.level))
     print(parameters.to_string(index=False))
+    targets = model_targets.scorecard(
+        models,
+        held_out,
+        curves,
+        fits["phi"],
+        fits["targets"],
+        sm.params.steady_window,
+        reference=sm.params.reference,
+        level=sm.params.level,
+    )
+    targets.to_csv(sm.output.targets, index=False)
+    summary = model_targets.scorecard_markdown(
+        targets, models[sm.params.reference].label, model_targets.found_here(sm.params.models, sm.wildcards.study)
+    )
+    Path(sm.output.targets_summary).write_text(summary)
+    print(summary)

@@ -50,10 +50,16 @@ __all__ = [
     "seed_errors",
     "angle_folds",
     "held_out_errors",
+    "held_out_predictions",
+    "HeldOut",
+    "Leaderboard",
     "leaderboard",
 ]
 
 _ROWS, _COLS = (np.array(index) for index in zip(*COMPONENTS.values()))
+#: Relative finite-difference step of the global fit's Jacobian for models without an exact
+#: propagator (their curves come from an ODE solver).
+NUMERICAL_DIFF_STEP = 1e-6
 
 
 def mean_square(predicted, observed, strain) -> np.ndarray:
@@ -184,7 +190,10 @@ def fit_global(
             return np.full(n_residuals, 1e6)
         return np.concatenate([((_components(p) - t) * w).ravel() for p, t, w in zip(predicted, targets, weights)])
 
-    result = least_squares(residual, x0, bounds=bounds, x_scale="jac", xtol=1e-10, ftol=1e-10)
+    # a model integrated numerically (rtol 1e-10) has residuals noisy at ~1e-10: the default
+    # finite-difference step (~1e-8) would turn that into ~1% noise in the Jacobian
+    step = None if fabric_model.affine else NUMERICAL_DIFF_STEP
+    result = least_squares(residual, x0, bounds=bounds, x_scale="jac", xtol=1e-10, ftol=1e-10, diff_step=step)
     if not result.success:
         raise ValueError(f"model {fabric_model.key}: global fit failed ({result.message})")
     return {
@@ -239,18 +248,47 @@ def angle_folds(thetas, k: int) -> list[np.ndarray]:
     return [thetas[j::k] for j in range(k)]
 
 
-def held_out_errors(
+def held_out_predictions(
     fabric_model, curves: SeedCurves, phi: float, startup_strain: float, start: dict, folds: int
-) -> np.ndarray:
-    """Per seed and component (seeds, 6): the mean square error of each angle predicted by a
-    global fit on the startup and the other folds, averaged over all angles."""
+) -> tuple[np.ndarray, np.ndarray]:
+    """Each angle predicted by a global fit on the startup and the other folds: the per seed and
+    component (seeds, 6) mean square errors averaged over all angles, and the predictions
+    (angles, R, 3, 3) on the curves' angles."""
     total = np.zeros((len(curves.seeds), len(COMPONENTS)))
+    predicted = np.empty((len(curves.thetas), len(curves.rotation_strains), 3, 3))
     for held in angle_folds(curves.thetas, folds):
         train = curves.thetas[~np.isin(curves.thetas, held)]
         params = fit_global(fabric_model, curves, phi, startup_strain, start, train_thetas=train)["parameters"]
         _, rotation = model_curves(fabric_model, params, phi, curves, startup_strain, held)
         total += seed_errors(rotation, curves, held) * len(held)
-    return total / len(curves.thetas)
+        predicted[angle_mask(curves, held)] = rotation  # both in ascending order of angle
+    return total / len(curves.thetas), predicted
+
+
+def held_out_errors(
+    fabric_model, curves: SeedCurves, phi: float, startup_strain: float, start: dict, folds: int
+) -> np.ndarray:
+    """Per seed and component (seeds, 6): the mean square error of each angle predicted by a
+    global fit on the startup and the other folds, averaged over all angles."""
+    return held_out_predictions(fabric_model, curves, phi, startup_strain, start, folds)[0]
+
+
+class HeldOut(NamedTuple):
+    """One model and fitting mode's held-out scores: ``errors`` (seeds, 6), ``predicted`` (angles,
+    R, 3, 3) and the ``parameters`` of the fit on every angle (the steady fit's for mode steady,
+    whose every angle is held out by construction)."""
+
+    errors: np.ndarray
+    predicted: np.ndarray
+    parameters: dict
+
+
+class Leaderboard(NamedTuple):
+    """:func:`leaderboard`'s table, the fitted parameters and the held-out scores by (model, mode)."""
+
+    table: pd.DataFrame
+    parameters: pd.DataFrame
+    held_out: dict
 
 
 def leaderboard(
@@ -263,7 +301,7 @@ def leaderboard(
     *,
     reference: str,
     level: float = LEVEL,
-) -> tuple[pd.DataFrame, pd.DataFrame]:
+) -> Leaderboard:
     """The leaderboard (one row per model, fitting mode and component: in-sample and held-out
     mean square errors with t-intervals over seeds, the paired difference from ``reference`` on
     the held-out errors, the number of parameters, chi^2 and AIC of the in-sample fit) and the
@@ -292,12 +330,12 @@ def leaderboard(
                 )
             _, rotation = model_curves(fabric_model, params, phi, curves, startup_strain)
             in_sample = seed_errors(rotation, curves)
-            held = (
-                in_sample
+            held, predicted = (
+                (in_sample, rotation)
                 if mode == "steady"
-                else held_out_errors(fabric_model, curves, phi, startup_strain, params, folds)
+                else held_out_predictions(fabric_model, curves, phi, startup_strain, params, folds)
             )
-            held_by_model[(key, mode)] = held
+            held_by_model[(key, mode)] = HeldOut(held, predicted, params)
             chi2 = np.nan if fit is None else fit["chi2"]
             for c, component in enumerate(COMPONENTS):
                 inside, outside = t_interval(in_sample[:, c], level), t_interval(held[:, c], level)
@@ -322,11 +360,11 @@ def leaderboard(
     for field in ("difference", "difference_low", "difference_high"):
         table[f"held_out_{field}_vs_{reference}"] = np.nan
     if (reference, "steady") in held_by_model:
-        base = held_by_model[(reference, "steady")]
+        base = held_by_model[(reference, "steady")].errors
         for index, row in table.iterrows():
             c = list(COMPONENTS).index(row["component"])
-            paired = t_interval(held_by_model[(row["model"], row["mode"])][:, c] - base[:, c], level)
+            paired = t_interval(held_by_model[(row["model"], row["mode"])].errors[:, c] - base[:, c], level)
             table.loc[
                 index, [f"held_out_{f}_vs_{reference}" for f in ("difference", "difference_low", "difference_high")]
             ] = (paired.mean, paired.low, paired.high)
-    return table, pd.DataFrame(parameters)
+    return Leaderboard(table, pd.DataFrame(parameters), held_by_model)

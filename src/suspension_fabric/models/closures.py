@@ -25,9 +25,9 @@ from collections.abc import Callable
 
 import numpy as np
 
-from .gillissen_wilson import hinch_leal_closure
+from .gillissen_wilson import contract_closure, hinch_leal_closure
 
-__all__ = ["CLOSURES", "linear_closure", "quadratic_closure", "hybrid_closure", "normalised"]
+__all__ = ["CLOSURES", "linear_closure", "quadratic_closure", "hybrid_closure", "contract_hybrid", "normalised"]
 
 
 def normalised(fabric) -> tuple[np.ndarray, np.ndarray]:
@@ -66,6 +66,17 @@ def _scaled(unit: Callable) -> Callable:
 linear_closure = _scaled(_unit_linear)
 quadratic_closure = _scaled(_unit_quadratic)
 hybrid_closure = _scaled(_unit_hybrid)
+
+
+def contract_hybrid(tensor, fabric) -> np.ndarray:
+    """(T:<nnnn>)_ij = T_kl <n_i n_j n_k n_l> with the hybrid closure, without forming it (the
+    models' right-hand sides need only this): Tr<nn> [(1 - f) T:A_linear(a) + f a (T:a)], the
+    linear part by :func:`suspension_fabric.models.gillissen_wilson.contract_closure`."""
+    a, trace = normalised(fabric)
+    f = (1.0 - 27.0 * np.linalg.det(a))[..., None, None]
+    t_dot_a = np.einsum("...kl,...kl->...", np.asarray(tensor, dtype=float), a)[..., None, None]
+    return trace[..., 0, 0] * ((1.0 - f) * contract_closure(tensor, a) + f * a * t_dot_a)
+
 
 #: The closures by name.
 CLOSURES: dict[str, Callable] = {

@@ -46,7 +46,7 @@ from suspension_fabric.analysis.frames import (
 from suspension_fabric.io.protocols import Protocol
 
 from . import gillissen_wilson as paper_models
-from .closures import hybrid_closure
+from .closures import contract_hybrid
 from .gillissen_wilson import as_strains, closure_model_rhs, solve_affine, split_strain_rate
 from .plugins import load_plugin, resolve_plugins
 
@@ -294,11 +294,10 @@ def _hybrid_rhs(fabric, flow: Flow, params, phi):
     """G-W (Eq. 1) with the hybrid closure of Advani and Tucker in place of the paper's."""
     fabric = np.asarray(fabric, dtype=float)
     beta = params["beta"]
-    fourth = hybrid_closure(fabric)
     drive = 2.0 * flow.e_hat + beta * flow.e_ext
     convective = flow.grad_hat @ fabric + fabric @ np.swapaxes(flow.grad_hat, -1, -2)
     creation = paper_models.source_part(flow.e_comp, beta, beta, phi)
-    return convective - np.einsum("...kl,...ijkl->...ij", drive, fourth) + creation
+    return convective - contract_hybrid(drive, fabric) + creation
 
 
 def newton_steady(fabric_model: FabricModel, params, phi, start) -> np.ndarray:
