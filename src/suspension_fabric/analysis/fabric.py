@@ -1,29 +1,48 @@
-"""Near-contact detection and fabric tensors <nn> from LAMMPS trajectories.
+r"""Near-contact detection and fabric tensors $\langle nn\rangle$ from LAMMPS trajectories.
 
-Definitions (see the package docstring for the frames)
-    A pair (i, j) of spheres with radii a_i, a_j and centre distance r (minimum image
-    of the periodic triclinic box) is a near contact when its surface gap
-    h = r - (a_i + a_j) satisfies h < eps * min(d_i, d_j), d = 2a, eps = 0.01 by
-    default. Overlapping pairs (h < 0) are near contacts.
-    The fabric is <nn>_kl = (1/N) sum over near contacts, each pair once, of
-    n_k n_l, n the unit centre-to-centre vector (its sign does not matter) and N the
-    number of particles, so that Tr<nn> = n_pairs / N = Z / 2 with Z = 2 n_pairs / N
-    the near-contact coordination number.
+Definitions (see the package docstring for the frames). A pair $(i, j)$ of spheres with radii
+$a_i$, $a_j$ and centre distance $r$ (minimum image of the periodic triclinic box) is a near
+contact when its surface gap $h = r - (a_i + a_j)$ satisfies $h < \epsilon\min(d_i, d_j)$,
+$d = 2a$, $\epsilon = 0.01$ by default (the paper's threshold, Acharya and Mari,
+arXiv:2506.05222). Overlapping pairs ($h < 0$) are near contacts. The fabric is
 
-Fourth moment and direction distribution (:func:`direction_moments`)
-    <nnnn>_ijkl = (1/N) sum over near contacts of n_i n_j n_k n_l, the same normalisation, so that
-    <nnnn>_ijkk = <nn>_ij (|n| = 1); its 15 independent components (i <= j <= k <= l) are
-    :data:`FOURTH_MOMENT_COMPONENTS`. The distribution of near-contact directions per particle,
-    f(n) = (1/N) sum over near contacts of delta(n - n_c), symmetrised over n and -n (a pair has
-    no sign), is written as sum over even l and m of a_lm Y_lm(n) with the real orthonormal
-    spherical harmonics Y_lm (integral over the sphere of Y_lm Y_l'm' = delta), so that
-    a_lm = (1/N) sum over near contacts of Y_lm(n_c); recorded up to l = 6
-    (:data:`HARMONIC_COLUMNS`, ``Y<l>_<m>`` with m written ``m2`` for -2, ``p2`` for +2). Polar axis
-    e3 (vorticity), azimuth from e1 (flow) towards e2 (gradient); Y_l0 is the Legendre
-    polynomial's, Y_lm for m > 0 sqrt(2) (-1)^m Re and for m < 0 sqrt(2) (-1)^m Im of the complex
-    Y_l^|m| (scipy.special.sph_harm_y). Hence a_00 = (Z/2) / sqrt(4 pi), and the l = 2 and l = 4
-    amplitudes are linear in <nn> and <nnnn> (e.g. a_20 = sqrt(5 / (16 pi)) (3 <nn>_33 - Tr<nn>)).
-    Both in the frame of the current flow, as <nn>.
+$$
+\langle nn\rangle_{kl} = \frac{1}{N}\sum_{\text{near contacts}} n_k n_l,
+\qquad \operatorname{Tr}\langle nn\rangle = \frac{n_{\text{pairs}}}{N} = \frac{Z}{2},
+$$
+
+each pair counted once, with $n$ the unit centre-to-centre vector (its sign does not matter),
+$N$ the number of particles and $Z = 2n_{\text{pairs}}/N$ the near-contact coordination number.
+
+Fourth moment and direction distribution (:func:`direction_moments`). With the same
+normalisation,
+
+$$
+\langle nnnn\rangle_{ijkl} = \frac{1}{N}\sum_{\text{near contacts}} n_in_jn_kn_l,
+\qquad \langle nnnn\rangle_{ijkk} = \langle nn\rangle_{ij}
+$$
+
+($n$ a unit vector); its 15 independent components ($i \le j \le k \le l$) are
+:data:`FOURTH_MOMENT_COMPONENTS`. The distribution of near-contact directions per particle,
+symmetrised over $n$ and $-n$ (a pair has no sign), is written with the real orthonormal
+spherical harmonics $Y_{lm}$ ($\int Y_{lm}Y_{l'm'}\,\mathrm{d}\Omega = \delta_{ll'}\delta_{mm'}$
+over the sphere) as
+
+$$
+\begin{split}
+f(n) &= \frac{1}{N}\sum_{\text{near contacts}}\delta(n - n_c)
+= \sum_{l\ \text{even}}\sum_{m=-l}^{l} a_{lm}\,Y_{lm}(n), \\
+a_{lm} &= \frac{1}{N}\sum_{\text{near contacts}} Y_{lm}(n_c),
+\end{split}
+$$
+
+recorded up to $l = 6$ (:data:`HARMONIC_COLUMNS`, ``Y<l>_<m>`` with m written ``m2`` for -2,
+``p2`` for +2). Polar axis e3 (vorticity), azimuth from e1 (flow) towards e2 (gradient); Y_l0 is
+the Legendre polynomial's, Y_lm for m > 0 sqrt(2) (-1)^m Re and for m < 0 sqrt(2) (-1)^m Im of
+the complex Y_l^|m| (scipy.special.sph_harm_y). Hence $a_{00} = (Z/2)/\sqrt{4\pi}$, and the
+$l = 2$ and $l = 4$ amplitudes are linear in $\langle nn\rangle$ and $\langle nnnn\rangle$ (e.g.
+$a_{20} = \sqrt{5/(16\pi)}\,(3\langle nn\rangle_{33} - \operatorname{Tr}\langle nn\rangle)$). Both
+in the frame of the current flow, as $\langle nn\rangle$.
 
 Frames
     :func:`fabric_tensor` works in the simulation frame (LAMMPS x, y, z; z is the
@@ -66,6 +85,7 @@ from .frames import paper_basis_in_simulation_frame, simulation_to_paper
 __all__ = [
     "DEFAULT_EPS",
     "COMPONENTS",
+    "component_label",
     "NearContacts",
     "box_vectors",
     "near_contact_pairs",
@@ -94,6 +114,15 @@ COMPONENTS: dict[str, tuple[int, int]] = {
     "n13": (0, 2),
     "n23": (1, 2),
 }
+_SUBSCRIPT = str.maketrans("0123456789", "₀₁₂₃₄₅₆₇₈₉")
+
+
+def component_label(name: str) -> str:
+    """Display name of a fabric component or quantity: "n12" -> "⟨nn⟩₁₂", "Z" -> "Z"."""
+    if name in COMPONENTS:
+        return f"⟨nn⟩{name[1:].translate(_SUBSCRIPT)}"
+    return name
+
 
 #: The 15 independent components of the fully symmetric <nnnn> (i <= j <= k <= l), named as the
 #: fabric table's columns, with their (i, j, k, l) indices.

@@ -35,12 +35,12 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from suspension_fabric.analysis.fabric import component_label
 from suspension_fabric.analysis.frames import VECTOR_ORDER, simple_shear_gradient, sym_to_vec
 from suspension_fabric.analysis.seed_statistics import LEVEL, jackknife, t_interval
 from suspension_fabric.analysis.tables import fabric_tensors
 from suspension_fabric.models import fabric_models
 from suspension_fabric.models.sparse_fabric import LIBRARY, ORDER, corotational, library_terms, sparse_model
-from suspension_fabric.reporting.html_tables import component_label
 
 from .model_benchmark import SeedCurves, angle_folds, model_curves, seed_errors
 from .model_targets import overshoot_sentence, steady_rows

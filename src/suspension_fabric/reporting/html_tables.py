@@ -17,7 +17,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from suspension_fabric.analysis.fabric import COMPONENTS
+from suspension_fabric.analysis.fabric import component_label  # component_label: re-exported
 
 __all__ = [
     "MISSING",
@@ -34,9 +34,6 @@ __all__ = [
 
 #: Shown for a value that does not exist (e.g. an error the fit could not propagate).
 MISSING = "—"
-
-
-_SUBSCRIPT = str.maketrans("0123456789", "₀₁₂₃₄₅₆₇₈₉")
 
 
 PROTOCOL_LABELS = {"startup": "startup shear", "rotation": "shear rotation"}
@@ -116,13 +113,6 @@ _PARAMETER_LABELS = {"beta": "β", "beta_e": "β_e", "beta_c": "β_c", "A_over_b
 def parameter_label(name: str) -> str:
     """Display name of a model parameter: "beta" -> "β", "A_over_beta" -> "A/β"."""
     return _PARAMETER_LABELS.get(name, name)
-
-
-def component_label(name: str) -> str:
-    """Display name of a fabric component or quantity: "n12" -> "⟨nn⟩₁₂", "Z" -> "Z"."""
-    if name in COMPONENTS:
-        return f"⟨nn⟩{name[1:].translate(_SUBSCRIPT)}"
-    return name
 
 
 def components_label(names) -> str:
