@@ -1,7 +1,16 @@
 # Shear-rotation fabric study: LAMMPS simulations -> MDAnalysis fabric -> G-W models -> figures.
 # Default study: config/config.yaml; pick another with --configfile config/<name>.yaml. A config
 # with a `campaign` section runs one study per state point and maps them (config/campaign.yaml).
-from suspension_fabric.study.config import validate_config
+from suspension_fabric.study.config import read_config_sources, validate_config
+
+
+DEFAULT_CONFIGFILE = "config/config.yaml"
+# Snakemake keeps the last of a key repeated in a config file or --config without a word, and names
+# no file or line for a YAML error: read the sources again strictly, the default study before
+# Snakemake does (a --configfile Snakemake cannot parse stops it before this Snakefile runs).
+CONFIG_SOURCES = read_config_sources(
+    workflow.overwrite_configfiles or [DEFAULT_CONFIGFILE], workflow.config_settings.config_args
+)
 
 
 # Without --configfile the default study, with any --config overrides on top of it; a study
@@ -9,11 +18,11 @@ from suspension_fabric.study.config import validate_config
 # defaults), and --config overrides it in turn.
 if not workflow.overwrite_configfiles:
 
-    configfile: "config/config.yaml"
+    configfile: DEFAULT_CONFIGFILE
 
 
-
-validate_config(config)  # schema + cross-key checks, before any job; fills defaults
+# schema + cross-key checks, before any job; fills defaults; errors name the file that set the key
+validate_config(config, sources=CONFIG_SOURCES)
 
 
 report: "workflow/report/workflow.rst"
@@ -50,5 +59,4 @@ if config["campaign"]:
 rule all:
     default_target: True
     input:
-        [study_targets(study) for study in STUDIES],
-        CAMPAIGN_TARGETS if config["campaign"] else [],
+        all_targets,

@@ -26,6 +26,8 @@ ALLOWED = {
     "reporting": {"io", "analysis", "simulation", "models", "study", "evaluation"},
     # the logging helper of the workflow's scripts sits above every stage
     "workflow_io": {"io", "analysis", "simulation", "models", "study", "evaluation", "reporting"},
+    # the rules' code versions read the package's files, never import them
+    "code_version": set(),
 }
 
 

@@ -1,12 +1,14 @@
 """When suspension_fabric.simulation.lammps.plugin.build_plugin recompiles the plugin.
 
-build_plugin decides from file times and a stamp: the library is stale when it or its stamp
-is missing, when the stamp's compile-command fingerprint differs from the current command
-(flags, compiler, include dirs, the list of .cpp files), or when a .cpp/.h in the source
-folder was modified after the sources the library was compiled from. The tests point the
-module at a copy of simulation/lammps/plugin_source in tmp_path (module globals, restored by monkeypatch) and
-replace the compiler by a fake that writes the concatenated .cpp sources to the ``-o`` path,
-so no real compile runs and the project's own build/plugin is never touched.
+build_plugin decides from a stamp of what the library was compiled from: the library is stale
+when it or its stamp is missing, when the stamp's compile-command fingerprint differs from the
+current command (compiler, flags, the list of .cpp files, the header packages' versions), or
+when the contents of a .cpp/.h in the source folder differ from those compiled; file times and
+locations do not count (a library stamped before stamps held contents is judged by file times,
+as it was built). The tests point the module at a copy of simulation/lammps/plugin_source in
+tmp_path (module globals, restored by monkeypatch) and replace the compiler by a fake that
+writes the concatenated .cpp sources to the ``-o`` path, so no real compile runs and the
+project's own build/plugin is never touched.
 """
 
 from __future__ import annotations
@@ -102,6 +104,10 @@ def touch(path):
     os.utime(path, None)  # now: newer than the aged library
 
 
+def edit(path, text="\n// edited\n"):
+    path.write_text(path.read_text() + text)
+
+
 def edit_header(tree):
     header = tree.source / "lubrication.h"
     header.write_text(header.read_text().replace("6.0 * pi_eta", "6.5 * pi_eta"))
@@ -118,8 +124,7 @@ def remove_source(tree):
 
 
 CHANGES = {
-    "touched .cpp": lambda tree: touch(tree.source / "pair_lubricate_sf.cpp"),
-    "touched .h": lambda tree: touch(tree.source / "imposed_flow.h"),
+    "edited .cpp": lambda tree: edit(tree.source / "pair_lubricate_sf.cpp"),
     "edited .h": edit_header,
     "added .cpp": add_source,
     "removed .cpp": remove_source,
@@ -131,7 +136,7 @@ CHANGES = {
 
 @pytest.mark.parametrize("change", CHANGES)
 def test_change_of_an_input_triggers_one_rebuild(tree, monkeypatch, change):
-    """A .cpp or .h newer than the library, a different set of .cpp files, other compile flags,
+    """A .cpp or .h with other contents, a different set of .cpp files, other compile flags,
     or a missing library or stamp make the library stale: the next call compiles once, and
     the call after that does not."""
     monkeypatch.setattr(plugin_module, "CXX_FLAGS", plugin_module.CXX_FLAGS)  # restored after "new flags"
@@ -145,10 +150,69 @@ def test_change_of_an_input_triggers_one_rebuild(tree, monkeypatch, change):
     assert len(tree.compiler.commands) == 2
 
 
+def test_file_times_and_locations_do_not_trigger_a_rebuild(tree, tmp_path, monkeypatch):
+    """Sources touched (a fresh clone, a checkout of another branch and back) or the whole source
+    folder moved elsewhere with new file times (a moved checkout) rebuild nothing; the library
+    and any copy of it with its stamp pass the staleness check."""
+    built_once(tree)
+    copy = tmp_path / "elsewhere" / "lib.so"
+    plugin_module.install_plugin(copy)
+    os.utime(copy, (OLD, OLD))  # older than every source
+    for path in tree.source.iterdir():
+        touch(path)
+    assert not plugin_module._is_stale()
+    plugin_module.check_not_stale(tree.library)
+    plugin_module.check_not_stale(copy)
+    moved = tmp_path / "moved_plugin"
+    shutil.copytree(tree.source, moved)  # new times, another path
+    monkeypatch.setattr(plugin_module, "PLUGIN_SOURCE_DIR", moved)
+    version = plugin_module.plugin_version()
+    assert not plugin_module._is_stale()
+    build(tree)
+    assert len(tree.compiler.commands) == 1
+    monkeypatch.setattr(plugin_module, "PLUGIN_SOURCE_DIR", tree.source)
+    assert plugin_module.plugin_version() == version
+
+
+def test_the_plugin_version_follows_the_sources_contents_and_flags(tree, monkeypatch):
+    """The workflow's build_plugin param: changed by an edit of a source, an added source or other
+    flags; not by file times or the README."""
+    version = plugin_module.plugin_version()
+    touch(tree.source / "fix_stokes_sf.cpp")
+    edit(tree.source / "README.md")
+    assert plugin_module.plugin_version() == version
+    edit(tree.source / "fix_stokes_sf.cpp")
+    edited = plugin_module.plugin_version()
+    assert edited != version
+    add_source(tree)
+    added = plugin_module.plugin_version()
+    assert added not in {version, edited}
+    monkeypatch.setattr(plugin_module, "CXX_FLAGS", (*plugin_module.CXX_FLAGS, "-g"))
+    assert plugin_module.plugin_version() not in {version, edited, added}
+
+
+def test_a_library_stamped_by_file_times_is_judged_by_them(tree):
+    """A library built before the stamp recorded contents ("<command hash> <newest source time>")
+    stays valid while no source is newer than its compile, and is rebuilt (with a content stamp)
+    once one is."""
+    built_once(tree)
+    tree.stamp.write_text(f"{plugin_module._legacy_command_fingerprint()} {int((OLD + 5) * 1e9)}\n")
+    assert not plugin_module._is_stale()
+    plugin_module.check_not_stale(tree.library)
+    touch(tree.source / "imposed_flow.h")
+    with pytest.raises(plugin_module.PluginBuildError, match="imposed_flow.h changed"):
+        plugin_module.check_not_stale(tree.library)
+    build(tree)
+    assert len(tree.compiler.commands) == 2
+    assert plugin_module._read_stamp(tree.stamp)["format"] == 2
+    touch(tree.source / "imposed_flow.h")
+    assert not plugin_module._is_stale()
+
+
 def test_files_that_are_not_sources_do_not_trigger_a_rebuild(tree):
     """README.md and other non-.cpp/.h files in the source folder are not build inputs."""
     built_once(tree)
-    touch(tree.source / "README.md")
+    edit(tree.source / "README.md")
     (tree.source / "notes.txt").write_text("scratch\n")
     assert not plugin_module._is_stale()
     build(tree)
@@ -160,7 +224,7 @@ def test_source_saved_during_the_compile_makes_the_new_library_stale(tree):
     is written) is not in the library, so the library must count as stale afterwards, although
     the library file is newer than the edit."""
     built_once(tree)
-    touch(tree.source / "pair_lubricate_sf.cpp")
+    edit(tree.source / "pair_lubricate_sf.cpp")
     cpp = tree.source / "fix_stokes_sf.cpp"
 
     def save_during_compile():
@@ -172,6 +236,8 @@ def test_source_saved_during_the_compile_makes_the_new_library_stale(tree):
     assert "edited during the compile" not in tree.library.read_text()
     assert tree.library.stat().st_mtime_ns >= cpp.stat().st_mtime_ns
     assert plugin_module._is_stale()
+    with pytest.raises(plugin_module.PluginBuildError, match="fix_stokes_sf.cpp changed"):
+        plugin_module.check_not_stale(tree.library)
     build(tree)
     assert "edited during the compile" in tree.library.read_text()
     assert not plugin_module._is_stale()
@@ -182,7 +248,7 @@ def test_failed_compile_keeps_the_old_library_and_retries(tree):
     library and no temporary file, and the library stays stale, so the next call tries again."""
     built_once(tree)
     old_library = tree.library.read_text()
-    touch(tree.source / "pair_lubricate_sf.cpp")
+    edit(tree.source / "pair_lubricate_sf.cpp")
     tree.compiler.returncode = 1
     with pytest.raises(plugin_module.PluginBuildError, match="error: fake"):
         build(tree)
@@ -196,25 +262,25 @@ def test_failed_compile_keeps_the_old_library_and_retries(tree):
 
 def test_install_plugin_builds_only_if_needed_and_copies_atomically(tmp_path, tree):
     """install_plugin(target) builds if the library is missing or stale, never otherwise (unless
-    forced), and provides it at target: an identical copy, no temporary file left, stamped with
-    the time of copying (not older than the library), judged stale once a source changes. At
-    the library's own path it copies nothing; a deleted library (as Snakemake deletes a rule's
-    output before running it) is rebuilt."""
+    forced), and provides it at target: an identical copy with the time of copying (not older
+    than the library) and the library's stamp beside it, no temporary file left, judged stale
+    once a source's contents change. At the library's own path it copies nothing; a deleted
+    library (as Snakemake deletes a rule's output before running it) is rebuilt."""
     target = tmp_path / "elsewhere" / "lib.so"
     assert plugin_module.install_plugin(target) == tree.library
     assert len(tree.compiler.commands) == 1
     assert target.read_bytes() == tree.library.read_bytes()
     assert target.stat().st_mtime_ns >= tree.library.stat().st_mtime_ns
-    assert sorted(p.name for p in target.parent.iterdir()) == ["lib.so"]
+    assert sorted(p.name for p in target.parent.iterdir()) == ["lib.cmd", "lib.so"]
+    assert (target.parent / "lib.cmd").read_text() == tree.stamp.read_text()
     plugin_module.check_not_stale(target)
     os.utime(tree.library, (OLD + 10, OLD + 10))
     os.utime(target, (OLD + 10, OLD + 10))
     plugin_module.install_plugin(target)  # up to date: no compile, the library keeps its time
     assert len(tree.compiler.commands) == 1
     assert tree.library.stat().st_mtime == OLD + 10 and target.stat().st_mtime > OLD + 10
-    os.utime(target, (OLD + 20, OLD + 20))  # explicit times: no dependence on the clock resolution
-    os.utime(tree.source / "pair_lubricate_sf.cpp", (OLD + 30, OLD + 30))
-    with pytest.raises(plugin_module.PluginBuildError, match="stale"):
+    edit(tree.source / "pair_lubricate_sf.cpp")
+    with pytest.raises(plugin_module.PluginBuildError, match="stale.*pair_lubricate_sf.cpp changed"):
         plugin_module.check_not_stale(target)
 
     assert plugin_module.install_plugin(tree.library) == tree.library  # stale: rebuilt

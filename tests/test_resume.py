@@ -208,6 +208,7 @@ def test_snakemake_killed_with_its_simulation_resumes_it(tmp_path):
     config.update(study="resume", seeds=[1], angles_deg=[0])
     config["run"].update(startup_strain=STRAIN, rotation_strain=1.0, **{k: v for k, v in SETTINGS.items() if k != "dt"})
     config["analysis"]["steady_window"] = [10.0, STRAIN]
+    config["verdicts"]["window"] = 1.0  # at least one frame (dump_strain 0.5) after a rotation
     target = "results/resume/seed1/startup/run_complete.json"
 
     whole = copy_workflow(tmp_path / "whole")

@@ -13,9 +13,10 @@ TEST_CONFIG = ["--configfile", "config/test.yaml"]
 RESULTS = "results/test"
 
 
-def snakemake(workdir, *args, timeout=900):
+def snakemake(workdir, *args, timeout=900, env=None):
+    """Snakemake in workdir; ``env`` (a dict) replaces the environment, e.g. to add PYTHONPATH."""
     return subprocess.run(
-        [str(SNAKEMAKE), "--cores", "2", *args], cwd=workdir, capture_output=True, text=True, timeout=timeout
+        [str(SNAKEMAKE), "--cores", "2", *args], cwd=workdir, capture_output=True, text=True, timeout=timeout, env=env
     )
 
 

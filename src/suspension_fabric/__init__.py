@@ -61,6 +61,7 @@ stages under it, checked by tests/test_layout.py)
     reporting   -- figures, map_figures, protocol_figures, closure_figures, the report pages
                    (html_tables and one module per page), protocol_report
     workflow_io -- logging helper of the Snakemake scripts
+    code_version -- the rules' code versions: hashes of the code each script runs (reruns)
 """
 
 __version__ = "0.1.0"

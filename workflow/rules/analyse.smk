@@ -10,6 +10,7 @@ rule aggregate_startup:
         kind="startup",
         quantity="fabric",
         steady_window=setting("analysis", "steady_window"),
+        code=code_version("../scripts/aggregate.py"),
     conda:
         CONDA_ENV
     log:
@@ -28,6 +29,7 @@ rule aggregate_rotation:
     params:
         kind="rotation",
         quantity="fabric",
+        code=code_version("../scripts/aggregate.py"),
     conda:
         CONDA_ENV
     log:
@@ -49,6 +51,7 @@ rule aggregate_stress_startup:
         quantity="stress",
         steady_window=setting("analysis", "steady_window"),
         lubrication_stress=setting("analysis", "lubrication_stress"),
+        code=code_version("../scripts/aggregate.py"),
     conda:
         CONDA_ENV
     log:
@@ -68,6 +71,7 @@ rule aggregate_stress_rotation:
         kind="rotation",
         quantity="stress",
         lubrication_stress=setting("analysis", "lubrication_stress"),
+        code=code_version("../scripts/aggregate.py"),
     conda:
         CONDA_ENV
     log:
@@ -93,6 +97,7 @@ rule aggregate_protocols:
         runs=lambda wildcards: protocol_run_names(wildcards.study),
         protocols=protocol_segments,
         seeds=setting("seeds"),
+        code=code_version("../scripts/aggregate_protocols.py"),
     conda:
         CONDA_ENV
     log:
@@ -117,6 +122,7 @@ rule aggregate_stress_protocols:
         protocols=protocol_segments,
         seeds=setting("seeds"),
         lubrication_stress=setting("analysis", "lubrication_stress"),
+        code=code_version("../scripts/aggregate_protocols.py"),
     conda:
         CONDA_ENV
     log:

@@ -23,6 +23,7 @@ rule campaign_map:
         points=POINTS,
         not_run=config["campaign"]["not_run"],
         level=config["verdicts"]["level"],
+        code=code_version("../scripts/campaign_map.py"),
     conda:
         CONDA_ENV
     log:
@@ -45,6 +46,7 @@ rule campaign_figures:
         },
     params:
         level=config["verdicts"]["level"],
+        code=code_version("../scripts/campaign_figures.py"),
     conda:
         CONDA_ENV
     log:

@@ -3,14 +3,25 @@
 # writes the tables and the report page.
 import os
 
+from suspension_fabric.evaluation.claims import study_choices
+from suspension_fabric.study.config import ConfigError, check_comparison
 from suspension_fabric.study.dataset import read_dataset, run_names
 
 COMPARISON_FILES = {}  # per study: every fabric table of the datasets it is compared with
 for _study, _config in STUDIES.items():
+    # the labels share the tables' columns with the study and its verdict choices
+    _choices = study_choices(_config["verdicts"]["window"], _config["run"]["rotation_strain"])
+    _taken = [_study, *(choice.name for choice in _choices)]
     for _label, _folder in _config["verdicts"]["comparisons"].items():  # named early: stops before any job
         if not os.path.isfile(os.path.join(_folder, "dataset.json")):
-            raise ValueError(f"config key 'verdicts.comparisons': '{_label}' names {_folder}, which holds no "
-                             "dataset.json (a reference dataset folder, suspension_fabric.study.dataset)")
+            raise CONFIG_SOURCES.locate(ConfigError(
+                f"config key 'verdicts.comparisons': '{_label}' names {_folder}, which holds no "
+                "dataset.json (a reference dataset folder, suspension_fabric.study.dataset)"))
+        try:
+            check_comparison(_config, _label, read_dataset(_folder)["config"], taken=_taken,
+                             stress=_study not in STRESSLESS_STUDIES)
+        except ConfigError as _error:
+            raise CONFIG_SOURCES.locate(_error) from None
     COMPARISON_FILES[_study] = [
         f"{folder}/{name}/fabric.csv"
         for folder in _config["verdicts"]["comparisons"].values()
@@ -35,6 +46,7 @@ rule claims:
         rotation_strain=setting("run", "rotation_strain"),
         window=setting("verdicts", "window"),
         compared=compared_models,
+        code=code_version("../scripts/claims.py"),
     conda:
         CONDA_ENV
     log:
@@ -67,6 +79,7 @@ rule verdicts:
         level=setting("verdicts", "level"),
         window=setting("verdicts", "window"),
         compared=compared_models,
+        code=code_version("../scripts/verdicts.py"),
     conda:
         CONDA_ENV
     log:
@@ -84,6 +97,7 @@ rule figure_claims:
         png=report(f"{RESULTS}/figures/fig5_claims.png", caption="../report/fig5.rst", category="Figures"),
     params:
         level=setting("verdicts", "level"),
+        code=code_version("../scripts/figure_claims.py"),
     conda:
         CONDA_ENV
     log:
@@ -108,6 +122,7 @@ rule compare_datasets:
         steady_window=setting("analysis", "steady_window"),
         window=setting("verdicts", "window"),
         level=setting("verdicts", "level"),
+        code=code_version("../scripts/compare_datasets.py"),
     conda:
         CONDA_ENV
     log:

@@ -2,19 +2,29 @@
 # One config is one study, or a campaign of studies (one per state point, suspension_fabric.study.campaign):
 # every rule carries the {study} wildcard and reads its settings from STUDIES[study].
 import re
+from pathlib import Path
 
+from suspension_fabric.code_version import CodeVersions
 from suspension_fabric.study.campaign import study_configs
-from suspension_fabric.study.config import angle_label, simulation_settings, study_protocols, study_run_tree
+from suspension_fabric.study.config import (
+    angle_label,
+    check_complete_study,
+    simulation_settings,
+    study_protocols,
+    study_run_tree,
+)
 from suspension_fabric.io.protocols import protocol_runs
 from suspension_fabric.models.fabric_models import load_model
 from suspension_fabric.simulation.lammps import PACK_FILES, RUN_FILES
-from suspension_fabric.simulation.lammps.plugin import plugin_sources
+from suspension_fabric.simulation.lammps.plugin import plugin_version
 from suspension_fabric.io.resources import PLUGIN_LIBRARY_NAME
 
-STUDIES = study_configs(config)
+STUDIES = study_configs(config, CONFIG_SOURCES)
 RESULTS = "results/{study}"
 PLUGIN_LIBRARY = f"build/plugin/{PLUGIN_LIBRARY_NAME}"
-PLUGIN_SOURCES = [str(path) for path in plugin_sources()]
+# What the plugin is rebuilt for (the params of build_plugin): its sources' contents and the
+# compile flags, never their paths or file times, so a moved or re-cloned checkout rebuilds nothing.
+PLUGIN_VERSION = plugin_version()
 FIGURE_NAMES = ["fig1_startup", "fig2_rotation"]
 STRESS_FIGURE_NAMES = ["fig3_stress", "fig4_stress_rotation"]
 # The config keys that change a simulation's outputs (others, like the failure bounds, the
@@ -27,6 +37,21 @@ PROTOCOLS = {name: study_protocols(study) for name, study in STUDIES.items()}
 RUN_TREES = {name: study_run_tree(study) for name, study in STUDIES.items()}
 ALL_RUNS = sorted({run for tree in RUN_TREES.values() for run in tree})
 DATASET_STUDIES = [name for name, study in STUDIES.items() if study["dataset"]]
+
+
+# Every rule's `code` param: a hash of its script and of the package code and data it runs
+# (suspension_fabric.code_version), so that editing that code reruns the rule's jobs and nothing
+# else. Contents only, so a moved or re-cloned checkout reruns nothing; computed once per run.
+_CODE_VERSIONS = CodeVersions()
+_RULES_DIR = Path(workflow.basedir) / "workflow" / "rules"
+# The simulations' post-run overlap check searches neighbours with the fabric analysis: it accepts
+# or refuses a finished run, never changes one, so editing the analysis reruns no simulation.
+SIMULATION_CHECKS = ["suspension_fabric.analysis.fabric", "suspension_fabric.analysis.fabric_reference"]
+
+
+def code_version(script, ignore=()):
+    """A params value: the code version of a rule's script, given as in its `script:` line."""
+    return _CODE_VERSIONS.version(_RULES_DIR / script, ignore)
 
 
 def study_pattern(names):
@@ -128,6 +153,15 @@ def study_targets(study):
             targets += rules.report_protocols.output
             targets += expand(rules.figure_protocol.output, protocol=list(STUDIES[study]["protocols"]), allow_missing=True)
     return expand(targets, study=study)
+
+
+def all_targets(wildcards):
+    """The input function of the default target, every output of every study. What only the full set
+    needs (two seeds, two angles) is checked here, still before any job, so one seed runs single targets."""
+    for study in STUDIES.values():
+        check_complete_study(study, CONFIG_SOURCES)
+    targets = [path for name in STUDIES for path in study_targets(name)]
+    return targets + (CAMPAIGN_TARGETS if config["campaign"] else [])
 
 
 def per_point(path):

@@ -23,6 +23,7 @@ for _name in DATASET_STUDIES:
             [f"results/{_name}/{run}/{table}.csv" for run in run_names(_study) for table in _tables],
         params:
             runs=[(run, f"{table}.csv") for run in run_names(_study) for table in _tables],
+            code=code_version("../scripts/import_run_tables.py"),
         log:
             f"results/{_name}/logs/import_run_tables.log",
         localrule: True

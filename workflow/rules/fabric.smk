@@ -9,6 +9,7 @@ rule fabric_table:
         study=study_pattern(SIMULATED_STUDIES),
     params:
         eps=setting("analysis", "eps"),
+        code=code_version("../scripts/fabric_table.py"),
     conda:
         CONDA_ENV
     log:
@@ -27,6 +28,8 @@ rule stress_table:
         f"{RESULTS}/seed{{seed}}/{{run}}/stress.csv",
     wildcard_constraints:
         study=study_pattern(SIMULATED_STUDIES),
+    params:
+        code=code_version("../scripts/stress_table.py"),
     conda:
         CONDA_ENV
     log:

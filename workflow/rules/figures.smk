@@ -7,6 +7,8 @@ rule figure_startup:
     output:
         pdf=f"{RESULTS}/figures/fig1_startup.pdf",
         png=report(f"{RESULTS}/figures/fig1_startup.png", caption="../report/fig1.rst", category="Figures"),
+    params:
+        code=code_version("../scripts/figure_startup.py"),
     conda:
         CONDA_ENV
     log:
@@ -24,6 +26,8 @@ rule figure_rotation:
     output:
         pdf=f"{RESULTS}/figures/fig2_rotation.pdf",
         png=report(f"{RESULTS}/figures/fig2_rotation.png", caption="../report/fig2.rst", category="Figures"),
+    params:
+        code=code_version("../scripts/figure_rotation.py"),
     conda:
         CONDA_ENV
     log:
@@ -41,6 +45,8 @@ rule figure_stress_startup:
     output:
         pdf=f"{RESULTS}/figures/fig3_stress.pdf",
         png=report(f"{RESULTS}/figures/fig3_stress.png", caption="../report/fig3.rst", category="Figures"),
+    params:
+        code=code_version("../scripts/figure_stress_startup.py"),
     conda:
         CONDA_ENV
     log:
@@ -61,6 +67,8 @@ rule figure_stress_rotation:
         png=report(
             f"{RESULTS}/figures/fig4_stress_rotation.png", caption="../report/fig4.rst", category="Figures"
         ),
+    params:
+        code=code_version("../scripts/figure_stress_rotation.py"),
     conda:
         CONDA_ENV
     log:
@@ -82,6 +90,7 @@ rule figure_protocol:
         png=report(f"{RESULTS}/figures/protocol_{{protocol}}.png", caption="../report/protocol.rst", category="Protocols"),
     params:
         segments=lambda wildcards: [s.as_dict() for s in own_protocols(wildcards.study)[wildcards.protocol].segments],
+        code=code_version("../scripts/figure_protocol.py"),
     conda:
         CONDA_ENV
     log:

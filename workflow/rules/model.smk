@@ -11,6 +11,7 @@ rule fit_models:
         phi=setting("particles", "phi"),
         steady_window=setting("analysis", "steady_window"),
         models=setting("models", "fabric"),
+        code=code_version("../scripts/fit_models.py"),
     conda:
         CONDA_ENV
     log:
@@ -32,6 +33,7 @@ rule predict:
         models=setting("models", "fabric"),
         startup_strain=setting("run", "startup_strain"),
         polar_step=setting("models", "polar_angle_step_deg"),
+        code=code_version("../scripts/predict.py"),
     conda:
         CONDA_ENV
     log:
@@ -52,6 +54,7 @@ rule model_errors:
         summary=f"{RESULTS}/tables/model_errors_summary.csv",
     params:
         compared=setting("verdicts", "models"),
+        code=code_version("../scripts/model_errors.py"),
     conda:
         CONDA_ENV
     log:
@@ -85,6 +88,7 @@ rule stress_relation:
         steady_window=setting("analysis", "steady_window"),
         window=setting("verdicts", "window"),
         level=setting("verdicts", "level"),
+        code=code_version("../scripts/stress_relation.py"),
     conda:
         CONDA_ENV
     log:
@@ -116,6 +120,7 @@ rule benchmark_models:
         window=setting("verdicts", "window"),
         reference=setting("verdicts", "models", "reference"),
         level=setting("verdicts", "level"),
+        code=code_version("../scripts/benchmark_models.py"),
     conda:
         CONDA_ENV
     log:
@@ -144,6 +149,7 @@ rule benchmark_stress_relations:
         steady_window=setting("analysis", "steady_window"),
         window=setting("verdicts", "window"),
         level=setting("verdicts", "level"),
+        code=code_version("../scripts/benchmark_stress_relations.py"),
     conda:
         CONDA_ENV
     log:
@@ -180,6 +186,7 @@ rule benchmark_protocols:
         window=setting("verdicts", "window"),
         reference=setting("verdicts", "models", "reference"),
         level=setting("verdicts", "level"),
+        code=code_version("../scripts/benchmark_protocols.py"),
     conda:
         CONDA_ENV
     log:
@@ -206,6 +213,7 @@ rule closure_tests:
         level=setting("verdicts", "level"),
         # the distributions drawn half a strain after the rotation, or at the window's end if sooner
         snapshot_strain=lambda wildcards: min(0.5, STUDIES[wildcards.study]["verdicts"]["window"]),
+        code=code_version("../scripts/closure_tests.py"),
     conda:
         CONDA_ENV
     log:
@@ -234,6 +242,7 @@ rule error_decomposition:
         steady_window=setting("analysis", "steady_window"),
         window=setting("verdicts", "window"),
         level=setting("verdicts", "level"),
+        code=code_version("../scripts/error_decomposition.py"),
     conda:
         CONDA_ENV
     log:
@@ -267,6 +276,7 @@ rule discover_model:
         window=setting("verdicts", "window"),
         reference=setting("verdicts", "models", "reference"),
         level=setting("verdicts", "level"),
+        code=code_version("../scripts/discover_model.py"),
     conda:
         CONDA_ENV
     log:

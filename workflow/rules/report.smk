@@ -14,6 +14,8 @@ rule report_tables:
             caption="../report/table_model_errors.rst",
             category="Tables",
         ),
+    params:
+        code=code_version("../scripts/report_tables.py"),
     conda:
         CONDA_ENV
     log:
@@ -31,6 +33,8 @@ rule report_stress:
         transients=rules.stress_relation.output.transients,
     output:
         report(f"{RESULTS}/tables/stress.html", caption="../report/table_stress.rst", category="Tables"),
+    params:
+        code=code_version("../scripts/report_stress.py"),
     conda:
         CONDA_ENV
     log:
@@ -53,6 +57,7 @@ rule report_protocols:
         reference=setting("verdicts", "models", "reference"),
         relations=setting("models", "stress"),
         level=setting("verdicts", "level"),
+        code=code_version("../scripts/report_protocols.py"),
     conda:
         CONDA_ENV
     log:

@@ -4,6 +4,7 @@ rule pack:
         **run_outputs(f"{RESULTS}/seed{{seed}}/packing", PACK_FILES),
     params:
         particles=setting("particles"),
+        code=code_version("../scripts/pack.py", ignore=SIMULATION_CHECKS),
     conda:
         CONDA_ENV
     log:
@@ -23,6 +24,7 @@ rule shear_segment:
     params:
         settings=lambda wildcards: SIMULATION_SETTINGS[wildcards.study],
         segment=segment_of,
+        code=code_version("../scripts/shear.py", ignore=SIMULATION_CHECKS),
     threads: setting("run", "mpi_ranks")
     resources:
         mpi_ranks=setting("run", "mpi_ranks"),

