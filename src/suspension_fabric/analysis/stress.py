@@ -1,9 +1,21 @@
-"""The suspension stress per dumped strain, in the paper frame of the current shear.
+r"""The suspension stress per dumped strain, in the paper frame of the current shear.
 
 From the per-run stress table of a shear run (:mod:`suspension_fabric.io.stressio`, one row
 every ``table_strain``) to one row per trajectory frame (the fabric table's steps), with the
-stress split into its parts, symmetric, per unit volume, in units of eta_f gammadot, in the
-paper frame (e1', e2, e3') of the current shear (:func:`suspension_fabric.analysis.frames.simulation_to_paper`).
+stress split into its parts, symmetric, per unit volume, in units of $\eta_f\dot\gamma$ (solvent
+viscosity times shear rate), in the paper frame (e1', e2, e3') of the current shear
+(:func:`suspension_fabric.analysis.frames.simulation_to_paper`). The total is
+
+$$
+\sigma = \sigma^{\mathrm{contact}} + \sigma^{\mathrm{lubrication}} + \sigma^{\mathrm{kinetic}}
++ 2\hat{E} + 5\phi\,\hat{E},
+$$
+
+the particle parts each $-P$ of their LAMMPS pressure tensor (for the contacts and the lubrication
+the pair virial of the particle stress, Batchelor, J. Fluid Mech. 41, 545 (1970)), $2\hat{E}$ the
+solvent and $5\phi\,\hat{E}$ the Einstein term (Einstein, Ann. Phys. 19, 289 (1906)), with
+$\hat{E} = E/\dot\gamma$ the normalised strain rate (its 12 component is 1/2 in simple shear) and
+$\phi$ the volume fraction.
 
 Parts (the total is their sum)
     ``contact``      -P of the granular contacts. LAMMPS tallies the virial sum (x_i - x_j)_a F_b
@@ -48,9 +60,14 @@ Each value at a frame is the mean of the table rows within half a frame interval
 first step; the frame at the first step takes the rows in (s, s + max(h, row spacing)], so
 at least the first row after it). The first row of every table is printed at set-up, before any step: its
 lubrication virial belongs to the velocities read in (after a rotation they follow the old
-flow), so it is never used. Derived columns: ``eta_r`` = total_12 (relative viscosity),
-``N1`` = total_11 - total_22, ``N2`` = total_22 - total_33, ``Pi`` = -(1/3) Tr of the particle
-parts (contact + lubrication + kinetic; the particle pressure), per unit eta_f gammadot.
+flow), so it is never used. Derived columns, per unit $\eta_f\dot\gamma$: the relative viscosity
+``eta_r``, the normal stress differences ``N1``, ``N2`` and the particle pressure ``Pi``,
+
+$$
+\eta_r = \sigma_{12}, \qquad N_1 = \sigma_{11} - \sigma_{22}, \qquad N_2 = \sigma_{22} - \sigma_{33},
+\qquad \Pi = -\frac{1}{3}\operatorname{Tr}\left(\sigma^{\mathrm{contact}}
++ \sigma^{\mathrm{lubrication}} + \sigma^{\mathrm{kinetic}}\right).
+$$
 """
 
 from __future__ import annotations

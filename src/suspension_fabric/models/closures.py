@@ -1,22 +1,44 @@
-"""Closures: the fourth moment <nnnn> written in terms of the second, <nn>.
+r"""Closures: the fourth moment $\langle nnnn\rangle$ written in terms of the second, $\langle nn\rangle$.
 
 Every closure here is defined in the fibre-suspension literature for the unit-trace orientation
-tensor a = <nn> / Tr<nn>; the near-contact fabric's trace is Z/2, not 1, so each is applied to a
-and scaled back: <nnnn> ~ Tr<nn> A(a). All take (..., 3, 3) and return (..., 3, 3, 3, 3).
+tensor $a = \langle nn\rangle/\operatorname{Tr}\langle nn\rangle$; the near-contact fabric's trace
+is $Z/2$, not 1, so each is applied to $a$ and scaled back:
 
-linear (the paper's, :func:`suspension_fabric.models.gillissen_wilson.hinch_leal_closure`)
-    A_ijkl = -(1/35)(d_ij d_kl + d_ik d_jl + d_il d_jk)
-             + (1/7)(d_ij a_kl + d_ik a_jl + d_il a_jk + a_ij d_kl + a_ik d_jl + a_il d_jk);
-    exact for an isotropic distribution (Hand, J. Fluid Mech. 13, 1962; Hinch and Leal,
-    J. Fluid Mech. 76, 1976).
-quadratic
-    A_ijkl = a_ij a_kl; exact for perfect alignment, a = e e (Doi, J. Polym. Sci. 19, 1981).
-hybrid
-    A = (1 - f) A_linear + f A_quadratic with f = 1 - 27 det(a), 0 for isotropy and 1 for
-    perfect alignment (Advani and Tucker, J. Rheol. 31, 1987).
+$$
+\langle n_in_jn_kn_l\rangle \approx \operatorname{Tr}\langle nn\rangle\,A_{ijkl}(a).
+$$
 
-Each keeps the trace identity A_ijkk = a_ij (the linear and hybrid ones over every index pair,
-the quadratic one over the last pair: a_ij a_kl is symmetric in (ij) and in (kl) only).
+All take (..., 3, 3) and return (..., 3, 3, 3, 3). With $\delta_{ij}$ the Kronecker delta:
+
+linear (the paper's, :func:`suspension_fabric.models.gillissen_wilson.hinch_leal_closure`), exact
+for an isotropic distribution (Hand, J. Fluid Mech. 13, 1962; Hinch and Leal, J. Fluid Mech. 76,
+1976):
+
+$$
+\begin{split}
+A^{\mathrm{lin}}_{ijkl} ={}&
+-\frac{1}{35}\left(\delta_{ij}\delta_{kl} + \delta_{ik}\delta_{jl} + \delta_{il}\delta_{jk}\right) \\
+&+ \frac{1}{7}\left(\delta_{ij}a_{kl} + \delta_{ik}a_{jl} + \delta_{il}a_{jk}
++ a_{ij}\delta_{kl} + a_{ik}\delta_{jl} + a_{il}\delta_{jk}\right);
+\end{split}
+$$
+
+quadratic, exact for perfect alignment, $a = ee$ (Doi, J. Polym. Sci. 19, 1981):
+
+$$
+A^{\mathrm{quad}}_{ijkl} = a_{ij}\,a_{kl};
+$$
+
+hybrid, with $f$ 0 for isotropy and 1 for perfect alignment (Advani and Tucker, J. Rheol. 31,
+1987):
+
+$$
+A^{\mathrm{hyb}} = (1 - f)\,A^{\mathrm{lin}} + f\,A^{\mathrm{quad}}, \qquad f = 1 - 27\det a.
+$$
+
+Each keeps the trace identity $A_{ijkk} = a_{ij}$ (the linear and hybrid ones over every index
+pair, the quadratic one over the last pair: $a_{ij}a_{kl}$ is symmetric in $(ij)$ and in $(kl)$
+only).
 """
 
 from __future__ import annotations

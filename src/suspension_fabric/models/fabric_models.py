@@ -1,25 +1,50 @@
-"""Fabric models as plug-ins: any model of d<nn>/dgamma runs through the same integration, steady
-state and fits.
+r"""Fabric models as plug-ins: any model of $\mathrm{d}\langle nn\rangle/\mathrm{d}\gamma$ runs
+through the same integration, steady state and fits.
 
 A fabric model is a :class:`FabricModel`: a key (its name in tables), a display label, its
 parameters with bounds (:class:`Parameter`), the components of the steady simple-shear fabric
 that the paper-style fit matches (one per parameter), and the right-hand side
 
-    d<nn>/dgamma = rhs(<nn>, flow, params, phi)
+$$
+\frac{\mathrm{d}\langle nn\rangle}{\mathrm{d}\gamma} =
+\mathrm{rhs}(\langle nn\rangle, \mathrm{flow}, \mathrm{params}, \phi)
+$$
 
-in the paper frame, where ``flow`` is the normalised kinematics of the velocity gradient
-(:class:`Flow`: Lh = L/gammadot, Eh, its extensional part Eh_e and compressional part Eh_c, as in
-:func:`suspension_fabric.models.gillissen_wilson.split_strain_rate`) and ``params`` maps parameter names to values.
-A model may also give a closed-form steady state in simple shear and its own exact steady fit.
+in the paper frame, where ``flow`` is the normalised kinematics of the velocity gradient $L$
+(:class:`Flow`: $\hat{L} = L/\dot\gamma$, $\hat{E} = (\hat{L} + \hat{L}^{\mathsf{T}})/2$, its
+extensional part $\hat{E}_e$ and compressional part $\hat{E}_c$, as in
+:func:`suspension_fabric.models.gillissen_wilson.split_strain_rate`), ``params`` maps parameter
+names to values and $\phi$ is the volume fraction. A model may also give a closed-form steady
+state in simple shear and its own exact steady fit.
 
 Integration (:func:`integrate`): if the model declares itself ``affine`` (its right-hand side is
-affine in <nn> for a fixed flow, as G-W and the modified model are), the 6-vector system
-dv/dgamma = M v + b is built from the right-hand side itself (b = rhs(0), column k of M =
-rhs(basis_k) - b), checked once on a random fabric, and propagated exactly,
-v(gamma) = v_ss + expm(M gamma)(v0 - v_ss); otherwise scipy's ``solve_ivp`` integrates it.
+affine in $\langle nn\rangle$ for a fixed flow, as G-W and the modified model are), the 6-vector
+system $\mathrm{d}v/\mathrm{d}\gamma = Mv + b$ is built from the right-hand side itself
+(b = rhs(0), column k of M = rhs(basis_k) - b), checked once on a random fabric, and propagated
+exactly, $v(\gamma) = v_{\mathrm{ss}} + e^{M\gamma}(v_0 - v_{\mathrm{ss}})$; otherwise scipy's
+``solve_ivp`` integrates it.
 
 G-W (Eq. 1), the modified model (Eq. 2) and the separate-rates refinement are the built-in
-instances (:data:`BUILT_IN`); a user's model is named in the config as ``module:attribute`` or
+instances (:data:`BUILT_IN`), with rates of breaking in extension $b_e$, of directed formation in
+compression $b_c$ and of isotropic formation $a$:
+
+$$
+\begin{split}
+\frac{\mathrm{d}\langle nn\rangle}{\mathrm{d}\gamma} ={}&
+\hat{L}\cdot\langle nn\rangle + \langle nn\rangle\cdot\hat{L}^{\mathsf{T}}
+- 2\,\hat{L}:\langle nnnn\rangle \\
+&- b_e\,\hat{E}_e:\langle nnnn\rangle
+- b_c\,\frac{\phi}{15}\,2\hat{E}_c
+- a\,\frac{\phi}{15}\operatorname{Tr}(\hat{E}_c)\,I,
+\end{split}
+$$
+
+$(b_e, b_c, a) = (\beta, \beta, \beta)$ for G-W, $(\beta, \beta, A)$ for the modified model and
+$(\beta_e, \beta_c, A)$ for separate rates, $\langle nnnn\rangle$ by the paper's closure
+(:func:`suspension_fabric.models.gillissen_wilson.hinch_leal_closure`; :data:`GW_HYBRID` is G-W
+with the hybrid closure of :mod:`suspension_fabric.models.closures`). References: Gillissen and
+Wilson, Phys. Rev. E 98, 033119 (2018); the paper, Acharya and Mari, arXiv:2506.05222, Eqs. 1
+and 2. A user's model is named in the config as ``module:attribute`` or
 ``path/to/file.py:attribute`` (:func:`load_model`).
 """
 

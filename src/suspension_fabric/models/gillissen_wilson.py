@@ -1,28 +1,43 @@
-"""Gillissen-Wilson (G-W) fabric model and its modification (paper Eqs. 1 and 2).
+r"""Gillissen-Wilson (G-W) fabric model and its modification (paper Eqs. 1 and 2).
 
-The fabric <nn> evolves in strain gamma under a velocity gradient L
-(L_ij = du_i/dx_j) as (paper Eq. 2)
+The fabric $\langle nn\rangle$ (the near-contact second moment per particle,
+:mod:`suspension_fabric.analysis.fabric`) evolves in strain $\gamma$ under a velocity gradient
+$L$ ($L_{ij} = \partial u_i/\partial x_j$) as (paper Eq. 2)
 
-    d<nn>/dgamma = Lh.<nn> + <nn>.Lh^T - 2 Lh:<nnnn>
-                   - beta (Eh_e:<nnnn> + (phi/15) 2 Eh_c)
-                   - A (phi/15) Tr(Eh_c) delta,
+$$
+\begin{split}
+\frac{\mathrm{d}\langle nn\rangle}{\mathrm{d}\gamma} ={}&
+\hat{L}\cdot\langle nn\rangle + \langle nn\rangle\cdot\hat{L}^{\mathsf{T}}
+- 2\,\hat{L}:\langle nnnn\rangle \\
+&- \beta\left(\hat{E}_e:\langle nnnn\rangle + \frac{\phi}{15}\,2\hat{E}_c\right)
+- A\,\frac{\phi}{15}\operatorname{Tr}(\hat{E}_c)\,\delta,
+\end{split}
+$$
 
-with Lh = L/gammadot, Eh = (Lh + Lh^T)/2, gammadot = sqrt(2 E:E), and Eh split
-into its extensional part Eh_e (positive eigenvalues) and compressional part
-Eh_c (negative eigenvalues) with the same eigenvectors. A = beta is the original
-G-W model (Eq. 1). Contractions are (T:<nnnn>)_ij = T_kl <n_i n_j n_k n_l>.
-The fourth moment is the paper's (Hinch-Leal) closure, see
-:func:`hinch_leal_closure`.
+with $\hat{L} = L/\dot\gamma$, $\hat{E} = (\hat{L} + \hat{L}^{\mathsf{T}})/2$,
+$\dot\gamma = \sqrt{2E:E}$ ($E$ the strain rate), and $\hat{E}$ split into its extensional part
+$\hat{E}_e$ (positive eigenvalues) and compressional part $\hat{E}_c$ (negative eigenvalues)
+with the same eigenvectors; $\phi$ is the volume fraction, $\delta$ the identity, $\beta$ the
+rate of breaking and directed formation and $A$ that of isotropic formation. $A = \beta$ is the
+original G-W model (Eq. 1). Contractions are
+$(T:\langle nnnn\rangle)_{ij} = T_{kl}\langle n_i n_j n_k n_l\rangle$. The fourth moment is the
+paper's (Hinch-Leal) closure, see :func:`hinch_leal_closure`.
+
+References: J. J. J. Gillissen and H. J. Wilson, "Modeling sphere suspension microstructure and
+stress", Phys. Rev. E 98, 033119 (2018) (the model); P. Acharya and R. Mari, "Modelling the
+evolution of flow-induced anisotropy of concentrated suspensions", arXiv:2506.05222 (the paper,
+whose Eqs. 1 and 2 are written above).
 
 Frames: all tensors here are in the paper frame (e1 flow, e2 gradient, e3
-vorticity) unless stated; simple shear is L = gammadot e1 e2. A shear rotation by
+vorticity) unless stated; simple shear is $L = \dot\gamma\,e_1e_2$. A shear rotation by
 theta turns e1 and e3 about e2 (see :mod:`suspension_fabric.analysis.frames`) and results
 after it are reported in the rotated frame (e1', e2, e3').
 
-Because the right-hand side is affine in <nn> for a fixed flow, a constant-L
-interval is integrated exactly: with the 6-vector v of independent components,
-dv/dgamma = M v + b, so v(gamma) = v_ss + expm(M gamma) (v0 - v_ss) with
-v_ss = -M^{-1} b, evaluated as V exp(Lambda gamma) V^-1 (:func:`propagate_affine`).
+Because the right-hand side is affine in $\langle nn\rangle$ for a fixed flow, a constant-$L$
+interval is integrated exactly: with the 6-vector $v$ of independent components,
+$\mathrm{d}v/\mathrm{d}\gamma = Mv + b$, so
+$v(\gamma) = v_{\mathrm{ss}} + e^{M\gamma}(v_0 - v_{\mathrm{ss}})$ with
+$v_{\mathrm{ss}} = -M^{-1}b$, evaluated as $V e^{\Lambda\gamma} V^{-1}$ (:func:`propagate_affine`).
 :func:`integrate_fabric_ode` integrates the same
 right-hand side numerically (scipy ``solve_ivp``) as an independent reference.
 
@@ -121,14 +136,22 @@ def _check_fabric(name: str, fabric) -> np.ndarray:
 
 # ----------------------------------------------------------------------- closure
 def hinch_leal_closure(fabric) -> np.ndarray:
-    """Fourth moment <n_i n_j n_k n_l> from <nn> by the paper's closure.
+    r"""Fourth moment $\langle n_i n_j n_k n_l\rangle$ from $\langle nn\rangle$ by the paper's closure.
 
-    <n_i n_j n_k n_l> = -(1/35) <n_m n_m> (d_ij d_kl + d_ik d_jl + d_il d_jk)
-        + (1/7) (d_ij <n_k n_l> + d_ik <n_j n_l> + d_il <n_j n_k>
-                 + <n_i n_j> d_kl + <n_i n_k> d_jl + <n_i n_l> d_jk).
+    $$
+    \begin{split}
+    \langle n_in_jn_kn_l\rangle ={}& -\frac{1}{35}\langle n_mn_m\rangle
+    \left(\delta_{ij}\delta_{kl} + \delta_{ik}\delta_{jl} + \delta_{il}\delta_{jk}\right) \\
+    &+ \frac{1}{7}\left(\delta_{ij}\langle n_kn_l\rangle + \delta_{ik}\langle n_jn_l\rangle
+    + \delta_{il}\langle n_jn_k\rangle\right. \\
+    &\qquad \left. {}+ \langle n_in_j\rangle\delta_{kl} + \langle n_in_k\rangle\delta_{jl}
+    + \langle n_in_l\rangle\delta_{jk}\right)
+    \end{split}
+    $$
 
-    It is fully symmetric and its contraction over any index pair returns <nn>
-    (exact for an isotropic distribution). Shape (..., 3, 3) -> (..., 3, 3, 3, 3).
+    (Hinch and Leal, J. Fluid Mech. 76, 187 (1976); $\delta$ the Kronecker delta). It is fully
+    symmetric and its contraction over any index pair returns $\langle nn\rangle$ (exact for an
+    isotropic distribution). Shape (..., 3, 3) -> (..., 3, 3, 3, 3).
     """
     fabric = np.asarray(fabric, dtype=float)
     eye = np.eye(3)

@@ -1,17 +1,26 @@
-"""A fabric model found by sparse regression: d<nn>/dgamma on a library of frame-indifferent terms.
+r"""A fabric model found by sparse regression: $\mathrm{d}\langle nn\rangle/\mathrm{d}\gamma$ on a
+library of frame-indifferent terms.
 
 The right-hand side is the co-rotational derivative plus a linear combination of isotropic
-tensor functions of the fabric X = <nn> and the normalised strain rate's extensional and
-compressional parts Eh_e, Eh_c (:func:`suspension_fabric.models.gillissen_wilson.split_strain_rate`),
+tensor functions $\Theta_k$ of the fabric $X = \langle nn\rangle$ and the normalised strain rate's
+extensional and compressional parts $\hat{E}_e$, $\hat{E}_c$
+(:func:`suspension_fabric.models.gillissen_wilson.split_strain_rate`):
 
-    dX/dgamma = Wh.X - X.Wh + r sum_k c_k Theta_k(X),   Wh = (Lh - Lh^T)/2,            (1)
+$$
+\frac{\mathrm{d}X}{\mathrm{d}\gamma} = \hat{W}\cdot X - X\cdot\hat{W} + r\sum_k c_k\,\Theta_k(X),
+\qquad \hat{W} = \frac{\hat{L} - \hat{L}^{\mathsf{T}}}{2},
+\tag{1}
+$$
 
-with the library :data:`LIBRARY` up to second order in X (every term is symmetric and turns with
-the flow, so (1) is frame indifferent; the co-rotational part is fixed at 1 for the same reason).
-G-W with the paper's closure lies in the span of the terms of order <= 1. The coefficients c_k come
-from a regression on simulated fabric curves (:mod:`suspension_fabric.evaluation.model_discovery`);
-the one parameter of the model, the rate r (1 where it was fitted), is what a new state point
-refits, on the steady <nn>_12 as G-W refits beta.
+with $\hat{L} = L/\dot\gamma$ the normalised velocity gradient, coefficients $c_k$, a rate $r$ and
+the library :data:`LIBRARY` up to second order in $X$ (every term is symmetric and turns with the
+flow, so (1) is frame indifferent; the co-rotational part is fixed at 1 for the same reason).
+G-W with the paper's closure lies in the span of the terms of order <= 1. The coefficients $c_k$
+come from a regression on simulated fabric curves in weak form
+(:mod:`suspension_fabric.evaluation.model_discovery`; Messenger and Bortz, J. Comput. Phys. 443,
+110525 (2021), with the sequential thresholding of Brunton, Proctor and Kutz, PNAS 113, 3932
+(2016)); the one parameter of the model, the rate $r$ (1 where it was fitted), is what a new state
+point refits, on the steady $\langle nn\rangle_{12}$ as G-W refits $\beta$.
 """
 
 from __future__ import annotations

@@ -1,28 +1,41 @@
-"""Stress relations as plug-ins: the particle stress as a static function of the fabric.
+r"""Stress relations as plug-ins: the particle stress as a static function of the fabric.
 
-A stress relation gives the particle stress in simple shear e1 e2 (paper frame of the current
-shear) from the fabric <nn> as a hydrodynamic and a contact term,
+A stress relation gives the particle stress $\sigma^p$ in simple shear $e_1e_2$ (paper frame of
+the current shear), in units of the solvent viscosity $\eta_f$ times the shear rate
+$\dot\gamma$, from the fabric $\langle nn\rangle$ as a hydrodynamic and a contact term,
 
-    sigma^p / (eta_f gammadot) = a_H H(<nn>; q) + a_C C(<nn>; q),
+$$
+\frac{\sigma^p}{\eta_f\dot\gamma} = a_H\,H(\langle nn\rangle; q) + a_C\,C(\langle nn\rangle; q),
+$$
 
-with tensor forms H and C (``forms(fabric, q) -> (H, C)``, broadcasting over leading axes), linear
-coefficients a_H, a_C and optional shape parameters q (:class:`suspension_fabric.models.fabric_models.Parameter`).
-For any q, a_H and a_C are fixed by the steady state of startup shear as for the paper's relation
-(:mod:`suspension_fabric.evaluation.stress_model`): a_H = sigma^lub_12 / H_12(<nn>^ss), a_C = sigma^con_12 /
-C_12(<nn>^ss) (:func:`coefficients`). The total adds the solvent's 1 and the Einstein 2.5 phi on
-sigma_12 (docs/gw_stress_relation.md, section 2.5). Shape parameters are fitted on transients
-(:mod:`suspension_fabric.evaluation.stress_benchmark`).
+with tensor forms $H$ and $C$ (``forms(fabric, q) -> (H, C)``, broadcasting over leading axes),
+linear coefficients $a_H$, $a_C$ and optional shape parameters $q$
+(:class:`suspension_fabric.models.fabric_models.Parameter`). For any $q$, $a_H$ and $a_C$ are
+fixed by the steady state of startup shear as for the paper's relation
+(:mod:`suspension_fabric.evaluation.stress_model`):
+$a_H = \sigma^{\mathrm{lub}}_{12}/H_{12}(\langle nn\rangle^{\mathrm{ss}})$,
+$a_C = \sigma^{\mathrm{con}}_{12}/C_{12}(\langle nn\rangle^{\mathrm{ss}})$ (:func:`coefficients`).
+The total adds the solvent's 1 and the Einstein $2.5\phi$ on $\sigma_{12}$,
+$\eta_r = 1 + 2.5\phi + \sigma^p_{12}/(\eta_f\dot\gamma)$ (docs/gw_stress_relation.md, section
+2.5). Shape parameters are fitted on transients (:mod:`suspension_fabric.evaluation.stress_benchmark`).
 
-Built in (:data:`BUILT_IN`)
-    ``gw``          Gillissen and Wilson (Phys. Rev. E 98, 033119 (2018)): H = <nnnn>:E^,
-                    C = <nnnn>:E^_c, <nnnn> by the paper's closure; no shape parameter.
-    ``gw_jamming``  the same with a contact coefficient that grows with the coordination and
-                    diverges at a jamming coordination Z_J:
-                    C = <nnnn>:E^_c / (1 - Z/Z_J)^2,  Z = 2 Tr<nn>  (Z < Z_J; infinite beyond).
-                    The form is this project's. Gillissen, Ness, Peterson, Wilson and Cates
-                    (Phys. Rev. Lett. 123, 214504 (2019)) let the contact stress diverge at jamming
-                    through the microstructure; their exact expression could not be checked here,
-                    so this is not claimed to be theirs. Z_J is fitted on the viscosity transients.
+Built in (:data:`BUILT_IN`), with $\hat{E}$ and $\hat{E}_c$ the normalised strain rate of simple
+shear and its compressional part and $\langle nnnn\rangle$ the paper's closure:
+
+- ``gw``: Gillissen and Wilson (Phys. Rev. E 98, 033119 (2018)),
+  $H = \langle nnnn\rangle:\hat{E}$, $C = \langle nnnn\rangle:\hat{E}_c$; no shape parameter.
+- ``gw_jamming``: the same with a contact coefficient that grows with the coordination $Z$ and
+  diverges at a jamming coordination $Z_J$ (infinite for $Z \ge Z_J$):
+
+    $$
+    C = \frac{\langle nnnn\rangle:\hat{E}_c}{(1 - Z/Z_J)^2},
+    \qquad Z = 2\operatorname{Tr}\langle nn\rangle.
+    $$
+
+    The form is this project's. Gillissen, Ness, Peterson, Wilson and Cates (Phys. Rev. Lett. 123,
+    214504 (2019)) let the contact stress diverge at jamming through the microstructure; their
+    exact expression could not be checked here, so this is not claimed to be theirs. $Z_J$ is
+    fitted on the viscosity transients.
 
 A user's relation is a :class:`StressRelation` named in the config (``models.stress``) as
 ``package.module:attribute`` or ``path/to/file.py:attribute`` (:func:`load_relation`).
