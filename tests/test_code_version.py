@@ -177,6 +177,18 @@ def test_one_instance_reads_each_file_once(tree):
     assert CodeVersions(root).version(script) != before
 
 
+def test_the_parse_cache_file_gives_the_same_versions_and_sees_edits(tree, tmp_path):
+    """With a cache file (the workflow keeps one in .snakemake/), a second load parses nothing it
+    has seen and gives the same version; an edited file has new bytes, so it is parsed again."""
+    root, script = tree
+    cache = tmp_path / "cache" / "code_versions.json"
+    first = CodeVersions(root, cache=cache).version(script)
+    assert cache.is_file() and first == CodeVersions(root).version(script)
+    assert CodeVersions(root, cache=cache).version(script) == first
+    edit(root / "a" / "y.py", "return value", "return -value")
+    assert CodeVersions(root, cache=cache).version(script) == CodeVersions(root).version(script) != first
+
+
 # --- the real scripts
 
 

@@ -111,3 +111,15 @@ def test_the_leaderboard_ranks_the_generating_model_first_on_the_held_out_shear_
     assert generating["overshoot_T6_high"] < 0 and generating["overshoot_met"]
     assert generating["steady_met"] and abs(generating["steady_n12_relative"]) < 1e-6
     assert generating["n12_target_met"], generating
+
+
+def test_a_numerically_integrated_model_continues_from_its_startup_curve_exactly(curves):
+    """For a model without an exact propagator, model_curves starts the rotations from the last
+    frame of its startup curve instead of integrating the startup again: the ODE solver's last
+    step ends on the interval's end whatever the output grid, so the two agree to the bit."""
+    params = {"beta": 11.0}
+    _, continued = mb.model_curves(fm.GW_HYBRID, params, PHI, curves, 5.0)
+    again = fm.shear_rotation(
+        fm.GW_HYBRID, np.radians(curves.thetas), curves.rotation_strains, params, PHI, 5.0, curves.fabric0
+    )
+    np.testing.assert_array_equal(continued, again)

@@ -100,8 +100,8 @@ def test_an_edit_of_the_fabric_analysis_reruns_the_fabric_tables_and_what_follow
     workdir, env = moved
     fabric = workdir / "src/suspension_fabric/analysis/fabric.py"
     source = fabric.read_text()
-    assert source.startswith('"""Near-contact')
-    fabric.write_text(source.replace('"""Near-contact', '"""Near (gap below eps) contact', 1) + "\n# a comment\n")
+    assert source.startswith('r"""Near-contact')
+    fabric.write_text(source.replace('r"""Near-contact', 'r"""Near (gap below eps) contact', 1) + "\n# a comment\n")
     assert NOTHING in dry_run(workdir, env)
     fabric.write_text(source + "\n\ndef _unused():\n    return None\n")
     jobs = planned(dry_run(workdir, env))

@@ -27,7 +27,9 @@ from __future__ import annotations
 import ast
 import hashlib
 import importlib.util
+import json
 import os
+import tempfile
 from collections.abc import Iterable
 from pathlib import Path
 
@@ -64,11 +66,25 @@ class CodeVersions:
     default.
     """
 
-    def __init__(self, root: str | os.PathLike | None = None, ignore: Iterable[str] = CONFIG_MODULES):
+    def __init__(
+        self,
+        root: str | os.PathLike | None = None,
+        ignore: Iterable[str] = CONFIG_MODULES,
+        cache: str | os.PathLike | None = None,
+    ):
         self.root = Path(root if root is not None else Path(suspension_fabric.__file__).parent)
         self.ignore = tuple(ignore)
         self._modules: dict[str, Path | None] = {}
         self._parsed: dict[Path, tuple[list[str], str]] = {}
+        # parsing every module takes ~1 s per workflow load: the results are kept in a file, keyed
+        # by each file's bytes and package, so only changed files are parsed again
+        self._cache_path = None if cache is None else Path(cache)
+        self._cache: dict[str, list] = {}
+        if self._cache_path is not None and self._cache_path.is_file():
+            try:
+                self._cache = json.loads(self._cache_path.read_text())
+            except (OSError, ValueError):
+                self._cache = {}
 
     # --- modules
     def module_file(self, name: str) -> Path | None:
@@ -89,11 +105,17 @@ class CodeVersions:
         """(every name the file imports that may be a module: ``from a import b`` gives ``a`` and
         ``a.b``, relative imports resolved; the digest of its code without docstrings)."""
         if path not in self._parsed:
-            tree = ast.parse(path.read_bytes(), str(path))
+            source = path.read_bytes()
             package = None
             if path.is_relative_to(self.root):
                 name = self.module_name(path)
                 package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+            key = f"{package}:{hashlib.sha256(source).hexdigest()}"
+            if key in self._cache:
+                names, digest = self._cache[key]
+                self._parsed[path] = list(names), digest
+                return self._parsed[path]
+            tree = ast.parse(source, str(path))
             names = []
             for node in ast.walk(tree):
                 if isinstance(node, ast.Import):
@@ -107,7 +129,22 @@ class CodeVersions:
                     names += [base, *(f"{base}.{alias.name}" for alias in node.names)]
             _strip_docstrings(tree)
             self._parsed[path] = names, hashlib.sha256(ast.unparse(tree).encode()).hexdigest()
+            self._cache[key] = list(self._parsed[path])
+            self._save_cache()
         return self._parsed[path]
+
+    def _save_cache(self) -> None:
+        """Write the parse cache atomically (several workflow loads may share it); a cache that
+        cannot be written only costs time."""
+        if self._cache_path is None:
+            return
+        try:
+            self._cache_path.parent.mkdir(parents=True, exist_ok=True)
+            with tempfile.NamedTemporaryFile("w", dir=self._cache_path.parent, delete=False, suffix=".tmp") as out:
+                json.dump(self._cache, out)
+            os.replace(out.name, self._cache_path)
+        except OSError:
+            pass
 
     def _ignored(self, name: str, ignore: tuple[str, ...]) -> bool:
         return any(name == i or name.startswith(i + ".") for i in ignore)

@@ -3,15 +3,18 @@
 # writes the tables and the report page.
 import os
 
-from suspension_fabric.evaluation.claims import study_choices
 from suspension_fabric.study.config import ConfigError, check_comparison
 from suspension_fabric.study.dataset import read_dataset, run_names
 
 COMPARISON_FILES = {}  # per study: every fabric table of the datasets it is compared with
 for _study, _config in STUDIES.items():
-    # the labels share the tables' columns with the study and its verdict choices
-    _choices = study_choices(_config["verdicts"]["window"], _config["run"]["rotation_strain"])
-    _taken = [_study, *(choice.name for choice in _choices)]
+    if _config["verdicts"]["comparisons"]:
+        # imported here: the claims module costs half a second of scipy on every workflow load
+        from suspension_fabric.evaluation.claims import study_choices
+
+        # the labels share the tables' columns with the study and its verdict choices
+        _choices = study_choices(_config["verdicts"]["window"], _config["run"]["rotation_strain"])
+        _taken = [_study, *(choice.name for choice in _choices)]
     for _label, _folder in _config["verdicts"]["comparisons"].items():  # named early: stops before any job
         if not os.path.isfile(os.path.join(_folder, "dataset.json")):
             raise CONFIG_SOURCES.locate(ConfigError(

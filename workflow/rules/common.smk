@@ -42,7 +42,7 @@ DATASET_STUDIES = [name for name, study in STUDIES.items() if study["dataset"]]
 # Every rule's `code` param: a hash of its script and of the package code and data it runs
 # (suspension_fabric.code_version), so that editing that code reruns the rule's jobs and nothing
 # else. Contents only, so a moved or re-cloned checkout reruns nothing; computed once per run.
-_CODE_VERSIONS = CodeVersions()
+_CODE_VERSIONS = CodeVersions(cache=".snakemake/code_versions.json")
 _RULES_DIR = Path(workflow.basedir) / "workflow" / "rules"
 # The simulations' post-run overlap check searches neighbours with the fabric analysis: it accepts
 # or refuses a finished run, never changes one, so editing the analysis reruns no simulation.

@@ -96,6 +96,7 @@ __all__ = [
     "fit_startup_curve",
     "startup_shear",
     "shear_rotation",
+    "rotated_shear",
     "integrate_segment",
     "protocol_fabric",
     "ModelError",
@@ -539,7 +540,14 @@ def shear_rotation(
     1-D) about e2: <nn> in the rotated frame at the post-rotation ``strains``, shape
     theta.shape + (len(strains), 3, 3) (as :func:`suspension_fabric.models.gillissen_wilson.shear_rotation`)."""
     before = startup_shear(fabric_model, [startup_strain], params, phi, fabric0)[0]
-    rotated = to_basis(before, rotation_about_gradient(np.asarray(theta, dtype=float)))
+    return rotated_shear(fabric_model, before, theta, strains, params, phi)
+
+
+def rotated_shear(fabric_model: FabricModel, before, theta, strains, params, phi) -> np.ndarray:
+    """The fabric ``before`` (3, 3), the shear then turned by ``theta`` (radians, scalar or 1-D)
+    about e2 and continued: <nn> in the rotated frame at ``strains``, shape theta.shape +
+    (len(strains), 3, 3) (the second half of :func:`shear_rotation`)."""
+    rotated = to_basis(np.asarray(before, dtype=float), rotation_about_gradient(np.asarray(theta, dtype=float)))
     return integrate(fabric_model, rotated, simple_shear_gradient(), strains, params, phi)
 
 
