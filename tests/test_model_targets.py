@@ -9,6 +9,7 @@
 """
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from suspension_fabric.analysis.seed_statistics import t_interval
@@ -103,3 +104,23 @@ def test_the_steady_state_tolerances_are_three_percent_on_the_diagonal_and_one_o
     assert rows["n11"]["within"] and not rows["n22"]["within"] and not rows["n12"]["within"]
     assert rows["n12"]["relative_difference"] == pytest.approx(0.011)
     assert all(not r["within"] for r in mt.steady_rows(np.full((3, 3), np.nan), targets))
+
+
+def test_the_scorecard_page_names_only_the_models_meeting_every_target():
+    """Two rows, one meeting every target: both tables list both, the closing sentence names the
+    one, with its note pointed to; an empty scorecard says so."""
+    base = {"level": 0.95, "share": 0.5, "overshoot_angles": "90", "overshoot_T6": 0.01}
+    base |= {"overshoot_T6_low": -0.02, "overshoot_T6_high": 0.04, "overshoot_met": True}
+    for c in mt.SHEAR_COMPONENTS:
+        base |= {f"{c}_net": 0.01, f"{c}_low": 0.005, f"{c}_high": 0.015, f"{c}_reference_net": 0.03}
+        base |= {f"{c}_target_statistic": 0.005, f"{c}_target_low": 0.001, f"{c}_target_high": 0.009}
+    base |= {f"steady_{c}_relative": 0.001 for c in mt.STEADY_TOLERANCE}
+    good = base | {"model": "good", "label": "good model", "mode": "steady", "all_met": True, "steady_met": True}
+    good |= {f"{c}_target_met": True for c in mt.SHEAR_COMPONENTS}
+    bad = good | {"model": "bad", "label": "bad model", "all_met": False, "n12_target_met": False}
+    page = mt.scorecard_markdown(pd.DataFrame([good, bad]), "G-W", {"good": "found here"})
+    assert page.count("| good model | steady |") == 2 and page.count("| bad model | steady |") == 2
+    assert "good model: found here." in page
+    assert page.rstrip().endswith("every target is met by good model (steady fit, see the note above).")
+    assert "no model meets every target" in mt.scorecard_markdown(pd.DataFrame([bad]), "G-W")
+    assert "No model besides the reference" in mt.scorecard_markdown(pd.DataFrame(), "G-W")

@@ -43,7 +43,7 @@ from suspension_fabric.models import fabric_models
 from suspension_fabric.models.sparse_fabric import LIBRARY, ORDER, corotational, library_terms, sparse_model
 
 from .model_benchmark import SeedCurves, angle_folds, model_curves, seed_errors
-from .model_targets import overshoot_sentence, steady_rows
+from .model_targets import overshoot_sentence, percent, steady_rows
 
 __all__ = [
     "WINDOW_FRAMES",
@@ -386,11 +386,6 @@ def coefficient_table(found: dict) -> pd.DataFrame:
     )
 
 
-def _percent(value: float) -> str:
-    """A signed percentage with two decimals; round-off (below 0.005%) reads 0.00%."""
-    return "0.00%" if abs(value) < 5e-5 else f"{value:+.2%}"
-
-
 def _interval(mean, low, high) -> str:
     return f"{mean:.3g} [{low:.3g}, {high:.3g}]"
 
@@ -446,7 +441,7 @@ def summary_markdown(
     for _, row in steady.iterrows():
         lines.append(
             f"| {component_label(row['component'])} | {row['rate']:.4g} ({row['fit'].replace('<nn>_12', '⟨nn⟩₁₂')}) | "
-            f"{row['model']:.4g} | {row['simulated']:.4g} | {_percent(row['relative_difference'])} | "
+            f"{row['model']:.4g} | {row['simulated']:.4g} | {percent(row['relative_difference'])} | "
             f"{row['tolerance']:.0%} ({'within' if row['within'] else 'outside'}) |"
         )
     shear = target.set_index("component")

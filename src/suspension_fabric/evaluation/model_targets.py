@@ -44,6 +44,7 @@ __all__ = [
     "target_table",
     "overshoot_table",
     "overshoot_sentence",
+    "percent",
     "steady_rows",
     "scorecard",
     "found_here",
@@ -233,6 +234,11 @@ def _interval(mean, low, high) -> str:
     return f"{mean:.3g} [{low:.3g}, {high:.3g}]"
 
 
+def percent(value: float) -> str:
+    """A signed percentage with two decimals; round-off (below 0.005%) reads 0.00%."""
+    return "0.00%" if abs(value) < 5e-5 else f"{value:+.2%}"
+
+
 def _mark(met: bool) -> str:
     return "met" if met else "not met"
 
@@ -251,9 +257,9 @@ def found_here(specs, study: str) -> dict[str, str]:
 
 
 def scorecard_markdown(table: pd.DataFrame, reference_label: str, notes: dict | None = None) -> str:
-    """The scorecard as Markdown (every number from ``table``), with a closing sentence naming the
-    models that meet every target; ``notes`` ({model key: sentence}) are printed under the table
-    and repeated where such a model meets every target."""
+    """The scorecard as Markdown (every number from ``table``): the statistics, then the targets met,
+    and a closing sentence naming the models that meet every target; ``notes`` ({model key:
+    sentence}) are printed under the tables and pointed to where such a model meets every target."""
     notes = notes or {}
     if table.empty:
         return "No model besides the reference is on this study's leaderboard.\n"
@@ -261,61 +267,64 @@ def scorecard_markdown(table: pd.DataFrame, reference_label: str, notes: dict | 
     share = table["share"].iloc[0]
     tolerances = ", ".join(f"{component_label(c)} {t:.0%}" for c, t in STEADY_TOLERANCE.items())
     angles = table["overshoot_angles"].iloc[0]
+    reference = table.iloc[0]
     lines = [
         f"Held-out mean square error net of the seed-noise floor, units (⟨nn⟩₁₂ˢˢ)², mean over seeds "
-        f"[{level}% t-interval]; target: at most {share:g} of {reference_label}'s (fitted on the steady state), "
-        f"decided when T = {share:g} (reference − floor) − (model − floor) has its interval above 0. "
-        f"Overshoot: claim C6's statistic T6 = 0.25 X12(model) − X12(sim) at {angles or 'no'} degrees, "
-        f"target met unless its interval lies above 0. Steady state: {tolerances}.",
+        f"[{level}% t-interval] ({reference_label}, fitted on the steady state: "
+        + "; ".join(f"{component_label(c)} {reference[f'{c}_reference_net']:.3g}" for c in SHEAR_COMPONENTS)
+        + f"); T = {share:g} (reference − floor) − (model − floor), the held-out target met where its interval "
+        f"lies above 0; T6 = 0.25 X12(model) − X12(sim) at {angles or 'no'} degrees (claim C6's statistic), the "
+        f"overshoot target met unless its interval lies above 0; the steady state within {tolerances}.",
         "",
-        "| model | fit | ⟨nn⟩′₁₂ | T₁₂ | ⟨nn⟩′₂₃ | T₂₃ | T6 | steady | every target |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "| model | fit | ⟨nn⟩′₁₂ | T₁₂ | ⟨nn⟩′₂₃ | T₂₃ | T6 |",
+        "|---|---|---|---|---|---|---|",
     ]
     for _, row in table.iterrows():
         cells = [row["label"], row["mode"]]
         for c in SHEAR_COMPONENTS:
             cells.append(_interval(row[f"{c}_net"], row[f"{c}_low"], row[f"{c}_high"]))
-            cells.append(
-                f"{_interval(row[f'{c}_target_statistic'], row[f'{c}_target_low'], row[f'{c}_target_high'])} "
-                f"({_mark(row[f'{c}_target_met'])})"
-            )
-        overshoot = (
-            f"{_interval(row['overshoot_T6'], row['overshoot_T6_low'], row['overshoot_T6_high'])} "
-            if "overshoot_T6" in row and np.isfinite(row["overshoot_T6"])
-            else ""
+            cells.append(_interval(row[f"{c}_target_statistic"], row[f"{c}_target_low"], row[f"{c}_target_high"]))
+        finite = "overshoot_T6" in row and np.isfinite(row["overshoot_T6"])
+        cells.append(
+            _interval(row["overshoot_T6"], row["overshoot_T6_low"], row["overshoot_T6_high"]) if finite else "—"
         )
-        cells.append(f"{overshoot}({_mark(row['overshoot_met'])})")
+        lines.append("| " + " | ".join(str(c) for c in cells) + " |")
+    lines += [
+        "",
+        "| model | fit | ⟨nn⟩′₁₂ target | ⟨nn⟩′₂₃ target | no overshoot | steady state (worst component) "
+        "| every target |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for _, row in table.iterrows():
         relative = {c: row[f"steady_{c}_relative"] for c in STEADY_TOLERANCE}
         used = {c: abs(v) / STEADY_TOLERANCE[c] if np.isfinite(v) else np.inf for c, v in relative.items()}
         worst = max(used, key=used.get)
-        cells.append(f"worst {component_label(worst)} {relative[worst]:+.2%} ({_mark(row['steady_met'])})")
-        cells.append("**yes**" if row["all_met"] else "no")
+        cells = [
+            row["label"],
+            row["mode"],
+            *(_mark(row[f"{c}_target_met"]) for c in SHEAR_COMPONENTS),
+            _mark(row["overshoot_met"]),
+            f"{_mark(row['steady_met'])} ({component_label(worst)} {percent(relative[worst])})",
+            "**yes**" if row["all_met"] else "no",
+        ]
         lines.append("| " + " | ".join(str(c) for c in cells) + " |")
-    reference_rows = table.drop_duplicates("model")
-    lines.append("")
-    lines.append(
-        f"{reference_label}'s held-out error, net of the floor: "
-        + "; ".join(
-            f"{component_label(c)} {reference_rows[f'{c}_reference_net'].iloc[0]:.3g}" for c in SHEAR_COMPONENTS
-        )
-        + "."
-    )
     for key, note in notes.items():
         labels = table.loc[table["model"] == key, "label"]
         if len(labels):
-            lines.append(f"{labels.iloc[0]}: {note}")
+            lines += ["", f"{labels.iloc[0]}: {note}."]
     winners = table[table["all_met"]]
-    lines.append(
+    lines += [
+        "",
         "Reading, plainly: "
         + (
             "every target is met by "
             + ", ".join(
-                f"{r['label']} ({r['mode']} fit{', see its note' if r['model'] in notes else ''})"
+                f"{r['label']} ({r['mode']} fit{', see the note above' if r['model'] in notes else ''})"
                 for _, r in winners.iterrows()
             )
             + "."
             if len(winners)
             else "no model meets every target."
-        )
-    )
+        ),
+    ]
     return "\n".join(lines) + "\n"
