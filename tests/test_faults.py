@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 import yaml
 
+from suspension_fabric.analysis import tables
 from suspension_fabric.simulation.lammps import ForceModel, pack
 from suspension_fabric.simulation.lammps.plugin import PluginBuildError, plugin_path, plugin_sources
 from workflow_helpers import RESULTS, TEST_CONFIG, copy_workflow, snakemake
@@ -59,6 +60,21 @@ def test_a_dump_cut_mid_frame_fails_its_fabric_job_naming_the_file(study, tmp_pa
     log = (workdir / RESULTS / "logs/fabric_seed1_startup.log").read_text()
     assert f"{RESULTS}/seed1/startup/trajectory.dump" in log and "truncated" in log and "step" in log
     assert {p: p.stat().st_mtime_ns for p in finished} == finished
+
+
+def test_a_dump_cut_at_a_frame_boundary_is_caught_against_the_run_record(study, tmp_path):
+    """A trajectory that lost its last frames whole parses as a shorter run: the fabric table
+    compares its last frame with the step at which the run's record ends the segment (first step +
+    strain / (dt rate)) and refuses it, naming the dump and both steps; the whole dump passes."""
+    source = study / RESULTS / "seed1/startup"
+    marker = source / "run_complete.json"
+    assert len(tables.run_fabric_table(source / "trajectory.dump", marker, seed=1)) > 2
+    text = (source / "trajectory.dump").read_text()
+    cut = tmp_path / "trajectory.dump"
+    cut.write_text(text[: text.rindex("ITEM: TIMESTEP")])  # the last frame removed at its header
+    with pytest.raises(ValueError, match="truncated") as failure:
+        tables.run_fabric_table(cut, marker, seed=1)
+    assert str(cut) in str(failure.value) and "step" in str(failure.value)
 
 
 def test_a_blow_up_in_one_job_lets_the_others_finish_with_keep_going(tmp_path):

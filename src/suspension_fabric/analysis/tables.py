@@ -150,7 +150,22 @@ def run_fabric_table(
         turning_deg_per_strain=info.segment.turning_deg_per_strain,
         eps=eps,
     ).run()
-    return fabric_table(analysis, seed=seed)
+    table = fabric_table(analysis, seed=seed)
+    _check_complete(table["step"].to_numpy(), info, dump)
+    return table
+
+
+def _check_complete(steps, info, dump) -> None:
+    """A dump cut at a frame boundary reads as a shorter run: its last frame must be within one
+    dump interval of the run's last step (the first step plus the segment's strain in steps, from
+    the run's record), else ``ValueError`` naming the dump and both steps."""
+    last = info.first_step + round(info.segment.strain / (info.dt * info.rate))
+    stride = int(np.min(np.diff(steps))) if len(steps) > 1 else last - info.first_step
+    if last - int(steps[-1]) >= max(stride, 1):
+        raise ValueError(
+            f"{dump}: the last frame is at step {int(steps[-1])}, but the run's record "
+            f"ends the segment at step {last}: the trajectory is truncated (frames missing at its end)"
+        )
 
 
 def _check_table(table: pd.DataFrame, source: str, value_columns=VALUE_COLUMNS) -> pd.DataFrame:
