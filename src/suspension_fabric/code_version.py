@@ -80,6 +80,8 @@ class CodeVersions:
         # by each file's bytes and package, so only changed files are parsed again
         self._cache_path = None if cache is None else Path(cache)
         self._cache: dict[str, list] = {}
+        self._used: dict[str, list] = {}  # what this load parsed or read: all the file keeps
+        self._dirty = False
         if self._cache_path is not None and self._cache_path.is_file():
             try:
                 self._cache = json.loads(self._cache_path.read_text())
@@ -114,6 +116,7 @@ class CodeVersions:
             if key in self._cache:
                 names, digest = self._cache[key]
                 self._parsed[path] = list(names), digest
+                self._used[key] = self._cache[key]
                 return self._parsed[path]
             tree = ast.parse(source, str(path))
             names = []
@@ -129,19 +132,20 @@ class CodeVersions:
                     names += [base, *(f"{base}.{alias.name}" for alias in node.names)]
             _strip_docstrings(tree)
             self._parsed[path] = names, hashlib.sha256(ast.unparse(tree).encode()).hexdigest()
-            self._cache[key] = list(self._parsed[path])
-            self._save_cache()
+            self._cache[key] = self._used[key] = list(self._parsed[path])
+            self._dirty = True
         return self._parsed[path]
 
     def _save_cache(self) -> None:
-        """Write the parse cache atomically (several workflow loads may share it); a cache that
-        cannot be written only costs time."""
-        if self._cache_path is None:
+        """Write the entries this load used, atomically (several workflow loads may share the
+        file), when it parsed something new; a cache that cannot be written only costs time."""
+        if self._cache_path is None or not self._dirty:
             return
+        self._dirty = False
         try:
             self._cache_path.parent.mkdir(parents=True, exist_ok=True)
             with tempfile.NamedTemporaryFile("w", dir=self._cache_path.parent, delete=False, suffix=".tmp") as out:
-                json.dump(self._cache, out)
+                json.dump(self._used, out)
             os.replace(out.name, self._cache_path)
         except OSError:
             pass
@@ -205,6 +209,7 @@ class CodeVersions:
         digest = hashlib.sha256()
         for name, path in sorted(self.files(script, ignore).items()):
             digest.update(f"{name}\0{self._digest(path)}\n".encode())
+        self._save_cache()
         return digest.hexdigest()[:16]
 
 

@@ -44,8 +44,7 @@ with logged(sm.log[0]):
         level=sm.params.level,
     )
     targets.to_csv(sm.output.targets, index=False)
-    summary = model_targets.scorecard_markdown(
-        targets, models[sm.params.reference].label, model_targets.found_here(sm.params.models, sm.wildcards.study)
-    )
+    notes = model_targets.found_here(sm.params.models, models, sm.wildcards.study)
+    summary = model_targets.scorecard_markdown(targets, models[sm.params.reference].label, notes)
     Path(sm.output.targets_summary).write_text(summary)
     print(summary)

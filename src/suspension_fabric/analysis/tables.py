@@ -53,7 +53,6 @@ Steady state (:func:`steady_state`)
 from __future__ import annotations
 
 import io
-import json
 import os
 import warnings
 from pathlib import Path
@@ -152,8 +151,7 @@ def run_fabric_table(
         eps=eps,
     ).run()
     table = fabric_table(analysis, seed=seed)
-    raw = json.loads(Path(marker).read_text())
-    if "format" in raw or "strain_total" in (raw.get("variables") or {}):  # else the strain is not recorded
+    if info.strain_recorded:
         _check_complete(table["step"].to_numpy(), info, dump)
     return table
 

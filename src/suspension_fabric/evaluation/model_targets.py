@@ -243,13 +243,14 @@ def _mark(met: bool) -> str:
     return "met" if met else "not met"
 
 
-def found_here(specs, study: str) -> dict[str, str]:
-    """{model key: note} for the model files among ``specs`` (models.fabric entries) found on
-    ``study`` itself (the file's source study): their terms saw every angle scored here."""
+def found_here(specs, models: dict, study: str) -> dict[str, str]:
+    """{model key: note} for the model files among ``specs`` (models.fabric entries; ``models``
+    the resolved models in the same order) found on ``study`` itself (the file's source study):
+    their terms saw every angle scored here."""
     notes = {}
-    for spec, fabric_model in zip(specs, fabric_models.resolve_models(specs).values()):
+    for spec, key in zip(specs, models):
         if spec.endswith(".json") and json.loads(Path(spec).read_text()).get("source", {}).get("study") == study:
-            notes[fabric_model.key] = (
+            notes[key] = (
                 "found on this study's own runs, its terms chosen and fitted on every angle scored here, so "
                 "these rows hold out only the refit of its rate (rule discover_model's score holds out every term)"
             )

@@ -51,6 +51,8 @@ class RunInfo:
     index: int = 0
     history: tuple[Segment, ...] = ()
     eta_f: float | None = None
+    #: False for a format-1 record without ``strain_total``: its segment's strain is a default.
+    strain_recorded: bool = True
 
     @property
     def theta_deg(self) -> float:
@@ -100,6 +102,7 @@ def read_run_info(marker: str | os.PathLike) -> RunInfo:
         raise ValueError(f"{path}: not valid JSON ({err})") from None
     if not isinstance(content, dict):
         raise ValueError(f"{path}: expected a JSON object, got {type(content).__name__}")
+    strain_recorded = "format" in content or "strain_total" in (content.get("variables") or {})
     content = upgrade_record(content, str(path))
     if content["format"] != RUN_RECORD_FORMAT:
         raise ValueError(f"{path}: run record format {content['format']!r}, this code reads {RUN_RECORD_FORMAT}")
@@ -135,4 +138,5 @@ def read_run_info(marker: str | os.PathLike) -> RunInfo:
         index=entry("flow_segment", "index", int),
         history=tuple(segment(item, f"flow_history.{k}") for k, item in enumerate(history)),
         eta_f=entry("variables", "eta_f", float) if "eta_f" in content.get("variables", {}) else None,
+        strain_recorded=strain_recorded,
     )
