@@ -170,7 +170,10 @@ def per_point(path):
 
 
 def run_outputs(run_dir, files=RUN_FILES):
-    return {role: f"{run_dir}/{name}" for role, name in files.items()}
+    """A simulation's output files, flagged `update`: Snakemake then leaves a finished run in place
+    while its rerun goes (it would delete it at the job's start), and the runner replaces the
+    folder only when the new run has finished, so an interrupted rerun loses nothing."""
+    return {role: update(f"{run_dir}/{name}") for role, name in files.items()}
 
 
 # For conda users only (--sdm conda); the tested installation is pip (envs/bootstrap.sh).
