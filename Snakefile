@@ -39,7 +39,6 @@ if DATASET_STUDIES:  # fabric tables from reference datasets: no simulation for 
 
 if SIMULATED_STUDIES:
 
-    include: "workflow/rules/build.smk"
     include: "workflow/rules/simulate.smk"
     include: "workflow/rules/fabric.smk"
 

@@ -240,7 +240,7 @@ def test_a_campaign_runs_by_the_study_rules_and_its_map_rebuilds_from_its_datase
         "import_run_tables_0": 1,
         "import_run_tables_1": 1,
     }  # one job per point
-    assert not set(counts) & {"build_plugin", "pack", "shear_segment", "fabric_table", "stress_table"}
+    assert not set(counts) & {"pack", "shear_segment", "fabric_table", "stress_table"}
     rebuilt = snakemake(workdir, "campaign_figures", "--configfile", "config/tcamp.yaml", "config/tmap.yaml")
     assert rebuilt.returncode == 0, rebuilt.stderr[-3000:]
     again = pd.read_csv(workdir / "results/tmap/tables/map.csv").set_index("point")

@@ -29,9 +29,9 @@ from suspension_fabric.study.dataset import (
 from workflow_helpers import REPO, RESULTS, copy_workflow, dry_run_jobs, snakemake
 
 pytestmark = pytest.mark.workflow
-SIMULATION_RULES = {"build_plugin", "pack", "shear_segment", "fabric_table"}
+SIMULATION_RULES = {"pack", "shear_segment", "fabric_table"}
 
-SIMULATION_RULES = {"build_plugin", "pack", "shear_segment", "fabric_table"}
+SIMULATION_RULES = {"pack", "shear_segment", "fabric_table"}
 
 
 @pytest.mark.parametrize("folder", ["reference", "reference_v1", "stresslets", "campaign/phi0.45_mu0.5"])

@@ -20,7 +20,7 @@ pytestmark = pytest.mark.workflow
 
 def test_a_missing_plugin_library_is_named():
     missing = Path("/nonexistent/libsuspension_fabric_lammps.so")
-    with pytest.raises(FileNotFoundError, match="LAMMPS plugin library not found: /nonexistent/.*build_plugin"):
+    with pytest.raises(FileNotFoundError, match="LAMMPS plugin library not found: /nonexistent/.*lammps.plugin"):
         ForceModel(plugin=missing).variables()
 
 

@@ -71,7 +71,7 @@ def test_a_model_in_the_config_reruns_the_model_rules_only(with_toy):
         "benchmark_models",
         "benchmark_stress_relations",
     } <= rules
-    assert not rules & {"build_plugin", "pack", "shear_segment", "fabric_table", "stress_table"}
+    assert not rules & {"pack", "shear_segment", "fabric_table", "stress_table"}
 
 
 def test_the_toy_model_flows_through_fits_predictions_errors_and_stress(with_toy):

@@ -16,6 +16,7 @@ from __future__ import annotations
 import os
 import shutil
 import subprocess
+import threading
 import time
 from pathlib import Path
 from types import SimpleNamespace
@@ -175,7 +176,7 @@ def test_file_times_and_locations_do_not_trigger_a_rebuild(tree, tmp_path, monke
 
 
 def test_the_plugin_version_follows_the_sources_contents_and_flags(tree, monkeypatch):
-    """The workflow's build_plugin param: changed by an edit of a source, an added source or other
+    """The workflow segments' plugin param: changed by an edit of a source, an added source or other
     flags; not by file times or the README."""
     version = plugin_module.plugin_version()
     touch(tree.source / "fix_stokes_sf.cpp")
@@ -263,8 +264,8 @@ def test_failed_compile_keeps_the_old_library_and_retries(tree):
 def test_install_plugin_builds_only_if_needed_and_copies_atomically(tmp_path, tree):
     """install_plugin(target) builds if the library is missing or stale, never otherwise (unless
     forced), and provides it at target: an identical copy with the time of copying (not older
-    than the library) and the library's stamp beside it, no temporary file left, judged stale
-    once a source's contents change. At the library's own path it copies nothing; a deleted
+    than the library) and the library's stamp beside it, no temporary file left, copied again only
+    if its stamp differs from the library's, judged stale once a source's contents change. At the library's own path it copies nothing; a deleted
     library (as Snakemake deletes a rule's output before running it) is rebuilt."""
     target = tmp_path / "elsewhere" / "lib.so"
     assert plugin_module.install_plugin(target) == tree.library
@@ -276,9 +277,12 @@ def test_install_plugin_builds_only_if_needed_and_copies_atomically(tmp_path, tr
     plugin_module.check_not_stale(target)
     os.utime(tree.library, (OLD + 10, OLD + 10))
     os.utime(target, (OLD + 10, OLD + 10))
-    plugin_module.install_plugin(target)  # up to date: no compile, the library keeps its time
+    plugin_module.install_plugin(target)  # up to date: no compile, no copy, both keep their times
     assert len(tree.compiler.commands) == 1
-    assert tree.library.stat().st_mtime == OLD + 10 and target.stat().st_mtime > OLD + 10
+    assert tree.library.stat().st_mtime == OLD + 10 and target.stat().st_mtime == OLD + 10
+    (target.parent / "lib.cmd").unlink()  # a copy without its stamp is copied again
+    plugin_module.install_plugin(target)
+    assert len(tree.compiler.commands) == 1 and target.stat().st_mtime > OLD + 10
     edit(tree.source / "pair_lubricate_sf.cpp")
     with pytest.raises(plugin_module.PluginBuildError, match="stale.*pair_lubricate_sf.cpp changed"):
         plugin_module.check_not_stale(target)
@@ -291,3 +295,18 @@ def test_install_plugin_builds_only_if_needed_and_copies_atomically(tmp_path, tr
     plugin_module.install_plugin(tree.library, force=True)
     assert len(tree.compiler.commands) == 4
     assert sorted(p.name for p in tree.build.iterdir()) == sorted([tree.library.name, tree.stamp.name])
+
+
+def test_builds_started_together_compile_once(tree):
+    """Two simulations that find the library missing at the same moment (two local jobs, a
+    cluster's first batch): one compiles under the build folder's lock, the other waits and
+    takes that library."""
+    tree.compiler.during_compile = lambda: time.sleep(0.5)
+    results = []
+    threads = [threading.Thread(target=lambda: results.append(build(tree))) for _ in range(2)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    assert results == [tree.library, tree.library]
+    assert len(tree.compiler.commands) == 1

@@ -40,7 +40,7 @@ def test_the_rebuild_plans_no_simulation_and_writes_the_documented_results(tmp_p
     plan = snakemake(workdir, "--configfile", CONFIG, "-n")
     assert plan.returncode == 0, (plan.stdout + plan.stderr)[-3000:]
     rules = {job["rule"] for job in dry_run_jobs(plan.stdout + plan.stderr)}
-    assert not rules & {"build_plugin", "pack", "shear_segment", "fabric_table", "stress_table"}, rules
+    assert not rules & {"pack", "shear_segment", "fabric_table", "stress_table"}, rules
     assert {"aggregate_protocols", "benchmark_protocols", "figure_protocol", "report_protocols"} <= rules
     target = "results/protocols_reference/tables/protocol_summary.md"
     result = snakemake(workdir, target, "--configfile", CONFIG, timeout=900)

@@ -108,7 +108,7 @@ def test_every_job_of_the_study_ran_as_a_completed_slurm_job(cluster, slurm_stud
     assert {row["State"] for row in sacct.values()} == {"COMPLETED"}
     assert {(row["Account"], row["Partition"]) for row in sacct.values()} == {(account, partition)}
     assert Counter(rule_of(row["Comment"]) for row in sacct.values()) == Counter(remote.values())
-    assert {"shear_segment", "fabric_table", "fit_models", "build_plugin"} <= set(remote.values())
+    assert {"shear_segment", "fabric_table", "fit_models"} <= set(remote.values())
 
 
 def test_slurm_results_equal_a_local_run(slurm_study, request):

@@ -206,7 +206,7 @@ def test_rerun_one_angle_one_seed(study):
     counts = job_counts(result.stdout)
     assert counts["shear_segment"] == 1 and counts["fabric_table"] == 1
     assert counts["aggregate_rotation"] == 1 and counts["figure_rotation"] == 1 and counts["figure_startup"] == 1
-    for rule in ("pack", "aggregate_startup", "fit_models", "build_plugin"):
+    for rule in ("pack", "aggregate_startup", "fit_models"):
         assert rule not in counts
     wildcards = {job["wildcards"] for job in dry_run_jobs(result.stdout) if job["wildcards"]}
     assert wildcards == {"seed=1, run=rotation_theta90"}, wildcards
@@ -246,7 +246,6 @@ def test_every_figure_depends_on_every_stage(study):
         return seen
 
     upstream = {
-        "build_plugin",
         "pack",
         "shear_segment",
         "fabric_table",

@@ -13,11 +13,11 @@ import time
 
 import pytest
 
-from workflow_helpers import REPO, TEST_CONFIG, copy_workflow, dry_run_jobs, snakemake
+from workflow_helpers import REPO, TEST_CONFIG, copy_workflow, dry_run_jobs, job_counts, snakemake
 
 pytestmark = pytest.mark.workflow
 
-SIMULATIONS = {"build_plugin", "pack", "shear_segment"}
+SIMULATIONS = {"pack", "shear_segment"}
 SEEDS, RUNS = (1, 2), ("startup", "rotation_theta0", "rotation_theta90")
 NOTHING = "Nothing to be done"
 PARAMS = "Params have changed since last execution"
@@ -63,7 +63,7 @@ def copy_in(study, workdir, *names):
 
 
 def test_a_moved_checkout_plans_no_job(moved):
-    """Before: the plugin's sources were build_plugin's inputs by absolute path, so a checkout
+    """Before: the plugin's sources were the plugin build's inputs by absolute path, so a checkout
     elsewhere changed its set of input files and reran the build and every simulation."""
     workdir, env = moved
     assert NOTHING in dry_run(workdir, env)
@@ -78,18 +78,27 @@ def test_a_fresh_clone_with_the_results_copied_in_plans_no_job(study, tmp_path):
     assert NOTHING in dry_run(workdir, env)
 
 
-def test_a_fresh_clone_with_metadata_and_plugin_simulates_only_new_runs(study, tmp_path):
+def test_a_fresh_clone_with_metadata_simulates_only_new_runs(study, tmp_path):
     """With .snakemake/metadata (the record of each job's inputs and params, without which later
-    changes go unnoticed) and build/plugin (without which the first new simulation rebuilds the
-    plugin and so reruns every simulation) copied in too: nothing planned, and an added angle
-    simulates that angle alone."""
+    changes go unnoticed) copied in too, and no build/ (the plugin is no job's input: a segment
+    builds it when it needs it): nothing planned, and an added angle simulates that angle alone,
+    for real: the plugin is built into the clone's build/, and no finished run changes."""
     workdir = tmp_path / "clone"
     env = fresh_clone(workdir)
-    copy_in(study, workdir, "results", ".snakemake/metadata", "build/plugin")
+    copy_in(study, workdir, "results", ".snakemake/metadata")
+    assert not (workdir / "build").exists()
     assert NOTHING in dry_run(workdir, env)
-    jobs = planned(dry_run(workdir, env, "--config", "angles_deg=[0, 90, 45]"))
+    added = ["--config", "angles_deg=[0, 90, 45]"]
+    jobs = planned(dry_run(workdir, env, *added))
     simulations = {job for job in jobs if job[0] in SIMULATIONS}
     assert simulations == {("shear_segment", f"seed={s}, run=rotation_theta45") for s in SEEDS}
+
+    finished = {path: path.read_bytes() for path in (workdir / "results/test").glob("seed*/*/*")}
+    result = snakemake(workdir, *TEST_CONFIG, *added, env=env)
+    assert result.returncode == 0, result.stderr[-3000:]
+    assert job_counts(result.stdout + result.stderr)["shear_segment"] == len(SEEDS)
+    assert (workdir / "build/plugin/libsuspension_fabric_lammps.so").is_file()
+    assert all(path.read_bytes() == content for path, content in finished.items())
 
 
 def test_an_edit_of_the_fabric_analysis_reruns_the_fabric_tables_and_what_follows(moved):
@@ -126,15 +135,14 @@ def test_an_edit_of_a_lammps_input_reruns_the_simulations(moved):
     assert all(jobs[("pack", f"seed={s}")].startswith(PARAMS) for s in SEEDS)
 
 
-def test_an_edit_of_the_plugin_rebuilds_it_and_reruns_the_segments(moved):
-    """A plugin source edited: build_plugin for its params (the plugin's version), every segment
-    after it; the packings, which do not load the plugin, are kept."""
+def test_an_edit_of_the_plugin_reruns_the_segments(moved):
+    """A plugin source edited: every segment for its params (the plugin's version); the packings,
+    which do not load the plugin, are kept."""
     workdir, env = moved
     header = workdir / "src/suspension_fabric/simulation/lammps/plugin_source/lubrication.h"
     header.write_text(header.read_text() + "\n// edited\n")
     jobs = planned(dry_run(workdir, env))
-    assert jobs[("build_plugin", "")].startswith(PARAMS)
     assert {job for job in jobs if job[0] in SIMULATIONS} == {
-        ("build_plugin", ""),
-        *(("shear_segment", f"seed={s}, run={run}") for s in SEEDS for run in RUNS),
+        ("shear_segment", f"seed={s}, run={run}") for s in SEEDS for run in RUNS
     }
+    assert all(jobs[("shear_segment", f"seed={s}, run=startup")].startswith(PARAMS) for s in SEEDS)

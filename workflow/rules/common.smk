@@ -21,10 +21,10 @@ from suspension_fabric.io.resources import PLUGIN_LIBRARY_NAME
 
 STUDIES = study_configs(config, CONFIG_SOURCES)
 RESULTS = "results/{study}"
-PLUGIN_LIBRARY = f"build/plugin/{PLUGIN_LIBRARY_NAME}"
-# What the plugin is rebuilt for (the params of build_plugin): its sources' contents and the
-# compile flags, never their paths or file times, so a moved or re-cloned checkout rebuilds nothing.
-PLUGIN_VERSION = plugin_version()
+# The plugin is no rule's output: a segment builds it if missing or stale (once, under a lock) and
+# is rerun for its version (a params value), a hash of its sources' contents and the compile flags,
+# never their paths or file times. A moved or re-cloned checkout, even without build/, reruns nothing.
+PLUGIN = {"library": f"build/plugin/{PLUGIN_LIBRARY_NAME}", "version": plugin_version()}
 FIGURE_NAMES = ["fig1_startup", "fig2_rotation"]
 STRESS_FIGURE_NAMES = ["fig3_stress", "fig4_stress_rotation"]
 # The config keys that change a simulation's outputs (others, like the failure bounds, the

@@ -18,12 +18,12 @@ rule shear_segment:
     checkpoint of the segment before, so that protocols sharing a prefix share its runs (segment.lmp)."""
     input:
         unpack(segment_source),
-        plugin=PLUGIN_LIBRARY,
     output:
         **run_outputs(f"{RESULTS}/seed{{seed}}/{{run}}"),
     params:
         settings=lambda wildcards: SIMULATION_SETTINGS[wildcards.study],
         segment=segment_of,
+        plugin=PLUGIN,
         code=code_version("../scripts/shear.py", ignore=SIMULATION_CHECKS),
     threads: setting("run", "mpi_ranks")
     resources:

@@ -4,12 +4,14 @@ from pathlib import Path
 
 from suspension_fabric.io.protocols import Segment
 from suspension_fabric.simulation.lammps import ForceModel, ShearSettings, run_segment
+from suspension_fabric.simulation.lammps.plugin import install_plugin
 from suspension_fabric.workflow_io import job_study_config, logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
     study = job_study_config(sm)
     history = tuple(Segment(**fields) for fields in sm.params.segment["history"])
+    install_plugin(sm.params.plugin["library"])  # built if missing or stale
     source = {"data_file": sm.input.data} if "data" in sm.input.keys() else {"restart_file": sm.input.checkpoint}
     result = run_segment(
         Path(sm.output.trajectory).parent,
@@ -17,7 +19,7 @@ with logged(sm.log[0]):
         **source,
         index=sm.params.segment["index"],
         history=history,
-        force_model=ForceModel.from_config(study, plugin=sm.input.plugin),
+        force_model=ForceModel.from_config(study, plugin=sm.params.plugin["library"]),
         settings=ShearSettings.from_config(study),
         overwrite=True,  # Snakemake decided this job must run; the old folder goes only on success
     )

@@ -13,7 +13,9 @@ temporary file, then ``os.replace``) so concurrent processes never load a half-w
 
 from __future__ import annotations
 
+import contextlib
 import ctypes
+import fcntl
 import hashlib
 import importlib.metadata
 import json
@@ -111,8 +113,8 @@ def _source_digests() -> dict[str, str]:
 
 def plugin_version() -> str:
     """16 hex digits of a hash of the sources' names and contents and the compile flags: what the
-    workflow's build_plugin rule is rerun for (its params), so neither a moved checkout nor a
-    touched file rebuilds the plugin, and every simulation after it."""
+    workflow's segments are rerun for (a params value), so neither a moved checkout nor a touched
+    file reruns a simulation."""
     text = json.dumps({"flags": CXX_FLAGS, "sources": _source_digests()}, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
@@ -178,14 +180,34 @@ def check_not_stale(library: Path) -> None:
         raise PluginBuildError(
             f"stale LAMMPS plugin library {library}: {', '.join(newer)} changed "
             "after it was built; rebuild it (`python -m suspension_fabric.simulation.lammps.plugin --force`, "
-            "or let the workflow's build_plugin rule do it)"
+            "or let the next workflow segment do it)"
         )
+
+
+@contextlib.contextmanager
+def _build_lock():
+    """Held while the library is checked and built: simulations that start together (two local
+    jobs, a cluster's first batch) compile it once and the others wait for that build."""
+    PLUGIN_BUILD_DIR.mkdir(parents=True, exist_ok=True)
+    folder = os.open(PLUGIN_BUILD_DIR, os.O_RDONLY)  # the folder itself is the lock: no lock file
+    try:
+        fcntl.flock(folder, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(folder)  # releases the lock
 
 
 def build_plugin(force: bool = False) -> Path:
     """Compile the plugin if missing or stale (or always, with ``force``); return its path."""
     if not force and not _is_stale():
         return PLUGIN_LIBRARY
+    with _build_lock():
+        if not force and not _is_stale():  # built by another process while this one waited
+            return PLUGIN_LIBRARY
+        return _compile()
+
+
+def _compile() -> Path:
     if not _sources():
         raise PluginBuildError(f"no C++ sources in {PLUGIN_SOURCE_DIR}")
     compiler = os.environ.get("CXX", "g++")
@@ -227,18 +249,25 @@ def install_plugin(target: str | os.PathLike, force: bool = False) -> Path:
     ``target`` is the library's own path (nothing more to do) or a copy elsewhere (a
     workflow run outside the repository), written atomically (temporary sibling, then
     ``os.replace``) with the time of copying, and its stamp beside it (``<target>.cmd``), by
-    which the staleness check (:func:`check_not_stale`) judges it. Not forcing a build keeps
+    which the staleness check (:func:`check_not_stale`) judges it; a copy whose stamp matches the
+    build's is left as it is. Not forcing a build keeps
     the repository's library, and with it the finished simulations that use it, untouched
     when it is up to date.
     """
     built = build_plugin(force=force)
     target = Path(target).resolve()
-    if target != built.resolve():
+    if target == built.resolve():
+        return built
+    with _build_lock():  # jobs starting together copy it once
+        record = _read_stamp(_COMMAND_STAMP)
+        if target.is_file() and _read_stamp(_stamp_of(target)) == record:
+            return built
         target.parent.mkdir(parents=True, exist_ok=True)
-        tmp = target.with_name(f".{target.name}.tmp")
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", dir=target.parent)
+        os.close(fd)
         shutil.copy(built, tmp)
         os.replace(tmp, target)
-        _write_stamp(_stamp_of(target), _read_stamp(_COMMAND_STAMP))
+        _write_stamp(_stamp_of(target), record)
     return built
 
 

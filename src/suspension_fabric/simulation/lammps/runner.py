@@ -263,7 +263,7 @@ def _plugin_library(plugin: str | os.PathLike | None) -> Path:
     if not path.is_file():
         raise FileNotFoundError(
             f"LAMMPS plugin library not found: {path} (build it with "
-            "`python -m suspension_fabric.simulation.lammps.plugin` or the workflow's build_plugin rule)"
+            "`python -m suspension_fabric.simulation.lammps.plugin`; a workflow segment builds it itself)"
         )
     plugin_module.check_not_stale(path)
     return path
