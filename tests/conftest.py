@@ -18,6 +18,14 @@ def study(tmp_path_factory):
     return workdir
 
 
+@pytest.fixture
+def finished_study(study, tmp_path):
+    """A copy of the finished test study (file times kept) that a test may change."""
+    workdir = tmp_path / "checkout"
+    shutil.copytree(study, workdir, symlinks=True)
+    return workdir
+
+
 def pytest_collection_finish(session):
     """Start the study on the cluster now, so that its scheduler waits overlap the other tests."""
     wanted = any("slurm_study" in getattr(item, "fixturenames", ()) for item in session.items)

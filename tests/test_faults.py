@@ -3,8 +3,11 @@ already finished is lost. Real components throughout (LAMMPS, Snakemake, the tes
 
 from __future__ import annotations
 
+import json
 import os
+import resource
 import shutil
+import subprocess
 from pathlib import Path
 
 import pytest
@@ -13,7 +16,7 @@ import yaml
 from suspension_fabric.analysis import tables
 from suspension_fabric.simulation.lammps import ForceModel, pack
 from suspension_fabric.simulation.lammps.plugin import PluginBuildError, plugin_path, plugin_sources
-from workflow_helpers import RESULTS, TEST_CONFIG, copy_workflow, snakemake
+from workflow_helpers import RESULTS, SNAKEMAKE, TEST_CONFIG, copy_workflow, job_counts, result_digests, snakemake
 
 pytestmark = pytest.mark.workflow
 
@@ -138,3 +141,87 @@ def test_pack_into_an_existing_folder_needs_overwrite(tmp_path):
     with pytest.raises(FileExistsError, match="pass overwrite=True"):
         pack(tmp_path / "packing", 20, seed=2)
     assert first.data_file.is_file()
+
+
+LONGER_ROTATIONS = ["--config", "run={rotation_strain: 2.0}"]  # trajectories of about 0.6 MB
+FAILED_RERUN = ["--config", "run={rotation_strain: 40.0}"]  # more than the small disk holds
+
+
+def assert_failed_rerun_kept_the_study(workdir, result, before, message):
+    """The rerun failed and its segments' logs say why; every finished run's data and every table is
+    unchanged, and only the completion markers of the failed segments are gone (Snakemake deletes
+    them, so that the failed segments are planned again)."""
+    assert result.returncode != 0
+    logs = [path.read_text() for path in (workdir / RESULTS / "logs").glob("shear_seed*_rotation_theta*.log")]
+    assert any(message in log for log in logs), "\n".join(log[-800:] for log in logs)
+    after = result_digests(workdir)
+    gone = set(before) - set(after)
+    assert gone and all(name.endswith("/run_complete.json") and "rotation_theta" in name for name in gone), gone
+    assert after == {name: digest for name, digest in before.items() if name not in gone}
+
+
+def test_a_file_size_limit_fails_the_rerun_naming_it_and_keeps_every_finished_run(finished_study):
+    """The trajectory outgrows the file-size limit (ulimit -f, as a quota does): LAMMPS is killed by
+    SIGXFSZ, the segment's log names the signal and its meaning, the finished runs' data stay as they
+    were, and the same rerun without the limit continues the killed runs and finishes."""
+    before = result_digests(finished_study)
+
+    def limit_file_size():
+        resource.setrlimit(resource.RLIMIT_FSIZE, (300_000, 300_000))
+
+    result = subprocess.run(
+        [str(SNAKEMAKE), "--cores", "2", *TEST_CONFIG, *LONGER_ROTATIONS],
+        cwd=finished_study,
+        capture_output=True,
+        text=True,
+        timeout=600,
+        preexec_fn=limit_file_size,
+    )
+    assert_failed_rerun_kept_the_study(
+        finished_study, result, before, "killed by SIGXFSZ (a file reached the file-size limit"
+    )
+    rerun = snakemake(finished_study, *TEST_CONFIG, *LONGER_ROTATIONS)
+    assert rerun.returncode == 0, rerun.stderr[-3000:]
+    for seed in (1, 2):
+        for angle in (0, 90):
+            record = json.loads(
+                (finished_study / RESULTS / f"seed{seed}/rotation_theta{angle}/run_complete.json").read_text()
+            )
+            assert record["flow_segment"]["strain"] == pytest.approx(2.0)
+
+
+@pytest.fixture
+def small_disk(finished_study, tmp_path):
+    """The finished study on a file system with 3 MB free (a tmpfs; needs root)."""
+    mount_point = tmp_path / "disk"
+    mount_point.mkdir()
+    size = sum(p.stat().st_size for p in finished_study.rglob("*") if p.is_file()) + 3_000_000
+    mounted = subprocess.run(
+        ["mount", "-t", "tmpfs", "-o", f"size={size}", "tmpfs", str(mount_point)], capture_output=True
+    )
+    if mounted.returncode != 0:
+        pytest.skip(f"cannot mount a small tmpfs here: {mounted.stderr.decode().strip()}")
+    try:
+        shutil.copytree(finished_study, mount_point / "checkout", symlinks=True)
+        yield mount_point / "checkout"
+    finally:
+        subprocess.run(["umount", "-l", str(mount_point)], check=True)
+
+
+def test_a_full_disk_fails_the_rerun_naming_it_and_keeps_every_finished_run(small_disk):
+    """The disk fills during the rerun (ENOSPC, not a limit): the job's log names it and the finished
+    runs' data stay. With space freed (the unfinished runs' work folders removed) and the change
+    dropped, the next run finds the finished runs asked for, puts their markers back, simulates
+    nothing, and the study is byte for byte as before."""
+    before = result_digests(small_disk)
+    result = snakemake(small_disk, *TEST_CONFIG, *FAILED_RERUN)
+    assert_failed_rerun_kept_the_study(small_disk, result, before, "No space left on device")
+    for work in (small_disk / RESULTS).glob("seed*/.rotation_theta*.partial"):
+        shutil.rmtree(work)
+    shutil.rmtree(small_disk / ".snakemake/backups", ignore_errors=True)
+    again = snakemake(small_disk, *TEST_CONFIG)
+    assert again.returncode == 0, again.stderr[-3000:]
+    assert "shear_segment" in job_counts(again.stdout + again.stderr)
+    # the tables after the restored runs are made again, the same; a PDF records its creation time
+    tables = {name: digest for name, digest in result_digests(small_disk).items() if not name.endswith(".pdf")}
+    assert tables == {name: digest for name, digest in before.items() if not name.endswith(".pdf")}

@@ -7,33 +7,21 @@ Snakemake deletes a job's outputs when the job starts; the simulations' outputs 
 `update` flag (workflow/rules/common.smk, run_outputs), so the finished run stays in place and
 the runner replaces its folder only once the new run has finished."""
 
-import hashlib
 import os
-import shutil
 import signal
 import subprocess
 import time
 
 import pytest
 
-from workflow_helpers import SNAKEMAKE, TEST_CONFIG, dry_run_jobs, snakemake
+from workflow_helpers import SNAKEMAKE, TEST_CONFIG, dry_run_jobs, result_digests, snakemake
 
 pytestmark = pytest.mark.workflow
 
 # long enough that no rotation can finish before the interrupt (the test study's take ~0.1 s per 0.1 strain)
 SLOW_ROTATIONS = "run={rotation_strain: 200.0}"
+LOCKED = "Directory cannot be locked"
 ROTATIONS = {f"seed={s}, run=rotation_theta{a}" for s in (1, 2) for a in (0, 90)}
-
-
-def digests(workdir):
-    """sha256 of every file under results/ but the job logs (Snakemake rewrites a started job's log)
-    and the runner's hidden work folders (the interrupted runs' resume state)."""
-    root = workdir / "results"
-    return {
-        str(path.relative_to(root)): hashlib.sha256(path.read_bytes()).hexdigest()
-        for path in sorted(root.rglob("*"))
-        if path.is_file() and not any(part == "logs" or part.startswith(".") for part in path.relative_to(root).parts)
-    }
 
 
 def start_and_interrupt(workdir, signum):
@@ -54,6 +42,9 @@ def start_and_interrupt(workdir, signum):
             assert time.monotonic() < deadline, "the rotations did not start within 120 s"
             time.sleep(0.2)
         time.sleep(1.0)  # inside LAMMPS
+        # a second Snakemake in the same folder meanwhile is refused by the first one's lock
+        second = snakemake(workdir, *TEST_CONFIG)
+        assert second.returncode != 0 and LOCKED in second.stderr, second.stderr[-2000:]
     finally:
         os.killpg(process.pid, signum)
     output = process.communicate(timeout=120)[0]
@@ -61,31 +52,42 @@ def start_and_interrupt(workdir, signum):
     return output
 
 
-@pytest.fixture
-def finished(study, tmp_path):
-    workdir = tmp_path / "checkout"
-    shutil.copytree(study, workdir, symlinks=True)
-    return workdir
+def started_runs(workdir):
+    """The runs whose rerun had started: Snakemake deleted their completion markers (not flagged
+    `update`), so that a rerun that did not finish is planned again whatever it recorded for it."""
+    return {
+        path.parent
+        for path in (workdir / "results/test").glob("seed*/rotation_theta*/trajectory.dump")
+        if not (path.parent / "run_complete.json").exists()
+    }
 
 
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGKILL], ids=["ctrl-c", "killed"])
-def test_an_interrupted_rerun_keeps_every_finished_run_and_table(finished, signum):
-    before = digests(finished)
+def test_an_interrupted_rerun_keeps_every_finished_run_and_table(finished_study, signum):
+    finished = finished_study
+    before = result_digests(finished)
     start_and_interrupt(finished, signum)
-    if signum == signal.SIGKILL:  # nobody removed Snakemake's lock
-        shutil.rmtree(finished / ".snakemake/locks", ignore_errors=True)
-    assert digests(finished) == before
+    if signum == signal.SIGKILL:  # nobody removed Snakemake's lock: refused, naming the way out
+        refused = snakemake(finished, *TEST_CONFIG)
+        assert refused.returncode != 0 and LOCKED in refused.stderr and "--unlock" in refused.stderr
+        assert snakemake(finished, *TEST_CONFIG, "--unlock").returncode == 0
+    started = started_runs(finished)
+    assert len(started) == 2  # one per core
+    markers = {f"{run.relative_to(finished / 'results')}/run_complete.json" for run in started}
+    assert result_digests(finished) == {name: d for name, d in before.items() if name not in markers}
 
-    # the changed setting still reruns the rotations (their params differ) and what follows them
+    # the changed setting still reruns the rotations and what follows them
     result = snakemake(finished, *TEST_CONFIG, "--config", SLOW_ROTATIONS, "-n")
     assert result.returncode == 0, result.stderr[-3000:]
     planned = {job["wildcards"] for job in dry_run_jobs(result.stdout) if job["rule"] == "shear_segment"}
     assert planned == ROTATIONS
 
-    # without the change the old runs are the study's: no output is missing or out of date; the
-    # interrupted jobs run again only because Snakemake reruns a job it started and did not finish
-    result = snakemake(finished, *TEST_CONFIG, "-n")
+    # without the change the started runs are asked for as they are: the run puts their markers
+    # back from the kept copies and simulates nothing, and every table is byte for byte as before
+    result = snakemake(finished, *TEST_CONFIG)
     assert result.returncode == 0, result.stderr[-3000:]
-    reasons = [job["reason"] for job in dry_run_jobs(result.stdout) if job["rule"] == "shear_segment"]
-    assert all(reason == "Forced execution" for reason in reasons), reasons
-    assert "Missing output files" not in result.stdout
+    logs = [(finished / f"results/test/logs/shear_{run.parent.name}_{run.name}.log").read_text() for run in started]
+    assert all("kept, nothing simulated" in log for log in logs), logs
+    # what follows the restored runs may be made again, the same (a PDF records its creation time)
+    after = {name: digest for name, digest in result_digests(finished).items() if not name.endswith(".pdf")}
+    assert after == {name: digest for name, digest in before.items() if not name.endswith(".pdf")}

@@ -1,6 +1,7 @@
 """Helpers of the workflow tests: a copy of the workflow in a temporary folder, Snakemake runs,
 the parsed dry-run output, and the session's one real run of the test study (conftest.py)."""
 
+import hashlib
 import re
 import shutil
 import subprocess
@@ -53,3 +54,14 @@ def dry_run_jobs(output: str) -> list[dict]:
             {"rule": match.group(1), "study": study, "wildcards": wildcards, "reason": fields.get("reason", "")}
         )
     return jobs
+
+
+def result_digests(workdir: Path) -> dict[str, str]:
+    """sha256 of every file under results/ but the job logs (Snakemake rewrites a started job's log)
+    and the runner's hidden work folders (an unfinished run's resume state)."""
+    root = workdir / "results"
+    return {
+        str(path.relative_to(root)): hashlib.sha256(path.read_bytes()).hexdigest()
+        for path in sorted(root.rglob("*"))
+        if path.is_file() and not any(part == "logs" or part.startswith(".") for part in path.relative_to(root).parts)
+    }

@@ -152,6 +152,13 @@ def study_targets(study):
             targets += [*rules.aggregate_stress_protocols.output, *rules.benchmark_protocols.output]
             targets += rules.report_protocols.output
             targets += expand(rules.figure_protocol.output, protocol=list(STUDIES[study]["protocols"]), allow_missing=True)
+    if not STUDIES[study]["dataset"]:
+        # every run's record a target too: Snakemake deletes it when the run's rerun starts, and plans
+        # a job for a missing target, not for a missing file under outputs that are up to date
+        targets += expand(rules.pack.output.report, seed=STUDIES[study]["seeds"], allow_missing=True)
+        targets += expand(
+            rules.shear_segment.output.run_complete, seed=STUDIES[study]["seeds"], run=list(RUN_TREES[study]), allow_missing=True
+        )
     return expand(targets, study=study)
 
 
@@ -170,10 +177,20 @@ def per_point(path):
 
 
 def run_outputs(run_dir, files=RUN_FILES):
-    """A simulation's output files, flagged `update`: Snakemake then leaves a finished run in place
-    while its rerun goes (it would delete it at the job's start), and the runner replaces the
-    folder only when the new run has finished, so an interrupted rerun loses nothing."""
-    return {role: update(f"{run_dir}/{name}") for role, name in files.items()}
+    """A simulation's output files. The data are flagged `update`: Snakemake leaves them in place
+    while their rerun goes (it deletes a job's outputs when the job starts), and the runner replaces
+    the folder only when the new run has finished, so an interrupted or failed rerun loses nothing.
+    The completion marker is not: Snakemake deletes it, so a run whose rerun did not finish is
+    planned again, whatever Snakemake recorded for the failed job; a rerun that asks for exactly the
+    finished run puts the marker back from its kept copy instead of simulating (workflow/scripts/shear.py).
+    A packing's report plays the marker's part for its data."""
+    return {
+        role: f"{run_dir}/{name}" if role in RUN_RECORDS else update(f"{run_dir}/{name}")
+        for role, name in files.items()
+    }
+
+
+RUN_RECORDS = {"run_complete", "report"}  # the roles of RUN_FILES and PACK_FILES that say a run finished
 
 
 # For conda users only (--sdm conda); the tested installation is pip (envs/bootstrap.sh).

@@ -243,14 +243,14 @@ def plugin_path() -> Path:
 
 
 def install_plugin(target: str | os.PathLike, force: bool = False) -> Path:
-    """Build the plugin if missing or stale (:func:`build_plugin`) and provide it at ``target``;
-    returns the built library.
+    """Build the plugin if missing or stale ([`build_plugin`][suspension_fabric.simulation.lammps.plugin.build_plugin])
+    and provide it at ``target``; returns the built library.
 
     ``target`` is the library's own path (nothing more to do) or a copy elsewhere (a
     workflow run outside the repository), written atomically (temporary sibling, then
     ``os.replace``) with the time of copying, and its stamp beside it (``<target>.cmd``), by
-    which the staleness check (:func:`check_not_stale`) judges it; a copy whose stamp matches the
-    build's is left as it is. Not forcing a build keeps
+    which the staleness check ([`check_not_stale`][suspension_fabric.simulation.lammps.plugin.check_not_stale]) judges
+    it; a copy whose stamp matches the build's is left as it is. Not forcing a build keeps
     the repository's library, and with it the finished simulations that use it, untouched
     when it is up to date.
     """

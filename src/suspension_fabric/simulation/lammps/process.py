@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import time
@@ -226,6 +227,24 @@ def _stop(process: subprocess.Popen) -> None:
         process.wait()
 
 
+# the signals a run meets on a cluster or a full disk, and what they mean there
+_SIGNAL_MEANINGS = {
+    signal.SIGXFSZ: "a file reached the file-size limit (ulimit -f); free space or raise the limit, then rerun",
+    signal.SIGKILL: "killed from outside, e.g. out of memory or a batch job's time limit",
+    signal.SIGTERM: "stopped from outside, e.g. a batch job's time limit or Ctrl-C",
+    signal.SIGSEGV: "a crash inside LAMMPS or the plugin",
+}
+
+
+def _signal_name(number: int) -> str:
+    try:
+        sig = signal.Signals(number)
+    except ValueError:
+        return f"signal {number}"
+    meaning = _SIGNAL_MEANINGS.get(sig)
+    return f"{sig.name} ({meaning})" if meaning else sig.name
+
+
 def failure_reason(result: LaunchResult, completion_token: str) -> str | None:
     """Why a finished launch is not a successful run, or None if it is."""
     watcher = result.watcher
@@ -233,6 +252,8 @@ def failure_reason(result: LaunchResult, completion_token: str) -> str | None:
         return f"non-finite value in thermo output: {watcher.bad_thermo!r}"
     if watcher.errors:
         return f"LAMMPS reported: {watcher.errors[0]}"
+    if result.returncode < 0:
+        return f"lmp was killed by {_signal_name(-result.returncode)}"
     if result.returncode != 0:
         return f"lmp exited with status {result.returncode}"
     if watcher.line_starting(completion_token) is None:
@@ -243,8 +264,8 @@ def failure_reason(result: LaunchResult, completion_token: str) -> str | None:
 def lammps_processes_in(folder: Path) -> list[int]:
     """Process ids of the running ``lmp`` processes whose working directory lies in ``folder``.
 
-    Each is the leader of its own process group (see :func:`launch`), so ``os.killpg(pid, ...)``
-    stops it with any MPI ranks: the resume tests and benchmark kill runs this way.
+    Each is the leader of its own process group (see [`launch`][suspension_fabric.simulation.lammps.process.launch]), so
+    ``os.killpg(pid, ...)`` stops it with any MPI ranks: the resume tests and benchmark kill runs this way.
     """
     found = []
     for entry in Path("/proc").iterdir():

@@ -12,7 +12,7 @@ so the finished run is the chain of segments from the first one to the last: the
 are stitched from it, keeping from each segment the rows and frames on the run's own
 output grid up to and including the step where the next segment took over. Only then is the run checked
 and published: written into a temporary sibling, the completion marker
-:data:`COMPLETION_MARKER` last, then renamed into place. A directory holding the marker is
+`COMPLETION_MARKER` last, then renamed into place. A directory holding the marker is
 a finished run; a run that finishes but fails its checks goes to ``<name>.failed``.
 """
 
@@ -23,17 +23,30 @@ import shutil
 import sys
 import tempfile
 import time
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
 from suspension_fabric.io.dumpio import iter_frame_blocks
 from suspension_fabric.io.stressio import iter_table_rows
 
-__all__ = ["COMPLETION_MARKER", "ResumePoint", "PartialRun", "is_complete", "partial_dir", "failed_dir", "publish"]
+__all__ = [
+    "COMPLETION_MARKER",
+    "KEPT_MARKER",
+    "ResumePoint",
+    "PartialRun",
+    "is_complete",
+    "restore_marker",
+    "partial_dir",
+    "failed_dir",
+    "publish",
+]
 
 #: File written last into a finished run directory (JSON: parameters, wall time, results).
 COMPLETION_MARKER = "run_complete.json"
+# A copy of the marker under a name no workflow rule declares: Snakemake deletes a job's declared
+# marker when the job starts, and a rerun asking for exactly the finished run puts it back from here.
+KEPT_MARKER = ".run_complete.kept.json"
 SETTINGS_FILE = "settings.json"
 SEGMENT_FILE = "segment.json"
 
@@ -47,6 +60,27 @@ def partial_dir(output_dir: Path) -> Path:
 
 def failed_dir(output_dir: Path) -> Path:
     return output_dir.with_name(f"{output_dir.name}.failed")
+
+
+def restore_marker(output_dir, expect: Mapping, files: Iterable[str]) -> bool:
+    """Put back the completion marker of the finished run in ``output_dir`` (from its kept copy) if
+    the marker is missing, every item of ``expect`` equals the run record's (compared as JSON) and
+    every one of ``files`` is there; True if the folder then holds that finished run."""
+    output_dir = Path(output_dir)
+    kept = output_dir / KEPT_MARKER
+    if (output_dir / COMPLETION_MARKER).is_file() or not kept.is_file():
+        return False
+    try:
+        record = json.loads(kept.read_text())
+    except ValueError:
+        return False
+    wanted = json.loads(json.dumps(dict(expect), default=str))
+    if any(record.get(key) != value for key, value in wanted.items()):
+        return False
+    if not all((output_dir / name).is_file() for name in files):
+        return False
+    shutil.copy2(kept, output_dir / COMPLETION_MARKER)
+    return True
 
 
 def is_complete(output_dir) -> bool:
@@ -185,7 +219,8 @@ class PartialRun:
                 out.write(line)
 
     def stitch_dump(self, last: Path, name: str, first_step: int, stride: int, target: Path) -> None:
-        """Trajectory of the whole run, stitched like :meth:`stitch_table`."""
+        """Trajectory of the whole run, stitched like
+        [`stitch_table`][suspension_fabric.simulation.lammps.rundir.PartialRun.stitch_table]."""
         with open(target, "w") as out:
             for _step, lines in self._select(last, name, first_step, stride, iter_frame_blocks):
                 out.writelines(lines)
@@ -267,7 +302,9 @@ def publish(output_dir: Path, fill: Callable[[Path], dict], overwrite: bool) -> 
     try:
         marker = fill(staging)
         marker["finished_utc"] = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
-        (staging / COMPLETION_MARKER).write_text(json.dumps(marker, indent=2, default=str) + "\n")
+        text = json.dumps(marker, indent=2, default=str) + "\n"
+        (staging / COMPLETION_MARKER).write_text(text)
+        (staging / KEPT_MARKER).write_text(text)
     except BaseException:
         shutil.rmtree(staging, ignore_errors=True)
         raise

@@ -8,11 +8,11 @@ Simulation frame: z is the gradient direction; a shear with flow direction
 
 A run counts as failed on a non-zero exit, a LAMMPS ERROR (e.g. "Lost atoms"), a NaN/inf
 in thermo, a missing completion line, or an output check (overlap, stress jitter); then
-:class:`LammpsRunError` says why and where the partial files are. Shear runs are
-resumable: an interrupted run (killed, walltime, Ctrl-C) keeps its work in
+[`LammpsRunError`][suspension_fabric.simulation.lammps.runner.LammpsRunError] says why and where the partial files are.
+Shear runs are resumable: an interrupted run (killed, walltime, Ctrl-C) keeps its work in
 ``.<name>.partial`` and the next call with the same settings continues it from its latest
-readable restart file (:mod:`.rundir`). A finished run is published whole, with its
-completion marker :data:`COMPLETION_MARKER` written last.
+readable restart file ([`rundir`][suspension_fabric.simulation.lammps.rundir]). A finished run is published whole, with
+its completion marker `COMPLETION_MARKER` written last.
 """
 
 from __future__ import annotations
@@ -166,8 +166,8 @@ class ShearSettings:
     killed run resumes from); neighbour ``skin``. Checks: a run fails if an overlap in
     any dumped frame exceeds ``max_overlap`` (in d; a blow-up detector) or, with the table
     sampled at least every 0.002 strain, the stress jitter exceeds ``max_stress_jitter``
-    (:func:`.checks.stress_jitter`; None disables it). ``ranks`` MPI ranks (explicit
-    integrator only).
+    ([`checks.stress_jitter`][suspension_fabric.simulation.lammps.checks.stress_jitter]; None disables it). ``ranks``
+    MPI ranks (explicit integrator only).
     """
 
     dt: float = schema_default("run", "dt")
@@ -201,7 +201,8 @@ class ShearSettings:
                 raise ValueError(f"ShearSettings.{name} must be positive, got {getattr(self, name)}")
 
     def steps_between(self, strain: float) -> int:
-        """Steps between outputs every ``strain`` (:func:`suspension_fabric.simulation.scales.output_stride`)."""
+        """Steps between outputs every ``strain``
+        ([`suspension_fabric.simulation.scales.output_stride`][suspension_fabric.simulation.scales.output_stride])."""
         return output_stride(strain, self.dt, self.rate)
 
     def variables(self) -> dict[str, str]:
@@ -576,10 +577,12 @@ def run_segment(
     resume: bool = True,
     progress: ProgressCallback | None = print_progress,
     progress_interval: float = 10.0,
+    record: Mapping | None = None,
 ) -> ShearRunResult:
     """One segment of a flow history (simulation/lammps/inputs/segment.lmp): ``segment.strain`` of simple
     shear at flow angle ``segment.flow_angle_deg`` about the gradient axis z, turning at
-    ``segment.turning_deg_per_strain`` (:class:`suspension_fabric.io.protocols.Segment`).
+    ``segment.turning_deg_per_strain``
+    ([`suspension_fabric.io.protocols.Segment`][suspension_fabric.io.protocols.Segment]).
 
     Starts from rest on the packing ``data_file`` or continues from the checkpoint
     ``restart_file`` of the segment before (exactly one); ``index`` is the segment's depth in its
@@ -587,13 +590,14 @@ def run_segment(
     recorded in the completion marker with the segment (defaults: the segment alone from a
     packing, the history recorded by the run that wrote ``restart_file`` and the segment after it). Writes into
     ``output_dir`` the trajectory ``trajectory.dump`` (id type radius x y z), the table
-    ``stress.txt`` (:func:`suspension_fabric.io.stressio.read_stress_table`) and ``checkpoint.rst``;
-    strain counts from the segment's first step. ``force_model`` must be the one of the run that
-    wrote ``restart_file`` (pair coefficients are re-issued, not restored); with
-    ``require_complete_source`` that checkpoint must sit in a finished run directory. With
-    ``resume``, an interrupted earlier call with the same arguments is continued from its latest
-    restart file. ``progress(label, strain, total, elapsed_s)`` is called at most every
-    ``progress_interval`` seconds.
+    ``stress.txt``
+    ([`suspension_fabric.io.stressio.read_stress_table`][suspension_fabric.io.stressio.read_stress_table]) and
+    ``checkpoint.rst``; strain counts from the segment's first step. ``force_model`` must be the one of the run that
+    wrote ``restart_file`` (pair coefficients are re-issued, not restored); with ``require_complete_source`` that
+    checkpoint must sit in a finished run directory. With ``resume``, an interrupted earlier call with the same
+    arguments is continued from its latest restart file. ``progress(label, strain, total, elapsed_s)`` is called at most
+    every ``progress_interval`` seconds. ``record`` adds items to the completion marker (the workflow
+    records the settings it asked for).
     """
     if (data_file is None) == (restart_file is None):
         raise ValueError("give exactly one of data_file (start from rest) and restart_file (continue)")
@@ -637,6 +641,7 @@ def run_segment(
     where = f"segment {index}: {segment.strain:g} strain at {segment.flow_angle_deg:g} deg{turning}"
     label = f"{Path(output_dir).name} ({where})"
     record = {
+        **(record or {}),
         "flow_segment": {"index": index, **segment.as_dict()},
         "flow_history": [past.as_dict() for past in history],
     }
@@ -661,8 +666,9 @@ def run_startup(
     strain_total: float = schema_default("run", "startup_strain"),
     **options,
 ) -> ShearRunResult:
-    """Startup simple shear from rest, flow x, gradient z: :func:`run_segment` of ``strain_total``
-    at angle 0 from the packing ``data_file`` (``options`` as there)."""
+    """Startup simple shear from rest, flow x, gradient z:
+    [`run_segment`][suspension_fabric.simulation.lammps.runner.run_segment] of ``strain_total`` at angle 0 from the
+    packing ``data_file`` (``options`` as there)."""
     return run_segment(output_dir, Segment(strain_total), data_file=data_file, **options)
 
 
@@ -673,9 +679,10 @@ def run_rotation(
     strain_total: float = schema_default("run", "rotation_strain"),
     **options,
 ) -> ShearRunResult:
-    """Shear rotation by ``theta_deg`` degrees from the checkpoint of a startup: :func:`run_segment`
-    of ``strain_total`` at flow angle theta, (cos theta, sin theta, 0) (paper frame:
-    e1' = cos(theta) e1 - sin(theta) e3); theta = 0 continues the startup's shear."""
+    """Shear rotation by ``theta_deg`` degrees from the checkpoint of a startup:
+    [`run_segment`][suspension_fabric.simulation.lammps.runner.run_segment] of ``strain_total`` at flow angle theta,
+    (cos theta, sin theta, 0) (paper frame: e1' = cos(theta) e1 - sin(theta) e3); theta = 0 continues the startup's
+    shear."""
     return run_segment(output_dir, Segment(strain_total, theta_deg), restart_file=restart_file, index=1, **options)
 
 
