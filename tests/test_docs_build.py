@@ -1,9 +1,10 @@
 """The documentation site builds with warnings as errors (mkdocs --strict: broken links, missing
 pages, API reference from the docstrings, BENCHMARKS.md included), so docs that rot fail CI.
 
-The site is built once per module (the ``site`` fixture) and its HTML checked: the equations, LaTeX
-in the Markdown and the docstrings, are rendered to MathML at build time (docs/hooks/mathml.py) and
-the site loads nothing from outside itself (no script, stylesheet or web font)."""
+The site is built once per session (the ``site`` fixture, shared with tests/test_api_docs.py) and
+its HTML checked: the equations, LaTeX in the Markdown and the docstrings, are rendered to MathML
+at build time (docs/hooks/mathml.py) and the site loads nothing from outside itself (no script,
+stylesheet or web font)."""
 
 import importlib.util
 import re
@@ -38,12 +39,24 @@ EQUATION_MODULES = (
 _DISPLAY = re.compile(r"\$\$(.+?)\$\$", re.S)
 _CODE = re.compile(r"<pre\b.*?</pre>|<code\b.*?</code>", re.S)
 _OUTSIDE = re.compile(r"""<(?:script|link|img|iframe)\b[^>]*\b(?:src|href)=["']?(?:https?:)?//""", re.I)
+#: The built site, shared by the docs tests of one session.
+_BUILT: dict[str, Path] = {}
+
+
+def build_site(tmp_path_factory) -> Path:
+    """The site, built strictly once per test session (tests/test_api_docs.py reads it too)."""
+    if "site" not in _BUILT:
+        _BUILT["site"] = _build(tmp_path_factory.mktemp("docs") / "site")
+    return _BUILT["site"]
 
 
 @pytest.fixture(scope="module")
 def site(tmp_path_factory):
-    """The site, built strictly once for the tests of this module."""
-    out = tmp_path_factory.mktemp("docs") / "site"
+    """The site, built strictly (once per session, see build_site)."""
+    return build_site(tmp_path_factory)
+
+
+def _build(out: Path) -> Path:
     mkdocs = Path(sys.executable).with_name("mkdocs")
     result = subprocess.run(
         [str(mkdocs), "build", "--strict", "--quiet", "-d", str(out)],

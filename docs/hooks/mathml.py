@@ -13,7 +13,7 @@ shown; read by screen readers and copied with the equation).
 
 latex2mathml writes some constructs that MathML Core (what browsers render) does not display
 (``aligned`` and ``gathered`` environments: a literal ``&`` and a line break that browsers
-ignore) and keeps an unknown command as text; :func:`problems` names them, and the build warns
+ignore) and keeps an unknown command as text; `problems` names them, and the build warns
 (so ``mkdocs build --strict`` fails) on every equation that has one. Multi-line equations use
 ``\begin{array}{rl}`` or ``\begin{split}``.
 """

@@ -1,13 +1,13 @@
 """Content hashes of the code a workflow script runs: every rule's ``code`` param.
 
 Snakemake reruns a job whose params changed since it last ran. The ``code`` param of a rule is
-:func:`code_version` of its script: a hash of the script, of every module of this package the
-script imports (directly or through other modules of the package, imports inside functions
+[`code_version`][suspension_fabric.code_version.code_version] of its script: a hash of the script, of every module of
+this package the script imports (directly or through other modules of the package, imports inside functions
 included), and of the package data next to those modules (the files in their folders that are
 not packages: the LAMMPS inputs in ``simulation/lammps/inputs``). So an edit of the code a rule
 runs reruns that rule's jobs (and what depends on them), and nothing else.
 
-Left out: the config's validation and a campaign's points (:data:`CONFIG_MODULES`), whose
+Left out: the config's validation and a campaign's points (`CONFIG_MODULES`), whose
 results reach every rule as its params (the settings it receives); the plugin's C++ sources,
 which reach the simulations through the library built from them, an input of theirs (its own
 version: ``simulation.lammps.plugin.plugin_version``); and any modules a rule names in ``ignore``
@@ -62,7 +62,7 @@ class CodeVersions:
 
     ``root`` is the package's folder, by default the one Python imports (an editable install's
     source tree, or a copy first on PYTHONPATH): the code the workflow's jobs run. Modules named
-    in ``ignore`` (and those under them) are left out of every version, :data:`CONFIG_MODULES` by
+    in ``ignore`` (and those under them) are left out of every version, `CONFIG_MODULES` by
     default.
     """
 
@@ -205,7 +205,7 @@ class CodeVersions:
 
     def version(self, script: str | os.PathLike, ignore: Iterable[str] = ()) -> str:
         """The script's code version: 16 hex digits of a SHA-256 over the names and contents of
-        :meth:`files`."""
+        [`files`][suspension_fabric.code_version.CodeVersions.files]."""
         digest = hashlib.sha256()
         for name, path in sorted(self.files(script, ignore).items()):
             digest.update(f"{name}\0{self._digest(path)}\n".encode())
@@ -220,10 +220,12 @@ def imported_modules(script: str | os.PathLike, ignore: Iterable[str] = (), root
 
 
 def code_files(script: str | os.PathLike, ignore: Iterable[str] = (), root=None) -> dict[str, Path]:
-    """{name: file} of everything :func:`code_version` covers (:meth:`CodeVersions.files`)."""
+    """{name: file} of everything [`code_version`][suspension_fabric.code_version.code_version] covers
+    ([`CodeVersions.files`][suspension_fabric.code_version.CodeVersions.files])."""
     return CodeVersions(root).files(script, ignore)
 
 
 def code_version(script: str | os.PathLike, ignore: Iterable[str] = (), root=None) -> str:
-    """The code version of one script (module docstring); :class:`CodeVersions` for many."""
+    """The code version of one script (module docstring); [`CodeVersions`][suspension_fabric.code_version.CodeVersions]
+    for many."""
     return CodeVersions(root).version(script, ignore)

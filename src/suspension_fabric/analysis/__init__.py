@@ -2,5 +2,5 @@
 frame, per-run and seed-aggregated tables (along protocols too), steady states, and the statistics
 over seeds.
 
-Imports only :mod:`suspension_fabric.io`.
+Imports only [`suspension_fabric.io`][suspension_fabric.io].
 """

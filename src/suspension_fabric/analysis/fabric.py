@@ -14,8 +14,8 @@ $$
 each pair counted once, with $n$ the unit centre-to-centre vector (its sign does not matter),
 $N$ the number of particles and $Z = 2n_{\text{pairs}}/N$ the near-contact coordination number.
 
-Fourth moment and direction distribution (:func:`direction_moments`). With the same
-normalisation,
+Fourth moment and direction distribution ([`direction_moments`][suspension_fabric.analysis.fabric.direction_moments]).
+With the same normalisation,
 
 $$
 \langle nnnn\rangle_{ijkl} = \frac{1}{N}\sum_{\text{near contacts}} n_in_jn_kn_l,
@@ -23,7 +23,7 @@ $$
 $$
 
 ($n$ a unit vector); its 15 independent components ($i \le j \le k \le l$) are
-:data:`FOURTH_MOMENT_COMPONENTS`. The distribution of near-contact directions per particle,
+`FOURTH_MOMENT_COMPONENTS`. The distribution of near-contact directions per particle,
 symmetrised over $n$ and $-n$ (a pair has no sign), is written with the real orthonormal
 spherical harmonics $Y_{lm}$ ($\int Y_{lm}Y_{l'm'}\,\mathrm{d}\Omega = \delta_{ll'}\delta_{mm'}$
 over the sphere) as
@@ -36,7 +36,7 @@ a_{lm} &= \frac{1}{N}\sum_{\text{near contacts}} Y_{lm}(n_c),
 \end{split}
 $$
 
-recorded up to $l = 6$ (:data:`HARMONIC_COLUMNS`, ``Y<l>_<m>`` with m written ``m2`` for -2,
+recorded up to $l = 6$ (`HARMONIC_COLUMNS`, ``Y<l>_<m>`` with m written ``m2`` for -2,
 ``p2`` for +2). Polar axis e3 (vorticity), azimuth from e1 (flow) towards e2 (gradient); Y_l0 is
 the Legendre polynomial's, Y_lm for m > 0 sqrt(2) (-1)^m Re and for m < 0 sqrt(2) (-1)^m Im of
 the complex Y_l^|m| (scipy.special.sph_harm_y). Hence $a_{00} = (Z/2)/\sqrt{4\pi}$, and the
@@ -45,11 +45,11 @@ $a_{20} = \sqrt{5/(16\pi)}\,(3\langle nn\rangle_{33} - \operatorname{Tr}\langle 
 in the frame of the current flow, as $\langle nn\rangle$.
 
 Frames
-    :func:`fabric_tensor` works in the simulation frame (LAMMPS x, y, z; z is the
-    gradient direction). :class:`FabricAnalysis` reports the paper frame of the
-    current shear, whose flow direction is (cos t, sin t, 0) with t the flow angle:
+    [`fabric_tensor`][suspension_fabric.analysis.fabric.fabric_tensor] works in the simulation frame (LAMMPS x, y, z; z
+    is the gradient direction). [`FabricAnalysis`][suspension_fabric.analysis.fabric.FabricAnalysis] reports the paper
+    frame of the current shear, whose flow direction is (cos t, sin t, 0) with t the flow angle:
     t = 0 for startup shear, t = theta after a shear rotation by theta
-    (:func:`suspension_fabric.analysis.frames.simulation_to_paper`).
+    ([`suspension_fabric.analysis.frames.simulation_to_paper`][suspension_fabric.analysis.frames.simulation_to_paper]).
 
 Strain
     MDAnalysis' dump reader stores the LAMMPS step in ``ts.data['step']`` (and
@@ -268,7 +268,7 @@ def near_contact_pairs(positions, radii, dimensions, eps: float = DEFAULT_EPS) -
 
 def contact_normals(positions, radii, dimensions, eps: float = DEFAULT_EPS) -> np.ndarray:
     """Unit centre-to-centre vectors (n_pairs, 3) of the near-contact pairs, simulation frame
-    (arguments as in :func:`near_contact_pairs`)."""
+    (arguments as in [`near_contact_pairs`][suspension_fabric.analysis.fabric.near_contact_pairs])."""
     separations = near_contact_pairs(positions, radii, dimensions, eps).separations
     return separations / np.linalg.norm(separations, axis=1)[:, None] if len(separations) else np.zeros((0, 3))
 
@@ -277,7 +277,8 @@ def fabric_tensor(positions, radii, dimensions, eps: float = DEFAULT_EPS) -> tup
     """Fabric <nn> (3x3, simulation frame) and the number of near-contact pairs.
 
     <nn>_kl = (1/N) sum over near-contact pairs (each once) of n_k n_l, N = len(positions),
-    so the trace is n_pairs / N = Z / 2. Arguments as in :func:`near_contact_pairs`.
+    so the trace is n_pairs / N = Z / 2. Arguments as in
+    [`near_contact_pairs`][suspension_fabric.analysis.fabric.near_contact_pairs].
     """
     normals = contact_normals(positions, radii, dimensions, eps)
     return normals.T @ normals / len(positions), len(normals)
@@ -302,8 +303,8 @@ def real_spherical_harmonics(normals) -> np.ndarray:
 
 
 def direction_moments(normals, n_particles: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(<nn> 3x3, <nnnn>'s :data:`FOURTH_MOMENT_COMPONENTS` (15,), the amplitudes a_lm of
-    :data:`HARMONIC_COLUMNS`) of near-contact normals (n_pairs, 3) in the frame they are given in,
+    """(<nn> 3x3, <nnnn>'s `FOURTH_MOMENT_COMPONENTS` (15,), the amplitudes a_lm of
+    `HARMONIC_COLUMNS`) of near-contact normals (n_pairs, 3) in the frame they are given in,
     each summed over the pairs and divided by the number of particles (module docstring)."""
     normals = np.asarray(normals, dtype=float).reshape(-1, 3)
     second = normals.T @ normals / n_particles
@@ -314,7 +315,7 @@ def direction_moments(normals, n_particles: int) -> tuple[np.ndarray, np.ndarray
 
 
 def tensor_components(tensors) -> dict[str, np.ndarray]:
-    """The six independent components of symmetric tensor(s) (..., 3, 3), keyed as in :data:`COMPONENTS`."""
+    """The six independent components of symmetric tensor(s) (..., 3, 3), keyed as in `COMPONENTS`."""
     tensors = np.asarray(tensors, dtype=float)
     return {name: tensors[..., k, l] for name, (k, l) in COMPONENTS.items()}
 
@@ -362,8 +363,8 @@ class FabricAnalysis(AnalysisBase):
     Parameters
     ----------
     universe
-        Universe of a dump with a ``radius`` column (see :func:`open_dump`, or use
-        :meth:`from_dump`). All atoms are particles.
+        Universe of a dump with a ``radius`` column (see [`open_dump`][suspension_fabric.analysis.fabric.open_dump], or
+        use [`from_dump`][suspension_fabric.analysis.fabric.FabricAnalysis.from_dump]). All atoms are particles.
     dt
         LAMMPS time step (time units, = strain units at shear rate 1).
     shear_rate
@@ -384,25 +385,17 @@ class FabricAnalysis(AnalysisBase):
 
     Results (``self.results``), one entry per analysed frame
     --------------------------------------------------------
-    step, strain
-        LAMMPS step and strain (step - shear_start_step) * dt * shear_rate.
-    flow_angle_deg
-        (n_frames,) flow angle of each frame, degrees.
-    fabric
-        (n_frames, 3, 3) <nn> in the frame of the current flow (e1 the flow direction at
-        the frame's strain, e2 gradient, e3 = e1 x e2); ``fabric_simulation`` the same in x, y, z.
-    n11, n22, n33, n12, n13, n23
-        Components of ``fabric``.
-    fourth_moment, harmonics
-        (n_frames, 15) <nnnn> (:data:`FOURTH_MOMENT_COMPONENTS`, also one result each, e.g.
-        ``n1122``) and (n_frames, 28) the amplitudes a_lm of the near-contact directions
-        (:data:`HARMONIC_COLUMNS`, also one result each), in the frame of the current flow.
-    n_pairs, coordination
-        Number of near-contact pairs and Z = 2 n_pairs / N.
-    volume_fraction
-        sum(4/3 pi a^3) / box volume of each frame.
-    n_particles
-        N (int).
+    - ``step``, ``strain``: LAMMPS step and strain (step - shear_start_step) * dt * shear_rate.
+    - ``flow_angle_deg``: (n_frames,) flow angle of each frame, degrees.
+    - ``fabric``: (n_frames, 3, 3) <nn> in the frame of the current flow (e1 the flow direction at
+      the frame's strain, e2 gradient, e3 = e1 x e2); ``fabric_simulation`` the same in x, y, z.
+    - ``n11``, ``n22``, ``n33``, ``n12``, ``n13``, ``n23``: Components of ``fabric``.
+    - ``fourth_moment``, ``harmonics``: (n_frames, 15) <nnnn> (`FOURTH_MOMENT_COMPONENTS`, also one
+      result each, e.g. ``n1122``) and (n_frames, 28) the amplitudes a_lm of the near-contact
+      directions (`HARMONIC_COLUMNS`, also one result each), in the frame of the current flow.
+    - ``n_pairs``, ``coordination``: Number of near-contact pairs and Z = 2 n_pairs / N.
+    - ``volume_fraction``: sum(4/3 pi a^3) / box volume of each frame.
+    - ``n_particles``: N (int).
     """
 
     def __init__(
@@ -450,7 +443,8 @@ class FabricAnalysis(AnalysisBase):
 
     @classmethod
     def from_dump(cls, path: str | os.PathLike, *, expected_n_atoms: int | None = None, **kwargs):
-        """Open and check the dump at ``path`` (:func:`open_dump`) and build the analysis."""
+        """Open and check the dump at ``path`` ([`open_dump`][suspension_fabric.analysis.fabric.open_dump]) and build
+        the analysis."""
         universe = open_dump(path, expected_n_atoms=expected_n_atoms)
         return cls(universe, expected_n_atoms=expected_n_atoms, **kwargs)
 

@@ -1,10 +1,10 @@
 """Brute-force O(N^2) near-contact search, independent of MDAnalysis' neighbour search.
 
 Used in production and as a reference. Production: the overlap check of every finished
-shear run (:func:`suspension_fabric.simulation.lammps.checks.max_overlap_in_dump`) falls back to it
-for boxes too small for the neighbour search of :mod:`suspension_fabric.analysis.fabric`.
-Reference: the tests and benchmarks/bench_fabric.py check :mod:`suspension_fabric.analysis.fabric`
-against it.
+shear run ([`suspension_fabric.simulation.lammps.checks.max_overlap_in_dump`][]) falls back to it
+for boxes too small for the neighbour search of
+[`suspension_fabric.analysis.fabric`][suspension_fabric.analysis.fabric]. Reference: the tests and
+benchmarks/bench_fabric.py check [`suspension_fabric.analysis.fabric`][suspension_fabric.analysis.fabric] against it.
 
 Every pair i < j is tested; the minimum image is found by explicit search over the
 27 neighbouring images of the separation after wrapping its fractional components

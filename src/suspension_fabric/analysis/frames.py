@@ -34,15 +34,16 @@ __all__ = [
 
 
 #: Order of the independent components of a symmetric tensor in the 6-vectors of
-#: :func:`sym_to_vec` and :func:`vec_to_sym` (the names of the fabric components in
-#: tables are :data:`suspension_fabric.analysis.fabric.COMPONENTS`).
+#: [`sym_to_vec`][suspension_fabric.analysis.frames.sym_to_vec] and
+#: [`vec_to_sym`][suspension_fabric.analysis.frames.vec_to_sym] (the names of the fabric components in tables are
+#: `suspension_fabric.analysis.fabric.COMPONENTS`).
 VECTOR_ORDER = ("11", "22", "33", "12", "13", "23")
 _ROWS = np.array([0, 1, 2, 0, 0, 1])
 _COLS = np.array([0, 1, 2, 1, 2, 2])
 
 
 def sym_to_vec(tensor) -> np.ndarray:
-    """Symmetric tensor(s) (..., 3, 3) -> 6-vectors (..., 6) in :data:`VECTOR_ORDER` order."""
+    """Symmetric tensor(s) (..., 3, 3) -> 6-vectors (..., 6) in `VECTOR_ORDER` order."""
     tensor = np.asarray(tensor, dtype=float)
     return tensor[..., _ROWS, _COLS]
 
@@ -106,7 +107,7 @@ def simulation_to_paper(tensor_sim, flow_angle=0.0) -> np.ndarray:
 
 
 def paper_to_simulation(tensor_paper, flow_angle=0.0) -> np.ndarray:
-    """Inverse of :func:`simulation_to_paper`."""
+    """Inverse of [`simulation_to_paper`][suspension_fabric.analysis.frames.simulation_to_paper]."""
     basis = paper_basis_in_simulation_frame(flow_angle)
     return to_basis(tensor_paper, np.swapaxes(basis, -1, -2))
 

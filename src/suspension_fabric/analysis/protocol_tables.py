@@ -1,9 +1,10 @@
 """Per-frame tables along a flow history: the runs of a protocol's segments joined, and their seed
 means.
 
-Protocol table (:func:`protocol_table`), one row per frame of every segment of every seed
+Protocol table ([`protocol_table`][suspension_fabric.analysis.protocol_tables.protocol_table]), one row per frame of
+every segment of every seed
     ========== ===========================================================
-    protocol   protocol name (:class:`suspension_fabric.io.protocols.Protocol`)
+    protocol   protocol name ([`suspension_fabric.io.protocols.Protocol`][suspension_fabric.io.protocols.Protocol])
     segment    index of the segment in the protocol (0 from rest)
     seed       integer seed of the run
     frame      ``flow``: tensors in the frame of the current flow, e1 the flow
@@ -21,11 +22,12 @@ Protocol table (:func:`protocol_table`), one row per frame of every segment of e
     last frame of a segment and the first of the next are the same configuration, seen in the
     frames of the two flows (a shear rotation turns the frame, not the particles).
 
-Seed aggregate (:func:`aggregate_protocol_seeds`)
+Seed aggregate ([`aggregate_protocol_seeds`][suspension_fabric.analysis.protocol_tables.aggregate_protocol_seeds])
     Per (protocol, segment, frame): the strains, the frame angle, n_seeds and ``c_mean``,
-    ``c_sem`` for every value column ``c`` (as :func:`suspension_fabric.analysis.tables.aggregate_seeds`).
+    ``c_sem`` for every value column ``c`` (as
+    [`suspension_fabric.analysis.tables.aggregate_seeds`][suspension_fabric.analysis.tables.aggregate_seeds]).
 
-Late states (:func:`segment_states`)
+Late states ([`segment_states`][suspension_fabric.analysis.protocol_tables.segment_states])
     Where a flow history settles: per protocol, segment after the first and value column, each
     seed's mean over the last half of the segment (in the frame of the current flow, so a steady
     state in rotary shear is steady in the turning frame, and the states after successive
@@ -127,7 +129,7 @@ def aggregate_protocol_seeds(table: pd.DataFrame, value_columns) -> pd.DataFrame
 
 def read_protocol_table(path: str | os.PathLike) -> pd.DataFrame:
     """A protocol table or aggregate CSV; ``ValueError`` naming the file if it lacks the protocol
-    columns or holds another frame than :data:`FLOW_FRAME`."""
+    columns or holds another frame than `FLOW_FRAME`."""
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"protocol table not found: {path}")

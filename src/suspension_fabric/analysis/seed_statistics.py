@@ -160,16 +160,18 @@ def seed_bootstrap(statistic, seeds, level: float = LEVEL) -> tuple[float, float
 
 
 def _resample_indices(n: int) -> np.ndarray:
-    """The resamples of :func:`seed_bootstrap` as indices into its seeds, in its order: every
-    resample when there are at most 20 000, else 20 000 from the same fixed generator seed."""
+    """The resamples of [`seed_bootstrap`][suspension_fabric.analysis.seed_statistics.seed_bootstrap] as indices into
+    its seeds, in its order: every resample when there are at most 20 000, else 20 000 from the same fixed generator
+    seed."""
     if n**n <= _BOOTSTRAP_EXHAUSTIVE:
         return np.array(list(itertools.product(range(n), repeat=n)), dtype=np.intp)
     return np.random.default_rng(_BOOTSTRAP_SEED).choice(n, size=(_BOOTSTRAP_EXHAUSTIVE, n))
 
 
 def bootstrap_means(per_seed) -> np.ndarray:
-    """The mean over the seeds of every resample of :func:`seed_bootstrap` at once: ``per_seed``
-    holds one array per seed along its first axis (n, ...); returns (resamples, ...)."""
+    """The mean over the seeds of every resample of
+    [`seed_bootstrap`][suspension_fabric.analysis.seed_statistics.seed_bootstrap] at once: ``per_seed`` holds one array
+    per seed along its first axis (n, ...); returns (resamples, ...)."""
     per_seed = np.asarray(per_seed, dtype=float)
     n = per_seed.shape[0]
     indices = _resample_indices(n)
@@ -181,9 +183,9 @@ def bootstrap_means(per_seed) -> np.ndarray:
 def seed_bootstrap_of_mean(
     statistic, per_seed, level: float = LEVEL, *, vectorized: bool = False
 ) -> tuple[float, float, float]:
-    """:func:`seed_bootstrap` of a statistic of the seed mean, statistic(mean over seeds of
-    ``per_seed``), with the resampled means computed at once (same resamples, same result up to
-    the order of a floating-point sum): (value, low, high). ``vectorized``: the statistic takes
+    """[`seed_bootstrap`][suspension_fabric.analysis.seed_statistics.seed_bootstrap] of a statistic of the seed mean,
+    statistic(mean over seeds of ``per_seed``), with the resampled means computed at once (same resamples, same result
+    up to the order of a floating-point sum): (value, low, high). ``vectorized``: the statistic takes
     the stacked means (resamples first) and returns one value per resample."""
     level = _check_level(level)
     per_seed = np.asarray(per_seed, dtype=float)

@@ -1,10 +1,11 @@
 r"""The suspension stress per dumped strain, in the paper frame of the current shear.
 
-From the per-run stress table of a shear run (:mod:`suspension_fabric.io.stressio`, one row
+From the per-run stress table of a shear run ([`suspension_fabric.io.stressio`][suspension_fabric.io.stressio], one row
 every ``table_strain``) to one row per trajectory frame (the fabric table's steps), with the
 stress split into its parts, symmetric, per unit volume, in units of $\eta_f\dot\gamma$ (solvent
 viscosity times shear rate), in the paper frame (e1', e2, e3') of the current shear
-(:func:`suspension_fabric.analysis.frames.simulation_to_paper`). The total is
+([`suspension_fabric.analysis.frames.simulation_to_paper`][suspension_fabric.analysis.frames.simulation_to_paper]). The
+total is
 
 $$
 \sigma = \sigma^{\mathrm{contact}} + \sigma^{\mathrm{lubrication}} + \sigma^{\mathrm{kinetic}}
@@ -23,7 +24,8 @@ Parts (the total is their sum)
                      (recorded by ``lubricate/sf``), sum_pairs r_ij x F_ij = -T exactly (LAMMPS
                      puts the tangential force at the lever arms a_i - overlap/2 and
                      a_j - overlap/2, which add up to |r_ij|), so the symmetric part is
-                     P_xy + T_z/2V, P_xz - T_y/2V, P_yz + T_x/2V (:func:`symmetric_contact_pressure`).
+                     P_xy + T_z/2V, P_xz - T_y/2V, P_yz + T_x/2V
+                     ([`symmetric_contact_pressure`][suspension_fabric.analysis.stress.symmetric_contact_pressure]).
     ``lubrication``  -P of the pairwise lubrication forces (force dipole (x_i - x_j) F_ij),
                      symmetrised by the plugin.
     ``kinetic``      -P of the velocity fluctuations about the imposed flow (Reynolds stress;
@@ -41,19 +43,19 @@ Recorded beside the parts, not summed into the total
                      an alternative to ``lubrication`` for the same interactions, traceless, and
                      at this order the force dipole at contact distance without its trace.
                      NaN where the run did not record it (the stock force model, and tables
-                     written before it was recorded; :func:`read_stress_csv` fills it in for
-                     older CSVs). ``total`` - ``lubrication`` + ``stresslet`` is the shear stress and
-                     normal stress differences as the pair-stresslet codes report them
-                     (docs/gw_stress_relation.md, sections 2.2 and 2.5).
+                     written before it was recorded;
+                     [`read_stress_csv`][suspension_fabric.analysis.stress.read_stress_csv] fills it in for older CSVs).
+                     ``total`` - ``lubrication`` + ``stresslet`` is the shear stress and normal stress differences as
+                     the pair-stresslet codes report them (docs/gw_stress_relation.md, sections 2.2 and 2.5).
 
 What each reported quantity contains (solvent, Einstein term, dipoles or stresslets) and which
 combination the figures, the steady-state table and the G-W stress relation use is stated in
 docs/gw_stress_relation.md, section 2.5, with how to compare with LF_DEM (no Einstein term,
 stresslets with their trace). Which lubrication stress the study's tables use from the seed
-aggregates on is the config key ``analysis.lubrication_stress`` (:func:`with_lubrication_stress`):
-``dipole`` (the default) keeps the per-run tables as they are; ``stresslet`` puts the stresslets
-in the ``lubrication`` part and the total, and recomputes eta_r, N1, N2 and Pi (the stresslets
-add nothing to Pi).
+aggregates on is the config key ``analysis.lubrication_stress``
+([`with_lubrication_stress`][suspension_fabric.analysis.stress.with_lubrication_stress]): ``dipole`` (the default) keeps
+the per-run tables as they are; ``stresslet`` puts the stresslets in the ``lubrication`` part and the total, and
+recomputes eta_r, N1, N2 and Pi (the stresslets add nothing to Pi).
 
 Each value at a frame is the mean of the table rows within half a frame interval of it
 (rows with step in (s - h, s + h], h = half the frame spacing in steps; only rows after the
@@ -116,9 +118,11 @@ STRESS_VALUE_COLUMNS: tuple[str, ...] = (
     *DERIVED_COLUMNS,
     *(f"{part}_{c}" for part in (*PARTS, *ALTERNATIVE_PARTS) for c in PAPER_COMPONENTS),
 )
-#: The values of the config key analysis.lubrication_stress (:func:`with_lubrication_stress`).
+#: The values of the config key analysis.lubrication_stress
+#: ([`with_lubrication_stress`][suspension_fabric.analysis.stress.with_lubrication_stress]).
 LUBRICATION_STRESSES: tuple[str, ...] = ("dipole", "stresslet")
-#: Columns that older per-run CSVs lack; :func:`read_stress_csv` gives them as NaN.
+#: Columns that older per-run CSVs lack; [`read_stress_csv`][suspension_fabric.analysis.stress.read_stress_csv] gives
+#: them as NaN.
 OPTIONAL_COLUMNS: tuple[str, ...] = tuple(f"{part}_{c}" for part in ALTERNATIVE_PARTS for c in PAPER_COMPONENTS)
 STRESS_TABLE_COLUMNS: tuple[str, ...] = ("seed", "theta", "N", "phi", "step", "strain", "n_rows", *STRESS_VALUE_COLUMNS)
 EINSTEIN_COEFFICIENT = 2.5
@@ -255,7 +259,7 @@ def run_stress_table(
     """Stress per trajectory frame of one finished run (columns ``STRESS_TABLE_COLUMNS``).
 
     The frames, seed, theta, N and phi (for the Einstein part) are those of the run's fabric
-    table (:mod:`suspension_fabric.analysis.tables`), the time step, rate,
+    table ([`suspension_fabric.analysis.tables`][suspension_fabric.analysis.tables]), the time step, rate,
     first step, flow angle and (unless given) eta_f those of its completion ``marker``.
     """
     info = read_run_info(marker)
@@ -333,7 +337,7 @@ def read_stress_csv(path: str | os.PathLike, lubrication_stress: str = "dipole")
     """A per-run (or concatenated) stress CSV, its columns checked; errors name the file.
 
     ``OPTIONAL_COLUMNS`` missing from the file (written before they were recorded) come back NaN;
-    ``lubrication_stress`` as in :func:`with_lubrication_stress`.
+    ``lubrication_stress`` as in [`with_lubrication_stress`][suspension_fabric.analysis.stress.with_lubrication_stress].
     """
     path = Path(path)
     frame = read_table_csv(path, "stress table", unrecorded_ok=OPTIONAL_COLUMNS)

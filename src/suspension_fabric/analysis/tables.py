@@ -1,6 +1,7 @@
 """Tidy fabric tables: per-run CSV, seed aggregation, steady-state estimates.
 
-Per-run table (one row per analysed frame; CSV written by :func:`write_fabric_table`)
+Per-run table (one row per analysed frame; CSV written by
+[`write_fabric_table`][suspension_fabric.analysis.tables.write_fabric_table])
     Columns, in this order:
 
     ======== ===============================================================
@@ -26,20 +27,22 @@ Per-run table (one row per analysed frame; CSV written by :func:`write_fabric_ta
     ======== ===============================================================
 
     The last two groups are absent from tables made before they were recorded;
-    :func:`read_fabric_table` with ``moments=True`` reads them as empty (NaN).
+    [`read_fabric_table`][suspension_fabric.analysis.tables.read_fabric_table] with ``moments=True`` reads them as empty
+    (NaN).
 
     The file is plain comma-separated text with one header line, no index column,
     floats written with full round-trip precision (pandas ``to_csv`` defaults), the moment
     columns with MOMENT_DIGITS = 9 significant digits;
-    ``pandas.read_csv(path)`` reads it, :func:`read_fabric_table` also checks it.
+    ``pandas.read_csv(path)`` reads it, [`read_fabric_table`][suspension_fabric.analysis.tables.read_fabric_table] also
+    checks it.
 
-Seed aggregation (:func:`aggregate_seeds`)
+Seed aggregation ([`aggregate_seeds`][suspension_fabric.analysis.tables.aggregate_seeds])
     Per (theta, frame): the strain, n_seeds, and for every value column ``c``
     ``c_mean`` and ``c_sem`` (standard error of the mean over seeds,
     std(ddof=1)/sqrt(n_seeds); NaN for a single seed). All seeds of one theta must
     have the same strain grid, else ``ValueError``.
 
-Steady state (:func:`steady_state`)
+Steady state ([`steady_state`][suspension_fabric.analysis.tables.steady_state])
     For every theta and value column, the mean over the frames with
     strain_min <= strain <= strain_max of each seed, averaged over seeds with equal
     weights. The error accounts for time correlation through the integrated
@@ -107,7 +110,7 @@ def fabric_tensors(values, suffix: str = "") -> np.ndarray:
 
 
 def fabric_table(analysis, *, seed: int, phi: float | None = None) -> pd.DataFrame:
-    """Per-run tidy table from a finished :class:`~suspension_fabric.analysis.fabric.FabricAnalysis`.
+    """Per-run tidy table from a finished [`FabricAnalysis`][suspension_fabric.analysis.fabric.FabricAnalysis].
 
     ``theta`` is each frame's flow angle in degrees; ``phi`` defaults to the mean
     measured volume fraction of the analysed frames.
@@ -138,7 +141,8 @@ def run_fabric_table(
 ) -> pd.DataFrame:
     """Per-run tidy table of a finished shear run: its trajectory ``dump`` analysed with the
     time step, shear rate, first step and flow (angle, turning rate) recorded in its completion ``marker``
-    (:func:`suspension_fabric.io.runinfo.read_run_info`), near contacts at gap < ``eps`` d_min.
+    ([`suspension_fabric.io.runinfo.read_run_info`][suspension_fabric.io.runinfo.read_run_info]), near contacts at gap <
+    ``eps`` d_min.
     """
     info = read_run_info(marker)
     analysis = FabricAnalysis.from_dump(
@@ -239,9 +243,10 @@ def read_table_csv(path: str | os.PathLike, what: str, unrecorded_ok=()) -> pd.D
 
 
 def read_fabric_table(path: str | os.PathLike, moments: bool = False) -> pd.DataFrame:
-    """Read a fabric-table CSV, checking its structure (:func:`read_table_csv`) and columns; errors
-    name the file. The columns of TABLE_COLUMNS and, with ``moments``, of MOMENT_COLUMNS too (NaN
-    in a table made before they were recorded)."""
+    """Read a fabric-table CSV, checking its structure
+    ([`read_table_csv`][suspension_fabric.analysis.tables.read_table_csv]) and columns; errors name the file. The
+    columns of TABLE_COLUMNS and, with ``moments``, of MOMENT_COLUMNS too (NaN in a table made before they were
+    recorded)."""
     table = _check_table(read_table_csv(path, "fabric table", unrecorded_ok=MOMENT_COLUMNS), str(path))
     if not moments:
         return table[list(TABLE_COLUMNS)]

@@ -1,26 +1,28 @@
 """The paper's shear-rotation claims decided per seed (docs/verdict_statistics.md).
 
-Every seed is a replicate of the whole study (:func:`seed_replicate`): its own steady state
-(<nn>_12^ss,s normalises its curves), its own model fits and its own model predictions. The
-functionals of the curves (:func:`deficit`, :func:`transverse_effect`, :func:`overshoot_excess`,
-:func:`suspension_fabric.evaluation.model_benchmark.mean_square`) are computed per seed and angle
-(:func:`angle_statistics`); each claim
-(:data:`CLAIMS`) turns them into a decision statistic T per seed and angle whose sign is the
-claim, effect size included (:func:`claim_values`); a claim's T per seed is the mean over its
-angles within the seed, and the seeds give the t-interval and the verdict
-(:mod:`suspension_fabric.analysis.seed_statistics`).
+Every seed is a replicate of the whole study ([`seed_replicate`][suspension_fabric.evaluation.claims.seed_replicate]):
+its own steady state (<nn>_12^ss,s normalises its curves), its own model fits and its own model predictions. The
+functionals of the curves ([`deficit`][suspension_fabric.evaluation.claims.deficit],
+[`transverse_effect`][suspension_fabric.evaluation.claims.transverse_effect],
+[`overshoot_excess`][suspension_fabric.evaluation.claims.overshoot_excess],
+[`suspension_fabric.evaluation.model_benchmark.mean_square`][]) are computed per seed and angle
+([`angle_statistics`][suspension_fabric.evaluation.claims.angle_statistics]); each claim (`CLAIMS`) turns them into a
+decision statistic T per seed and angle whose sign is the claim, effect size included
+([`claim_values`][suspension_fabric.evaluation.claims.claim_values]); a claim's T per seed is the mean over its angles
+within the seed, and the seeds give the t-interval and the verdict
+([`suspension_fabric.analysis.seed_statistics`][suspension_fabric.analysis.seed_statistics]).
 
-The claims compare two fabric models (:class:`Compared`, the config's ``verdicts.models``): the
-*reference* (the paper's G-W) and the *challenger* (the paper's modified model). Tables name the
-two by role (``D12_reference``, ``MSE12_challenger``, ...) and record which models filled them.
+The claims compare two fabric models ([`Compared`][suspension_fabric.evaluation.claims.Compared], the config's
+``verdicts.models``): the *reference* (the paper's G-W) and the *challenger* (the paper's modified model). Tables name
+the two by role (``D12_reference``, ``MSE12_challenger``, ...) and record which models filled them.
 
-Choices (:class:`Choice`, :func:`study_choices`): the models' state at the rotation ("own":
-their own startup state, rotated; "simulated": the seed's simulated fabric at the rotation;
-"steady": their own steady state, rotated), the strain window W, the fit ("steady": each model's
-steady components, <nn>_12 for G-W, <nn>_11 and <nn>_12 for the modified model, as in the paper;
-"startup": least squares on the seed's whole startup curve of the same components; "paper": the
-parameters the models' source printed, beta 10.9 and (9.4, 42.4) for the paper's models, left out
-when a compared model has none) and the baseline of the <nn>'_12 deficit ("steady": 1;
+Choices ([`Choice`][suspension_fabric.evaluation.claims.Choice],
+[`study_choices`][suspension_fabric.evaluation.claims.study_choices]): the models' state at the rotation ("own": their
+own startup state, rotated; "simulated": the seed's simulated fabric at the rotation; "steady": their own steady state,
+rotated), the strain window W, the fit ("steady": each model's steady components, <nn>_12 for G-W, <nn>_11 and <nn>_12
+for the modified model, as in the paper; "startup": least squares on the seed's whole startup curve of the same
+components; "paper": the parameters the models' source printed, beta 10.9 and (9.4, 42.4) for the paper's models, left
+out when a compared model has none) and the baseline of the <nn>'_12 deficit ("steady": 1;
 "continuation": the same seed's theta = 0 curve).
 
 Tables are tidy: ``angle_statistics`` has one row per (seed, theta) with the quantities of the
@@ -69,7 +71,7 @@ __all__ = [
     "choices_table",
 ]
 
-#: The two models' roles in the claims, in the order of :class:`Compared`.
+#: The two models' roles in the claims, in the order of [`Compared`][suspension_fabric.evaluation.claims.Compared].
 ROLES = ("reference", "challenger")
 STATES = ("own", "simulated", "steady")
 FITS = ("steady", "startup", "paper")
@@ -192,8 +194,8 @@ def seed_replicate(
     """One seed's simulated and the ``compared`` models' post-rotation curves under ``choice``.
 
     ``startup`` and ``rotation`` are that seed's rows of the startup and rotation run tables
-    (:mod:`suspension_fabric.analysis.tables`); every angle must share the post-rotation strains, which
-    must reach ``choice.window`` (else ``ValueError`` naming the seed). Only strains up to the
+    ([`suspension_fabric.analysis.tables`][suspension_fabric.analysis.tables]); every angle must share the post-rotation
+    strains, which must reach ``choice.window`` (else ``ValueError`` naming the seed). Only strains up to the
     window are kept.
     """
     seeds = set(startup["seed"]) | set(rotation["seed"])
@@ -449,7 +451,7 @@ def _seed_by_angle(values: pd.DataFrame) -> dict[str, pd.DataFrame]:
 
 def range_interval(values: pd.DataFrame, claim: str, thetas, level: float = LEVEL, tables: dict | None = None):
     """t-interval over seeds of T averaged over ``thetas`` within each seed (None if no angle);
-    ``tables`` is :func:`_seed_by_angle` of ``values`` when the caller has it already."""
+    ``tables`` is `_seed_by_angle` of ``values`` when the caller has it already."""
     table = (_seed_by_angle(values) if tables is None else tables).get(claim)
     if table is None:
         return None
@@ -495,8 +497,9 @@ def claim_text(claim: Claim, labels: dict[str, str] | None = None) -> str:
 
 
 def claim_table(values: pd.DataFrame, level: float = LEVEL, labels: dict[str, str] | None = None) -> pd.DataFrame:
-    """One row per claim: its text (models named by ``labels``, :func:`claim_text`), angles, T's
-    mean and interval over seeds, the verdict and, if undecided, the seeds that would decide it."""
+    """One row per claim: its text (models named by ``labels``,
+    [`claim_text`][suspension_fabric.evaluation.claims.claim_text]), angles, T's mean and interval over seeds, the
+    verdict and, if undecided, the seeds that would decide it."""
     thetas, tables = values["theta"].unique(), _seed_by_angle(values)
     rows = []
     for claim in CLAIMS:
@@ -659,8 +662,8 @@ def evaluate_study(
     window: float,
     compared: Compared,
 ) -> dict[str, pd.DataFrame]:
-    """Every choice of :func:`study_choices` on one study: ``statistics`` (per seed and angle),
-    ``values`` (T per claim, seed and angle) and ``fits`` (per-seed parameters), each with a
+    """Every choice of [`study_choices`][suspension_fabric.evaluation.claims.study_choices] on one study: ``statistics``
+    (per seed and angle), ``values`` (T per claim, seed and angle) and ``fits`` (per-seed parameters), each with a
     ``choice`` column. The theta = 0 baseline is left out when the study has no theta = 0 run,
     the published parameters when a compared model has none."""
     has_zero = bool(np.any(np.abs(rotation_runs["theta"].to_numpy(dtype=float)) < _ANGLE_TOL))

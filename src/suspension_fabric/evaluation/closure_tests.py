@@ -1,9 +1,9 @@
 """The closures held against the measured fourth moment: is <nnnn> a function of <nn>?
 
 Every model of the study writes <nnnn> in terms of <nn> (a closure,
-:mod:`suspension_fabric.models.closures`); the fabric tables record both moments
-(:mod:`suspension_fabric.analysis.fabric`), so each closure can be tested alone: given the
-measured <nn> of a frame, how far is its <nnnn> from the measured one? Two measures per frame:
+[`suspension_fabric.models.closures`][suspension_fabric.models.closures]); the fabric tables record both moments
+([`suspension_fabric.analysis.fabric`][suspension_fabric.analysis.fabric]), so each closure can be tested alone: given
+the measured <nn> of a frame, how far is its <nnnn> from the measured one? Two measures per frame:
 
 full
     ||C - M|| / ||M|| over all 81 entries (Frobenius norms), C the closure's <nnnn>, M the
@@ -21,8 +21,8 @@ left out, and the table says how many seeds each value rests on.
 
 The distribution of near-contact directions a closure implies: <nn> gives the spherical-harmonic
 amplitudes of order 0 and 2 and <nnnn> those of order 4 (each Y_lm of order <= 4 is a quartic in
-n on the unit sphere, :func:`amplitudes_from_moments`); the measured distribution has them up to
-order 6 (:data:`suspension_fabric.analysis.fabric.HARMONIC_COLUMNS`).
+n on the unit sphere, [`amplitudes_from_moments`][suspension_fabric.evaluation.closure_tests.amplitudes_from_moments]);
+the measured distribution has them up to order 6 (`suspension_fabric.analysis.fabric.HARMONIC_COLUMNS`).
 """
 
 from __future__ import annotations
@@ -100,7 +100,7 @@ def seed_window_errors(errors: pd.DataFrame, window, group: str = "theta") -> pd
 
 def closure_error_table(per_seed: pd.DataFrame, level: float = LEVEL, group: str = "theta") -> pd.DataFrame:
     """One row per closure, ``group`` value and measure: the mean over seeds with its t-interval
-    and the paired per-seed difference from :data:`REFERENCE_CLOSURE` (NaN for the reference itself);
+    and the paired per-seed difference from `REFERENCE_CLOSURE` (NaN for the reference itself);
     no rows (the same columns) when no run recorded the fourth moment."""
     rows = []
     reference = per_seed[per_seed["closure"] == REFERENCE_CLOSURE].set_index([group, "seed"])
@@ -142,6 +142,6 @@ def _quartic_map() -> np.ndarray:
 
 
 def amplitudes_from_moments(fourth_components) -> np.ndarray:
-    """a_lm of orders 0, 2 and 4 (:data:`LOW_ORDER_COLUMNS`) of a direction distribution from the
+    """a_lm of orders 0, 2 and 4 (`LOW_ORDER_COLUMNS`) of a direction distribution from the
     15 components of its <nnnn> (..., 15), in the order of FOURTH_MOMENT_COMPONENTS."""
     return np.asarray(fourth_components, dtype=float) @ _quartic_map().T

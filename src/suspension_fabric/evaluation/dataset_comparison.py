@@ -5,7 +5,7 @@ Per seed, statistics linear in the data: the mean of each steady quantity over t
 window of startup shear (fabric <nn>_11, _22, _33, _12 and Z; stress eta_r, N1, N2, Pi where the
 runs recorded it) and, at every rotation angle, the integrated viscosity deficit after the
 rotation V_s(theta) = integral_0^W (1 - eta_r,s / eta_r^ss,s) dgamma
-(:func:`suspension_fabric.evaluation.stress_model.viscosity_deficits`). Per dataset: the seed mean with its
+([`suspension_fabric.evaluation.stress_model.viscosity_deficits`][]). Per dataset: the seed mean with its
 t-interval; against the study: the difference of the means with Welch's interval (independent
 seeds, unequal spreads), "differs" if it excludes 0, "agrees" otherwise.
 """
@@ -64,7 +64,8 @@ def comparison_table(
 ) -> pd.DataFrame:
     """One row per dataset, quantity and angle: N, seeds, seed mean and t-interval, and the
     difference to the ``reference`` dataset (Welch interval, verdict) where both have it.
-    ``per_seed`` maps a label to (N, :func:`per_seed_statistics` table)."""
+    ``per_seed`` maps a label to (N,
+    [`per_seed_statistics`][suspension_fabric.evaluation.dataset_comparison.per_seed_statistics] table)."""
     keyed = {
         label: {
             key: rows["value"].to_numpy()

@@ -11,7 +11,7 @@ written with separate rates for breaking (b_e), directed formation (b_c) and iso
 approximations: the closure, which writes <nnnn> in terms of <nn>, and the dynamics (breaking on
 the extensional axis, formation on the compressional one). The fabric tables record the measured
 <nnnn> along every run, so (1) can be integrated with the closure replaced, per seed and angle,
-from the seed's simulated fabric at the rotation (:data:`FABRIC_VARIANTS`):
+from the seed's simulated fabric at the rotation (`FABRIC_VARIANTS`):
 
 ``closure``
     G-W as published, <nnnn> = C(<nn>) by the paper's closure C of the model's own <nn>;
@@ -28,24 +28,25 @@ from the seed's simulated fabric at the rotation (:data:`FABRIC_VARIANTS`):
     the same with the three rates fitted separately.
 
 The measured <nnnn> enters as a forcing linear in strain between the table's frames, and (1) is
-then solved exactly on every interval (:func:`solve_forced`). The rates are fitted per seed on
-its startup's steady state: G-W's beta so that its steady state reproduces <nn>_12
-(:func:`suspension_fabric.models.gillissen_wilson.fit_gw`); with the measured <nnnn>, beta so
-that the 12 component of (1) vanishes at the measured steady <nn> and <nnnn>
-(:func:`measured_beta`), and the three separate rates so that all six components come closest to
-vanishing there (non-negative least squares, :func:`measured_rates`).
+then solved exactly on every interval ([`solve_forced`][suspension_fabric.evaluation.error_decomposition.solve_forced]).
+The rates are fitted per seed on its startup's steady state: G-W's beta so that its steady state reproduces <nn>_12
+([`suspension_fabric.models.gillissen_wilson.fit_gw`][suspension_fabric.models.gillissen_wilson.fit_gw]); with the
+measured <nnnn>, beta so that the 12 component of (1) vanishes at the measured steady <nn> and <nnnn>
+([`measured_beta`][suspension_fabric.evaluation.error_decomposition.measured_beta]), and the three separate rates so
+that all six components come closest to vanishing there (non-negative least squares,
+[`measured_rates`][suspension_fabric.evaluation.error_decomposition.measured_rates]).
 
-Scores, as the claims' (:mod:`suspension_fabric.evaluation.claims`): each seed's curves in units
-of its own steady <nn>_12; per seed and angle the mean square of model - seed over the strains of
+Scores, as the claims' ([`suspension_fabric.evaluation.claims`][suspension_fabric.evaluation.claims]): each seed's
+curves in units of its own steady <nn>_12; per seed and angle the mean square of model - seed over the strains of
 (0, W]; the noise floor s^2 (between-seed variance of the simulated curve, averaged over the same
 strains) subtracted; a seed's score is the mean over the rotation angles of a group (theta = 0,
 no rotation, left out). The seeds are the units: mean with t-interval, and the paired difference
 from ``closure``. closure - closure_corrected is the part of G-W's error that the closure makes;
 what closure_corrected keeps above the floor is the dynamics'.
 
-The stress relation (:mod:`suspension_fabric.models.stress_relations`, ``gw``):
+The stress relation ([`suspension_fabric.models.stress_relations`][suspension_fabric.models.stress_relations], ``gw``):
 sigma^p/(eta_f gammadot) = a_H <nnnn>:Eh + a_C <nnnn>:Eh_c, with a_H and a_C fitted per seed and
-source on the steady sigma^lub_12 and sigma^con_12. Its sources (:data:`STRESS_SOURCES`): G-W's
+source on the steady sigma^lub_12 and sigma^con_12. Its sources (`STRESS_SOURCES`): G-W's
 own fabric (closure; after a rotation the ``closure`` variant's), the measured <nn> through the
 closure, and the measured <nnnn>. The steady N1, N2 and Pi and their mean square after a
 rotation (in units of the seed's steady eta_r) then say which step loses the normal stresses:
@@ -126,7 +127,8 @@ def gw_drive(rate_break: float) -> np.ndarray:
 
 def gw_source(rate_form: float, rate_iso: float, phi: float) -> np.ndarray:
     """The fabric-independent term (phi/15)(2 b_c Eh_c + a Tr(Eh_c) I) of (1), subtracted;
-    b_c = a = beta in G-W (the paper's creation term, :func:`gillissen_wilson.source_part`)."""
+    b_c = a = beta in G-W (the paper's creation term,
+    [`gillissen_wilson.source_part`][suspension_fabric.models.gillissen_wilson.source_part])."""
     return -gw_equations.source_part(_FLOW.e_comp, rate_form, rate_iso, phi)
 
 
@@ -188,7 +190,7 @@ def _forced_propagators(M: np.ndarray, step: float) -> tuple[np.ndarray, np.ndar
 def solve_forced(M, b, v0, strains, forcing) -> np.ndarray:
     """v at ``strains`` (S, 6) of dv/dgamma = M v + b + g(gamma) from v0 at strains[0], g linear
     between its values ``forcing`` (S, 6) at the strains: exact on every interval,
-    v_{k+1} = e^{Mh} v_k + J0 (b + g_k) + J1 (g_{k+1} - g_k)/h (:func:`_forced_propagators`)."""
+    v_{k+1} = e^{Mh} v_k + J0 (b + g_k) + J1 (g_{k+1} - g_k)/h (`_forced_propagators`)."""
     M, b, v0 = (np.asarray(x, dtype=float) for x in (M, b, v0))
     strains, forcing = np.asarray(strains, dtype=float), np.asarray(forcing, dtype=float)
     steps = np.diff(strains)
@@ -299,7 +301,8 @@ def fabric_scores(seed_runs: list[SeedRuns], phi: float, fitted: dict | None = N
     over (0, W], the noise floor s^2 of that angle and component, the variant's rates and the
     largest component of (1) at the seed's measured steady <nn> and <nnnn> with those rates
     (``steady_residual``, per unit strain).
-    ``fitted``: {seed: :func:`seed_fabric_curves`}, if made."""
+    ``fitted``: {seed: [`seed_fabric_curves`][suspension_fabric.evaluation.error_decomposition.seed_fabric_curves]}, if
+    made."""
     fitted = fitted or {}
     per_seed = {runs.seed: (runs, fitted.get(runs.seed) or seed_fabric_curves(runs, phi)) for runs in seed_runs}
     thetas = sorted(set.intersection(*(set(runs.rotations) for runs, _ in per_seed.values())))
@@ -405,9 +408,10 @@ def stress_by_seed(
     steady_window,
     fitted: dict | None = None,
 ) -> pd.DataFrame:
-    """Per stress source and quantity (:data:`STRESS_QUANTITIES`): the predicted and simulated
+    """Per stress source and quantity (`STRESS_QUANTITIES`): the predicted and simulated
     steady values and, per theta, the mean square of (prediction - simulation)/eta_r^ss over (0, W]
-    (theta NaN on the steady rows). ``fitted``: :func:`seed_fabric_curves` of ``runs``, if made."""
+    (theta NaN on the steady rows). ``fitted``:
+    [`seed_fabric_curves`][suspension_fabric.evaluation.error_decomposition.seed_fabric_curves] of ``runs``, if made."""
     steady = _steady_stress(stress_startup, steady_window)
     lub, con = float(steady["lubrication_12"]), float(steady["contact_12"])
     beta = gw_equations.fit_gw(runs.n12_ss, phi)
@@ -524,9 +528,10 @@ def decompose(
     steady_window,
     window: float,
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """(:func:`fabric_scores`, :func:`stress_by_seed` of every seed) of a study from its fabric
-    tables with the fourth moment (``startup``, ``rotation``: the runs' tables concatenated) and its
-    per-seed stress tables (stress_startup_runs.csv, stress_rotation_runs.csv)."""
+    """([`fabric_scores`][suspension_fabric.evaluation.error_decomposition.fabric_scores],
+    [`stress_by_seed`][suspension_fabric.evaluation.error_decomposition.stress_by_seed] of every seed) of a study from
+    its fabric tables with the fourth moment (``startup``, ``rotation``: the runs' tables concatenated) and its per-seed
+    stress tables (stress_startup_runs.csv, stress_rotation_runs.csv)."""
     if not (has_fourth_moment(startup) and has_fourth_moment(rotation)):
         raise ValueError("the error decomposition needs the fourth moment in every fabric table")
     seed_runs, stress = [], []
@@ -556,8 +561,10 @@ def _interval_text(mean, low, high, digits: int = 3) -> str:
 
 def summary_markdown(fabric: pd.DataFrame, stress: pd.DataFrame, scores: pd.DataFrame | None = None) -> str:
     """The decomposition as Markdown: both tables and the paragraph that reads them, every number
-    from the tables (``fabric``: :func:`decomposition_table`; ``stress``:
-    :func:`stress_decomposition_table`; ``scores``: :func:`fabric_scores`, for the rates)."""
+    from the tables (``fabric``:
+    [`decomposition_table`][suspension_fabric.evaluation.error_decomposition.decomposition_table]; ``stress``:
+    [`stress_decomposition_table`][suspension_fabric.evaluation.error_decomposition.stress_decomposition_table];
+    ``scores``: [`fabric_scores`][suspension_fabric.evaluation.error_decomposition.fabric_scores], for the rates)."""
     if fabric.empty:
         return "No run of this study recorded the fourth moment: the decomposition needs it.\n"
     level = int(round(100 * fabric["level"].iloc[0]))

@@ -1,11 +1,11 @@
 """The study as a benchmark for fabric models: global fits, held-out angles and the leaderboard.
 
-Any :class:`suspension_fabric.models.fabric_models.FabricModel` is scored the same way on the per-seed
-run tables of a study (startup and every rotation angle, paper frame of the current shear).
+Any [`suspension_fabric.models.fabric_models.FabricModel`][suspension_fabric.models.fabric_models.FabricModel] is scored
+the same way on the per-seed run tables of a study (startup and every rotation angle, paper frame of the current shear).
 
-Curves (:func:`seed_curves`): each seed's fabric along startup and after each rotation up to the
-strain window W; the models start from the seed-mean fabric at strain 0 of startup, shear to the
-startup strain, turn by theta and shear on ("own" state, as the paper's predictions).
+Curves ([`seed_curves`][suspension_fabric.evaluation.model_benchmark.seed_curves]): each seed's fabric along startup and
+after each rotation up to the strain window W; the models start from the seed-mean fabric at strain 0 of startup, shear
+to the startup strain, turn by theta and shear on ("own" state, as the paper's predictions).
 
 Fitting modes
     ``steady``: the paper's, the parameters reproduce the steady components the model names
@@ -15,14 +15,14 @@ Fitting modes
     where all seeds agree, such as strain 0 after a rotation, do not dominate); parameter errors
     are a jackknife over seeds of the whole fit.
 
-Scores (:func:`seed_errors`): per seed and component, the mean over the scored angles and the
-strains of (0, W] of (model - seed curve)^2 / (<nn>_12^ss)^2, the claims' mean square; the seeds
-are the independent units (t-interval). The paired difference of two models' scores per seed
-cancels the seed noise both share. Held-out (:func:`held_out_errors`): the angles are split into
-k folds; a global fit on the startup and the other folds predicts each fold; a model fitted only
-on the steady state has every angle held out by construction. In-sample fits also report the
-weighted chi^2 and AIC = chi^2 + 2 k (k parameters; the frames along a curve are correlated, so
-the AIC ranks models but its absolute value overstates the evidence).
+Scores ([`seed_errors`][suspension_fabric.evaluation.model_benchmark.seed_errors]): per seed and component, the mean
+over the scored angles and the strains of (0, W] of (model - seed curve)^2 / (<nn>_12^ss)^2, the claims' mean square;
+the seeds are the independent units (t-interval). The paired difference of two models' scores per seed
+cancels the seed noise both share. Held-out
+([`held_out_errors`][suspension_fabric.evaluation.model_benchmark.held_out_errors]): the angles are split into k folds;
+a global fit on the startup and the other folds predicts each fold; a model fitted only on the steady state has every
+angle held out by construction. In-sample fits also report the weighted chi^2 and AIC = chi^2 + 2 k (k parameters; the
+frames along a curve are correlated, so the AIC ranks models but its absolute value overstates the evidence).
 """
 
 from __future__ import annotations
@@ -101,8 +101,9 @@ def by_seed(runs: pd.DataFrame, seeds, what: str, values=fabric_tensors) -> tupl
 
 
 def seed_curves(startup_runs: pd.DataFrame, rotation_runs: pd.DataFrame, window: float, steady_window) -> SeedCurves:
-    """:class:`SeedCurves` from the per-seed run tables (startup_runs.csv, rotation_runs.csv), the
-    rotation curves cut at strain ``window``; every seed must have every angle on one grid."""
+    """[`SeedCurves`][suspension_fabric.evaluation.model_benchmark.SeedCurves] from the per-seed run tables
+    (startup_runs.csv, rotation_runs.csv), the rotation curves cut at strain ``window``; every seed must have every
+    angle on one grid."""
     seeds = np.array(sorted(set(startup_runs["seed"])), dtype=int)
     if set(rotation_runs["seed"]) != set(seeds):
         raise ValueError(f"seeds differ: startup {sorted(seeds)}, rotation {sorted(set(rotation_runs['seed']))}")
@@ -211,8 +212,8 @@ def fit_global(
 
 
 def global_fit_with_errors(fabric_model, curves: SeedCurves, phi: float, startup_strain: float, start: dict) -> dict:
-    """:func:`fit_global` on every angle with jackknife errors over seeds of the whole fit (NaN for
-    fewer than 3 seeds: a leave-one-out fit needs two seeds for its weights)."""
+    """[`fit_global`][suspension_fabric.evaluation.model_benchmark.fit_global] on every angle with jackknife errors over
+    seeds of the whole fit (NaN for fewer than 3 seeds: a leave-one-out fit needs two seeds for its weights)."""
     fitted = fit_global(fabric_model, curves, phi, startup_strain, start)
     if len(curves.seeds) < 3:
         fitted["errors"] = dict.fromkeys(fabric_model.names, np.nan)
@@ -291,7 +292,8 @@ class HeldOut(NamedTuple):
 
 
 class Leaderboard(NamedTuple):
-    """:func:`leaderboard`'s table, the fitted parameters and the held-out scores by (model, mode)."""
+    """[`leaderboard`][suspension_fabric.evaluation.model_benchmark.leaderboard]'s table, the fitted parameters and the
+    held-out scores by (model, mode)."""
 
     table: pd.DataFrame
     parameters: pd.DataFrame

@@ -1,33 +1,36 @@
 """A fabric model found in the data: sparse regression of d<nn>/dgamma, terms chosen by held-out error.
 
-The model is :mod:`suspension_fabric.models.sparse_fabric` (1): the co-rotational derivative plus
-sum_k c_k Theta_k(X) over a library of frame-indifferent terms up to second order in X = <nn>.
+The model is [`suspension_fabric.models.sparse_fabric`][suspension_fabric.models.sparse_fabric] (1): the co-rotational
+derivative plus sum_k c_k Theta_k(X) over a library of frame-indifferent terms up to second order in X = <nn>.
 
-Regression in weak form (:func:`weak_form_system`): derivatives of noisy curves are not taken.
-Over consecutive windows of :data:`WINDOW_FRAMES` frames of every seed's curve (the startup and
-each training rotation, the whole run; neighbouring windows share their end frame),
+Regression in weak form ([`weak_form_system`][suspension_fabric.evaluation.model_discovery.weak_form_system]):
+derivatives of noisy curves are not taken. Over consecutive windows of `WINDOW_FRAMES` frames of every seed's curve (the
+startup and each training rotation, the whole run; neighbouring windows share their end frame),
 X(gamma_b) - X(gamma_a) - int (Wh.X - X.Wh) = sum_k c_k int Theta_k(X), the integrals by
 Simpson's rule over the frames; all six components of every window and seed are the rows of one
 least-squares problem.
 
-Sparsity (:func:`stlsq`): sequentially thresholded least squares (Brunton, Proctor and Kutz,
-PNAS 113, 3932 (2016)) on columns scaled to unit rms: terms whose scaled coefficient falls below
-a threshold times the largest are dropped and the rest refitted, until the support stops
-changing. A grid of thresholds gives supports of decreasing size (:func:`candidate_supports`).
+Sparsity ([`stlsq`][suspension_fabric.evaluation.model_discovery.stlsq]): sequentially thresholded least squares
+(Brunton, Proctor and Kutz, PNAS 113, 3932 (2016)) on columns scaled to unit rms: terms whose scaled coefficient falls
+below a threshold times the largest are dropped and the rest refitted, until the support stops
+changing. A grid of thresholds gives supports of decreasing size
+([`candidate_supports`][suspension_fabric.evaluation.model_discovery.candidate_supports]).
 
-Held-out choice (:func:`held_out_support_errors`): the angles are split into folds as in the model
-benchmark (:func:`suspension_fabric.evaluation.model_benchmark.angle_folds`); for each support,
-the coefficients are refitted on the startup and the other folds and the held-out angles are
+Held-out choice ([`held_out_support_errors`][suspension_fabric.evaluation.model_discovery.held_out_support_errors]): the
+angles are split into folds as in the model benchmark ([`suspension_fabric.evaluation.model_benchmark.angle_folds`][]);
+for each support, the coefficients are refitted on the startup and the other folds and the held-out angles are
 predicted from the model's own state (each seed's startup from that seed's fabric at strain 0,
 then the rotation; a candidate that diverges from any seed's start is out), scored per seed as
-the benchmark scores (:func:`~suspension_fabric.evaluation.model_benchmark.seed_errors`).
+the benchmark scores ([`seed_errors`][suspension_fabric.evaluation.model_benchmark.seed_errors]).
 Of the supports whose held-out error summed over the six components is within one standard error
 (over seeds) of the least, the one with the fewest terms is chosen; its coefficients are then
 fitted on every angle, with a jackknife over seeds (leave one seed out, refit) for their errors.
 
 Every fit is constrained to hold the seeds' mean steady fabric of the startup exactly (the
-right-hand side vanishes there on 11, 22, 33 and 12, :func:`steady_constraint`; linear in the
-coefficients, so the constrained least squares is exact, :func:`constrained_least_squares`).
+right-hand side vanishes there on 11, 22, 33 and 12,
+[`steady_constraint`][suspension_fabric.evaluation.model_discovery.steady_constraint]; linear in the coefficients, so
+the constrained least squares is exact,
+[`constrained_least_squares`][suspension_fabric.evaluation.model_discovery.constrained_least_squares]).
 """
 
 from __future__ import annotations
@@ -136,7 +139,8 @@ def stlsq(A, y, threshold: float, max_iterations: int = 50) -> np.ndarray:
 
 
 def candidate_supports(A, y, thresholds=THRESHOLDS) -> list[np.ndarray]:
-    """The distinct supports of :func:`stlsq` over ``thresholds``, largest first."""
+    """The distinct supports of [`stlsq`][suspension_fabric.evaluation.model_discovery.stlsq] over ``thresholds``,
+    largest first."""
     found = {}
     for threshold in thresholds:
         support = stlsq(A, y, threshold)
@@ -150,7 +154,7 @@ STEADY_COMPONENTS = ("11", "22", "33", "12")
 
 def steady_constraint(fabric, names=None) -> tuple[np.ndarray, np.ndarray]:
     """(C, d) with C c = d saying that the right-hand side of (1) vanishes at the steady fabric
-    ``fabric`` in simple shear, on :data:`STEADY_COMPONENTS` (linear in the coefficients c)."""
+    ``fabric`` in simple shear, on `STEADY_COMPONENTS` (linear in the coefficients c)."""
     names = list(LIBRARY) if names is None else list(names)
     index = [VECTOR_ORDER.index(c) for c in STEADY_COMPONENTS]
     terms = sym_to_vec(library_terms(fabric, _FLOW, names))[:, index]  # (K, 4)
@@ -231,8 +235,9 @@ def held_out_support(
 ) -> tuple[np.ndarray, np.ndarray]:
     """One support's (a mask over ``names``, default the whole library) (seeds, 6) errors of every
     angle predicted by a fit on the startup and the other folds of angles (all seeds), and those
-    predictions (seeds, angles, R, 3, 3); ``startup`` and ``rotation`` are :func:`run_curves`,
-    ``blocks`` a cache of weak-form blocks shared between calls."""
+    predictions (seeds, angles, R, 3, 3); ``startup`` and ``rotation`` are
+    [`run_curves`][suspension_fabric.evaluation.model_discovery.run_curves], ``blocks`` a cache of weak-form blocks
+    shared between calls."""
     names = list(LIBRARY) if names is None else list(names)
     blocks = {} if blocks is None else blocks
     seeds = set(int(s) for s in curves.seeds)
@@ -258,7 +263,8 @@ def held_out_support_errors(
     steady_window,
     names=None,
 ) -> list[np.ndarray]:
-    """Per support, :func:`held_out_support`'s (seeds, 6) errors."""
+    """Per support, [`held_out_support`][suspension_fabric.evaluation.model_discovery.held_out_support]'s (seeds, 6)
+    errors."""
     blocks, common = {}, (phi, startup_strain, folds, steady_window, names)
     return [held_out_support(startup, rotation, curves, support, *common, blocks)[0] for support in supports]
 
@@ -354,7 +360,7 @@ def steady_table(model, curves: SeedCurves, targets: dict, phi: float) -> pd.Dat
     """The model's steady fabric against the simulated steady components (fits.json's
     ``targets``), at the rate it was found with (1) and at the rate refitted on the steady
     <nn>_12 (as a new state point refits it): relative difference and whether it is within
-    :data:`~suspension_fabric.evaluation.model_targets.STEADY_TOLERANCE`; NaN where the model,
+    `STEADY_TOLERANCE`; NaN where the model,
     integrated from no contacts, reaches no steady state or no rate reproduces <nn>_12."""
     rates = {"as found": {"rate": 1.0}}
     try:
@@ -395,7 +401,7 @@ def summary_markdown(
 ) -> str:
     """The discovered model as Markdown: its equation's terms with errors, the held-out comparison
     with the reference model and the target, the overshoot after rotation
-    (:func:`~suspension_fabric.evaluation.model_targets.overshoot_table`), the steady state; every
+    ([`overshoot_table`][suspension_fabric.evaluation.model_targets.overshoot_table]), the steady state; every
     number from the tables."""
     level = int(round(100 * target["level"].iloc[0]))
     chosen = found["supports"].iloc[found["chosen"]]

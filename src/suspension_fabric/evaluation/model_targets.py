@@ -3,21 +3,22 @@
 A refined model must, against the reference model (G-W, fitted on the steady state, every angle
 held out by construction):
 
-1. **Held-out error** (:func:`target_table`): on <nn>'_12 and <nn>'_23, its held-out mean square
-   error net of the seed-noise floor f at most :data:`TARGET_SHARE` of the reference's. Per seed,
-   T = share (E_ref - f) - (E_model - f); met where the t-interval of T over seeds lies above 0.
+1. **Held-out error** ([`target_table`][suspension_fabric.evaluation.model_targets.target_table]): on <nn>'_12 and
+   <nn>'_23, its held-out mean square error net of the seed-noise floor f at most `TARGET_SHARE` of the reference's. Per
+   seed, T = share (E_ref - f) - (E_model - f); met where the t-interval of T over seeds lies above 0.
    E is the benchmark's per-seed score
-   (:func:`suspension_fabric.evaluation.model_benchmark.seed_errors`, units (<nn>_12^ss)^2) and
-   f the between-seed variance of the simulated curves (:func:`noise_floor`), what a perfect model
-   scores on one seed.
-2. **No overshoot the simulations lack** (:func:`overshoot_table`), claim C6's statistic
-   (:mod:`suspension_fabric.evaluation.claims`): per seed, averaged over the angles 75-105 degrees,
-   T6 = 0.25 X12(model) - X12(sim), where X12 = int (r12 - 1) dgamma over the strains where the
-   model's r12 = <nn>_12 / <nn>_12^ss (the model's own steady value) exceeds 1, the simulation's
-   r12 normalised by its seed's steady value. Met unless T6's interval lies above 0 (C6 decided
-   for the model: it overshoots and the simulations do not).
-3. **Steady state** (:func:`steady_rows`): its steady <nn>_11, _22, _33 within 3% and <nn>_12
-   within 1% of the simulated steady state (:data:`STEADY_TOLERANCE`).
+   ([`suspension_fabric.evaluation.model_benchmark.seed_errors`][], units (<nn>_12^ss)^2) and
+   f the between-seed variance of the simulated curves
+   ([`noise_floor`][suspension_fabric.evaluation.model_targets.noise_floor]), what a perfect model scores on one seed.
+2. **No overshoot the simulations lack**
+   ([`overshoot_table`][suspension_fabric.evaluation.model_targets.overshoot_table]), claim C6's statistic
+   ([`suspension_fabric.evaluation.claims`][suspension_fabric.evaluation.claims]): per seed, averaged over the angles
+   75-105 degrees, T6 = 0.25 X12(model) - X12(sim), where X12 = int (r12 - 1) dgamma over the strains where the model's
+   r12 = <nn>_12 / <nn>_12^ss (the model's own steady value) exceeds 1, the simulation's r12 normalised by its seed's
+   steady value. Met unless T6's interval lies above 0 (C6 decided for the model: it overshoots and the simulations do
+   not).
+3. **Steady state** ([`steady_rows`][suspension_fabric.evaluation.model_targets.steady_rows]): its steady <nn>_11, _22,
+   _33 within 3% and <nn>_12 within 1% of the simulated steady state (`STEADY_TOLERANCE`).
 """
 
 from __future__ import annotations
@@ -75,7 +76,7 @@ def target_table(
 ) -> pd.DataFrame:
     """Per component: both models' held-out errors (seeds, 6) net of the noise floor (t-intervals
     over seeds), their paired difference, and the target statistic T = share (E_ref - f) -
-    (E_cand - f) per seed, met where its interval lies above 0 (:data:`TARGET_SHARE`)."""
+    (E_cand - f) per seed, met where its interval lies above 0 (`TARGET_SHARE`)."""
     floor = noise_floor(curves)
     rows = []
     for c, component in enumerate(_COMPONENTS):
@@ -116,9 +117,9 @@ def overshoot_table(
     """Claim C6's statistic for a model's predictions after rotation, ``predicted`` (angles, R, 3,
     3) on the curves' angles and strains, shared by every seed, or (seeds, angles, R, 3, 3), one
     per seed; ``model_n12_ss`` is the model's own steady <nn>_12, each seed's simulated r12 is
-    normalised by that seed's (:func:`seed_steady_n12`). Returns the model's and the simulation's
-    X12 and T6 = 0.25 X12(model) - X12(sim) (seed means over the C6 angles, t-intervals) and
-    whether the target holds (T6's interval not above 0); without a C6 angle only "met" (True)."""
+    normalised by that seed's ([`seed_steady_n12`][suspension_fabric.evaluation.model_targets.seed_steady_n12]). Returns
+    the model's and the simulation's X12 and T6 = 0.25 X12(model) - X12(sim) (seed means over the C6 angles,
+    t-intervals) and whether the target holds (T6's interval not above 0); without a C6 angle only "met" (True)."""
     claim = next(c for c in claims.CLAIMS if c.key == "C6")
     angles = claims.claim_angles(claim, curves.thetas)
     out = {"angles": ", ".join(f"{a:g}" for a in angles), "level": level}
@@ -143,7 +144,8 @@ def overshoot_table(
 
 
 def overshoot_sentence(overshoot: dict) -> str:
-    """:func:`overshoot_table`'s result in one sentence, every number from it."""
+    """[`overshoot_table`][suspension_fabric.evaluation.model_targets.overshoot_table]'s result in one sentence, every
+    number from it."""
     if "T6" not in overshoot:
         return "No rotation angle of claim C6 was simulated: no overshoot statistic."
 
@@ -165,7 +167,7 @@ def overshoot_sentence(overshoot: dict) -> str:
 
 def steady_rows(steady_fabric: np.ndarray, targets: dict) -> list[dict]:
     """The model's steady fabric (3, 3) against the simulated steady components (fits.json's
-    ``targets``): relative difference and whether it is within :data:`STEADY_TOLERANCE` (NaN
+    ``targets``): relative difference and whether it is within `STEADY_TOLERANCE` (NaN
     fabric: not within)."""
     rows = []
     for component, tolerance in STEADY_TOLERANCE.items():
@@ -197,7 +199,7 @@ def scorecard(
     level: float = LEVEL,
 ) -> pd.DataFrame:
     """One row per model and fitting mode of the leaderboard (``held_out``: {(key, mode):
-    :class:`~suspension_fabric.evaluation.model_benchmark.HeldOut`}), the reference model's
+    [`HeldOut`][suspension_fabric.evaluation.model_benchmark.HeldOut]}), the reference model's
     steady fit, the baseline, left out: the three targets with their statistics and whether each
     and all are met."""
     base = held_out[(reference, "steady")].errors

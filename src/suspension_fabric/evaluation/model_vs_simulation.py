@@ -1,9 +1,10 @@
 """Models versus simulation: fits to the simulated steady state, predictions, model errors.
 
-Inputs are the seed-aggregated simulation tables of :mod:`suspension_fabric.analysis.tables`
-(columns ``theta, strain, n11_mean, n11_sem, ...``) and the steady-state table of
-:func:`suspension_fabric.analysis.tables.steady_state`. Everything is in the paper frame of
-the current shear (rotated frame (e1', e2, e3') after a rotation by theta).
+Inputs are the seed-aggregated simulation tables of
+[`suspension_fabric.analysis.tables`][suspension_fabric.analysis.tables] (columns
+``theta, strain, n11_mean, n11_sem, ...``) and the steady-state table of
+[`suspension_fabric.analysis.tables.steady_state`][suspension_fabric.analysis.tables.steady_state]. Everything is in the
+paper frame of the current shear (rotated frame (e1', e2, e3') after a rotation by theta).
 
 Protocol of the model predictions (paper Sec. 4)
     Every model of the config (models.fabric) starts from the simulated seed-mean fabric at
@@ -12,17 +13,18 @@ Protocol of the model predictions (paper Sec. 4)
     fitted to the steady components it names (its ``steady_targets``: <nn>_12 for G-W, <nn>_11
     and <nn>_12 for the modified model, as in the paper's Sec. 4.1).
 
-Fit uncertainties (:func:`fit_steady_state`)
+Fit uncertainties ([`fit_steady_state`][suspension_fabric.evaluation.model_vs_simulation.fit_steady_state])
     Fit uncertainties are a jackknife over seeds of the whole fit: the steady state is
     recomputed from the per-seed startup runs with each seed left out in turn
-    (:func:`suspension_fabric.analysis.tables.steady_state`), every model is fitted to it, and
-    the standard error is
+    ([`suspension_fabric.analysis.tables.steady_state`][suspension_fabric.analysis.tables.steady_state]), every model is
+    fitted to it, and the standard error is
     sqrt((n - 1)/n sum_i (p_i - p_mean)^2) over the n leave-one-out parameters
-    (:func:`suspension_fabric.analysis.seed_statistics.jackknife`; NaN, written null, for one seed).
-    It includes the covariance of the steady <nn>_11 and <nn>_12 across seeds (strongly
-    negative in the simulations) and the seed-to-seed scatter. The linear propagation
+    ([`suspension_fabric.analysis.seed_statistics.jackknife`][suspension_fabric.analysis.seed_statistics.jackknife];
+    NaN, written null, for one seed). It includes the covariance of the steady <nn>_11 and <nn>_12 across seeds
+    (strongly negative in the simulations) and the seed-to-seed scatter. The linear propagation
     of the targets' standard errors, which ignores that covariance
-    (:func:`propagated_fit_errors`), is kept alongside as ``errors_propagated``.
+    ([`propagated_fit_errors`][suspension_fabric.evaluation.model_vs_simulation.propagated_fit_errors]), is kept
+    alongside as ``errors_propagated``.
 """
 
 from __future__ import annotations
@@ -93,8 +95,9 @@ def _propagated(func, values, errors):
 
 def propagated_fit_errors(fabric_model, steady: pd.DataFrame, phi: float) -> dict[str, float]:
     """1-sigma errors of a model's steady fit by linear propagation of the standard errors of its
-    targets (finite-difference Jacobian of :func:`suspension_fabric.models.fabric_models.fit_steady`),
-    ignoring their covariance; NaN where a target +- sigma/10 leaves the fittable range."""
+    targets (finite-difference Jacobian of
+    [`suspension_fabric.models.fabric_models.fit_steady`][suspension_fabric.models.fabric_models.fit_steady]), ignoring
+    their covariance; NaN where a target +- sigma/10 leaves the fittable range."""
     components = fabric_model.steady_targets
     means, sems = zip(*(_steady_value(steady, f"n{c}") for c in components))
     others = _steady_targets(steady)
@@ -178,12 +181,13 @@ def fit_listed_models(
     steady_of=None,
 ) -> dict:
     """Every model of ``models`` ({key: FabricModel}) fitted to the steady components it names
-    (``steady_targets``; :func:`suspension_fabric.models.fabric_models.fit_steady`), as fits.json's
-    ``models`` entries: label, fitted_to, parameters, their jackknife standard errors over seeds of
-    the whole fit (NaN, with a warning naming the seed, where a leave-one-out fit fails), their
-    propagated errors (:func:`propagated_fit_errors`), the correlations of the leave-one-out
-    parameters (NaN for fewer than 3 seeds) and the model's own steady state. A failing fit to all
-    seeds raises ``ValueError`` naming the model. ``steady_of`` (subset of seeds -> steady table)
+    (``steady_targets``;
+    [`suspension_fabric.models.fabric_models.fit_steady`][suspension_fabric.models.fabric_models.fit_steady]), as
+    fits.json's ``models`` entries: label, fitted_to, parameters, their jackknife standard errors over seeds of the
+    whole fit (NaN, with a warning naming the seed, where a leave-one-out fit fails), their propagated errors
+    ([`propagated_fit_errors`][suspension_fabric.evaluation.model_vs_simulation.propagated_fit_errors]), the
+    correlations of the leave-one-out parameters (NaN for fewer than 3 seeds) and the model's own steady state. A
+    failing fit to all seeds raises ``ValueError`` naming the model. ``steady_of`` (subset of seeds -> steady table)
     shares the leave-one-out tables between models."""
     steady_of = steady_of or _subset_steady(startup, strain_min, strain_max)
     entries = {}
@@ -234,13 +238,14 @@ def fit_steady_state(
 ) -> dict:
     """Every model of ``models`` ({key: FabricModel}, the config's models.fabric) fitted to the
     startup (theta = 0) steady state; returns the fits.json content
-    (:mod:`suspension_fabric.models.fits_file`, format 2).
+    ([`suspension_fabric.models.fits_file`][suspension_fabric.models.fits_file], format 2).
 
-    ``steady`` is :func:`suspension_fabric.analysis.tables.steady_state` of the per-seed startup run
-    table ``runs`` (columns seed, theta, ..., strain, n11 ... n23, Z; startup_runs.csv) over
+    ``steady`` is [`suspension_fabric.analysis.tables.steady_state`][suspension_fabric.analysis.tables.steady_state] of
+    the per-seed startup run table ``runs`` (columns seed, theta, ..., strain, n11 ... n23, Z; startup_runs.csv) over
     strain_min <= strain <= strain_max (checked: window, seeds and the steady <nn>_11, <nn>_12).
     ``targets`` holds every steady component with its error, ``models`` each model's entry
-    (:func:`fit_listed_models`), ``fit_errors`` says what the errors are.
+    ([`fit_listed_models`][suspension_fabric.evaluation.model_vs_simulation.fit_listed_models]), ``fit_errors`` says
+    what the errors are.
     """
     startup, seeds = _startup_seeds(runs)
     _check_steady_matches_runs(steady, startup, seeds, strain_min, strain_max)
@@ -355,7 +360,8 @@ def predict(
 
 
 class PredictionGrids(NamedTuple):
-    """Where the models are evaluated (see :func:`prediction_grids`); angles in degrees."""
+    """Where the models are evaluated (see
+    [`prediction_grids`][suspension_fabric.evaluation.model_vs_simulation.prediction_grids]); angles in degrees."""
 
     startup_strains: np.ndarray
     thetas_deg: np.ndarray
@@ -370,8 +376,8 @@ def prediction_grids(
 
     ``startup_strains``: the strains of the startup seed aggregate; ``thetas_deg``: the
     simulated rotation angles; ``rotation_strains``: the post-rotation strains, which all
-    angles must share (to 1e-9, as :func:`model_errors` compares them; else ``ValueError``);
-    ``polar_thetas_deg``: 0 to 180 degrees every ``polar_step_deg``, from -180 if a
+    angles must share (to 1e-9, as [`model_errors`][suspension_fabric.evaluation.model_vs_simulation.model_errors]
+    compares them; else ``ValueError``); ``polar_thetas_deg``: 0 to 180 degrees every ``polar_step_deg``, from -180 if a
     simulated angle is negative. All sorted ascending.
     """
     if not np.isfinite(polar_step_deg) or polar_step_deg <= 0:
@@ -407,9 +413,11 @@ def predict_on_simulation_grids(
     startup_strain: float,
     polar_step_deg: float,
 ) -> pd.DataFrame:
-    """:func:`predict` from the simulated initial fabric (:func:`initial_fabric`) on the
-    :func:`prediction_grids` of the seed aggregates: at every simulated strain and angle,
-    and at the polar grid of angles (rotation after ``startup_strain`` of startup shear)."""
+    """[`predict`][suspension_fabric.evaluation.model_vs_simulation.predict] from the simulated initial fabric
+    ([`initial_fabric`][suspension_fabric.evaluation.model_vs_simulation.initial_fabric]) on the
+    [`prediction_grids`][suspension_fabric.evaluation.model_vs_simulation.prediction_grids] of the seed aggregates: at
+    every simulated strain and angle, and at the polar grid of angles (rotation after ``startup_strain`` of startup
+    shear)."""
     grids = prediction_grids(startup_aggregate, rotation_aggregate, polar_step_deg)
     return predict(
         fits,
@@ -427,8 +435,8 @@ def model_errors(simulation: pd.DataFrame, predictions: pd.DataFrame, n12_ss: fl
     """Model-versus-simulation error per angle and component, normalised by |<nn>_12^ss|.
 
     ``simulation`` is a seed aggregate (``<c>_mean`` columns) and ``predictions``
-    the output of :func:`predict`, evaluated at the simulation's strains (matched by
-    theta and strain to 1e-9). Returns one row per (model, theta, component) with
+    the output of [`predict`][suspension_fabric.evaluation.model_vs_simulation.predict], evaluated at the simulation's
+    strains (matched by theta and strain to 1e-9). Returns one row per (model, theta, component) with
     rms_error = sqrt(mean_strain (model - sim)^2) / |n12_ss|, max_abs_error and the
     number of strain points; the paper only says the modified model is
     "significantly better", this table says by how much.
@@ -465,9 +473,9 @@ def error_sizes(difference) -> dict:
 def summarise_errors(errors: pd.DataFrame, ratio: tuple[str, str] | None = None) -> pd.DataFrame:
     """Angle-averaged rms error per protocol and component for every model.
 
-    One row per (protocol, component): rms_<model> (means over angles of :func:`model_errors`'
-    rms_error) for each model, and, for ``ratio`` = (a, b) with both models present,
-    ``<a>_over_<b>`` = rms_a / rms_b (> 1: b is closer to the simulation).
+    One row per (protocol, component): ``rms_<model>`` (means over angles of
+    [`model_errors`][suspension_fabric.evaluation.model_vs_simulation.model_errors]' rms_error) for each model, and, for
+    ``ratio`` = (a, b) with both models present, ``<a>_over_<b>`` = rms_a / rms_b (> 1: b is closer to the simulation).
     """
     mean = errors.groupby(["protocol", "component", "model"], sort=False)["rms_error"].mean().unstack("model")
     keys = list(dict.fromkeys(errors["model"]))
@@ -484,8 +492,9 @@ def error_tables(
     rotation_aggregate: pd.DataFrame,
     ratio: tuple[str, str] | None = None,
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """:func:`model_errors` of startup shear and of the rotations (normalised by the fitted
-    steady <nn>_12 of ``fits``), concatenated, and their :func:`summarise_errors` (with ``ratio``)."""
+    """[`model_errors`][suspension_fabric.evaluation.model_vs_simulation.model_errors] of startup shear and of the
+    rotations (normalised by the fitted steady <nn>_12 of ``fits``), concatenated, and their
+    [`summarise_errors`][suspension_fabric.evaluation.model_vs_simulation.summarise_errors] (with ``ratio``)."""
     n12_ss = fits["targets"]["n12"]["mean"]
     errors = pd.concat(
         [

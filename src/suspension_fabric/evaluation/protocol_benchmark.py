@@ -2,12 +2,12 @@
 scored per seed on flows none of them was fitted to.
 
 Fabric models. Each model keeps the parameters of its two fitting modes in the rotation benchmark
-(:mod:`suspension_fabric.evaluation.model_benchmark`): ``steady``, fitted on the startup's steady
-state (fits.json), and ``global``, fitted on the startup and every rotation's transient
+([`suspension_fabric.evaluation.model_benchmark`][suspension_fabric.evaluation.model_benchmark]): ``steady``, fitted on
+the startup's steady state (fits.json), and ``global``, fitted on the startup and every rotation's transient
 (model_parameters.csv). From the seed-mean fabric at rest it predicts <nn> along each protocol
-(:func:`suspension_fabric.models.fabric_models.protocol_fabric`), in the frame of the current
-flow, on the frames of the simulations. Scored: the frames after the first segment (the startup,
-which both modes saw), without the first frame of each segment (the last frame of the segment
+([`suspension_fabric.models.fabric_models.protocol_fabric`][suspension_fabric.models.fabric_models.protocol_fabric]), in
+the frame of the current flow, on the frames of the simulations. Scored: the frames after the first segment (the
+startup, which both modes saw), without the first frame of each segment (the last frame of the segment
 before, seen in the new flow's frame): per seed and component the mean of
 (model - seed)^2 / (<nn>_12^ss)^2, and ``all``, the mean over the six components.
 
@@ -72,7 +72,8 @@ class ProtocolCurves(NamedTuple):
 def protocol_curves(
     protocol: Protocol, runs: pd.DataFrame, stress_runs: pd.DataFrame | None = None, seeds=None
 ) -> ProtocolCurves:
-    """:class:`ProtocolCurves` from a protocol table (protocol_runs.csv; and stress_protocol_runs.csv)."""
+    """[`ProtocolCurves`][suspension_fabric.evaluation.protocol_benchmark.ProtocolCurves] from a protocol table
+    (protocol_runs.csv; and stress_protocol_runs.csv)."""
     mine = runs[runs["protocol"] == protocol.name]
     if mine.empty:
         raise ValueError(f"protocol {protocol.name}: no rows in the protocol table")
@@ -214,7 +215,7 @@ def stress_protocol_leaderboard(
     reference: str,
     level: float = LEVEL,
 ) -> pd.DataFrame:
-    """One row per relation, protocol and quantity of :data:`STRESS_SCORED`: the mean square
+    """One row per relation, protocol and quantity of `STRESS_SCORED`: the mean square
     error of the relation on each seed's fabric, in units of the steady eta_r, with its t-interval
     and the paired difference from ``reference``. ``parameters`` is the stress benchmark's fitted
     values (stress_relation_parameters.csv: the shape parameters of each relation's mode),

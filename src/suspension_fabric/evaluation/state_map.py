@@ -102,7 +102,7 @@ def _model_columns(role: str, entry: dict) -> dict:
 
 def fitted_columns(table: pd.DataFrame) -> list[tuple[str, str, str, str]]:
     """(model label, parameter, column, error column) of every fitted parameter of the compared
-    models in a map table (the ``<role>_<parameter>`` columns of :func:`_model_columns`)."""
+    models in a map table (the ``<role>_<parameter>`` columns of `_model_columns`)."""
     out = []
     for role in ("reference", "challenger"):
         labels = table[f"{role}_model"].dropna() if f"{role}_model" in table else []
@@ -130,7 +130,7 @@ def point_row(
 ) -> dict:
     """One campaign point as a row of the map table: its state and engine, every steady
     quantity with its standard error, the fits of the two models its claims compare (the
-    study's verdicts.models, by role: :func:`_model_columns`) with their jackknife errors, the
+    study's verdicts.models, by role: `_model_columns`) with their jackknife errors, the
     steady-state check, and each claim's seed-mean statistic with its interval and verdict."""
     row = {
         "point": point,

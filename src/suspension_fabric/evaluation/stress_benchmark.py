@@ -1,17 +1,17 @@
 """The study as a benchmark for stress relations: steady normal stresses and held-out viscosity transients.
 
-Any :class:`suspension_fabric.models.stress_relations.StressRelation` is scored on the per-seed run tables
+Any [`suspension_fabric.models.stress_relations.StressRelation`][] is scored on the per-seed run tables
 of a study, on each seed's own simulated fabric (so the score is the relation's, not a fabric
 model's): the relation evaluated on seed s's <nn>(gamma) is compared with seed s's stress.
 
-Data (:func:`stress_curves`): per seed, the fabric and eta_r along startup and after each rotation
-up to strain W (the frames of the fabric and stress tables are the same steps), and the seed's
-steady state (means over the steady window of startup: <nn>, lubrication and contact sigma_12,
+Data ([`stress_curves`][suspension_fabric.evaluation.stress_benchmark.stress_curves]): per seed, the fabric and eta_r
+along startup and after each rotation up to strain W (the frames of the fabric and stress tables are the same steps),
+and the seed's steady state (means over the steady window of startup: <nn>, lubrication and contact sigma_12,
 eta_r, N1, N2, Pi).
 
 Fitting modes
     ``steady``: a_H, a_C from the seed-mean steady lubrication and contact sigma_12
-    (:func:`suspension_fabric.models.stress_relations.coefficients`), shape parameters at their start
+    ([`suspension_fabric.models.stress_relations.coefficients`][]), shape parameters at their start
     values; the mode of a relation without shape parameters. ``global``: the shape parameters
     minimise the mean over seeds and curves (startup and the training angles' transients) of the
     mean square error of eta_r, with a_H, a_C refitted to the steady state at each trial value;
@@ -107,8 +107,9 @@ def stress_curves(
     window: float,
     steady_window,
 ) -> StressCurves:
-    """:class:`StressCurves` from the study's per-seed run tables (startup_runs.csv, rotation_runs.csv,
-    stress_startup_runs.csv, stress_rotation_runs.csv), the rotations cut at strain ``window``."""
+    """[`StressCurves`][suspension_fabric.evaluation.stress_benchmark.StressCurves] from the study's per-seed run tables
+    (startup_runs.csv, rotation_runs.csv, stress_startup_runs.csv, stress_rotation_runs.csv), the rotations cut at
+    strain ``window``."""
     startup = _joined(startup_fabric, startup_stress, "startup")
     rotation = _joined(rotation_fabric, rotation_stress, "rotation")
     seeds = np.array(sorted(set(startup["seed"])), dtype=int)
@@ -152,8 +153,8 @@ def stress_curves(
 def read_stress_curves(
     startup_runs, rotation_runs, stress_startup_runs, stress_rotation_runs, window: float, steady_window
 ) -> StressCurves:
-    """:func:`stress_curves` from the study's run-table files (startup_runs.csv, rotation_runs.csv,
-    stress_startup_runs.csv, stress_rotation_runs.csv)."""
+    """[`stress_curves`][suspension_fabric.evaluation.stress_benchmark.stress_curves] from the study's run-table files
+    (startup_runs.csv, rotation_runs.csv, stress_startup_runs.csv, stress_rotation_runs.csv)."""
     return stress_curves(
         read_fabric_table(startup_runs),
         read_fabric_table(rotation_runs),
@@ -217,7 +218,7 @@ def seed_scores(predicted: dict, curves: StressCurves, thetas=None) -> dict[str,
 
 def _objective(relation: StressRelation, curves: StressCurves, train_thetas, seeds):
     """Mean over the selected seeds and curves (startup and each training angle) of eta_r's mean
-    square error (:func:`seed_scores`)."""
+    square error ([`seed_scores`][suspension_fabric.evaluation.stress_benchmark.seed_scores])."""
     select = _select(curves, seeds)
     n_angles = int(angle_mask(curves, train_thetas).sum())
 

@@ -9,31 +9,33 @@ through the fourth moment <nnnn> of the contact directions:
 
     sigma^p / (eta_f gammadot) = a_H <nnnn>:E^ + a_C <nnnn>:E^_c
 
-with E^ = E/gammadot and E^_c its negative-eigenvalue part (:func:`.gillissen_wilson.split_strain_rate`),
-<nnnn> from <nn> by the fabric equation's closure (:func:`.gillissen_wilson.contract_closure`).
-The coefficient names are this project's. The fourth moment is normalised like the fabric
-(per particle, Tr<nn> = Z/2), so a_H and a_C absorb the number density and cannot be taken
-from papers that normalise otherwise: they are fitted here.
+with E^ = E/gammadot and E^_c its negative-eigenvalue part
+([`gillissen_wilson.split_strain_rate`][suspension_fabric.models.gillissen_wilson.split_strain_rate]), <nnnn> from <nn>
+by the fabric equation's closure
+([`gillissen_wilson.contract_closure`][suspension_fabric.models.gillissen_wilson.contract_closure]). The coefficient
+names are this project's. The fourth moment is normalised like the fabric (per particle, Tr<nn> = Z/2), so a_H and a_C
+absorb the number density and cannot be taken from papers that normalise otherwise: they are fitted here.
 
-Fit (:func:`fit_relation`): the simulation separates the lubrication stress (the hydrodynamic
-term) from the contact stress, so a_H = sigma^lub_12 / (<nnnn>:E^)_12 and
+Fit ([`fit_relation`][suspension_fabric.evaluation.stress_model.fit_relation]): the simulation separates the lubrication
+stress (the hydrodynamic term) from the contact stress, so a_H = sigma^lub_12 / (<nnnn>:E^)_12 and
 a_C = sigma^con_12 / (<nnnn>:E^_c)_12 at the steady state of startup shear. Everything else
 (the normal stresses, the pressure, every transient) is then a prediction. Because the
 steady fabrics of the sources differ (the G-W model's trace is far from the simulation's),
 the coefficients are fitted per fabric source: the simulated <nn> and each fabric model's own
 steady state. The total adds the solvent (1 on 12) and the Einstein term (2.5 phi on 12) of
-:mod:`suspension_fabric.analysis.stress`; the kinetic part (O(1/eta_f)) is left out.
+[`suspension_fabric.analysis.stress`][suspension_fabric.analysis.stress]; the kinetic part (O(1/eta_f)) is left out.
 
-Predictions after a rotation (:func:`stress_predictions`) come from (a) the seed-mean
-simulated fabric and (b) each fabric model's predicted fabric, all in the rotated paper
+Predictions after a rotation ([`stress_predictions`][suspension_fabric.evaluation.stress_model.stress_predictions]) come
+from (a) the seed-mean simulated fabric and (b) each fabric model's predicted fabric, all in the rotated paper
 frame (e1', e2, e3'), where the flow is simple shear e1' e2 again. Errors
-(:func:`relation_errors`) are |prediction - simulation| / sigma_12^ss of the total shear stress.
+([`relation_errors`][suspension_fabric.evaluation.stress_model.relation_errors]) are |prediction - simulation| /
+sigma_12^ss of the total shear stress.
 
-The viscosity after a rotation (:func:`viscosity_transients`) is decided per seed, like the
-fabric claims (docs/verdict_statistics.md): the integrated deficit of eta_r below the seed's own
-steady eta_r^ss,s over the first W strain, with a t-interval over seeds. Its minimum, the
-strain of the minimum and the recovery strain are kept as description, with seed-bootstrap
-intervals.
+The viscosity after a rotation
+([`viscosity_transients`][suspension_fabric.evaluation.stress_model.viscosity_transients]) is decided per seed, like the
+fabric claims (docs/verdict_statistics.md): the integrated deficit of eta_r below the seed's own steady eta_r^ss,s over
+the first W strain, with a t-interval over seeds. Its minimum, the strain of the minimum and the recovery strain are
+kept as description, with seed-bootstrap intervals.
 """
 
 from __future__ import annotations
@@ -83,7 +85,7 @@ def fit_relation(
 ) -> dict:
     """a_H and a_C (with the errors of the stress targets) from a steady fabric and the
     steady lubrication and contact shear stresses (units eta_f gammadot): the G-W relation's
-    :func:`suspension_fabric.models.stress_relations.coefficients`."""
+    [`suspension_fabric.models.stress_relations.coefficients`][]."""
     return relations.coefficients(
         relations.GW_RELATION, steady_fabric, lubrication_12, contact_12, {}, lubrication_12_sem, contact_12_sem
     )
@@ -108,13 +110,15 @@ def source_steady_fabrics(fits: dict) -> dict[str, np.ndarray]:
 
 
 def source_labels(fits: dict) -> dict[str, str]:
-    """{source: display name} of the fabric sources of :func:`source_steady_fabrics`."""
+    """{source: display name} of the fabric sources of
+    [`source_steady_fabrics`][suspension_fabric.evaluation.stress_model.source_steady_fabrics]."""
     return {SIMULATED: "simulated <nn>", **{key: f"{entry['label']} fabric" for key, entry in fits["models"].items()}}
 
 
 def relation_stress(fabric, coefficients: dict, phi: float) -> pd.DataFrame:
     """The G-W relation's stress for fabric(s) (..., 3, 3) in the paper frame of simple shear e1 e2:
-    one row per fabric with :data:`PREDICTED_COLUMNS` (:func:`.stress_relations.relation_stress`)."""
+    one row per fabric with `PREDICTED_COLUMNS`
+    ([`stress_relations.relation_stress`][suspension_fabric.models.stress_relations.relation_stress])."""
     fabrics = np.asarray(fabric, dtype=float).reshape(-1, 3, 3)
     return pd.DataFrame(relations.relation_stress(relations.GW_RELATION, fabrics, coefficients, {}, phi))[
         list(PREDICTED_COLUMNS)
@@ -152,7 +156,7 @@ def stress_predictions(
 
     ``startup_aggregate`` and ``rotation_aggregate`` are the seed aggregates of the fabric
     (``n11_mean`` ...), ``predictions`` the fabric models' predictions (``predictions.csv``).
-    Columns: source, protocol, theta, strain and :data:`PREDICTED_COLUMNS`.
+    Columns: source, protocol, theta, strain and `PREDICTED_COLUMNS`.
     """
     coefficients = relation.set_index("source")
     blocks = []
@@ -203,7 +207,7 @@ def relation_errors(
 
 
 def summarise_relation_errors(errors: pd.DataFrame) -> pd.DataFrame:
-    """Angle-averaged rms error per protocol, quantity and source (columns rms_<source>)."""
+    """Angle-averaged rms error per protocol, quantity and source (columns ``rms_<source>``)."""
     mean = errors.groupby(["protocol", "quantity", "source"], sort=False)["rms_error"].mean().unstack("source")
     return mean[list(dict.fromkeys(errors["source"]))].add_prefix("rms_").reset_index()
 
@@ -221,9 +225,10 @@ def moving_average(strain, values, width: float) -> np.ndarray:
 
 def seed_steady_viscosity(startup_runs: pd.DataFrame, steady_window) -> pd.Series:
     """Each seed's own steady eta_r^ss,s: the mean of eta_r over strain_min <= strain <= strain_max
-    of that seed's startup stress run (the frames :func:`suspension_fabric.analysis.tables.steady_state`
-    averages; the seed mean of these values is its ``mean``). A Series indexed by seed; a seed
-    with fewer than 2 frames in the window is an error."""
+    of that seed's startup stress run (the frames
+    [`suspension_fabric.analysis.tables.steady_state`][suspension_fabric.analysis.tables.steady_state] averages; the
+    seed mean of these values is its ``mean``). A Series indexed by seed; a seed with fewer than 2 frames in the window
+    is an error."""
     if startup_runs["theta"].nunique() != 1:
         raise ValueError(f"startup stress runs hold several angles: {sorted(startup_runs['theta'].unique())}")
     values = {
@@ -265,9 +270,10 @@ def viscosity_deficits(stress_runs: pd.DataFrame, eta_ss, window: float) -> pd.D
         V_s(theta) = integral_0^W (1 - eta_r,s(theta, gamma) / eta_r^ss,s) d gamma
 
     (trapezoidal rule on the frames, W = ``window``), with ``eta_ss`` a mapping seed ->
-    eta_r^ss,s, the seed's own steady viscosity (:func:`seed_steady_viscosity`). 0.1 means 10 %
-    below steady for one strain. A run shorter than W is an error naming the angle and both
-    strains. Long table: seed, theta, window, eta_ss_seed, deficit."""
+    eta_r^ss,s, the seed's own steady viscosity
+    ([`seed_steady_viscosity`][suspension_fabric.evaluation.stress_model.seed_steady_viscosity]). 0.1 means 10 % below
+    steady for one strain. A run shorter than W is an error naming the angle and both strains. Long table: seed, theta,
+    window, eta_ss_seed, deficit."""
     window = float(window)
     if not window > 0.0:
         raise ValueError(f"deficit window must be positive, got {window}")
@@ -307,11 +313,14 @@ def viscosity_transients(
     """Per angle, the integrated viscosity deficit with its t-interval over seeds (the deciding
     number), and the viscosity minimum, its strain and the recovery strain as description.
 
-    ``eta_ss`` maps seed -> that seed's own steady eta_r^ss,s (:func:`seed_steady_viscosity`).
+    ``eta_ss`` maps seed -> that seed's own steady eta_r^ss,s
+    ([`seed_steady_viscosity`][suspension_fabric.evaluation.stress_model.seed_steady_viscosity]).
 
-    Deficit: the per-seed V_s(theta) of :func:`viscosity_deficits` over [0, ``window``]; columns
-    deficit (seed mean), deficit_se, deficit_low, deficit_high, the Student t-interval at
-    ``level`` over the n_seeds seeds (:func:`suspension_fabric.analysis.seed_statistics.t_interval`).
+    Deficit: the per-seed V_s(theta) of
+    [`viscosity_deficits`][suspension_fabric.evaluation.stress_model.viscosity_deficits] over [0, ``window``]; columns
+    deficit (seed mean), deficit_se, deficit_low, deficit_high, the Student t-interval at ``level`` over the n_seeds
+    seeds
+    ([`suspension_fabric.analysis.seed_statistics.t_interval`][suspension_fabric.analysis.seed_statistics.t_interval]).
 
     Description: on the seed-mean curve  mean_s eta_r,s(gamma) / mean_s eta_r^ss,s  (the study's
     eta_r / eta_r^ss), smoothed by a centred running mean over ``smoothing_strain`` (the
@@ -319,7 +328,7 @@ def viscosity_transients(
     of the minimum, and the recovery strain (first strain from which it stays within
     ``tolerance`` of 1; censored at the run's end if it never does: recovery_settled False),
     each with the seed-bootstrap percentile interval at ``level`` (_low, _high;
-    :func:`suspension_fabric.analysis.seed_statistics.seed_bootstrap`, every resample takes whole seeds,
+    [`suspension_fabric.analysis.seed_statistics.seed_bootstrap`][], every resample takes whole seeds,
     their rotation curves with their own steady state; a resample whose curve never settles
     counts with the run's last strain). These are descriptive only: a minimum and a first
     crossing are not smooth functions of the seeds, their bootstrap intervals are coarse with a

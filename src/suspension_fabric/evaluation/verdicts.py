@@ -1,11 +1,12 @@
 """The paper's steady-state claims, and descriptive tables of the shear-rotation transients.
 
 Both compare the two models of the config's ``verdicts.models``
-(:class:`suspension_fabric.evaluation.claims.Compared`: the reference, the paper's G-W, and the
-challenger, the paper's modified model); tables name them by role.
+([`suspension_fabric.evaluation.claims.Compared`][suspension_fabric.evaluation.claims.Compared]: the reference, the
+paper's G-W, and the challenger, the paper's modified model); tables name them by role.
 
-The shear-rotation claims are decided per seed in :mod:`suspension_fabric.evaluation.claims`
-(docs/verdict_statistics.md); this module keeps
+The shear-rotation claims are decided per seed in
+[`suspension_fabric.evaluation.claims`][suspension_fabric.evaluation.claims] (docs/verdict_statistics.md); this module
+keeps
 
 - the steady-state claims, decided from ``fits.json`` (the fitted parameters, the simulated
   steady state with its correlation-aware error, each model's own steady state): "confirmed" /
@@ -13,7 +14,7 @@ The shear-rotation claims are decided per seed in :mod:`suspension_fabric.evalua
 - description, on which no verdict rests: per angle, the recovery strain (first strain after
   which a seed-mean curve stays inside a 10% band), the rms errors of the models and their ratio,
   and the challenger's overshoot with the simulation around it, each with a seed-bootstrap
-  percentile interval (:func:`suspension_fabric.analysis.seed_statistics.seed_bootstrap_of_mean`).
+  percentile interval ([`suspension_fabric.analysis.seed_statistics.seed_bootstrap_of_mean`][]).
 
 Inputs: the per-seed rotation table (``rotation_runs.csv``: one row per seed, angle and strain,
 components in the rotated paper frame) and the model predictions (``predictions.csv``, pooled
@@ -282,8 +283,8 @@ def steady_state_verdicts(fits: dict, compared: Compared) -> list[dict]:
 
 def verdict_table(fits: dict, rotation_claims: pd.DataFrame, compared: Compared) -> pd.DataFrame:
     """The steady-state claims (S1-S6, +- 2 errors) and the shear-rotation claims decided per seed
-    (:func:`suspension_fabric.evaluation.claims.claim_table`), in one table: claim, text, statistic, angles,
-    mean, low, high, level, verdict, seeds_needed, criterion."""
+    ([`suspension_fabric.evaluation.claims.claim_table`][suspension_fabric.evaluation.claims.claim_table]), in one
+    table: claim, text, statistic, angles, mean, low, high, level, verdict, seeds_needed, criterion."""
     steady = pd.DataFrame(steady_state_verdicts(fits, compared)).assign(angles="", level=np.nan, seeds_needed=np.nan)
     rotation = rotation_claims.assign(
         criterion=[

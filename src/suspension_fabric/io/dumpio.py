@@ -1,7 +1,7 @@
 """LAMMPS text dumps: the triclinic box, a dump writer, and a header scanner.
 
 The project's trajectories are ``dump custom`` text files with the columns
-``id type radius x y z`` (see :data:`DUMP_COLUMNS`) in a restricted triclinic box
+``id type radius x y z`` (see `DUMP_COLUMNS`) in a restricted triclinic box
 (LAMMPS ``xy xz yz`` tilts; the shear uses ``xz`` and ``yz`` with z the gradient).
 
 Restricted triclinic box (https://docs.lammps.org/Howto_triclinic.html)
@@ -25,7 +25,8 @@ Reading with MDAnalysis (checked in tests/test_fabric*.py)
     by ``id``, stores positions and box as float32 (so lengths carry a relative
     error of ~1e-7), and sets ``ts.time`` = step x dt with dt = 1, i.e. the LAMMPS
     step. It assumes every frame has the same number of lines, which is why
-    :func:`scan_dump` checks the headers of all frames before MDAnalysis opens a file.
+    [`scan_dump`][suspension_fabric.io.dumpio.scan_dump] checks the headers of all frames before MDAnalysis opens a
+    file.
 """
 
 from __future__ import annotations
@@ -217,7 +218,7 @@ def _expect_item(line: str, item: str, path: Path, frame: int) -> None:
 
 
 def scan_dump(path: str | os.PathLike, expected_n_atoms: int | None = None) -> DumpSummary:
-    """See :func:`_scan_dump`; bytes that are not text are a ``ValueError`` naming the file too."""
+    """See `_scan_dump`; bytes that are not text are a ``ValueError`` naming the file too."""
     try:
         return _scan_dump(path, expected_n_atoms)
     except UnicodeDecodeError as err:
@@ -365,7 +366,8 @@ def iter_dump_frames(path: str | os.PathLike) -> Iterator[DumpFrameData]:
 
 
 def _parse_frame(path, frame_index: int, step: int, lines: list[str]) -> DumpFrameData:
-    """One frame's block of :func:`iter_frame_blocks` (see :func:`iter_dump_frames`)."""
+    """One frame's block of [`iter_frame_blocks`][suspension_fabric.io.dumpio.iter_frame_blocks] (see
+    [`iter_dump_frames`][suspension_fabric.io.dumpio.iter_dump_frames])."""
     # a step line without its newline is the end of a file cut inside the step number
     step_known = len(lines) > 1 and lines[1].endswith("\n")
     where = f"{path}: frame {frame_index}" + (f" (step {step})" if step_known else "")

@@ -13,14 +13,14 @@ Protocol
     A name and its segments, the first one from rest (a packing). The paper's family is
     ``startup`` (one segment of ``run.startup_strain`` at angle 0) and, per angle theta of
     ``angles_deg``, ``rotation_theta<theta>`` (the startup, then ``run.rotation_strain`` at theta)
-    (:func:`paper_protocols`).
+    ([`paper_protocols`][suspension_fabric.io.protocols.paper_protocols]).
 
 Run tree
-    Every prefix of a protocol is one simulation run (:func:`run_tree`). Protocols with a common
-    prefix share its runs; each run continues from the checkpoint of its parent, the run of the
+    Every prefix of a protocol is one simulation run ([`run_tree`][suspension_fabric.io.protocols.run_tree]). Protocols
+    with a common prefix share its runs; each run continues from the checkpoint of its parent, the run of the
     prefix one segment shorter. The paper's runs keep their names, ``startup`` and
-    ``rotation_theta<theta>`` (:func:`paper_run_names`); any other run is named by its parent's
-    name and its own segment's label, ``<parent>_<label>``, or by the label alone from a packing:
+    ``rotation_theta<theta>`` ([`paper_run_names`][suspension_fabric.study.dataset.paper_run_names]); any other run is
+    named by its parent's name and its own segment's label, ``<parent>_<label>``, or by the label alone from a packing:
     ``rotation_theta180_theta0for2`` reverses the shear back after a reversal,
     ``startup_theta0turn45for5`` is rotary shear turning at 45 degrees per unit strain after the
     startup. A run's tables hold the
@@ -145,7 +145,7 @@ class RunNode:
 
 def parse_protocols(section: Mapping, key: str = "protocols") -> dict[str, Protocol]:
     """Protocols from a config section {name: [segment, ...]} with segments as mappings of
-    :data:`SEGMENT_KEYS`; errors (:class:`ProtocolError`) name the config key."""
+    `SEGMENT_KEYS`; errors ([`ProtocolError`][suspension_fabric.io.protocols.ProtocolError]) name the config key."""
     if not isinstance(section, Mapping):
         raise ProtocolError(f"config key '{key}': expected a mapping of protocol names to segment lists")
     protocols = {}
@@ -194,7 +194,7 @@ def paper_protocols(angles_deg: Iterable[float], startup_strain: float, rotation
 class PaperRunNames:
     """The names the paper's runs have always had: ``startup`` for the startup of
     ``startup_strain`` at angle 0 from rest, ``rotation_theta<theta>`` for it followed by
-    ``rotation_strain`` at any angle theta (a :func:`run_tree` naming)."""
+    ``rotation_strain`` at any angle theta (a [`run_tree`][suspension_fabric.io.protocols.run_tree] naming)."""
 
     def __init__(self, startup_strain: float, rotation_strain: float):
         self.startup = Segment(startup_strain)
@@ -213,8 +213,8 @@ class PaperRunNames:
 
 def run_tree(protocols: Iterable[Protocol], fixed_names=lambda history: None) -> dict[str, RunNode]:
     """Every run of the protocols once, parents before children, keyed by its name:
-    ``fixed_names(history)`` where it gives one (e.g. :class:`PaperRunNames`), else the parent's
-    name and the segment's label joined by '_' (the label alone from a packing)."""
+    ``fixed_names(history)`` where it gives one (e.g. [`PaperRunNames`][suspension_fabric.io.protocols.PaperRunNames]),
+    else the parent's name and the segment's label joined by '_' (the label alone from a packing)."""
     nodes: dict[str, RunNode] = {}
     by_history: dict[tuple[Segment, ...], str] = {}
     for protocol in protocols:

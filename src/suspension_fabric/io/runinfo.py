@@ -1,24 +1,24 @@
 """What the analysis needs to know of a finished shear run, read from its completion marker.
 
-The runner (:mod:`suspension_fabric.simulation.lammps.runner`) writes ``run_complete.json`` last into
-a finished run directory. Format 2 (:data:`RUN_RECORD_FORMAT`) holds
+The runner ([`suspension_fabric.simulation.lammps.runner`][suspension_fabric.simulation.lammps.runner]) writes
+``run_complete.json`` last into a finished run directory. Format 2 (`RUN_RECORD_FORMAT`) holds
 
 - ``format``: 2;
 - ``variables``: the LAMMPS variables of the run (strings, as passed with ``-var``: ``dt``,
   ``rate``, ``eta_f``, ...);
 - ``flow_segment``: the segment this run sheared, ``index`` (its depth in the flow history, 0
   from a packing), ``strain``, ``flow_angle_deg``, ``turning_deg_per_strain``
-  (:class:`suspension_fabric.io.protocols.Segment`);
+  ([`suspension_fabric.io.protocols.Segment`][suspension_fabric.io.protocols.Segment]);
 - ``flow_history``: every segment from rest up to and including this one;
 - ``results``: its outcome (``first_step``, the step where this segment started, ...).
 
 The strain of a frame at step s is (s - first_step) dt rate; its flow angle is
 flow_angle_deg + turning_deg_per_strain x strain, and the fabric and stress of the frame are
-reported in the frame of that flow (:mod:`suspension_fabric.analysis.frames`).
+reported in the frame of that flow ([`suspension_fabric.analysis.frames`][suspension_fabric.analysis.frames]).
 
 Format 1 (records without ``format``, written by startup.lmp and rotate.lmp) is read through
-:func:`upgrade_record`: a startup (no ``variables.theta_deg``) is segment 0 at angle 0, a rotation
-segment 1 at ``variables.theta_deg`` after a startup whose strain the record does not hold, so its
+[`upgrade_record`][suspension_fabric.io.runinfo.upgrade_record]: a startup (no ``variables.theta_deg``) is segment 0 at
+angle 0, a rotation segment 1 at ``variables.theta_deg`` after a startup whose strain the record does not hold, so its
 history holds the rotation's segment alone.
 """
 
@@ -88,7 +88,8 @@ def upgrade_record(content: dict, where: str) -> dict:
 
 
 def read_run_info(marker: str | os.PathLike) -> RunInfo:
-    """The :class:`RunInfo` of the run whose completion marker (``run_complete.json``) is ``marker``.
+    """The [`RunInfo`][suspension_fabric.io.runinfo.RunInfo] of the run whose completion marker (``run_complete.json``)
+    is ``marker``.
 
     Raises ``FileNotFoundError`` for a missing file and ``ValueError`` naming the file and
     the key for unreadable JSON, a missing or malformed entry or an unknown format.

@@ -5,12 +5,13 @@ A text table with one ``# step strain ...`` header line and one row per ``table_
 pressure tensor pxx pyy pzz pxy pxz pyz and press (the stress is minus these; kinetic part
 relative to the imposed flow), all six components of its kinetic, contact (granular) and
 lubrication parts (``kinetic_pxx`` ... ``lubrication_pyz``), the summed contact torque
-``contact_torque_x/y/z`` (for the symmetric contact stress, :mod:`suspension_fabric.analysis.stress`),
-``stresslet_pxx ... stresslet_pyz`` (minus the pair lubrication stresslets over the volume, beside
-the dipoles; absent from tables written before they were recorded, NaN from the stock stand-in),
-the box volume ``vol``, tilts xz, yz and height lz. The first row is printed at set-up,
-before the first step. Tables written before the parts were recorded in full hold only the
-contact and lubrication pxz, pyz and press; :mod:`suspension_fabric.analysis.stress` refuses them.
+``contact_torque_x/y/z`` (for the symmetric contact stress,
+[`suspension_fabric.analysis.stress`][suspension_fabric.analysis.stress]), ``stresslet_pxx ... stresslet_pyz`` (minus
+the pair lubrication stresslets over the volume, beside the dipoles; absent from tables written before they were
+recorded, NaN from the stock stand-in), the box volume ``vol``, tilts xz, yz and height lz. The first row is printed at
+set-up, before the first step. Tables written before the parts were recorded in full hold only the
+contact and lubrication pxz, pyz and press; [`suspension_fabric.analysis.stress`][suspension_fabric.analysis.stress]
+refuses them.
 """
 
 from __future__ import annotations

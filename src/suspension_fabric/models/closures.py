@@ -10,7 +10,7 @@ $$
 
 All take (..., 3, 3) and return (..., 3, 3, 3, 3). With $\delta_{ij}$ the Kronecker delta:
 
-linear (the paper's, :func:`suspension_fabric.models.gillissen_wilson.hinch_leal_closure`), exact
+linear (the paper's, [`suspension_fabric.models.gillissen_wilson.hinch_leal_closure`][]), exact
 for an isotropic distribution (Hand, J. Fluid Mech. 13, 1962; Hinch and Leal, J. Fluid Mech. 76,
 1976):
 
@@ -93,7 +93,7 @@ hybrid_closure = _scaled(_unit_hybrid)
 def contract_hybrid(tensor, fabric) -> np.ndarray:
     """(T:<nnnn>)_ij = T_kl <n_i n_j n_k n_l> with the hybrid closure, without forming it (the
     models' right-hand sides need only this): Tr<nn> [(1 - f) T:A_linear(a) + f a (T:a)], the
-    linear part by :func:`suspension_fabric.models.gillissen_wilson.contract_closure`."""
+    linear part by [`suspension_fabric.models.gillissen_wilson.contract_closure`][]."""
     a, trace = normalised(fabric)
     f = (1.0 - 27.0 * np.linalg.det(a))[..., None, None]
     t_dot_a = np.einsum("...kl,...kl->...", np.asarray(tensor, dtype=float), a)[..., None, None]

@@ -1,9 +1,10 @@
 r"""Fabric models as plug-ins: any model of $\mathrm{d}\langle nn\rangle/\mathrm{d}\gamma$ runs
 through the same integration, steady state and fits.
 
-A fabric model is a :class:`FabricModel`: a key (its name in tables), a display label, its
-parameters with bounds (:class:`Parameter`), the components of the steady simple-shear fabric
-that the paper-style fit matches (one per parameter), and the right-hand side
+A fabric model is a [`FabricModel`][suspension_fabric.models.fabric_models.FabricModel]: a key (its name in tables), a
+display label, its parameters with bounds ([`Parameter`][suspension_fabric.models.fabric_models.Parameter]), the
+components of the steady simple-shear fabric that the paper-style fit matches (one per parameter), and the right-hand
+side
 
 $$
 \frac{\mathrm{d}\langle nn\rangle}{\mathrm{d}\gamma} =
@@ -11,21 +12,21 @@ $$
 $$
 
 in the paper frame, where ``flow`` is the normalised kinematics of the velocity gradient $L$
-(:class:`Flow`: $\hat{L} = L/\dot\gamma$, $\hat{E} = (\hat{L} + \hat{L}^{\mathsf{T}})/2$, its
-extensional part $\hat{E}_e$ and compressional part $\hat{E}_c$, as in
-:func:`suspension_fabric.models.gillissen_wilson.split_strain_rate`), ``params`` maps parameter
+([`Flow`][suspension_fabric.models.fabric_models.Flow]: $\hat{L} = L/\dot\gamma$,
+$\hat{E} = (\hat{L} + \hat{L}^{\mathsf{T}})/2$, its extensional part $\hat{E}_e$ and compressional part $\hat{E}_c$, as
+in [`suspension_fabric.models.gillissen_wilson.split_strain_rate`][]), ``params`` maps parameter
 names to values and $\phi$ is the volume fraction. A model may also give a closed-form steady
 state in simple shear and its own exact steady fit.
 
-Integration (:func:`integrate`): if the model declares itself ``affine`` (its right-hand side is
-affine in $\langle nn\rangle$ for a fixed flow, as G-W and the modified model are), the 6-vector
+Integration ([`integrate`][suspension_fabric.models.fabric_models.integrate]): if the model declares itself ``affine``
+(its right-hand side is affine in $\langle nn\rangle$ for a fixed flow, as G-W and the modified model are), the 6-vector
 system $\mathrm{d}v/\mathrm{d}\gamma = Mv + b$ is built from the right-hand side itself
 (b = rhs(0), column k of M = rhs(basis_k) - b), checked once on a random fabric, and propagated
 exactly, $v(\gamma) = v_{\mathrm{ss}} + e^{M\gamma}(v_0 - v_{\mathrm{ss}})$; otherwise scipy's
 ``solve_ivp`` integrates it.
 
 G-W (Eq. 1), the modified model (Eq. 2) and the separate-rates refinement are the built-in
-instances (:data:`BUILT_IN`), with rates of breaking in extension $b_e$, of directed formation in
+instances (`BUILT_IN`), with rates of breaking in extension $b_e$, of directed formation in
 compression $b_c$ and of isotropic formation $a$:
 
 $$
@@ -41,11 +42,11 @@ $$
 
 $(b_e, b_c, a) = (\beta, \beta, \beta)$ for G-W, $(\beta, \beta, A)$ for the modified model and
 $(\beta_e, \beta_c, A)$ for separate rates, $\langle nnnn\rangle$ by the paper's closure
-(:func:`suspension_fabric.models.gillissen_wilson.hinch_leal_closure`; :data:`GW_HYBRID` is G-W
-with the hybrid closure of :mod:`suspension_fabric.models.closures`). References: Gillissen and
-Wilson, Phys. Rev. E 98, 033119 (2018); the paper, Acharya and Mari, arXiv:2506.05222, Eqs. 1
+([`suspension_fabric.models.gillissen_wilson.hinch_leal_closure`][]; `GW_HYBRID` is G-W
+with the hybrid closure of [`suspension_fabric.models.closures`][suspension_fabric.models.closures]). References:
+Gillissen and Wilson, Phys. Rev. E 98, 033119 (2018); the paper, Acharya and Mari, arXiv:2506.05222, Eqs. 1
 and 2. A user's model is named in the config as ``module:attribute`` or
-``path/to/file.py:attribute`` (:func:`load_model`).
+``path/to/file.py:attribute`` ([`load_model`][suspension_fabric.models.fabric_models.load_model]).
 """
 
 from __future__ import annotations
@@ -154,7 +155,7 @@ class Flow(NamedTuple):
 
 
 def flow_of(velocity_gradient) -> Flow:
-    """:class:`Flow` of a velocity gradient (only its direction matters)."""
+    """[`Flow`][suspension_fabric.models.fabric_models.Flow] of a velocity gradient (only its direction matters)."""
     grad_hat, e_hat, e_ext, e_comp, _ = split_strain_rate(velocity_gradient)
     return Flow(grad_hat, e_hat, e_ext, e_comp)
 
@@ -204,7 +205,8 @@ class FabricModel:
 
 # --------------------------------------------------------------------------- built-in models
 def _closure_model_rhs(fabric, flow: Flow, rate_break: float, rate_form: float, rate_iso: float, phi: float):
-    """:func:`suspension_fabric.models.gillissen_wilson.closure_model_rhs` on a :class:`Flow`."""
+    """[`suspension_fabric.models.gillissen_wilson.closure_model_rhs`][] on a
+    [`Flow`][suspension_fabric.models.fabric_models.Flow]."""
     return closure_model_rhs(
         np.asarray(fabric, dtype=float), flow.grad_hat, flow.e_ext, flow.e_comp, rate_break, rate_form, rate_iso, phi
     )
@@ -255,11 +257,12 @@ def _separate_rates_fit(targets, phi):
     """Exact steady fit of the separate-rates model to <nn>_11, <nn>_33, <nn>_12.
 
     M depends on beta_e only and b is linear in (beta_c, A), so for fixed beta_e the steady
-    fabric is phi (beta_c x_form + A x_iso) (:func:`.gillissen_wilson.shear_steady_parts`):
-    <nn>_11 and <nn>_12 give (beta_c, A) and <nn>_33 leaves one equation in beta_e, whose roots on a
-    fine grid of [1e-3, 1e4] are refined; roots with a negative rate, an unstable fixed point or
-    a fabric that is not positive semi-definite are dropped; of several, the one whose <nn>_22 is
-    closest to ``targets["22"]`` (when given) is kept; exactly one must remain."""
+    fabric is phi (beta_c x_form + A x_iso)
+    ([`gillissen_wilson.shear_steady_parts`][suspension_fabric.models.gillissen_wilson.shear_steady_parts]): <nn>_11 and
+    <nn>_12 give (beta_c, A) and <nn>_33 leaves one equation in beta_e, whose roots on a fine grid of [1e-3, 1e4] are
+    refined; roots with a negative rate, an unstable fixed point or a fabric that is not positive semi-definite are
+    dropped; of several, the one whose <nn>_22 is closest to ``targets["22"]`` (when given) is kept; exactly one must
+    remain."""
     wanted = np.array([targets["11"], targets["12"], targets["33"]], dtype=float) / phi
 
     def rates(beta_e):
@@ -329,7 +332,8 @@ def _hybrid_rhs(fabric, flow: Flow, params, phi):
 def newton_steady(fabric_model: FabricModel, params, phi, start) -> np.ndarray:
     """The steady fabric of a model in simple shear as the root of its right-hand side nearest
     ``start`` (Powell's hybrid method), accepted only if it attracts (every eigenvalue of the
-    Jacobian, by central differences, has a negative real part); else :class:`ModelError`."""
+    Jacobian, by central differences, has a negative real part); else
+    [`ModelError`][suspension_fabric.models.fabric_models.ModelError]."""
     flow = flow_of(simple_shear_gradient())
 
     def residual(v):
@@ -348,7 +352,8 @@ def newton_steady(fabric_model: FabricModel, params, phi, start) -> np.ndarray:
 
 
 #: G-W with the closure that tested best against the measured fourth moment (the hybrid closure,
-#: :mod:`suspension_fabric.models.closures`); its steady state by Newton's method from G-W's.
+#: [`suspension_fabric.models.closures`][suspension_fabric.models.closures]); its steady state by Newton's method from
+#: G-W's.
 GW_HYBRID = FabricModel(
     key="gw_hybrid",
     label="G-W, hybrid closure",
@@ -366,9 +371,9 @@ BUILT_IN = {m.key: m for m in (GW, MODIFIED, SEPARATE_RATES, GW_HYBRID)}
 # --------------------------------------------------------------------------- loading
 def load_model(spec: str) -> FabricModel:
     """A model from its config entry: a built-in key, ``package.module:attribute``,
-    ``path/to/file.py:attribute`` (the attribute a :class:`FabricModel`) or a model file
-    ``path/to/model.json`` written by the project (a sparse-regression model,
-    :func:`suspension_fabric.models.sparse_fabric.read_model_file`)."""
+    ``path/to/file.py:attribute`` (the attribute a [`FabricModel`][suspension_fabric.models.fabric_models.FabricModel])
+    or a model file ``path/to/model.json`` written by the project (a sparse-regression model,
+    [`suspension_fabric.models.sparse_fabric.read_model_file`][])."""
     if spec.endswith(".json"):
         from .sparse_fabric import read_model_file  # the sparse model is itself a FabricModel
 
@@ -388,7 +393,8 @@ def _rhs_vec(fabric_model: FabricModel, vectors, flow: Flow, params, phi):
 
 def affine_system(fabric_model: FabricModel, flow: Flow, params, phi):
     """(M, b) of dv/dgamma = M v + b for an affine model, from its right-hand side; raises
-    :class:`ModelError` if the model is not affine in <nn> (checked on a random fabric)."""
+    [`ModelError`][suspension_fabric.models.fabric_models.ModelError] if the model is not affine in <nn> (checked on a
+    random fabric)."""
     if not fabric_model.affine:
         raise ModelError(f"model {fabric_model.key} is not declared affine")
     lead = flow.grad_hat.shape[:-2]
@@ -447,7 +453,7 @@ def _solve_ode(fabric_model: FabricModel, rhs, start, strains, rtol, atol) -> np
 
 def steady_state(fabric_model: FabricModel, params, phi) -> np.ndarray:
     """Steady fabric in simple shear L = e1 e2: the model's closed form if it has one, the fixed
-    point -M^-1 b if affine (and attracting), else the fabric after :data:`STEADY_STRAIN` strain
+    point -M^-1 b if affine (and attracting), else the fabric after `STEADY_STRAIN` strain
     from no contacts, if it has stopped changing there."""
     params = fabric_model.check(params)
     if fabric_model.steady is not None:
@@ -500,10 +506,11 @@ def fit_steady(fabric_model: FabricModel, targets: Mapping[str, float], phi) -> 
 def fit_startup_curve(
     fabric_model: FabricModel, strains, observed: Mapping[str, np.ndarray], phi, fabric0, start: Mapping[str, float]
 ) -> dict[str, float]:
-    """Parameters minimising the squared distance of :func:`startup_shear` from ``fabric0`` to an
-    observed startup curve, summed over the strains and the components of ``observed``
-    ({"12": values, ...}, each aligned with ``strains``): bounded least squares within the
-    parameters' bounds from ``start`` (e.g. the steady fit); ``ModelError`` if the solver fails."""
+    """Parameters minimising the squared distance of
+    [`startup_shear`][suspension_fabric.models.fabric_models.startup_shear] from ``fabric0`` to an observed startup
+    curve, summed over the strains and the components of ``observed`` ({"12": values, ...}, each aligned with
+    ``strains``): bounded least squares within the parameters' bounds from ``start`` (e.g. the steady fit);
+    ``ModelError`` if the solver fails."""
     strains = as_strains(strains)
     unknown = set(observed) - set(VECTOR_ORDER)
     if not observed or unknown:
@@ -538,7 +545,7 @@ def shear_rotation(
 ) -> np.ndarray:
     """Startup shear to ``startup_strain``, then the shear turned by ``theta`` (radians, scalar or
     1-D) about e2: <nn> in the rotated frame at the post-rotation ``strains``, shape
-    theta.shape + (len(strains), 3, 3) (as :func:`suspension_fabric.models.gillissen_wilson.shear_rotation`)."""
+    theta.shape + (len(strains), 3, 3) (as [`suspension_fabric.models.gillissen_wilson.shear_rotation`][])."""
     before = startup_shear(fabric_model, [startup_strain], params, phi, fabric0)[0]
     return rotated_shear(fabric_model, before, theta, strains, params, phi)
 
@@ -546,7 +553,8 @@ def shear_rotation(
 def rotated_shear(fabric_model: FabricModel, before, theta, strains, params, phi) -> np.ndarray:
     """The fabric ``before`` (3, 3), the shear then turned by ``theta`` (radians, scalar or 1-D)
     about e2 and continued: <nn> in the rotated frame at ``strains``, shape theta.shape +
-    (len(strains), 3, 3) (the second half of :func:`shear_rotation`)."""
+    (len(strains), 3, 3) (the second half of
+    [`shear_rotation`][suspension_fabric.models.fabric_models.shear_rotation])."""
     rotated = to_basis(np.asarray(before, dtype=float), rotation_about_gradient(np.asarray(theta, dtype=float)))
     return integrate(fabric_model, rotated, simple_shear_gradient(), strains, params, phi)
 
@@ -583,7 +591,7 @@ def integrate_segment(
     K <nn> - <nn> K, K = w dB/dt (B the frame's basis, w the turning rate in radians per strain).
     This holds for any model whose right-hand side is frame indifferent, as every model that is
     rotated with the flow in a shear rotation must be. Exact propagation for an affine model,
-    ``solve_ivp`` otherwise; a fixed direction is :func:`integrate`."""
+    ``solve_ivp`` otherwise; a fixed direction is [`integrate`][suspension_fabric.models.fabric_models.integrate]."""
     if turning_deg_per_strain == 0.0:
         return integrate(fabric_model, fabric0, simple_shear_gradient(), strains, params, phi, rtol, atol)
     params = fabric_model.check(params)

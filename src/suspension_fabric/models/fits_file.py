@@ -1,6 +1,6 @@
 """fits.json: the steady fits of every model of the config, written and read in one format.
 
-Format 2 (:data:`FITS_FORMAT`) holds each model once, under ``models``::
+Format 2 (`FITS_FORMAT`) holds each model once, under ``models``::
 
     {"format": 2, "phi": ..., "steady_window": [a, b], "n_seeds": n, "fit_errors": "...",
      "targets": {"n11": {"mean": ..., "sem": ...}, ..., "Z": {...}},
@@ -13,8 +13,9 @@ Format 2 (:data:`FITS_FORMAT`) holds each model once, under ``models``::
 Format 1 (no ``format`` key) stored G-W and the modified model twice: at the top level
 (``gw``, ``modified``, ``model_steady_state``) and, from the model plug-ins on, again under
 ``models`` without the propagated errors; before the jackknife (no ``fit_errors`` key) its
-``<parameter>_err`` was the propagated error. :func:`upgrade_fits` is the one step from 1 to 2;
-every reader goes through it (:func:`read_fits`, the datasets' recorded fits).
+``<parameter>_err`` was the propagated error. [`upgrade_fits`][suspension_fabric.models.fits_file.upgrade_fits] is the
+one step from 1 to 2; every reader goes through it ([`read_fits`][suspension_fabric.models.fits_file.read_fits], the
+datasets' recorded fits).
 """
 
 from __future__ import annotations
@@ -62,7 +63,7 @@ def _format_1_models(fits: dict) -> dict:
 
 
 def upgrade_fits(fits: dict, source: str = "fits") -> dict:
-    """``fits`` in the current format (:data:`FITS_FORMAT`); a format-1 content is converted (see
+    """``fits`` in the current format (`FITS_FORMAT`); a format-1 content is converted (see
     the module docstring), a format this package does not know is an error naming ``source``."""
     if not isinstance(fits, dict):
         raise ValueError(f"{source}: fits must be a JSON object, got {type(fits).__name__}")

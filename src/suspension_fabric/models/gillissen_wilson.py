@@ -1,8 +1,8 @@
 r"""Gillissen-Wilson (G-W) fabric model and its modification (paper Eqs. 1 and 2).
 
 The fabric $\langle nn\rangle$ (the near-contact second moment per particle,
-:mod:`suspension_fabric.analysis.fabric`) evolves in strain $\gamma$ under a velocity gradient
-$L$ ($L_{ij} = \partial u_i/\partial x_j$) as (paper Eq. 2)
+[`suspension_fabric.analysis.fabric`][suspension_fabric.analysis.fabric]) evolves in strain $\gamma$ under a velocity
+gradient $L$ ($L_{ij} = \partial u_i/\partial x_j$) as (paper Eq. 2)
 
 $$
 \begin{split}
@@ -21,7 +21,7 @@ with the same eigenvectors; $\phi$ is the volume fraction, $\delta$ the identity
 rate of breaking and directed formation and $A$ that of isotropic formation. $A = \beta$ is the
 original G-W model (Eq. 1). Contractions are
 $(T:\langle nnnn\rangle)_{ij} = T_{kl}\langle n_i n_j n_k n_l\rangle$. The fourth moment is the
-paper's (Hinch-Leal) closure, see :func:`hinch_leal_closure`.
+paper's (Hinch-Leal) closure, see [`hinch_leal_closure`][suspension_fabric.models.gillissen_wilson.hinch_leal_closure].
 
 References: J. J. J. Gillissen and H. J. Wilson, "Modeling sphere suspension microstructure and
 stress", Phys. Rev. E 98, 033119 (2018) (the model); P. Acharya and R. Mari, "Modelling the
@@ -30,19 +30,20 @@ whose Eqs. 1 and 2 are written above).
 
 Frames: all tensors here are in the paper frame (e1 flow, e2 gradient, e3
 vorticity) unless stated; simple shear is $L = \dot\gamma\,e_1e_2$. A shear rotation by
-theta turns e1 and e3 about e2 (see :mod:`suspension_fabric.analysis.frames`) and results
-after it are reported in the rotated frame (e1', e2, e3').
+theta turns e1 and e3 about e2 (see [`suspension_fabric.analysis.frames`][suspension_fabric.analysis.frames]) and
+results after it are reported in the rotated frame (e1', e2, e3').
 
 Because the right-hand side is affine in $\langle nn\rangle$ for a fixed flow, a constant-$L$
 interval is integrated exactly: with the 6-vector $v$ of independent components,
 $\mathrm{d}v/\mathrm{d}\gamma = Mv + b$, so
 $v(\gamma) = v_{\mathrm{ss}} + e^{M\gamma}(v_0 - v_{\mathrm{ss}})$ with
-$v_{\mathrm{ss}} = -M^{-1}b$, evaluated as $V e^{\Lambda\gamma} V^{-1}$ (:func:`propagate_affine`).
-:func:`integrate_fabric_ode` integrates the same
-right-hand side numerically (scipy ``solve_ivp``) as an independent reference.
+$v_{\mathrm{ss}} = -M^{-1}b$, evaluated as $V e^{\Lambda\gamma} V^{-1}$
+([`propagate_affine`][suspension_fabric.models.gillissen_wilson.propagate_affine]).
+[`integrate_fabric_ode`][suspension_fabric.models.gillissen_wilson.integrate_fabric_ode] integrates the same right-hand
+side numerically (scipy ``solve_ivp``) as an independent reference.
 
 Symmetric tensors are stored as 6-vectors in the order (11, 22, 33, 12, 13, 23)
-(:data:`suspension_fabric.analysis.frames.VECTOR_ORDER`).
+(`suspension_fabric.analysis.frames.VECTOR_ORDER`).
 """
 
 from __future__ import annotations
@@ -224,7 +225,8 @@ def source_part(e_comp, beta, A, phi):
 def closure_model_rhs(fabric, grad_hat, e_ext, e_comp, rate_break, rate_form, rate_iso, phi) -> np.ndarray:
     """Lh.X + X.Lh^T - 2 Lh:<nnnn> - b_e Eh_e:<nnnn> - b_c (phi/15) 2 Eh_c - a (phi/15) Tr(Eh_c) delta
     with the paper's closure, for breaking, directed-formation and isotropic rates (b_e, b_c, a);
-    paper Eq. 2 is (beta, beta, A). No argument checks (the kinematics of :func:`split_strain_rate`)."""
+    paper Eq. 2 is (beta, beta, A). No argument checks (the kinematics of
+    [`split_strain_rate`][suspension_fabric.models.gillissen_wilson.split_strain_rate])."""
     return _linear_part(fabric, grad_hat, e_ext, rate_break) + source_part(e_comp, rate_form, rate_iso, phi)
 
 
@@ -321,9 +323,10 @@ def integrate_fabric(fabric0, velocity_gradient, strains, beta, A=None, phi=0.45
     """Exact fabric <nn>(gamma) under a constant velocity gradient.
 
     Uses v(gamma) = v_ss + expm(M gamma)(v0 - v_ss) for the affine system of
-    :func:`affine_rhs` (:func:`solve_affine`, which also takes a singular M). ``fabric0``
-    (..., 3, 3) and ``velocity_gradient`` (..., 3, 3) broadcast; ``strains`` is 1-D (strain
-    since the initial fabric). Returns an array of shape ``batch + (len(strains), 3, 3)``.
+    [`affine_rhs`][suspension_fabric.models.gillissen_wilson.affine_rhs]
+    ([`solve_affine`][suspension_fabric.models.gillissen_wilson.solve_affine], which also takes a singular M).
+    ``fabric0`` (..., 3, 3) and ``velocity_gradient`` (..., 3, 3) broadcast; ``strains`` is 1-D (strain since the
+    initial fabric). Returns an array of shape ``batch + (len(strains), 3, 3)``.
     """
     fabric0 = _check_fabric("fabric0", fabric0)
     strains = as_strains(strains)
@@ -332,7 +335,8 @@ def integrate_fabric(fabric0, velocity_gradient, strains, beta, A=None, phi=0.45
 
 
 def integrate_fabric_ode(fabric0, velocity_gradient, strains, beta, A=None, phi=0.45, rtol=1e-10, atol=1e-12):
-    """Reference integration of :func:`fabric_rhs` with scipy ``solve_ivp`` (one fabric).
+    """Reference integration of [`fabric_rhs`][suspension_fabric.models.gillissen_wilson.fabric_rhs] with scipy
+    ``solve_ivp`` (one fabric).
 
     ``velocity_gradient`` may be a constant (3, 3) array or a callable
     ``gamma -> (3, 3)`` for a time-dependent flow. Returns (len(strains), 3, 3).
@@ -369,10 +373,10 @@ def steady_state(beta, A=None, phi=0.45, as_printed=False) -> np.ndarray:
       P12 = -7 (A (-8 + beta) + beta (-4 + 3 beta)) phi / (5 D)
     as <nn>_11, _22, _33, _12, with <nn>_13 = <nn>_23 = 0; A = None means A = beta (G-W).
 
-    The fixed point of the paper's own Eq. 2 (:func:`steady_state_ode`, the
-    reference) agrees exactly with P11 and P12 but has <nn>_22 = P33 and
-    <nn>_33 = P22: the printed 22 and 33 expressions are exchanged. The reason is
-    visible in the equation: the convective term -2 Lh:<nnnn> feeds <nn>_22 by
+    The fixed point of the paper's own Eq. 2
+    ([`steady_state_ode`][suspension_fabric.models.gillissen_wilson.steady_state_ode], the reference) agrees exactly
+    with P11 and P12 but has <nn>_22 = P33 and <nn>_33 = P22: the printed 22 and 33 expressions are exchanged. The
+    reason is visible in the equation: the convective term -2 Lh:<nnnn> feeds <nn>_22 by
     6|<nn>_12|/7 but <nn>_33 only by 2|<nn>_12|/7, so only the corrected labels are
     consistent with Eq. 2 (tests/test_model.py checks both statements). By default
     this function returns the corrected tensor; ``as_printed=True`` returns the
@@ -412,8 +416,9 @@ _SHEAR_M0, _SHEAR_M1, _SHEAR_B1, _SHEAR_B2 = _simple_shear_pieces()
 def shear_steady_parts(rate_break):
     """Steady simple-shear 6-vectors per unit phi of unit directed formation and of unit isotropic
     formation, for the breaking rate ``rate_break`` (may be an array): the fixed point of
-    :func:`closure_model_rhs` is rate_form x_form + rate_iso x_iso, since M depends on the breaking
-    rate only (M = M0 + b_e M1) and the source is linear in the two formation rates."""
+    [`closure_model_rhs`][suspension_fabric.models.gillissen_wilson.closure_model_rhs] is rate_form x_form + rate_iso
+    x_iso, since M depends on the breaking rate only (M = M0 + b_e M1) and the source is linear in the two formation
+    rates."""
     rate = np.asarray(rate_break, dtype=float)
     M = _SHEAR_M0 + rate[..., None, None] * _SHEAR_M1
     sol = np.linalg.solve(M, -np.stack([_SHEAR_B1, _SHEAR_B2], axis=-1))
@@ -557,9 +562,10 @@ def fit_modified(n11, n12, phi) -> ModifiedFit:
 
 
 def fit_startup_curve(strains, observed: dict, phi, fabric0=None, *, free_A: bool, start) -> ModifiedFit:
-    """(beta, A) minimising the squared distance of :func:`startup_shear` from ``fabric0`` to an
-    observed startup curve, summed over the strains and the components of ``observed``
-    ({"12": values, "11": values, ...}, each aligned with ``strains``).
+    """(beta, A) minimising the squared distance of
+    [`startup_shear`][suspension_fabric.models.gillissen_wilson.startup_shear] from ``fabric0`` to an observed startup
+    curve, summed over the strains and the components of ``observed`` ({"12": values, "11": values, ...}, each aligned
+    with ``strains``).
 
     ``free_A=False`` fits G-W (A = beta, one parameter), ``True`` the modified model. ``start``
     is the initial (beta, A) (e.g. the steady-state fit). Bounds: beta in the fits' search range,
@@ -610,8 +616,8 @@ def shear_rotation(theta, strains, beta, A=None, phi=0.45, startup_strain=5.0, f
 
     In the rotated frame the new flow is again simple shear e1' e2, so the rotated
     pre-rotation fabric Q <nn> Q^T (Q rows e1', e2, e3') is integrated under the
-    standard L; :func:`integrate_fabric` with the rotated L gives the same (a test
-    checks this frame indifference).
+    standard L; [`integrate_fabric`][suspension_fabric.models.gillissen_wilson.integrate_fabric] with the rotated L
+    gives the same (a test checks this frame indifference).
     """
     theta = _check_finite("theta", theta)
     if startup_strain < 0 or not np.isfinite(startup_strain):

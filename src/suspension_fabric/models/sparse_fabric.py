@@ -4,7 +4,7 @@ library of frame-indifferent terms.
 The right-hand side is the co-rotational derivative plus a linear combination of isotropic
 tensor functions $\Theta_k$ of the fabric $X = \langle nn\rangle$ and the normalised strain rate's
 extensional and compressional parts $\hat{E}_e$, $\hat{E}_c$
-(:func:`suspension_fabric.models.gillissen_wilson.split_strain_rate`):
+([`suspension_fabric.models.gillissen_wilson.split_strain_rate`][]):
 
 $$
 \frac{\mathrm{d}X}{\mathrm{d}\gamma} = \hat{W}\cdot X - X\cdot\hat{W} + r\sum_k c_k\,\Theta_k(X),
@@ -13,12 +13,12 @@ $$
 $$
 
 with $\hat{L} = L/\dot\gamma$ the normalised velocity gradient, coefficients $c_k$, a rate $r$ and
-the library :data:`LIBRARY` up to second order in $X$ (every term is symmetric and turns with the
+the library `LIBRARY` up to second order in $X$ (every term is symmetric and turns with the
 flow, so (1) is frame indifferent; the co-rotational part is fixed at 1 for the same reason).
 G-W with the paper's closure lies in the span of the terms of order <= 1. The coefficients $c_k$
 come from a regression on simulated fabric curves in weak form
-(:mod:`suspension_fabric.evaluation.model_discovery`; Messenger and Bortz, J. Comput. Phys. 443,
-110525 (2021), with the sequential thresholding of Brunton, Proctor and Kutz, PNAS 113, 3932
+([`suspension_fabric.evaluation.model_discovery`][suspension_fabric.evaluation.model_discovery]; Messenger and Bortz, J.
+Comput. Phys. 443, 110525 (2021), with the sequential thresholding of Brunton, Proctor and Kutz, PNAS 113, 3932
 (2016)); the one parameter of the model, the rate $r$ (1 where it was fitted), is what a new state
 point refits, on the steady $\langle nn\rangle_{12}$ as G-W refits $\beta$.
 """
@@ -48,7 +48,7 @@ __all__ = [
     "read_model_file",
 ]
 
-#: Format of a model file (:func:`write_model_file`).
+#: Format of a model file ([`write_model_file`][suspension_fabric.models.sparse_fabric.write_model_file]).
 MODEL_FILE_FORMAT = 1
 
 
@@ -115,7 +115,7 @@ def library_terms(fabric, flow: Flow, names=None) -> np.ndarray:
 def quadratic_form(function) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(b, M, T) with function(X) = b + M v + T(v, v) on 6-vectors v of X (T symmetric in its last
     two indices), for a function of symmetric tensors that is at most quadratic, as every
-    combination of :data:`LIBRARY` terms is: from its values at 0, +-e_j and e_j + e_k."""
+    combination of `LIBRARY` terms is: from its values at 0, +-e_j and e_j + e_k."""
     basis = np.eye(6)
     pairs = [(j, k) for j in range(6) for k in range(j + 1, 6)]
     points = np.concatenate([np.zeros((1, 6)), basis, -basis, [basis[j] + basis[k] for j, k in pairs]])
@@ -147,11 +147,11 @@ def sparse_model(
     label: str = "sparse regression",
     steady_fabric=None,
 ) -> FabricModel:
-    """The :class:`~suspension_fabric.models.fabric_models.FabricModel` of (1) with the given
-    {term: c_k} (terms of :data:`LIBRARY`); its parameter is the rate r, fitted on the steady
+    """The [`FabricModel`][suspension_fabric.models.fabric_models.FabricModel] of (1) with the given
+    {term: c_k} (terms of `LIBRARY`); its parameter is the rate r, fitted on the steady
     <nn>_12. ``steady_fabric``: the steady fabric the fit held at r = 1, from which the steady
     state at any r is found by Newton's method
-    (:func:`~suspension_fabric.models.fabric_models.newton_steady`; else by integration)."""
+    ([`newton_steady`][suspension_fabric.models.fabric_models.newton_steady]; else by integration)."""
     unknown = set(coefficients) - set(LIBRARY)
     if unknown or not coefficients:
         raise ModelError(f"sparse model terms {sorted(unknown) or '(none)'}: expected terms of LIBRARY {list(LIBRARY)}")
@@ -214,7 +214,8 @@ def write_model_file(
 
 
 def read_model_file(path) -> FabricModel:
-    """The model of a file of :func:`write_model_file`; errors name the file."""
+    """The model of a file of [`write_model_file`][suspension_fabric.models.sparse_fabric.write_model_file]; errors name
+    the file."""
     path = Path(path)
     if not path.is_file():
         raise ModelError(f"model file {path} not found")

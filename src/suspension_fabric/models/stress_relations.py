@@ -10,16 +10,17 @@ $$
 
 with tensor forms $H$ and $C$ (``forms(fabric, q) -> (H, C)``, broadcasting over leading axes),
 linear coefficients $a_H$, $a_C$ and optional shape parameters $q$
-(:class:`suspension_fabric.models.fabric_models.Parameter`). For any $q$, $a_H$ and $a_C$ are
-fixed by the steady state of startup shear as for the paper's relation
-(:mod:`suspension_fabric.evaluation.stress_model`):
+([`suspension_fabric.models.fabric_models.Parameter`][suspension_fabric.models.fabric_models.Parameter]). For any $q$,
+$a_H$ and $a_C$ are fixed by the steady state of startup shear as for the paper's relation
+([`suspension_fabric.evaluation.stress_model`][suspension_fabric.evaluation.stress_model]):
 $a_H = \sigma^{\mathrm{lub}}_{12}/H_{12}(\langle nn\rangle^{\mathrm{ss}})$,
-$a_C = \sigma^{\mathrm{con}}_{12}/C_{12}(\langle nn\rangle^{\mathrm{ss}})$ (:func:`coefficients`).
-The total adds the solvent's 1 and the Einstein $2.5\phi$ on $\sigma_{12}$,
-$\eta_r = 1 + 2.5\phi + \sigma^p_{12}/(\eta_f\dot\gamma)$ (docs/gw_stress_relation.md, section
-2.5). Shape parameters are fitted on transients (:mod:`suspension_fabric.evaluation.stress_benchmark`).
+$a_C = \sigma^{\mathrm{con}}_{12}/C_{12}(\langle nn\rangle^{\mathrm{ss}})$
+([`coefficients`][suspension_fabric.models.stress_relations.coefficients]). The total adds the solvent's 1 and the
+Einstein $2.5\phi$ on $\sigma_{12}$, $\eta_r = 1 + 2.5\phi + \sigma^p_{12}/(\eta_f\dot\gamma)$
+(docs/gw_stress_relation.md, section 2.5). Shape parameters are fitted on transients
+([`suspension_fabric.evaluation.stress_benchmark`][suspension_fabric.evaluation.stress_benchmark]).
 
-Built in (:data:`BUILT_IN`), with $\hat{E}$ and $\hat{E}_c$ the normalised strain rate of simple
+Built in (`BUILT_IN`), with $\hat{E}$ and $\hat{E}_c$ the normalised strain rate of simple
 shear and its compressional part and $\langle nnnn\rangle$ the paper's closure:
 
 - ``gw``: Gillissen and Wilson (Phys. Rev. E 98, 033119 (2018)),
@@ -37,8 +38,9 @@ shear and its compressional part and $\langle nnnn\rangle$ the paper's closure:
     exact expression could not be checked here, so this is not claimed to be theirs. $Z_J$ is
     fitted on the viscosity transients.
 
-A user's relation is a :class:`StressRelation` named in the config (``models.stress``) as
-``package.module:attribute`` or ``path/to/file.py:attribute`` (:func:`load_relation`).
+A user's relation is a [`StressRelation`][suspension_fabric.models.stress_relations.StressRelation] named in the config
+(``models.stress``) as ``package.module:attribute`` or ``path/to/file.py:attribute``
+([`load_relation`][suspension_fabric.models.stress_relations.load_relation]).
 """
 
 from __future__ import annotations
@@ -71,7 +73,8 @@ __all__ = [
     "relation_terms",
 ]
 
-#: What :func:`relation_stress` returns per fabric, in units of eta_f gammadot.
+#: What [`relation_stress`][suspension_fabric.models.stress_relations.relation_stress] returns per fabric, in units of
+#: eta_f gammadot.
 STRESS_QUANTITIES = (
     "eta_r",
     "N1",
@@ -169,7 +172,8 @@ BUILT_IN = {r.key: r for r in (GW_RELATION, GW_JAMMING)}
 
 def load_relation(spec: str) -> StressRelation:
     """A relation from its config entry: a built-in key, ``package.module:attribute`` or
-    ``path/to/file.py:attribute`` (the attribute a :class:`StressRelation`)."""
+    ``path/to/file.py:attribute`` (the attribute a
+    [`StressRelation`][suspension_fabric.models.stress_relations.StressRelation])."""
     return load_plugin(spec, BUILT_IN, StressRelation, RelationError, "stress relation")
 
 
@@ -208,7 +212,7 @@ def coefficients(
 def relation_stress(
     relation: StressRelation, fabric, coefficient: Mapping[str, float], params: Mapping[str, float], phi: float
 ) -> dict[str, np.ndarray]:
-    """:data:`STRESS_QUANTITIES` for fabrics (..., 3, 3), each of shape (...): eta_r (= total_12,
+    """`STRESS_QUANTITIES` for fabrics (..., 3, 3), each of shape (...): eta_r (= total_12,
     with the solvent and Einstein terms), the normal stress differences, the particle pressure
     and the shear components of the total and of both terms."""
     hydro, contact = relation.forms(np.asarray(fabric, dtype=float), relation.check(params))
@@ -216,8 +220,8 @@ def relation_stress(
 
 
 def stress_from_forms(hydro, contact, coefficient: Mapping[str, float], phi: float) -> dict[str, np.ndarray]:
-    """:func:`relation_stress` from the forms (H, C) themselves (..., 3, 3), e.g. the G-W forms
-    <nnnn>:E^ and <nnnn>:E^_c of a measured <nnnn>."""
+    """[`relation_stress`][suspension_fabric.models.stress_relations.relation_stress] from the forms (H, C) themselves
+    (..., 3, 3), e.g. the G-W forms <nnnn>:E^ and <nnnn>:E^_c of a measured <nnnn>."""
     lubrication, contacts = coefficient["a_H"] * hydro, coefficient["a_C"] * contact
     particle = lubrication + contacts
     eta = particle[..., 0, 1] + 1.0 + EINSTEIN_COEFFICIENT * phi

@@ -1,21 +1,21 @@
 """The paper's figures from the study's tables (matplotlib, Agg backend).
 
-Figure 1 (:func:`figure_startup`): fabric components versus strain in startup
-shear; simulation seed means with standard errors (symbols) against (a) G-W and
+Figure 1 ([`figure_startup`][suspension_fabric.reporting.figures.figure_startup]): fabric components versus strain in
+startup shear; simulation seed means with standard errors (symbols) against (a) G-W and
 (b) the modified model (lines), fitted parameters in the legends.
 
-Figure 2 (:func:`figure_rotation`): polar maps, radius = post-rotation strain,
-angle = rotation angle theta, colour = <nn>'_12/<nn>_12^ss and <nn>'_23/<nn>_12^ss,
+Figure 2 ([`figure_rotation`][suspension_fabric.reporting.figures.figure_rotation]): polar maps, radius = post-rotation
+strain, angle = rotation angle theta, colour = <nn>'_12/<nn>_12^ss and <nn>'_23/<nn>_12^ss,
 rows simulation / G-W / modified, one colour scale per component (column). When
 only theta >= 0 was simulated the negative half is filled by the exact symmetry
 of shear rotation (12 even, 23 odd in theta) and the figure says so.
 
-Figure 3 (:func:`figure_stress_startup`): startup shear, (a) the relative viscosity eta_r
-and its contact and lubrication parts, (b) N1 and N2, simulation seed means with standard
+Figure 3 ([`figure_stress_startup`][suspension_fabric.reporting.figures.figure_stress_startup]): startup shear, (a) the
+relative viscosity eta_r and its contact and lubrication parts, (b) N1 and N2, simulation seed means with standard
 errors against the G-W stress relation evaluated on each fabric source.
 
-Figure 4 (:func:`figure_stress_rotation`): after a rotation, polar maps of sigma'_12 and
-sigma'_23 over sigma_12^ss (simulation; the relation on the simulated fabric), and per
+Figure 4 ([`figure_stress_rotation`][suspension_fabric.reporting.figures.figure_stress_rotation]): after a rotation,
+polar maps of sigma'_12 and sigma'_23 over sigma_12^ss (simulation; the relation on the simulated fabric), and per
 angle the minimum of eta_r / eta_r^ss and the strain at which it recovers to within 10%.
 """
 

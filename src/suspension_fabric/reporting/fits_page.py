@@ -1,8 +1,8 @@
 """The report page of fits.json (rule report_tables): every model's fitted parameters with their
 1-sigma errors (jackknife over seeds, and the linear propagation of the targets' standard errors),
 the steady-state targets next to each model's own steady state, and the fit's settings
-(:func:`suspension_fabric.evaluation.model_vs_simulation.fit_steady_state`,
-:mod:`suspension_fabric.models.fits_file`)."""
+([`suspension_fabric.evaluation.model_vs_simulation.fit_steady_state`][],
+[`suspension_fabric.models.fits_file`][suspension_fabric.models.fits_file])."""
 
 from __future__ import annotations
 
@@ -31,7 +31,8 @@ __all__ = [
     "write_fits_page",
 ]
 
-#: Columns of :func:`fit_parameters_table` with the parameter ± its two errors.
+#: Columns of [`fit_parameters_table`][suspension_fabric.reporting.fits_page.fit_parameters_table] with the parameter ±
+#: its two errors.
 JACKKNIFE_COLUMN = "Value ± 1σ (jackknife over seeds)"
 PROPAGATED_COLUMN = "Value ± 1σ (propagated)"
 

@@ -4,8 +4,9 @@ The report of Snakemake 9 shows an HTML result inline (in a frame) but offers a 
 download, so the numbers a reader wants next to the figures are turned into small HTML pages: one
 module per page (``fits_page``, ``steady_state_page``, ``model_errors_page``, ``leaderboard_pages``,
 ``verdicts_page``, ``stress_page``, ``map_page``), each a DataFrame of strings with human-readable
-column names written by :func:`write_html_tables`. Uncertain values are written "value ± error"
-(:func:`format_value_error`) or "value [low, high]" (:func:`format_interval`).
+column names written by [`write_html_tables`][suspension_fabric.reporting.html_tables.write_html_tables]. Uncertain
+values are written "value ± error" ([`format_value_error`][suspension_fabric.reporting.html_tables.format_value_error])
+or "value [low, high]" ([`format_interval`][suspension_fabric.reporting.html_tables.format_interval]).
 """
 
 from __future__ import annotations

@@ -1,6 +1,8 @@
 """The report pages of the leaderboards: fabric models (leaderboard.csv, model_parameters.csv;
-:mod:`suspension_fabric.evaluation.model_benchmark`) and stress relations (stress_leaderboard.csv;
-:mod:`suspension_fabric.evaluation.stress_benchmark`), on held-out rotation angles."""
+[`suspension_fabric.evaluation.model_benchmark`][suspension_fabric.evaluation.model_benchmark]) and stress relations
+(stress_leaderboard.csv;
+[`suspension_fabric.evaluation.stress_benchmark`][suspension_fabric.evaluation.stress_benchmark]), on held-out rotation
+angles."""
 
 from __future__ import annotations
 
@@ -20,7 +22,7 @@ __all__ = [
 
 
 def leaderboard_tables(board: pd.DataFrame, parameters: pd.DataFrame) -> tuple[pd.DataFrame, ...]:
-    """The leaderboard of :func:`suspension_fabric.evaluation.model_benchmark.leaderboard` as three display
+    """The leaderboard of [`suspension_fabric.evaluation.model_benchmark.leaderboard`][] as three display
     tables: held-out mean square errors per component, their paired differences from G-W, and the
     in-sample errors with the fitted parameters, k and AIC; one row per model and fitting mode."""
     keys = list(dict.fromkeys(zip(board["model"], board["mode"])))
@@ -103,7 +105,7 @@ def write_leaderboard_page(
 
 
 def stress_leaderboard_tables(board: pd.DataFrame, parameters: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """The stress-relation leaderboard of :func:`suspension_fabric.evaluation.stress_benchmark.relation_leaderboard`
+    """The stress-relation leaderboard of [`suspension_fabric.evaluation.stress_benchmark.relation_leaderboard`][]
     as two display tables, one row per relation and mode: the held-out error of eta_r after rotation
     with its paired difference from G-W and the fitted values; the in-sample error and bias of every
     scored quantity."""

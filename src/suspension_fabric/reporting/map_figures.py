@@ -139,7 +139,7 @@ MAP_FIGURES = {
 
 
 def save_map_figures(table: pd.DataFrame, level: float, folder) -> list:
-    """Every map figure as <folder>/<name>.pdf and .png."""
+    """Every map figure as ``<folder>/<name>.pdf`` and .png."""
     paths = []
     for name, make in MAP_FIGURES.items():
         paths += save_figure(make(table, level), f"{folder}/{name}")

@@ -1,4 +1,5 @@
-"""The report page of the map over the state point (map.csv, :mod:`suspension_fabric.evaluation.state_map`)."""
+"""The report page of the map over the state point (map.csv,
+[`suspension_fabric.evaluation.state_map`][suspension_fabric.evaluation.state_map])."""
 
 from __future__ import annotations
 

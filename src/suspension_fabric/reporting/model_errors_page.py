@@ -1,5 +1,5 @@
 """The report page of the model-error summary (model_errors_summary.csv,
-:func:`suspension_fabric.evaluation.model_vs_simulation.summarise_errors`)."""
+[`suspension_fabric.evaluation.model_vs_simulation.summarise_errors`][])."""
 
 from __future__ import annotations
 

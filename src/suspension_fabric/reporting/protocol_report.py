@@ -12,7 +12,7 @@ interval lies wholly below zero is marked "better", wholly above "worse", both b
 "identical", else "not decided".
 
 Then, per protocol, the simulations' late state of every segment after the startup (the second
-half of the segment, :func:`suspension_fabric.analysis.protocol_tables.segment_states`): Z, <nn>_12,
+half of the segment, [`suspension_fabric.analysis.protocol_tables.segment_states`][]): Z, <nn>_12,
 <nn>_23 (in the frame of the current flow), eta_r and Pi, each as the seed mean and its paired
 per-seed difference from the startup's steady state with its t-interval. Where a protocol has a
 steady or periodic state, this is it; where the segment is too short to reach one, the table says

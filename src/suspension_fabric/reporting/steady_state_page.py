@@ -1,5 +1,5 @@
 """The report page of the steady state of startup shear (steady_state.csv,
-:func:`suspension_fabric.analysis.tables.steady_state`)."""
+[`suspension_fabric.analysis.tables.steady_state`][suspension_fabric.analysis.tables.steady_state])."""
 
 from __future__ import annotations
 
@@ -37,7 +37,8 @@ def steady_state_table(steady: pd.DataFrame) -> pd.DataFrame:
 
 
 def write_steady_state_page(steady: pd.DataFrame, path: str | os.PathLike) -> Path:
-    """The report page of the steady-state table of :func:`suspension_fabric.analysis.tables.steady_state`."""
+    """The report page of the steady-state table of
+    [`suspension_fabric.analysis.tables.steady_state`][suspension_fabric.analysis.tables.steady_state]."""
     low, high = float(steady["strain_min"].iloc[0]), float(steady["strain_max"].iloc[0])
     return write_html_tables(
         path,

@@ -114,7 +114,7 @@ def write_stress_page(
 ) -> Path:
     """The report page of the stress: its steady state, the fitted G-W stress relation, the
     relation's errors through startup and rotations, and the viscosity after a rotation per angle
-    (:func:`viscosity_transient_table`)."""
+    ([`viscosity_transient_table`][suspension_fabric.reporting.stress_page.viscosity_transient_table])."""
     shown = steady[
         steady["quantity"].isin(["eta_r", "N1", "N2", "Pi", "contact_12", "lubrication_12", "kinetic_12", "total_23"])
     ]

@@ -8,7 +8,7 @@ keys, e.g. a longer startup near jamming). A point's outputs go to ``results/<st
 ``campaign.points`` runs a subset (``--config campaign='{points: [phi0.45_mu0.5]}'``);
 ``campaign.not_run`` names points left out, with the reason the map table gives for each;
 ``campaign.datasets`` takes every point's tables from ``<datasets>/<point>`` (a reference
-dataset each, :mod:`suspension_fabric.study.dataset`) instead of simulating.
+dataset each, [`suspension_fabric.study.dataset`][suspension_fabric.study.dataset]) instead of simulating.
 """
 
 from __future__ import annotations
@@ -91,7 +91,8 @@ def campaign_points(config: dict) -> dict[str, dict]:
 def study_configs(config: dict, sources: ConfigSources | None = None) -> dict[str, dict]:
     """Every study a validated config describes, by study name (its results folder under
     ``results/``): the config itself, or each point of its campaign. With ``sources``
-    (:func:`suspension_fabric.study.config.read_config_sources`) errors name the file too."""
+    ([`suspension_fabric.study.config.read_config_sources`][suspension_fabric.study.config.read_config_sources]) errors
+    name the file too."""
     if config.get("campaign") is None:
         return {config["study"]: config}
     try:

@@ -1,13 +1,14 @@
 """Study configuration: schema validation with defaults, cross-key checks, run names.
 
 The schema is ``config/schema.yaml`` (JSON schema with defaults and descriptions);
-:func:`load_config` validates a YAML file against it (filling defaults) and then
+[`load_config`][suspension_fabric.study.config.load_config] validates a YAML file against it (filling defaults) and then
 checks what a schema cannot express. Errors name the offending key, and the file that set it.
 
-Files are read strictly (:func:`read_config_file`): a YAML syntax error names the file, line and
-column, a key given twice in one mapping is refused (PyYAML, and so Snakemake, keeps the last one
-without a word). The Snakefile reads its ``--configfile`` files and ``--config`` entries again this
-way (:func:`read_config_sources`) before it validates the config Snakemake parsed.
+Files are read strictly ([`read_config_file`][suspension_fabric.study.config.read_config_file]): a YAML syntax error
+names the file, line and column, a key given twice in one mapping is refused (PyYAML, and so Snakemake, keeps the last
+one without a word). The Snakefile reads its ``--configfile`` files and ``--config`` entries again this
+way ([`read_config_sources`][suspension_fabric.study.config.read_config_sources]) before it validates the config
+Snakemake parsed.
 """
 
 from __future__ import annotations
@@ -292,7 +293,8 @@ class ConfigSources(list):
 
 def read_config_sources(files, command_line=None, schema_path: str | os.PathLike = SCHEMA_PATH) -> ConfigSources:
     """The config ``files`` (in Snakemake's order) and ``--config`` entries (``key=value`` texts) of a
-    workflow run, each read strictly (:func:`read_config_file`, :func:`_command_line_config`)."""
+    workflow run, each read strictly ([`read_config_file`][suspension_fabric.study.config.read_config_file],
+    `_command_line_config`)."""
     sources = ConfigSources((_shown(path), read_config_file(path)) for path in files)
     schema = yaml.safe_load(Path(schema_path).read_text())
     overrides = _command_line_config(command_line or [], schema)
@@ -303,7 +305,8 @@ def read_config_sources(files, command_line=None, schema_path: str | os.PathLike
 
 def study_protocols(config: dict) -> dict[str, Protocol]:
     """Every protocol of a validated study: the paper's family (startup, then run.rotation_strain at
-    each of angles_deg; :func:`suspension_fabric.io.protocols.paper_protocols`) and the config's
+    each of angles_deg;
+    [`suspension_fabric.io.protocols.paper_protocols`][suspension_fabric.io.protocols.paper_protocols]) and the config's
     ``protocols``."""
     run = config["run"]
     protocols = paper_protocols(config["angles_deg"], run["startup_strain"], run["rotation_strain"])
@@ -322,7 +325,8 @@ def study_protocols(config: dict) -> dict[str, Protocol]:
 
 def study_run_tree(config: dict) -> dict[str, RunNode]:
     """The runs of a validated study, parents first, keyed by run name (the paper's runs keep
-    their names ``startup`` and ``rotation_theta<angle>``; :func:`suspension_fabric.io.protocols.run_tree`)."""
+    their names ``startup`` and ``rotation_theta<angle>``;
+    [`suspension_fabric.io.protocols.run_tree`][suspension_fabric.io.protocols.run_tree])."""
     run = config["run"]
     try:
         return run_tree(study_protocols(config).values(), PaperRunNames(run["startup_strain"], run["rotation_strain"]))
@@ -407,7 +411,8 @@ def validate_config(
     config: dict, schema_path: str | os.PathLike = SCHEMA_PATH, *, sources: ConfigSources | None = None
 ) -> dict:
     """Validate ``config`` in place against the schema (filling defaults), then cross-check keys;
-    with ``sources`` (:func:`read_config_sources`) an error also names the file that set the key."""
+    with ``sources`` ([`read_config_sources`][suspension_fabric.study.config.read_config_sources]) an error also names
+    the file that set the key."""
     try:
         return _validate(config, schema_path)
     except ConfigError as err:
@@ -607,7 +612,7 @@ def _check_box(particles: dict, eps: float) -> None:
 
 def _check_protocols(config: dict) -> None:
     """Every segment of the config's protocols a whole number of output strides long, so that the
-    next segment starts on the output grid (as :func:`_check_output_grid` for the paper's runs)."""
+    next segment starts on the output grid (as `_check_output_grid` for the paper's runs)."""
     run = config["run"]
     protocols = study_protocols(config)
     for name in config.get("protocols") or {}:
@@ -737,8 +742,8 @@ def _check_output_grid(run: dict) -> None:
 
 
 def load_config(path: str | os.PathLike) -> dict:
-    """Read (strictly, :func:`read_config_file`) and validate a study YAML file; errors name the
-    file and the key."""
+    """Read (strictly, [`read_config_file`][suspension_fabric.study.config.read_config_file]) and validate a study YAML
+    file; errors name the file and the key."""
     config = read_config_file(path)
     return validate_config(config, sources=ConfigSources([(_shown(path), config)]))
 

@@ -3,33 +3,35 @@ and tables can be rebuilt without simulating.
 
 A dataset folder holds, per run of the study's run tree (``seed<k>/startup``,
 ``seed<k>/rotation_theta<a>`` and the runs of its own protocols, ``seed<k>/<run>``;
-:func:`suspension_fabric.study.config.study_run_tree`):
-``fabric.csv`` (the per-frame fabric table, :mod:`suspension_fabric.analysis.tables`), ``stress.csv``
-(the per-frame stress table, :mod:`suspension_fabric.analysis.stress`; absent from datasets exported
-before the stress parts were recorded), ``stress.csv.gz``
-(the run's stress table, :mod:`suspension_fabric.io.stressio`, at 8 significant digits) and
+[`suspension_fabric.study.config.study_run_tree`][suspension_fabric.study.config.study_run_tree]):
+``fabric.csv`` (the per-frame fabric table, [`suspension_fabric.analysis.tables`][suspension_fabric.analysis.tables]),
+``stress.csv`` (the per-frame stress table, [`suspension_fabric.analysis.stress`][suspension_fabric.analysis.stress];
+absent from datasets exported before the stress parts were recorded), ``stress.csv.gz``
+(the run's stress table, [`suspension_fabric.io.stressio`][suspension_fabric.io.stressio], at 8 significant digits) and
 ``run.json`` (the run's completion marker: LAMMPS variables, command, wall time, results), and
 at the top ``dataset.json``: the study's validated config, the software versions, the SHA-256
 of the LAMMPS plugin sources and of every file, the git commit it was made from, and the fits
-of the study it came from (fits.json's content, :mod:`suspension_fabric.models.fits_file`).
-Trajectories are never part of it. The record carries a format version (:data:`DATASET_FORMAT`);
-:func:`read_dataset` upgrades an older record in one step (:func:`upgrade_dataset`).
+of the study it came from (fits.json's content,
+[`suspension_fabric.models.fits_file`][suspension_fabric.models.fits_file]). Trajectories are never part of it. The
+record carries a format version (`DATASET_FORMAT`); [`read_dataset`][suspension_fabric.study.dataset.read_dataset]
+upgrades an older record in one step ([`upgrade_dataset`][suspension_fabric.study.dataset.upgrade_dataset]).
 
 A study whose config names a dataset (``dataset: <folder>``) takes its fabric and stress tables
 from it (rule ``import_run_table``, which checks each file's SHA-256) instead of simulating; its
-config must describe the same simulations (:func:`check_config_matches`).
+config must describe the same simulations
+([`check_config_matches`][suspension_fabric.study.dataset.check_config_matches]).
 
     python -m suspension_fabric.study.dataset export --config config/paper.yaml --to data/reference
 
 Tables that gain columns (the fourth moment of the fabric) are brought into a dataset run by run,
-as the study that remakes them finishes its runs (:func:`refresh_fabric_tables`): a run's new
-fabric table replaces the recorded one only if its <nn>, Z, steps and strains are those recorded,
-so the dataset's fits and verdicts stand; the record keeps the list of refreshes (from the
-shell: ``python -m suspension_fabric.study.dataset refresh --config config/paper.yaml --to
-data/reference``).
+as the study that remakes them finishes its runs
+([`refresh_fabric_tables`][suspension_fabric.study.dataset.refresh_fabric_tables]): a run's new fabric table replaces
+the recorded one only if its <nn>, Z, steps and strains are those recorded, so the dataset's fits and verdicts stand;
+the record keeps the list of refreshes (from the shell: ``python -m suspension_fabric.study.dataset refresh --config
+config/paper.yaml --to data/reference``).
 
-From Python, :func:`load` reads a dataset folder or a finished study's results folder into
-pandas DataFrames with their provenance::
+From Python, [`load`][suspension_fabric.study.dataset.load] reads a dataset folder or a finished study's results folder
+into pandas DataFrames with their provenance::
 
     from suspension_fabric.study.dataset import load
     reference = load("data/reference")
@@ -101,8 +103,9 @@ def paper_run_names(config: dict) -> list[str]:
 
 
 def run_names(config: dict) -> list[str]:
-    """Every run of a study, ``seed<k>/<run>``: the paper's (:func:`paper_run_names`) and those of
-    its own protocols (config key ``protocols``), each run once."""
+    """Every run of a study, ``seed<k>/<run>``: the paper's
+    ([`paper_run_names`][suspension_fabric.study.dataset.paper_run_names]) and those of its own protocols (config key
+    ``protocols``), each run once."""
     names = paper_run_names(config)
     paper = set(names)
     runs = study_run_tree({**config, "protocols": config.get("protocols") or {}})
@@ -153,7 +156,7 @@ def export_dataset(
     rule reads (a study on the dataset uses the per-frame ``stress.csv``): for datasets kept
     only to be compared with (config key ``verdicts.comparisons``).
 
-    Runs without their analysed tables yet (:data:`RUN_TABLES`, made by the rules fabric_table
+    Runs without their analysed tables yet (`RUN_TABLES`, made by the rules fabric_table
     and stress_table) are skipped and listed as missing, so a dataset can be exported while a study
     is still running and completed later, and a run is never exported without its stress table
     (a dataset lacking one run's stress table would drop the stress of every run). A run that
@@ -284,7 +287,7 @@ def read_dataset(folder: Path) -> dict:
     return upgrade_dataset(record, path)
 
 
-#: The format :func:`export_dataset` writes.
+#: The format [`export_dataset`][suspension_fabric.study.dataset.export_dataset] writes.
 DATASET_FORMAT = 2
 #: ``run`` keys added after format-1 datasets were exported, with the value those datasets were
 #: made with (the contact springs taken explicitly by pair granular, the block-Jacobi solve).
@@ -292,10 +295,11 @@ KEYS_BEFORE_RECORDED = {"contact_springs": "explicit", "preconditioner": "jacobi
 
 
 def upgrade_dataset(record: dict, source: str | Path = "dataset record") -> dict:
-    """A dataset record in the current format (:data:`DATASET_FORMAT`). Format 1 (no ``format`` key)
-    lacked the ``run`` keys of :data:`KEYS_BEFORE_RECORDED` where they did not exist yet, and held
-    fits in fits format 1 (:func:`suspension_fabric.models.fits_file.upgrade_fits`); a format this
-    package does not know is an error naming ``source``."""
+    """A dataset record in the current format (`DATASET_FORMAT`). Format 1 (no ``format`` key)
+    lacked the ``run`` keys of `KEYS_BEFORE_RECORDED` where they did not exist yet, and held
+    fits in fits format 1
+    ([`suspension_fabric.models.fits_file.upgrade_fits`][suspension_fabric.models.fits_file.upgrade_fits]); a format
+    this package does not know is an error naming ``source``."""
     version = record.get("format", 1)
     if version == DATASET_FORMAT:
         return record
@@ -329,7 +333,7 @@ def _what_was_simulated(config: dict) -> dict:
 
 
 def check_config_matches(config: dict, record: dict, folder: Path) -> None:
-    """A study built on a dataset must describe its simulations (:func:`_what_was_simulated`;
+    """A study built on a dataset must describe its simulations (`_what_was_simulated`;
     its protocols may be some of the dataset's) and every run it takes must be present (a dataset
     exported while its study ran may lack the runs of protocols this study leaves out). Errors
     name the key."""
@@ -412,16 +416,16 @@ def read_stress_runs(folder: Path, record: dict | None = None) -> tuple[pd.DataF
 
 @dataclasses.dataclass(frozen=True)
 class Loaded:
-    """A study's tables as DataFrames (:func:`load`). ``fabric_startup``, ``fabric_rotation``: the
-    per-frame fabric of every run (:mod:`suspension_fabric.analysis.tables`); ``stress_startup``,
-    ``stress_rotation``: the per-frame stress (:mod:`suspension_fabric.analysis.stress`; None if the runs
-    did not record it); ``steady_fabric``, ``steady_stress``: steady states over the config's
-    ``analysis.steady_window`` (:func:`suspension_fabric.analysis.tables.steady_state`); ``fits``: the
-    fits.json of the study (a dataset's: the one recorded when it was exported); ``verdicts``:
-    tables/verdicts.csv of a results folder (None for a dataset, whose verdicts its study
-    rebuilds); ``config``: a dataset's validated config (None for a results folder, which does
-    not keep it; its steady states are the study's own tables); ``provenance``: where it came
-    from (folder, kind; a dataset's git commit, software versions, plugin-source hash and export
+    """A study's tables as DataFrames ([`load`][suspension_fabric.study.dataset.load]). ``fabric_startup``,
+    ``fabric_rotation``: the per-frame fabric of every run
+    ([`suspension_fabric.analysis.tables`][suspension_fabric.analysis.tables]); ``stress_startup``, ``stress_rotation``:
+    the per-frame stress ([`suspension_fabric.analysis.stress`][suspension_fabric.analysis.stress]; None if the runs did
+    not record it); ``steady_fabric``, ``steady_stress``: steady states over the config's ``analysis.steady_window``
+    ([`suspension_fabric.analysis.tables.steady_state`][suspension_fabric.analysis.tables.steady_state]); ``fits``: the
+    fits.json of the study (a dataset's: the one recorded when it was exported); ``verdicts``: tables/verdicts.csv of a
+    results folder (None for a dataset, whose verdicts its study rebuilds); ``config``: a dataset's validated config
+    (None for a results folder, which does not keep it; its steady states are the study's own tables); ``provenance``:
+    where it came from (folder, kind; a dataset's git commit, software versions, plugin-source hash and export
     time; a study's fits provenance)."""
 
     fabric_startup: pd.DataFrame
@@ -442,8 +446,9 @@ def _steady(runs: pd.DataFrame, window, columns) -> pd.DataFrame:
 
 def load(path: str | Path) -> Loaded:
     """A dataset folder (with ``dataset.json``: every file's SHA-256 checked) or a finished study's
-    results folder (``results/<study>``, with ``tables/`` and ``fits.json``) as :class:`Loaded`.
-    Anything else is an error naming the folder and what was expected."""
+    results folder (``results/<study>``, with ``tables/`` and ``fits.json``) as
+    [`Loaded`][suspension_fabric.study.dataset.Loaded]. Anything else is an error naming the folder and what was
+    expected."""
     folder = Path(path)
     if (folder / DATASET_FILE).is_file():
         record, fabric_startup, fabric_rotation = read_fabric_runs(folder)
