@@ -8,6 +8,22 @@ import pytest
 from slurm_helpers import SLURM_STUDY, find_cluster, start_study_on_slurm
 from workflow_helpers import TEST_CONFIG, copy_workflow, snakemake
 
+# The fault suite: bad input and faults, each test marked with how the case ends
+# (benchmarks/fault_suite.py counts them by outcome for BENCHMARKS.md).
+FAULT_OUTCOMES = {
+    "refused": "refused before any job or computation, naming the file or key and what was expected",
+    "adapted": "the study adapts to the input and says so",
+    "named": "the step that meets the fault fails naming the file and the cause; nothing finished is lost",
+    "survived": "a correct run: nothing finished is lost, nothing stale is kept",
+}
+
+
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        for mark in item.iter_markers("fault"):
+            if len(mark.args) != 1 or mark.args[0] not in FAULT_OUTCOMES:
+                raise pytest.UsageError(f"{item.nodeid}: fault marker needs one outcome of {sorted(FAULT_OUTCOMES)}")
+
 
 @pytest.fixture(scope="session")
 def study(tmp_path_factory):

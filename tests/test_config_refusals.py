@@ -71,6 +71,7 @@ def with_keys(text, **sections):
 
 
 # ----------------------------------------------------------------------------- 1. repeated keys
+@pytest.mark.fault("refused")
 def test_a_section_given_twice_is_refused_naming_file_and_both_lines(tmp_path):
     """The user's case: a second `forces:` section replaced the first, so the study ran with the
     default kn and eta_f; now both lines are named."""
@@ -83,6 +84,7 @@ def test_a_section_given_twice_is_refused_naming_file_and_both_lines(tmp_path):
     assert load_configfile(str(path))["forces"] == {"mu": 0.3}  # what Snakemake alone would have run
 
 
+@pytest.mark.fault("refused")
 def test_a_nested_key_given_twice_is_refused_with_its_path(tmp_path):
     path = study_file(tmp_path, TEST_STUDY.replace("  dt: 1.0e-4", "  dt: 1.0e-4\n  dt: 5.0e-5"))
     message = refused([path])
@@ -97,6 +99,7 @@ def test_the_same_key_in_two_mappings_is_no_repetition(tmp_path):
 
 
 # ----------------------------------------------------------------------------- 2. YAML errors
+@pytest.mark.fault("refused")
 def test_a_yaml_syntax_error_names_file_line_and_column(tmp_path, capsys):
     """Snakemake's own message for this file names neither file nor line, and comes before the
     Snakefile runs for a --configfile (so `python -m suspension_fabric.study.config` is the way
@@ -115,6 +118,7 @@ def test_a_yaml_syntax_error_names_file_line_and_column(tmp_path, capsys):
     assert capsys.readouterr().err.startswith(f"study.yaml, line {line + 1}, column 11: not valid YAML")
 
 
+@pytest.mark.fault("refused")
 def test_a_malformed_command_line_value_names_config_and_column(tmp_path):
     """Snakemake keeps a --config value it cannot parse as text; where the schema wants a mapping
     that text is refused naming --config, the key and the column; for a text key it stays text."""
@@ -125,6 +129,7 @@ def test_a_malformed_command_line_value_names_config_and_column(tmp_path):
     assert config["dataset"] == "{not yaml"  # text, as Snakemake gives it (the dataset check names it)
 
 
+@pytest.mark.fault("refused")
 def test_a_key_repeated_on_the_command_line_is_refused(tmp_path):
     files = [study_file(tmp_path)]
     message = refused(files, "run={dt: 1.0e-4, dt: 5.0e-5}")
@@ -139,11 +144,13 @@ def test_a_key_repeated_on_the_command_line_is_refused(tmp_path):
     "text, message",
     [("# only a comment\n", "holds no config keys"), ("- study: x\n", "top level must be a mapping")],
 )
+@pytest.mark.fault("refused")
 def test_an_empty_or_list_file_is_refused_naming_it(tmp_path, text, message):
     with pytest.raises(ConfigError, match=f"^study.yaml: .*{message}"):
         read_config_file(study_file(tmp_path, text))
 
 
+@pytest.mark.fault("refused")
 def test_a_validation_error_names_the_file_or_the_command_line_that_set_the_key(tmp_path):
     files = [study_file(tmp_path, TEST_STUDY.replace("n: 40", "n: many"))]
     assert refused(files).startswith("study.yaml: config key 'particles.n': 'many' is not of type 'integer'")
@@ -152,6 +159,7 @@ def test_a_validation_error_names_the_file_or_the_command_line_that_set_the_key(
     )
 
 
+@pytest.mark.fault("refused")
 def test_the_workflow_stops_on_a_repeated_section_before_any_job(tmp_path):
     """The one Snakemake run: the Snakefile reads its --configfile again strictly."""
     workdir = copy_workflow(tmp_path)
@@ -168,11 +176,13 @@ def test_the_workflow_stops_on_a_repeated_section_before_any_job(tmp_path):
 
 # ----------------------------------------------------------------------------- 3. paths
 @pytest.mark.parametrize("name", ["..", ".", "a/b", "/tmp/x", ".hidden", "../up"])
+@pytest.mark.fault("refused")
 def test_a_study_name_must_stay_inside_results(tmp_path, name):
     message = refused([study_file(tmp_path, with_keys(TEST_STUDY, study=name))])
     assert message.startswith("study.yaml: config key 'study':") and "folder name inside results/" in message
 
 
+@pytest.mark.fault("refused")
 def test_a_campaign_override_may_not_move_or_rename_a_point(tmp_path):
     """Point names (phi<phi>_mu<mu>) are made from numbers, so they stay inside results/<study>/;
     an override of the point's study, phi or mu was dropped or belied the name."""
@@ -194,6 +204,7 @@ def test_a_campaign_override_may_not_move_or_rename_a_point(tmp_path):
     assert list(campaign_points(config)) == ["phi0.40_mu0.5", "phi0.45_mu0.5"]
 
 
+@pytest.mark.fault("refused")
 def test_a_comparison_label_may_not_replace_the_study_or_a_verdict_choice(tmp_path):
     """The labels are no paths, but they share the verdict-choices and dataset-comparison tables
     with the study's name and its choices: 'primary' replaced the study's own verdicts."""
@@ -207,6 +218,7 @@ def test_a_comparison_label_may_not_replace_the_study_or_a_verdict_choice(tmp_pa
 
 
 # ----------------------------------------------------------------------------- 4. combinations
+@pytest.mark.fault("refused")
 def test_one_seed_is_refused_for_the_full_study_only(tmp_path):
     """The model benchmarks fit over >= 2 seeds (rule benchmark_models failed after every simulation);
     one seed still validates, for single targets (a seed's startup, as tests/test_resume.py runs)."""
@@ -219,6 +231,7 @@ def test_one_seed_is_refused_for_the_full_study_only(tmp_path):
     )
 
 
+@pytest.mark.fault("refused")
 def test_one_angle_is_refused_for_the_full_study_only(tmp_path):
     """The held-out folds are capped at the number of angles and need two (benchmark_models failed late)."""
     message = refused([study_file(tmp_path, with_keys(TEST_STUDY, angles_deg=[0]))], complete=True)
@@ -227,6 +240,7 @@ def test_one_angle_is_refused_for_the_full_study_only(tmp_path):
     )
 
 
+@pytest.mark.fault("adapted")
 def test_more_folds_than_angles_adapt(tmp_path):
     """models.held_out_folds above the number of angles is capped (model_benchmark.angle_folds)."""
     from suspension_fabric.evaluation.model_benchmark import angle_folds
@@ -236,6 +250,7 @@ def test_more_folds_than_angles_adapt(tmp_path):
     assert len(angle_folds(config["angles_deg"], config["models"]["held_out_folds"])) == 2
 
 
+@pytest.mark.fault("refused")
 def test_a_steady_window_without_two_frames_is_refused(tmp_path):
     """Frames every 0.01 at strains (100 k) x 1e-4, as the fabric tables compute them, and 0.29 is
     0.29000000000000004 there: [0.285, 0.29] holds none, [0.275, 0.285] one (aggregate_startup
@@ -251,6 +266,7 @@ def test_a_steady_window_without_two_frames_is_refused(tmp_path):
     workflow_config([study_file(tmp_path, with_keys(TEST_STUDY, analysis={"steady_window": [0.28, 0.3]}))])
 
 
+@pytest.mark.fault("refused")
 def test_a_verdict_window_without_a_frame_is_refused(tmp_path):
     """The claims and benchmarks average over the frames of (0, window]: none gave NaN late."""
     message = refused([study_file(tmp_path, with_keys(TEST_STUDY, verdicts={"window": 0.005}))])
@@ -264,6 +280,7 @@ def test_a_verdict_window_without_a_frame_is_refused(tmp_path):
         ({"analysis": {"eps": 0.6}}, "analysis.eps", "use eps < 0.4"),
     ],
 )
+@pytest.mark.fault("refused")
 def test_a_box_too_small_for_the_near_contact_search_is_refused(tmp_path, sections, key, limit):
     """The fabric table of every run refused a box under twice the near-contact distance, after the
     simulation: 40 particles at phi 0.45 fill a box 4.43 wide, 3.96 across when sheared."""
@@ -271,18 +288,21 @@ def test_a_box_too_small_for_the_near_contact_search_is_refused(tmp_path, sectio
     assert message.startswith(f"study.yaml: config key '{key}'") and limit in message
 
 
+@pytest.mark.fault("refused")
 def test_all_large_spheres_by_volume_are_refused(tmp_path):
     """pack.lmp divides by 1 - fraction_large for split = volume (a LAMMPS error in the pack job)."""
     text = with_keys(TEST_STUDY, particles={"split": "volume", "fraction_large": 1.0})
     assert refused([study_file(tmp_path, text)]).startswith("study.yaml: config key 'particles.fraction_large' (1)")
 
 
+@pytest.mark.fault("refused")
 def test_a_seed_lammps_cannot_read_is_refused(tmp_path):
     """LAMMPS reads the seeds seed and seed + 7919 of pack.lmp as 32-bit integers."""
     message = refused([study_file(tmp_path, with_keys(TEST_STUDY, seeds=[1, 2**31 - 1]))])
     assert message.startswith("study.yaml: config key 'seeds.1': 2147483647 is greater than the maximum of 2147475728")
 
 
+@pytest.mark.fault("refused")
 def test_a_run_longer_than_lammps_runs_in_one_go_is_refused(tmp_path):
     """`run N upto` takes at most 2^31 - 1 steps: startup 5 at dt 1e-9 is 5e9 (grids divide it)."""
     study = {"dt": 1.0e-9, "startup_strain": 5.0, "rotation_strain": 2.0, "dump_strain": 0.02, "table_strain": 0.02}
@@ -291,6 +311,7 @@ def test_a_run_longer_than_lammps_runs_in_one_go_is_refused(tmp_path):
     assert message.startswith("study.yaml: config key 'run.dt': run.startup_strain (5) takes 5e+09 steps")
 
 
+@pytest.mark.fault("refused")
 def test_protocols_the_analysis_cannot_score_are_refused(tmp_path):
     """One segment: the protocol benchmark scored no frame (it scores the segments after the first);
     a first segment ending before the steady window: no steady state to compare with."""
@@ -303,6 +324,7 @@ def test_protocols_the_analysis_cannot_score_are_refused(tmp_path):
     )
 
 
+@pytest.mark.fault("refused")
 def test_a_protocol_whose_run_names_are_too_long_is_refused(tmp_path):
     """A run is named by its flow history; 40 segments make a folder name above 255 characters."""
     segments = [{"strain": 0.3}] + [{"strain": 0.01, "flow_angle_deg": 90 * (k % 2)} for k in range(1, 40)]
@@ -310,6 +332,7 @@ def test_a_protocol_whose_run_names_are_too_long_is_refused(tmp_path):
     assert message.startswith("study.yaml: config key 'protocols.zigzag': its run ") and "use fewer segments" in message
 
 
+@pytest.mark.fault("refused")
 def test_a_comparison_dataset_the_study_cannot_use_is_refused(tmp_path):
     """A dataset shorter after its rotations than verdicts.window failed rule verdicts; one whose
     startups hold < 2 frames of the study's steady window failed rule compare_datasets."""
@@ -324,6 +347,7 @@ def test_a_comparison_dataset_the_study_cannot_use_is_refused(tmp_path):
     check_comparison(config, "early", early, stress=False)  # no compare_datasets without stress tables
 
 
+@pytest.mark.fault("refused")
 def test_a_campaign_volume_fraction_is_bounded_like_the_study_one(tmp_path):
     """campaign.phi allowed up to 0.74 and each point then failed as 'campaign.overrides.<point> or
     the base study'; now the schema names campaign.phi, with particles.phi's bound."""
@@ -340,6 +364,7 @@ def test_a_campaign_volume_fraction_is_bounded_like_the_study_one(tmp_path):
         ({"run": {"dump_strain": 0.5}}, "run.dump_strain"),
     ],
 )
+@pytest.mark.fault("refused")
 def test_cases_refused_before_still_name_file_and_key(tmp_path, sections, key):
     """Refused early already (steady window beyond the startup, verdict window beyond the rotations,
     an unknown compared model, a frame stride beyond a run); now with the file."""

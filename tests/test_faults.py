@@ -21,12 +21,14 @@ from workflow_helpers import RESULTS, SNAKEMAKE, TEST_CONFIG, copy_workflow, job
 pytestmark = pytest.mark.workflow
 
 
+@pytest.mark.fault("refused")
 def test_a_missing_plugin_library_is_named():
     missing = Path("/nonexistent/libsuspension_fabric_lammps.so")
     with pytest.raises(FileNotFoundError, match="LAMMPS plugin library not found: /nonexistent/.*lammps.plugin"):
         ForceModel(plugin=missing).variables()
 
 
+@pytest.mark.fault("refused")
 def test_a_stale_plugin_library_is_refused(tmp_path):
     """A library older than a plugin source (the source was edited after the build) is refused
     with the name of the changed source and how to rebuild; a fresh copy is accepted."""
@@ -42,6 +44,7 @@ def test_a_stale_plugin_library_is_refused(tmp_path):
         ForceModel(plugin=library).variables()
 
 
+@pytest.mark.fault("named")
 def test_a_dump_cut_mid_frame_fails_its_fabric_job_naming_the_file(study, tmp_path):
     """A trajectory cut inside a frame (a full disk, a copy broken off): rerunning its fabric
     job fails with the dump's path, frame and step; every other finished output is kept."""
@@ -65,6 +68,7 @@ def test_a_dump_cut_mid_frame_fails_its_fabric_job_naming_the_file(study, tmp_pa
     assert {p: p.stat().st_mtime_ns for p in finished} == finished
 
 
+@pytest.mark.fault("named")
 def test_a_dump_cut_at_a_frame_boundary_is_caught_against_the_run_record(study, tmp_path):
     """A trajectory that lost its last frames whole parses as a shorter run: the fabric table
     compares its last frame with the step at which the run's record ends the segment (first step +
@@ -80,6 +84,7 @@ def test_a_dump_cut_at_a_frame_boundary_is_caught_against_the_run_record(study, 
     assert str(cut) in str(failure.value) and "step" in str(failure.value)
 
 
+@pytest.mark.fault("named")
 def test_a_blow_up_in_one_job_lets_the_others_finish_with_keep_going(tmp_path):
     """Seed 2's packing given two nearly coincident spheres: its startup blows up (LAMMPS
     error, NaN or an overlap beyond run.max_overlap) and fails with the reason in its log,
@@ -125,6 +130,7 @@ def test_a_blow_up_in_one_job_lets_the_others_finish_with_keep_going(tmp_path):
         ("angles_deg", [30, 30.0000001], "config key 'angles_deg': angles collide after formatting"),
     ],
 )
+@pytest.mark.fault("refused")
 def test_duplicate_seeds_or_angles_stop_before_any_job(tmp_path, key, value, message):
     workdir = copy_workflow(tmp_path)
     config = yaml.safe_load((workdir / "config/test.yaml").read_text())
@@ -135,6 +141,7 @@ def test_duplicate_seeds_or_angles_stop_before_any_job(tmp_path, key, value, mes
     assert not (workdir / "results").exists()
 
 
+@pytest.mark.fault("refused")
 def test_pack_into_an_existing_folder_needs_overwrite(tmp_path):
     """Nothing finished is silently overwritten: a second pack into the same folder refuses."""
     first = pack(tmp_path / "packing", 20, seed=1)
@@ -160,6 +167,7 @@ def assert_failed_rerun_kept_the_study(workdir, result, before, message):
     assert after == {name: digest for name, digest in before.items() if name not in gone}
 
 
+@pytest.mark.fault("named")
 def test_a_file_size_limit_fails_the_rerun_naming_it_and_keeps_every_finished_run(finished_study):
     """The trajectory outgrows the file-size limit (ulimit -f, as a quota does): LAMMPS is killed by
     SIGXFSZ, the segment's log names the signal and its meaning, the finished runs' data stay as they
@@ -208,6 +216,7 @@ def small_disk(finished_study, tmp_path):
         subprocess.run(["umount", "-l", str(mount_point)], check=True)
 
 
+@pytest.mark.fault("named")
 def test_a_full_disk_fails_the_rerun_naming_it_and_keeps_every_finished_run(small_disk):
     """The disk fills during the rerun (ENOSPC, not a limit): the job's log names it and the finished
     runs' data stay. With space freed (the unfinished runs' work folders removed) and the change

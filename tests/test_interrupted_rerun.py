@@ -63,6 +63,7 @@ def started_runs(workdir):
 
 
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGKILL], ids=["ctrl-c", "killed"])
+@pytest.mark.fault("survived")
 def test_an_interrupted_rerun_keeps_every_finished_run_and_table(finished_study, signum):
     finished = finished_study
     before = result_digests(finished)

@@ -265,8 +265,8 @@ def test_install_plugin_builds_only_if_needed_and_copies_atomically(tmp_path, tr
     """install_plugin(target) builds if the library is missing or stale, never otherwise (unless
     forced), and provides it at target: an identical copy with the time of copying (not older
     than the library) and the library's stamp beside it, no temporary file left, copied again only
-    if its stamp differs from the library's, judged stale once a source's contents change. At the library's own path it copies nothing; a deleted
-    library (as Snakemake deletes a rule's output before running it) is rebuilt."""
+    if its stamp differs from the library's, judged stale once a source's contents change. At the
+    library's own path it copies nothing; a deleted library is rebuilt."""
     target = tmp_path / "elsewhere" / "lib.so"
     assert plugin_module.install_plugin(target) == tree.library
     assert len(tree.compiler.commands) == 1

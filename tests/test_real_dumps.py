@@ -460,6 +460,7 @@ def truncated(request, startup, tmp_path_factory):
     return path, where + detail, list(iter_dump_frames(source))[:-1]
 
 
+@pytest.mark.fault("named")
 def test_scan_dump_names_file_frame_and_step_of_a_truncated_frame(truncated):
     """scan_dump on a dump cut inside its last frame: ValueError '<path>: frame 4 (step 1000)
     is truncated: <k> of 60 atom lines complete[, the file ends inside atom line k+1]' (a cut
@@ -469,6 +470,7 @@ def test_scan_dump_names_file_frame_and_step_of_a_truncated_frame(truncated):
         scan_dump(path)
 
 
+@pytest.mark.fault("named")
 def test_fabric_analysis_rejects_a_truncated_dump(truncated):
     """FabricAnalysis.from_dump(...).run() on the cut dump raises scan_dump's ValueError
     (file, frame, step) before MDAnalysis opens the file: MDAnalysis' DumpReader itself
@@ -480,6 +482,7 @@ def test_fabric_analysis_rejects_a_truncated_dump(truncated):
         ).run()
 
 
+@pytest.mark.fault("named")
 def test_iter_dump_frames_yields_the_intact_frames_then_names_the_truncated_one(truncated):
     """iter_dump_frames on the cut dump yields frames 0-3 unchanged (float64 equal to those
     of the intact dump), then raises ValueError naming the file, frame 4 and step 1000

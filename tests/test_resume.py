@@ -138,6 +138,7 @@ def assert_continuous(result, uninterrupted, restart_step: int) -> None:
     assert abs(blocks_a.mean() - blocks_b.mean()) < 4 * error
 
 
+@pytest.mark.fault("survived")
 def test_a_killed_run_resumes_from_its_latest_restart(tmp_path, packing, uninterrupted, capsys):
     """SIGKILL after the second restart (strain 6): the rerun continues from restart.b at
     step 60000 (so only the steps after it are run again) and reaches the same outputs. The
@@ -153,6 +154,7 @@ def test_a_killed_run_resumes_from_its_latest_restart(tmp_path, packing, uninter
     assert not (tmp_path / ".run.partial").exists()
 
 
+@pytest.mark.fault("survived")
 def test_a_corrupt_restart_falls_back_to_the_previous_one(tmp_path, packing, uninterrupted, capsys):
     """The newest restart file truncated to half (a kill while LAMMPS wrote it): the rerun says
     it is unreadable, continues from the previous restart (step 15000) and stays continuous."""
@@ -165,6 +167,7 @@ def test_a_corrupt_restart_falls_back_to_the_previous_one(tmp_path, packing, uni
     assert_continuous(result, uninterrupted, RESTART_STEPS)
 
 
+@pytest.mark.fault("survived")
 def test_no_readable_restart_restarts_from_zero(tmp_path, packing, uninterrupted, capsys):
     """Both restart files corrupt: the rerun says so, discards the partial run and starts from
     strain 0; the result is the uninterrupted run itself (same deterministic run)."""
@@ -179,6 +182,7 @@ def test_no_readable_restart_restarts_from_zero(tmp_path, packing, uninterrupted
         np.testing.assert_array_equal(b[column], a[column], err_msg=column)
 
 
+@pytest.mark.fault("survived")
 def test_changed_settings_discard_the_partial_run(tmp_path, packing, capsys):
     """A partial run started with other settings is not continued: the message names the
     changed setting and the run starts from strain 0."""
@@ -199,6 +203,7 @@ def test_changed_settings_discard_the_partial_run(tmp_path, packing, capsys):
 
 
 @pytest.mark.workflow
+@pytest.mark.fault("survived")
 def test_snakemake_killed_with_its_simulation_resumes_it(tmp_path):
     """The whole Snakemake process group and its lmp SIGKILLed (a walltime or a reboot): the
     next `snakemake` (after --unlock; the workflow profile sets rerun-incomplete) continues the startup from

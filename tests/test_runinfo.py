@@ -58,6 +58,7 @@ def test_format_1_startup_marker_has_angle_zero(tmp_path, theta):
     assert info == RunInfo(dt=2e-7, rate=0.5, first_step=0, segment=Segment(5.0), index=0, history=(Segment(5.0),))
 
 
+@pytest.mark.fault("named")
 def test_format_1_rotation_without_its_angle_is_refused(tmp_path):
     """A rotation record that lost its angle would read as a startup at 0 degrees."""
     marker = write_marker(tmp_path / "m.json", {"dt": "1e-4", "rate": "1.0"}, {"first_step": 0}, script="rotate.lmp")
@@ -65,6 +66,7 @@ def test_format_1_rotation_without_its_angle_is_refused(tmp_path):
         read_run_info(marker)
 
 
+@pytest.mark.fault("named")
 def test_unknown_format_is_refused(tmp_path):
     marker = write_marker(tmp_path / "m.json", {"dt": "1e-4", "rate": "1.0"}, {"first_step": 0}, format=3)
     with pytest.raises(ValueError, match="run record format 3"):
@@ -80,6 +82,7 @@ def test_unknown_format_is_refused(tmp_path):
         ({"dt": "fast", "rate": "1.0"}, {"first_step": 0}, r"variables\.dt = 'fast' is not a float"),
     ],
 )
+@pytest.mark.fault("named")
 def test_bad_markers_name_the_file_and_the_key(tmp_path, variables, results, message):
     marker = write_marker(tmp_path / "run_complete.json", variables, results)
     with pytest.raises(ValueError, match=message) as caught:
@@ -87,6 +90,7 @@ def test_bad_markers_name_the_file_and_the_key(tmp_path, variables, results, mes
     assert str(marker) in str(caught.value)
 
 
+@pytest.mark.fault("named")
 def test_bad_segment_names_the_key(tmp_path):
     marker = write_marker(
         tmp_path / "m.json",
@@ -100,6 +104,7 @@ def test_bad_segment_names_the_key(tmp_path):
         read_run_info(marker)
 
 
+@pytest.mark.fault("named")
 def test_missing_or_unreadable_marker(tmp_path):
     with pytest.raises(FileNotFoundError, match="run completion marker not found"):
         read_run_info(tmp_path / "run_complete.json")
