@@ -134,6 +134,10 @@ def test_the_reference_study_rebuilds_the_fits_without_simulating(tmp_path):
     residual = pd.read_csv(workdir / "results/reference/tables/error_decomposition_per_seed.csv")
     largest = residual.groupby("variant")["steady_residual"].mean()
     assert largest["measured_rates"] < 0.2 * largest["measured"]
+    # the results the docs and the README quote: the fragments the workflow writes, never typed
+    for fragment in ("fits_summary.md", "verdict_choices.md", "headline.md"):
+        made = (workdir / "results/reference/tables" / fragment).read_text()
+        assert made == (REPO / "docs" / "generated" / fragment).read_text(), fragment
     # the sparse model (docs/fabric_models.md): the docs quote the workflow's fragment, the committed
     # model file is the one the reference makes, and the target holds on both shear components
     summary = (workdir / "results/reference/tables/sparse_model.md").read_text()
@@ -145,3 +149,12 @@ def test_the_reference_study_rebuilds_the_fits_without_simulating(tmp_path):
         assert made["coefficients"][name] == pytest.approx(value, rel=1e-7), name  # summation order, BLAS
     target = pd.read_csv(workdir / "results/reference/tables/sparse_model_target.csv").set_index("component")
     assert target.loc["n12", "target_met"] and target.loc["n23", "target_met"]
+
+
+def test_the_readme_quotes_the_generated_headline():
+    """The README's summary of the results is the reference study's headline fragment, verbatim
+    (the reference rebuild above ties the fragment to the data)."""
+    readme = (REPO / "README.md").read_text()
+    begin = "<!-- generated: docs/generated/headline.md (rule summary_fragments of config/reference.yaml) -->\n"
+    block = readme[readme.index(begin) + len(begin) : readme.index("<!-- end generated -->")]
+    assert block == (REPO / "docs" / "generated" / "headline.md").read_text()

@@ -132,3 +132,31 @@ rule compare_datasets:
         f"{RESULTS}/logs/compare_datasets.log",
     script:
         "../scripts/compare_datasets.py"
+
+
+rule summary_fragments:
+    """The results the docs and the README quote, as Markdown: the fits and steady state, the
+    verdicts under each analysis choice, the headline (suspension_fabric.reporting.summary_fragments)."""
+    input:
+        fits=rules.fit_models.output[0],
+        steady=rules.aggregate_startup.output.steady,
+        stress_steady=rules.aggregate_stress_startup.output.steady,
+        verdicts=rules.verdicts.output.verdicts,
+        choices=rules.verdicts.output.choices,
+        stress_board=rules.benchmark_stress_relations.output.leaderboard,
+    output:
+        fits=f"{RESULTS}/tables/fits_summary.md",
+        choices=f"{RESULTS}/tables/verdict_choices.md",
+        headline=f"{RESULTS}/tables/headline.md",
+    params:
+        label=lambda wildcards: (
+            f"{wildcards.study}: N = {STUDIES[wildcards.study]['particles']['n']}, "
+            f"{len(STUDIES[wildcards.study]['seeds'])} seeds"
+        ),
+        code=code_version("../scripts/summary_fragments.py"),
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/summary_fragments.log",
+    script:
+        "../scripts/summary_fragments.py"

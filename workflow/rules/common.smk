@@ -41,9 +41,12 @@ DATASET_STUDIES = [name for name, study in STUDIES.items() if study["dataset"]]
 
 # Every rule's `code` param: a hash of its script and of the package code and data it runs
 # (suspension_fabric.code_version), so that editing that code reruns the rule's jobs and nothing
-# else. Contents only, so a moved or re-cloned checkout reruns nothing; computed once per run.
+# else. Contents only, so a moved or re-cloned checkout reruns nothing; computed once per run and
+# cached in the run's .snakemake folder (in its working directory: the importer's for a module).
 _CODE_VERSIONS = CodeVersions(cache=".snakemake/code_versions.json")
-_RULES_DIR = Path(workflow.basedir) / "workflow" / "rules"
+# This file's folder, the checkout's workflow/rules, to which the `script:` paths are relative
+# (workflow.basedir is the main Snakefile's folder: the importer's when this workflow is a module).
+_RULES_DIR = Path(workflow.snakefile).parent
 # The simulations' post-run overlap check searches neighbours with the fabric analysis: it accepts
 # or refuses a finished run, never changes one, so editing the analysis reruns no simulation.
 SIMULATION_CHECKS = ["suspension_fabric.analysis.fabric", "suspension_fabric.analysis.fabric_reference"]
@@ -144,6 +147,7 @@ def study_targets(study):
             *rules.report_stress.output,
             *rules.error_decomposition.output,
         ]
+        targets += rules.summary_fragments.output
         if STUDIES[study]["verdicts"]["comparisons"]:
             targets += rules.compare_datasets.output
     if STUDIES[study]["protocols"]:

@@ -60,6 +60,7 @@ __all__ = [
     "SIMULATION_RUN_KEYS",
     "study_protocols",
     "study_run_tree",
+    "shipped_paths",
 ]
 
 # velocity Verlet (run.integrator = explicit) must resolve the contact oscillation
@@ -746,6 +747,54 @@ def load_config(path: str | os.PathLike) -> dict:
     file; errors name the file and the key."""
     config = read_config_file(path)
     return validate_config(config, sources=ConfigSources([(_shown(path), config)]))
+
+
+def shipped_paths(config: dict, checkout: str | os.PathLike) -> dict:
+    """Make absolute, in ``config`` (a study or campaign, changed in place and returned; a key of
+    the wrong type is left to the validation), every relative path that names nothing in the
+    working directory but something in ``checkout``: for this workflow imported as another one's
+    module, whose working directory is the importer's, so that a study naming the checkout's
+    datasets or model files (``data/...``) finds them. The paths: ``dataset``, the folders of
+    ``verdicts.comparisons``, the files of ``models.fabric`` and ``models.stress`` (``path.json``,
+    ``path.py:NAME``), ``campaign.datasets`` and the campaign's overrides of them. A path found in
+    the working directory stays as it is."""
+    checkout = Path(checkout)
+
+    def shipped(path):
+        if not isinstance(path, str) or not path or os.path.isabs(path) or os.path.exists(path):
+            return path
+        return str(checkout / path) if (checkout / path).exists() else path
+
+    def model(spec):
+        if not isinstance(spec, str):
+            return spec
+        location, colon, name = spec.rpartition(":")
+        if colon and location.endswith(".py"):
+            return f"{shipped(location)}:{name}"
+        return shipped(spec) if spec.endswith(".json") else spec
+
+    def study(section):
+        if not isinstance(section, dict):
+            return
+        if "dataset" in section:
+            section["dataset"] = shipped(section["dataset"])
+        verdicts = section.get("verdicts")
+        if isinstance(verdicts, dict) and isinstance(verdicts.get("comparisons"), dict):
+            verdicts["comparisons"] = {label: shipped(folder) for label, folder in verdicts["comparisons"].items()}
+        models = section.get("models")
+        for kind in ("fabric", "stress"):
+            if isinstance(models, dict) and isinstance(models.get(kind), list):
+                models[kind] = [model(spec) for spec in models[kind]]
+
+    study(config)
+    campaign = config.get("campaign")
+    if isinstance(campaign, dict):
+        if "datasets" in campaign:
+            campaign["datasets"] = shipped(campaign["datasets"])
+        if isinstance(campaign.get("overrides"), dict):
+            for override in campaign["overrides"].values():
+                study(override)
+    return config
 
 
 def check_complete_study(config: dict, sources: ConfigSources | None = None) -> None:
