@@ -3,13 +3,15 @@ pages, API reference from the docstrings, BENCHMARKS.md included), so docs that 
 
 The site is built once per session (the ``site`` fixture, shared with tests/test_api_docs.py) and
 its HTML checked: the equations, LaTeX in the Markdown and the docstrings, are rendered to MathML
-at build time (docs/hooks/mathml.py) and the site loads nothing from outside itself (no script,
-stylesheet or web font)."""
+at build time (docs/hooks/mathml.py), the site loads nothing from outside itself (no script,
+stylesheet or web font), and every page shows what its Markdown meant: lists as lists, brackets
+as written, every image it names, and links where it names another page."""
 
 import importlib.util
 import re
 import subprocess
 import sys
+from html.parser import HTMLParser
 from pathlib import Path
 
 import pytest
@@ -38,6 +40,7 @@ EQUATION_MODULES = (
 )
 _DISPLAY = re.compile(r"\$\$(.+?)\$\$", re.S)
 _CODE = re.compile(r"<pre\b.*?</pre>|<code\b.*?</code>", re.S)
+_CODE_BLOCK = re.compile(r"<pre\b.*?</pre>", re.S)
 _OUTSIDE = re.compile(r"""<(?:script|link|img|iframe)\b[^>]*\b(?:src|href)=["']?(?:https?:)?//""", re.I)
 #: The built site, shared by the docs tests of one session.
 _BUILT: dict[str, Path] = {}
@@ -139,3 +142,143 @@ def test_display_equations_convert():
         assert "<math" in hook.to_mathml(hook.split_label(latex)[0], display=True)
     sources = {source for source, _ in equations}
     assert set(EQUATION_MODULES) <= sources, set(EQUATION_MODULES) - sources
+
+
+# --- Pages a reader can use: what the Markdown meant is what the page shows ---------------------
+
+#: Every page of the site, by its folder in the built site ("" for the home page).
+PAGES = sorted("" if page.stem == "index" else page.stem for page in DOCS.glob("*.md"))
+#: A list item that did not become one: a paragraph line starting with a list marker.
+_LIST_LINE = re.compile(r"^[ \t]*(?:[-*]|\d+\.)[ \t]+\S", re.M)
+#: A docs page named as a file in a code span, where a link to the page belongs.
+_PAGE_AS_CODE = re.compile(r"<code>(?:docs/)?(\w+)\.md(?:#[^<]*)?</code>")
+#: The elements the pages are made of: HTML, and the SVG of the theme's icons and the MathML of the
+#: equations. Any other name is text the browser swallowed as a tag (`<account>` of a command that
+#: did not render as code).
+_HTML_ELEMENTS = set(
+    "html head body title meta link script style noscript base main header footer nav article aside section "
+    "h1 h2 h3 h4 h5 h6 p div span a em strong b i u s small sub sup code pre kbd samp var mark q cite abbr "
+    "br hr wbr img picture source figure figcaption ul ol li dl dt dd table caption colgroup col thead "
+    "tbody tfoot tr th td blockquote details summary form input label button select option textarea "
+    "template time dfn del ins iframe video audio canvas object embed".split()
+)
+_ELEMENTS = _HTML_ELEMENTS | set(
+    "svg path g circle rect line polyline polygon ellipse defs use symbol desc clippath lineargradient "
+    "math semantics annotation annotation-xml mrow mi mn mo ms mtext mspace mfrac msqrt mroot mstyle merror "
+    "mpadded mphantom menclose msub msup msubsup munder mover munderover mmultiscripts mprescripts none "
+    "mtable mtr mtd mlabeledtr maligngroup malignmark".split()
+)
+#: An HTML tag shown as text (&lt;br&gt;, &lt;/p&gt;, &lt;img src=...): markup escaped by mistake. A
+#: tensor bracket (&lt;nn&gt;), a comparison (&lt; 0, &lt;= 1) or a placeholder (&lt;account&gt;)
+#: is text.
+_ESCAPED_TAG = re.compile(
+    r"&lt;/?(?:" + "|".join(sorted(_HTML_ELEMENTS, key=len, reverse=True)) + r")(?=[\s/>]|&gt;)", re.I
+)
+
+
+class _Reading(HTMLParser):
+    """What a reader gets of a page: the text of each paragraph (a <br> as a line break), the
+    raw text outside code, math, script and style (entities kept as written), every element's
+    name and every image's source."""
+
+    _HIDDEN = ("code", "pre", "math", "script", "style", "kbd", "samp")
+
+    def __init__(self):
+        super().__init__(convert_charrefs=False)
+        self.paragraphs: list[str] = []
+        self.text: list[str] = []
+        self.elements: set[str] = set()
+        self.images: list[str] = []
+        self._paragraph: list[str] | None = None
+        self._hidden = 0
+
+    def handle_starttag(self, tag, attrs):
+        self.elements.add(tag)
+        if tag == "img":
+            self.images.append(dict(attrs).get("src") or "")
+        elif tag == "br" and self._paragraph is not None:
+            self._paragraph.append("\n")
+        elif tag == "p":
+            self._paragraph = []
+        elif tag in self._HIDDEN:
+            self._hidden += 1
+
+    def handle_startendtag(self, tag, attrs):
+        self.handle_starttag(tag, attrs)
+
+    def handle_endtag(self, tag):
+        if tag == "p" and self._paragraph is not None:
+            self.paragraphs.append("".join(self._paragraph))
+            self._paragraph = None
+        elif tag in self._HIDDEN:
+            self._hidden = max(self._hidden - 1, 0)
+
+    def handle_data(self, data):
+        if self._paragraph is not None:
+            self._paragraph.append(data)
+        if not self._hidden:
+            self.text.append(data)
+
+    def handle_entityref(self, name):
+        self.handle_data(f"&{name};")
+
+    def handle_charref(self, name):
+        self.handle_data(f"&#{name};")
+
+
+def _reading(site: Path, name: str) -> _Reading:
+    reading = _Reading()
+    reading.feed(_page(site, name))
+    reading.close()
+    return reading
+
+
+#: Known failures whose fix is in a file these tests' author may not edit; strict, so the marker
+#: goes as soon as the source is fixed. (rule, page): the fix.
+
+
+@pytest.mark.parametrize("name", PAGES)
+def test_lists_render_as_lists(site, name):
+    """No paragraph holds a line that starts with a list marker: a list written without the blank
+    line before it, or indented 2 spaces under an item, runs into the paragraph (Python-Markdown)."""
+    for paragraph in _reading(site, name).paragraphs:
+        assert not _LIST_LINE.search(paragraph), f"{name or 'index'}: a list ran into a paragraph: {paragraph[:300]!r}"
+
+
+@pytest.mark.parametrize("name", PAGES)
+def test_brackets_render_as_written(site, name):
+    """Angle brackets show as written: no text swallowed as an unknown tag (a placeholder <account>
+    outside code), and no escaped bracket of markup shown as text (&lt;div) outside code and math."""
+    reading = _reading(site, name)
+    unknown = reading.elements - _ELEMENTS
+    assert not unknown, f"{name or 'index'}: text swallowed as HTML tags: {sorted(unknown)}"
+    text = "".join(reading.text)
+    escaped = [text[max(m.start() - 40, 0) : m.end() + 40] for m in _ESCAPED_TAG.finditer(text)]
+    escaped += [text[max(m.start() - 40, 0) : m.end() + 40] for m in re.finditer(r"&amp;(?:lt|gt|amp);", text)]
+    assert not escaped, f"{name or 'index'}: markup shown as text: {escaped}"
+
+
+@pytest.mark.parametrize("name", PAGES)
+def test_images_exist(site, name):
+    """Every image a page shows is a file of the built site."""
+    page = site / name / "index.html"
+    for source in _reading(site, name).images:
+        assert not re.match(r"[a-z]+:", source), f"{name or 'index'}: image from outside the site: {source}"
+        assert (page.parent / source.split("#")[0]).resolve().is_file(), f"{name or 'index'}: no image {source}"
+
+
+def test_map_page_shows_its_figures(site):
+    """The map page shows the map figures (docs/figures/map_*.png, copied from the map study's
+    results/map/figures/), not their paths."""
+    from suspension_fabric.reporting.map_figures import MAP_FIGURES
+
+    shown = {Path(source).name for source in _reading(site, "map").images}
+    assert {f"{figure}.png" for figure in MAP_FIGURES} <= shown, shown
+
+
+@pytest.mark.parametrize("name", PAGES)
+def test_pages_are_linked_not_named(site, name):
+    """A docs page is named by a link to it, not as a file in backticks (`docs/campaign.md`)."""
+    pages = {"index" if page == "" else page for page in PAGES}
+    named = [m.group(0) for m in _PAGE_AS_CODE.finditer(_CODE_BLOCK.sub("", _page(site, name))) if m.group(1) in pages]
+    assert not named, f"{name or 'index'}: pages named as files, not linked: {named}"

@@ -29,6 +29,7 @@ from suspension_fabric.simulation.lammps import (
 )
 from suspension_fabric.simulation.lammps.plugin import plugin_path
 from suspension_fabric.simulation.lammps.process import ThermoWatcher
+from suspension_fabric.simulation.lammps.rundir import KEPT_MARKER
 
 pytestmark = pytest.mark.lammps
 
@@ -134,13 +135,14 @@ def test_packing_split_by_volume(tmp_path):
 
 
 def test_startup_writes_outputs_and_strain_is_step_dt_rate(startup):
-    """run_startup(): dump, table, checkpoint, log and completion marker exist (the periodic
-    restart files stay in the partial run and go with it); the table's strain equals step*dt*rate; the xz tilt
+    """run_startup(): dump, table, checkpoint, log and completion marker (and the marker's kept copy,
+    rundir.KEPT_MARKER) exist (the periodic restart files stay in the partial run and go with it);
+    the table's strain equals step*dt*rate; the xz tilt
     grows as strain*lz and yz
     stays 0; dump frames come every dump_strain with id type radius x y z."""
     out = startup.output_dir
     assert sorted(p.name for p in out.iterdir()) == sorted(
-        ["trajectory.dump", "stress.txt", "checkpoint.rst", "log.lammps", COMPLETION_MARKER]
+        ["trajectory.dump", "stress.txt", "checkpoint.rst", "log.lammps", COMPLETION_MARKER, KEPT_MARKER]
     )
     assert not any(p.name.startswith(".") for p in out.parent.iterdir())
     table = read_stress_table(startup.table_file)

@@ -1,7 +1,10 @@
 """The report's tables: formatting of values with errors, the tidy tables built from
 fits.json, the steady-state table and the error summary, and the HTML pages."""
 
+import re
 from html.parser import HTMLParser
+from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pandas as pd
@@ -9,8 +12,9 @@ import pytest
 
 from suspension_fabric.evaluation import model_vs_simulation
 from suspension_fabric.models.fits_file import read_fits, upgrade_fits, write_fits
-from suspension_fabric.reporting import fits_page, html_tables, model_errors_page, steady_state_page
+from suspension_fabric.reporting import fits_page, html_tables, model_errors_page, steady_state_page, verdicts_page
 
+REPO = Path(__file__).resolve().parents[1]
 #: Model labels by key, as fits.json records them
 LABELS = {"gw": "G-W (Eq. 1)", "modified": "modified G-W (Eq. 2)"}
 
@@ -350,3 +354,246 @@ def test_report_pages(tmp_path, fits):
     errors_page = parse(model_errors_page.write_error_summary_page(summary, LABELS, tmp_path / "errors.html"))
     assert errors_page.captions[0].startswith("Angle-averaged rms error")
     assert ["startup shear", "⟨nn⟩₁₂", "0.327", "0.328", "0.996"] == errors_page.cells[-5:]
+
+
+# --- The report reads cleanly at 1400 px: angles one way, no Python reprs, the verdict in view ------
+
+#: A Python list as Python prints it: quoted strings, or three numbers or more ("[0, 15, 30]",
+#: "[0.0, 15.0]" of floats); an interval "value [low, high]" is two numbers and is no list.
+_LIST_REPR = re.compile(r"\[(?:'[^']*'|\"[^\"]*\")|\[-?\d+\.0(?:, |\])|\[-?[\d.]+(?:, -?[\d.]+){2,}\]")
+#: An angle as the report prints it: whole degrees without decimals, others as they are.
+_ANGLE = re.compile(r"-?\d+(?:\.\d*[1-9])?")
+#: A 1400 px window: the report's frame, at the page's 14 px font, less the body's margins (em).
+WINDOW_EM = 1400 / 14 - 3
+
+
+class _Rows(HTMLParser):
+    """Each table of a page as (header, rows, wrapped: per column, whether its cells wrap)."""
+
+    def __init__(self):
+        super().__init__()
+        self.tables, self._cell = [], None
+
+    def handle_starttag(self, tag, attrs):
+        if tag == "table":
+            self.tables.append({"header": [], "rows": [], "wrapped": []})
+        elif tag == "tr" and self.tables:
+            self.tables[-1]["rows"].append([])
+        elif tag in ("td", "th") and self.tables:
+            self._cell = [tag, dict(attrs).get("class") == "text", ""]
+
+    def handle_endtag(self, tag):
+        if tag in ("td", "th") and self._cell is not None:
+            kind, wrapped, text = self._cell
+            table = self.tables[-1]
+            if kind == "th":
+                table["header"].append(text)
+            else:
+                table["rows"][-1].append(text)
+                if len([row for row in table["rows"] if row]) == 1:  # the first row: the columns' classes
+                    table["wrapped"].append(wrapped)
+            self._cell = None
+
+    def handle_data(self, data):
+        if self._cell is not None:
+            self._cell[2] += data
+
+
+def _tables(path):
+    parser = _Rows()
+    parser.feed(path.read_text(encoding="utf-8"))
+    for table in parser.tables:
+        table["rows"] = [row for row in table["rows"] if row]
+    return parser.tables
+
+
+def _narrowest_widths(table) -> list[float]:
+    """Each column's narrowest width in em, as a browser's table layout may shrink it to fit the
+    window: a wrapping column (class text) to its min-width (10em) or its longest word, another to
+    its longest cell (about 0.6 em a character; a heading wraps at its longest word), plus the
+    padding (1.8em). A table whose narrowest widths fit shows every column."""
+    widths = []
+    for k, heading in enumerate(table["header"]):
+        cells = [row[k] for row in table["rows"]]
+        words = [len(word) for text in [*cells, heading] for word in text.split()] + [0]
+        if table["wrapped"][k]:
+            content = max(10.0, 0.6 * max(words))
+        else:
+            content = 0.6 * max([len(cell) for cell in cells] + words)
+        widths.append(content + 1.8)
+    return widths
+
+
+@pytest.mark.parametrize(
+    "degrees, expected",
+    [
+        (0, "0"),
+        (0.0, "0"),
+        (-0.0, "0"),
+        (15.0, "15"),
+        (105.0, "105"),
+        (15, "15"),
+        ("15", "15"),
+        ("105.0", "105"),
+        (22.5, "22.5"),
+        (7.25, "7.25"),
+        (15.000000000000002, "15"),
+        (-45.0, "-45"),
+        (float("nan"), "—"),
+        (None, "—"),
+    ],
+)
+def test_format_angle(degrees, expected):
+    assert html_tables.format_angle(degrees) == expected
+
+
+def test_format_angles_and_lists():
+    assert html_tables.format_angles([0.0, 15.0, 22.5, 105.0]) == "0, 15, 22.5, 105"
+    assert html_tables.format_angles("45.0, 90.0, 135.0") == "45, 90, 135"
+    assert html_tables.format_angles("[0, 15]") == "0, 15"
+    assert html_tables.format_angles(float("nan")) == "" and html_tables.format_angles("") == ""
+    assert html_tables.format_list(["gw", "modified"]) == "gw, modified"
+
+
+def _claims():
+    """The tables of rule verdicts, as verdicts.csv and its companions store them (angles as
+    text, a steady-state claim with no angles and no verdict)."""
+    verdicts = pd.DataFrame(
+        {
+            "claim": ["S1", "C1", "C3'"],
+            "text": [
+                "G-W (Eq. 1) fitted on <nn>_12 (paper beta ~ 10.9)",
+                "G-W (Eq. 1) overestimates the effect of a rotation on <nn>_12 for pi/4 <~ |theta| <~ 3pi/4",
+                "modified G-W (Eq. 2) significantly better than G-W (Eq. 1) on <nn>'_12 over all angles",
+            ],
+            "statistic": ["G-W (Eq. 1) beta", "D12(ref) - 1.25 D12(sim)", "0.8 (MSE12 ref - s2) - (MSE12 chal - s2)"],
+            "angles": [np.nan, "45.0, 90.0, 135.0", "0, 15, 30, 45, 60, 75, 90, 105, 120, 135, 150, 165, 180"],
+            "mean": [10.897882, 0.204412, -0.018],
+            "low": [10.698137, 0.150833, -0.025],
+            "high": [11.097627, 0.25799, -0.010],
+            "level": [np.nan, 0.95, 0.95],
+            "verdict": [np.nan, "confirmed", "undecided"],
+            "seeds_needed": [np.nan, np.nan, 314.0],
+            "criterion": [
+                "fitted value +- 2 jackknife errors over seeds; paper 10.9",
+                "confirmed if the t-interval over seeds lies above 0, refuted if below",
+                "confirmed if the t-interval over seeds lies above 0, refuted if below",
+            ],
+        }
+    )
+    thetas = [0.0, 15.0, 45.0, 105.0, 22.5]
+    per_angle = pd.DataFrame(
+        {
+            "claim": "C1",
+            "theta": thetas,
+            "mean": 0.1,
+            "low": 0.05,
+            "high": 0.15,
+            "verdict": "confirmed",
+            "quantity": "D12",
+            "sim": 0.01,
+            "reference": 0.02,
+            "challenger": 0.03,
+        }
+    )
+    edges = pd.DataFrame(
+        {
+            "claim": ["C1", "C1"],
+            "edges": ["as stated", "low edge out"],
+            "angles": ["45.0, 90.0, 135.0", "0.0, 45.0, 90.0, 135.0"],
+            "mean": [0.2, 0.15],
+            "low": [0.15, 0.09],
+            "high": [0.26, 0.21],
+            "verdict": ["confirmed", "confirmed"],
+        }
+    )
+    choices = pd.DataFrame(
+        {
+            "choice": ["primary", "primary", "window 1", "window 1"],
+            "claim": ["C1", "C3'", "C1", "C3'"],
+            "mean": [0.2, -0.018, 0.19, -0.003],
+            "low": [0.15, -0.025, 0.15, -0.023],
+            "high": [0.26, -0.010, 0.23, 0.017],
+            "verdict": ["confirmed", "refuted", "confirmed", "undecided"],
+            "seeds_needed": [np.nan, np.nan, np.nan, 314.0],
+            "robust": ["confirmed (primary)", "refuted (primary); differs under: window 1"] * 2,
+            "level": 0.95,
+        }
+    )
+    recovery = pd.DataFrame({"theta": thetas})
+    for key in ("sim_steady", "sim_continuation", "sim_n23"):
+        recovery[key], recovery[f"{key}_low"], recovery[f"{key}_high"] = 0.4, 0.1, 0.6
+    for role in ("reference", "challenger"):
+        recovery[f"{role}_steady"], recovery[f"{role}_n23"] = 0.3, 0.2
+    return verdicts, per_angle, edges, choices, recovery
+
+
+def test_verdicts_page_reads_at_1400_px(tmp_path):
+    """The verdict table: the verdict next to the claim and in view in a 1400 px window (the
+    claim's text wraps in its cell), angles printed one way, no Python list or NaN printed."""
+    labels = {"reference": "G-W (Eq. 1)", "challenger": "modified G-W (Eq. 2)"}
+    path = verdicts_page.write_verdicts_page(*_claims(), labels, tmp_path / "verdicts.html")
+    tables = _tables(path)
+    verdicts = tables[0]
+    assert verdicts["header"][:3] == ["", "claim of the paper", "verdict"]
+    assert [row[2] for row in verdicts["rows"]] == ["(parameter)", "confirmed", "undecided"]
+    widths = _narrowest_widths(verdicts)
+    assert sum(widths) < WINDOW_EM, widths  # the whole table fits in the window, the verdict with it
+    assert sum(widths[:3]) < WINDOW_EM / 3, widths  # the verdict in its left third
+    assert verdicts["wrapped"][1] and not verdicts["wrapped"][2]  # the claim wraps, the verdict does not
+    angles = verdicts["header"].index("angles (deg)")
+    assert [row[angles] for row in verdicts["rows"]][:2] == ["", "45, 90, 135"]
+    for table in tables:
+        for heading in ("θ (deg)", "angles"):
+            if heading in table["header"]:
+                column = table["header"].index(heading)
+                for row in table["rows"]:
+                    assert all(_ANGLE.fullmatch(a) for a in row[column].split(", ")), row[column]
+        for row in table["rows"]:
+            for cell in row:
+                assert not _LIST_REPR.search(cell) and cell not in ("nan", "None"), cell
+    choices = tables[1]
+    assert choices["header"][:2] == ["claim", "robust"] and choices["rows"][1][1].startswith("refuted (primary)")
+    assert sum(_narrowest_widths(choices)) < WINDOW_EM
+    per_angle = tables[2]
+    assert [row[1] for row in per_angle["rows"]] == ["0", "15", "45", "105", "22.5"]
+    assert [row[0] for row in tables[4]["rows"]] == ["0", "15", "45", "105", "22.5"]  # recovery
+
+
+def test_wide_tables_scroll_in_their_own_box(tmp_path):
+    """Every table of a report page sits in a box that scrolls sideways; long text wraps in its
+    cell, numbers stay on one line."""
+    frame = pd.DataFrame({"claim": ["a claim of the paper, long enough to be wrapped in its cell"], "T": ["0.20"]})
+    path = html_tables.write_html_tables(tmp_path / "t.html", "Title", [("Caption", frame)])
+    text = path.read_text(encoding="utf-8")
+    assert '<div class="table"><table>' in text and "div.table { max-width: 100%; overflow-x: auto;" in text
+    assert '<td class="text">a claim' in text and "<td>0.20</td>" in text
+    assert "td.text { white-space: normal;" in text
+
+
+def _report_config(name: str) -> dict:
+    from suspension_fabric.study.config import read_config_file, validate_config
+
+    return validate_config(read_config_file(REPO / "config" / name))
+
+
+@pytest.mark.parametrize("config_name", ["test.yaml", "paper.yaml"])
+def test_report_captions_print_no_python_reprs(config_name):
+    """The report's captions (the front page workflow/report/workflow.rst and every figure's and
+    table's) print the config's lists as prose and its angles one way: "0, 15, 30", not
+    "[0, 15, 30]" or "[0.0, 15.0]"."""
+    jinja2 = pytest.importorskip("jinja2")
+    config = _report_config(config_name)
+    env = jinja2.Environment(trim_blocks=True, lstrip_blocks=True)  # as Snakemake's report renders them
+    angles = ", ".join(f"{a:g}" for a in config["angles_deg"])
+    captions = sorted((REPO / "workflow" / "report").glob("*.rst"))
+    assert len(captions) > 10
+    for caption in captions:
+        text = env.from_string(caption.read_text()).render(snakemake=SimpleNamespace(config=config))
+        assert not _LIST_REPR.search(text), f"{caption.name}: {_LIST_REPR.search(text).group(0)}"
+        assert "{{" not in text and "{%" not in text
+        if "angles_deg" in caption.read_text():
+            assert angles in text, caption.name
+    front = env.from_string((REPO / "workflow" / "report" / "workflow.rst").read_text())
+    text = front.render(snakemake=SimpleNamespace(config=config))
+    assert ", ".join(config["models"]["fabric"]) in text and ", ".join(config["models"]["stress"]) in text

@@ -229,7 +229,6 @@ def test_snakemake_killed_with_its_simulation_resumes_it(tmp_path):
             "--configfile",
             "config/resume.yaml",
             "--",
-            "build/plugin/libsuspension_fabric_lammps.so",
             "results/resume/seed1/packing/packing.data",
         ).returncode
         == 0

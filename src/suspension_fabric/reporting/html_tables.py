@@ -6,7 +6,11 @@ module per page (``fits_page``, ``steady_state_page``, ``model_errors_page``, ``
 ``verdicts_page``, ``stress_page``, ``map_page``), each a DataFrame of strings with human-readable
 column names written by [`write_html_tables`][suspension_fabric.reporting.html_tables.write_html_tables]. Uncertain
 values are written "value ± error" ([`format_value_error`][suspension_fabric.reporting.html_tables.format_value_error])
-or "value [low, high]" ([`format_interval`][suspension_fabric.reporting.html_tables.format_interval]).
+or "value [low, high]" ([`format_interval`][suspension_fabric.reporting.html_tables.format_interval]),
+angles one way ([`format_angle`][suspension_fabric.reporting.html_tables.format_angle]: "0", "15", "22.5") and
+lists as prose ([`format_list`][suspension_fabric.reporting.html_tables.format_list]: "0, 15, 30"), never as
+Python writes them ("[0.0, 15.0]"). A page stays readable in a 1400 px window: long text wraps in
+its cell, numbers do not, and a table still too wide scrolls sideways in its own box.
 """
 
 from __future__ import annotations
@@ -27,6 +31,9 @@ __all__ = [
     "format_number",
     "format_value_error",
     "format_interval",
+    "format_angle",
+    "format_angles",
+    "format_list",
     "component_label",
     "components_label",
     "parameter_label",
@@ -107,6 +114,30 @@ def format_interval(value, low, high, digits: int = 2) -> str:
     return f"{shown[0]} [{shown[1]}, {shown[2]}]"
 
 
+def format_angle(degrees) -> str:
+    """An angle in degrees as written: a whole number of degrees without decimals ("0", "15",
+    "105"), any other to the precision it has ("22.5", "7.25"); the same for 15, 15.0 and "15"."""
+    if is_missing(degrees) or (isinstance(degrees, str) and not degrees.strip()):
+        return MISSING
+    degrees = round(float(degrees), 6) + 0.0  # no "-0", no float noise (15.000000000000002)
+    return f"{degrees:.0f}" if degrees.is_integer() else f"{degrees:g}"
+
+
+def format_list(values, format_item=str) -> str:
+    """A list as prose, its items joined by ", " ("0, 15, 30"), each written by ``format_item``;
+    a string (already a list as text, as the tables store "45, 90, 135") is split on commas first."""
+    if isinstance(values, str):
+        values = [item.strip() for item in values.strip().strip("[]()").split(",") if item.strip()]
+    elif is_missing(values):
+        return ""
+    return ", ".join(format_item(value) for value in values)
+
+
+def format_angles(values) -> str:
+    """Angles as prose, each by `format_angle`: [0.0, 15.0, 22.5] or "0.0, 15.0, 22.5" -> "0, 15, 22.5"."""
+    return format_list(values, format_angle)
+
+
 #: Model parameters as shown (any other name as it is).
 _PARAMETER_LABELS = {"beta": "β", "beta_e": "β_e", "beta_c": "β_c", "A_over_beta": "A/β"}
 
@@ -126,23 +157,42 @@ body { font-family: system-ui, -apple-system, "Segoe UI", Roboto, Helvetica, Ari
 h1 { font-size: 1.25em; margin: 0 0 0.8em 0; }
 table { border-collapse: collapse; margin: 0 0 1.8em 0; }
 caption { caption-side: top; text-align: left; font-weight: 600; padding-bottom: 0.5em; max-width: 60em; }
-th, td { padding: 0.3em 0.9em; text-align: left; border-bottom: 1px solid #d0d7de; white-space: nowrap; }
-thead th { border-bottom: 2px solid #57606a; }
+div.table { max-width: 100%; overflow-x: auto; margin: 0 0 1.8em 0; }
+div.table table { margin: 0; }
+th, td { padding: 0.3em 0.9em; text-align: left; vertical-align: top; border-bottom: 1px solid #d0d7de;
+         white-space: nowrap; }
+thead th { border-bottom: 2px solid #57606a; vertical-align: bottom; white-space: normal; min-width: 4em; }
+td.text { white-space: normal; min-width: 10em; max-width: 26em; }
 td { font-variant-numeric: tabular-nums; }
 tbody tr:nth-child(even) { background: #f6f8fa; }
 p.note { color: #57606a; max-width: 60em; margin: -1.2em 0 1.8em 0; }
 """
 
 
+#: A column whose longest cell is longer than this (and has spaces) is text: it wraps in its cell.
+TEXT_CELL = 30
+
+
+def text_columns(frame: pd.DataFrame) -> list[bool]:
+    """For each column: is it text that wraps (a cell longer than TEXT_CELL characters, with
+    spaces), rather than numbers and short values kept on one line?"""
+    return [any(len(str(v)) > TEXT_CELL and " " in str(v) for v in frame.iloc[:, k]) for k in range(frame.shape[1])]
+
+
+def _cell_text(value) -> str:
+    return "" if is_missing(value) else str(value)
+
+
 def _table_html(frame: pd.DataFrame, caption: str, note: str | None) -> str:
     head = "".join(f'<th scope="col">{html.escape(str(c))}</th>' for c in frame.columns)
+    classes = ['<td class="text">' if text else "<td>" for text in text_columns(frame)]
     body = "\n".join(
-        "<tr>" + "".join(f"<td>{html.escape(str(v))}</td>" for v in row) + "</tr>"
+        "<tr>" + "".join(f"{td}{html.escape(_cell_text(v))}</td>" for td, v in zip(classes, row)) + "</tr>"
         for row in frame.itertuples(index=False, name=None)
     )
     text = (
-        f"<table>\n<caption>{html.escape(caption)}</caption>\n<thead><tr>{head}</tr></thead>\n"
-        f"<tbody>\n{body}\n</tbody>\n</table>\n"
+        f'<div class="table"><table>\n<caption>{html.escape(caption)}</caption>\n<thead><tr>{head}</tr></thead>\n'
+        f"<tbody>\n{body}\n</tbody>\n</table></div>\n"
     )
     if note:
         text += f'<p class="note">{html.escape(note)}</p>\n'

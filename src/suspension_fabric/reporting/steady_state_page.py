@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from .html_tables import component_label, format_number, format_value_error, write_html_tables
+from .html_tables import component_label, format_angle, format_number, format_value_error, write_html_tables
 
 __all__ = ["steady_state_table", "write_steady_state_page"]
 
@@ -22,7 +22,7 @@ def steady_state_table(steady: pd.DataFrame) -> pd.DataFrame:
     """
     frame = pd.DataFrame(
         {
-            "Angle θ (deg)": [f"{t:g}" for t in steady["theta"]],
+            "Angle θ (deg)": [format_angle(t) for t in steady["theta"]],
             "Quantity": [component_label(q) for q in steady["quantity"]],
             "Mean ± s.e.": [format_value_error(m, s) for m, s in zip(steady["mean"], steady["sem"])],
             "s.e. between seeds": [format_number(s, 2) for s in steady["sem_between_seeds"]],

@@ -9,7 +9,14 @@ from pathlib import Path
 
 import pandas as pd
 
-from .html_tables import PROTOCOL_LABELS, format_interval, format_number, format_value_error, write_html_tables
+from .html_tables import (
+    PROTOCOL_LABELS,
+    format_angle,
+    format_interval,
+    format_number,
+    format_value_error,
+    write_html_tables,
+)
 
 __all__ = ["stress_relation_table", "stress_error_table", "viscosity_transient_table", "write_stress_page"]
 
@@ -65,7 +72,7 @@ def viscosity_transient_table(transients: pd.DataFrame) -> tuple[pd.DataFrame, s
     percent = f"{100 * level:g}%"
     table = pd.DataFrame(
         {
-            "θ (deg)": [f"{t:g}" for t in transients["theta"]],
+            "θ (deg)": [format_angle(t) for t in transients["theta"]],
             f"deficit ∫₀^{window:g} (1 − ηᵣ/ηᵣˢˢ) dγ [{percent} t-interval]": [
                 format_interval(v, lo, hi)
                 for v, lo, hi in zip(transients["deficit"], transients["deficit_low"], transients["deficit_high"])

@@ -10,7 +10,15 @@ from pathlib import Path
 
 import pandas as pd
 
-from .html_tables import MISSING, format_interval, format_number, is_missing, write_html_tables
+from .html_tables import (
+    MISSING,
+    format_angle,
+    format_angles,
+    format_interval,
+    format_number,
+    is_missing,
+    write_html_tables,
+)
 
 __all__ = ["verdicts_display_table", "choices_display_table", "per_angle_display_table", "write_verdicts_page"]
 
@@ -28,28 +36,31 @@ def _cell(mean, low, high, verdict, seeds) -> str:
 
 
 def verdicts_display_table(verdicts: pd.DataFrame) -> pd.DataFrame:
-    """The paper's claims, each with its decision statistic, interval and verdict."""
+    """The paper's claims, each with its verdict next to it, then its interval, the seeds that
+    would decide it, its angles, decision statistic and criterion (the long texts wrap in their
+    cells, so the verdict stays in view in a 1400 px window)."""
+    verdict = ["(parameter)" if is_missing(v) or v == "" else str(v) for v in verdicts["verdict"]]
     return pd.DataFrame(
         {
             "": verdicts["claim"],
             "claim of the paper": verdicts["text"],
-            "decision statistic T (> 0: as the paper says)": verdicts["statistic"],
-            "angles (deg)": verdicts["angles"],
+            "verdict": verdict,
             "T [interval]": [
                 format_interval(m, lo, hi) for m, lo, hi in zip(verdicts["mean"], verdicts["low"], verdicts["high"])
             ],
-            "verdict": verdicts["verdict"].replace("", "(parameter)"),
             "seeds that would decide": [
-                _seeds_text(n) if v == "undecided" else ""
-                for n, v in zip(verdicts["seeds_needed"], verdicts["verdict"])
+                _seeds_text(n) if v == "undecided" else "" for n, v in zip(verdicts["seeds_needed"], verdict)
             ],
+            "angles (deg)": [format_angles(a) for a in verdicts["angles"]],
+            "decision statistic T (> 0: as the paper says)": verdicts["statistic"],
             "criterion": verdicts["criterion"],
         }
     )
 
 
 def choices_display_table(choices: pd.DataFrame) -> pd.DataFrame:
-    """Claims by rows, choices (and comparison datasets) by columns: T [interval] and verdict."""
+    """Claims by rows, with the summary (``robust``: the verdict and the choices it differs under)
+    next to the claim, then choices (and comparison datasets) by columns: T [interval] and verdict."""
     cells = choices.assign(
         cell=[
             _cell(*row)
@@ -61,7 +72,8 @@ def choices_display_table(choices: pd.DataFrame) -> pd.DataFrame:
     wide = cells.pivot(index="claim", columns="choice", values="cell")
     wide = wide.loc[list(dict.fromkeys(choices["claim"])), list(dict.fromkeys(choices["choice"]))]
     robust = choices.drop_duplicates("claim").set_index("claim")["robust"]
-    return wide.assign(robust=robust).reset_index()
+    wide.insert(0, "robust", robust)  # the summary next to the claim, in view however many choices follow
+    return wide.reset_index()
 
 
 def per_angle_display_table(per_angle: pd.DataFrame, labels: dict[str, str]) -> pd.DataFrame:
@@ -70,7 +82,7 @@ def per_angle_display_table(per_angle: pd.DataFrame, labels: dict[str, str]) -> 
     return pd.DataFrame(
         {
             "claim": per_angle["claim"],
-            "θ (deg)": [format_number(t) for t in per_angle["theta"]],
+            "θ (deg)": [format_angle(t) for t in per_angle["theta"]],
             "T [interval]": [
                 format_interval(m, lo, hi) for m, lo, hi in zip(per_angle["mean"], per_angle["low"], per_angle["high"])
             ],
@@ -100,7 +112,7 @@ def write_verdicts_page(
     level = float(choices["level"].iloc[0])
     recovery_text = pd.DataFrame(
         {
-            "θ (deg)": [format_number(t) for t in recovery["theta"]],
+            "θ (deg)": [format_angle(t) for t in recovery["theta"]],
             **{
                 label: [
                     format_interval(v, lo, hi)
@@ -126,11 +138,12 @@ def write_verdicts_page(
         }
     )
     edge_text = edges.assign(
+        angles=[format_angles(a) for a in edges["angles"]],
         **{
             "T [interval]": [
                 format_interval(m, lo, hi) for m, lo, hi in zip(edges["mean"], edges["low"], edges["high"])
             ]
-        }
+        },
     )
     return write_html_tables(
         path,
@@ -146,7 +159,7 @@ def write_verdicts_page(
                 "Steady-state claims (S): ± 2 standard errors.",
             ),
             (
-                "The choices each verdict may hinge on (claims by rows, choices by columns)",
+                "The choices each verdict may hinge on (claims by rows, the summary, then choices by columns)",
                 choices_display_table(choices),
                 "Each cell: T [interval] and verdict under one change from the primary choices (models from their own "
                 "strain-5 state, window 2, steady-state fit, steady baseline); "
