@@ -70,9 +70,7 @@ def test_the_choices_table_has_a_row_per_choice_and_bold_decided_verdicts():
 
 
 def test_the_headline_names_the_verdicts_and_the_best_stress_relation():
-    verdicts = pd.DataFrame(
-        {"claim": ["S1", "C1", "C2", "C3"], "verdict": ["", "confirmed", "confirmed", "refuted"]}
-    )
+    verdicts = pd.DataFrame({"claim": ["S1", "C1", "C2", "C3"], "verdict": ["", "confirmed", "confirmed", "refuted"]})
     board = pd.DataFrame(
         {
             "relation": ["gw", "jamming", "gw"],
