@@ -2,7 +2,7 @@
 # Default study: config/config.yaml; pick another with --configfile config/<name>.yaml. A config
 # with a `campaign` section runs one study per state point and maps them (config/campaign.yaml).
 # Another workflow may import this one as a module with its own config (docs/workflow.md, "Using
-# the workflow as a module"; tests/test_module.py).
+# the workflow as a module"; tests/workflow/test_module.py).
 from snakemake.utils import min_version
 
 # 9.11 is the first Snakemake whose script file times rerun nothing when the rerun triggers leave out

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # A single-node SLURM cluster on this machine, from Debian's packages, for the SLURM tests
-# (tests/test_slurm.py) and CI. Needs root. Both subcommands are idempotent.
+# (tests/workflow/test_slurm.py) and CI. Needs root. Both subcommands are idempotent.
 #
 #   eval "$(bash envs/slurm_cluster.sh up)"   # install if missing, start, print the two exports
 #   bash envs/slurm_cluster.sh down           # cancel jobs, stop every daemon it started

@@ -2,7 +2,7 @@
 
 The study on SLURM spends most of its three minutes waiting on the scheduler's accounting, not
 computing, so conftest.py starts it in the background as soon as the tests are collected (when a
-test asks for it) and tests/test_slurm.py collects it; without a cluster nothing starts.
+test asks for it) and tests/workflow/test_slurm.py collects it; without a cluster nothing starts.
 """
 
 from __future__ import annotations

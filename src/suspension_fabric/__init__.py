@@ -35,7 +35,7 @@ Fabric
     number of particles; hence Tr<nn> = Z/2, Z the near-contact coordination.
 
 Layout (by the workflow's stages, lowest first; a module imports only its own stage and the
-stages under it, checked by tests/test_layout.py)
+stages under it, checked by tests/package/test_layout.py)
     io          -- files: resources (where the schema, LAMMPS scripts and plugin sources live),
                    schema (the one source of every default), runinfo (a finished run's record),
                    dumpio (LAMMPS boxes and dumps), stressio (the per-run stress table),

@@ -17,7 +17,7 @@ Triclinic dump header
     ylo_bound = ylo + min(0, yz), yhi_bound = yhi + max(0, yz), z bounds unchanged.
     MDAnalysis' ``DumpReader`` inverts exactly this.
 
-Reading with MDAnalysis (checked in tests/test_fabric*.py)
+Reading with MDAnalysis (checked in tests/analysis/test_fabric*.py)
     ``DumpReader`` takes the first coordinate set it finds in the order unscaled
     (x y z), scaled (xs ys zs), unwrapped (xu yu zu), scaled unwrapped, unless
     ``lammps_coordinate_convention`` forces one; scaled coordinates are converted to

@@ -378,7 +378,7 @@ def steady_state(beta, A=None, phi=0.45, as_printed=False) -> np.ndarray:
     with P11 and P12 but has <nn>_22 = P33 and <nn>_33 = P22: the printed 22 and 33 expressions are exchanged. The
     reason is visible in the equation: the convective term -2 Lh:<nnnn> feeds <nn>_22 by
     6|<nn>_12|/7 but <nn>_33 only by 2|<nn>_12|/7, so only the corrected labels are
-    consistent with Eq. 2 (tests/test_model.py checks both statements). By default
+    consistent with Eq. 2 (tests/models/test_model.py checks both statements). By default
     this function returns the corrected tensor; ``as_printed=True`` returns the
     expressions with the paper's labels, for the record.
     """

@@ -134,7 +134,7 @@ def test_config_readme_names_every_key_and_shipped_file():
 
     import yaml
 
-    folder = Path(__file__).resolve().parents[1] / "config"
+    folder = Path(__file__).resolve().parents[2] / "config"
     readme = (folder / "README.md").read_text()
     schema = yaml.safe_load((folder / "schema.yaml").read_text())
     for section, spec in schema["properties"].items():

@@ -4,7 +4,7 @@ Recovery: a curve <nn>'_12 / n12_ss = 1 - a exp(-g / tau) enters the 10% band fo
 g* = tau ln(10 a), the first grid strain at or after it. rms: a model offset from every seed by
 c |n12_ss| has rms error c. Steady-state verdicts: beyond 2 errors on the paper's side ->
 confirmed, on the other side -> refuted, otherwise undecided. (The shear-rotation claims:
-tests/test_claims.py and tests/test_claims_montecarlo.py.)"""
+tests/evaluation/test_claims.py and tests/evaluation/test_claims_montecarlo.py.)"""
 
 from __future__ import annotations
 

@@ -209,7 +209,7 @@ def test_snakemake_killed_with_its_simulation_resumes_it(tmp_path):
     next `snakemake` (after --unlock; the workflow profile sets rerun-incomplete) continues the startup from
     its restart file, and the finished outputs equal those of an uninterrupted workflow run
     up to the restart step."""
-    config = yaml.safe_load((Path(__file__).parents[1] / "config" / "test.yaml").read_text())
+    config = yaml.safe_load((Path(__file__).parents[2] / "config" / "test.yaml").read_text())
     config.update(study="resume", seeds=[1], angles_deg=[0])
     config["run"].update(startup_strain=STRAIN, rotation_strain=1.0, **{k: v for k, v in SETTINGS.items() if k != "dt"})
     config["analysis"]["steady_window"] = [10.0, STRAIN]

@@ -42,7 +42,7 @@ from suspension_fabric.io.protocols import (
 from suspension_fabric.models import fabric_models as fm
 from suspension_fabric.study.config import ConfigError, study_protocols, study_run_tree, validate_config
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 PHI = 0.45
 # a generic fabric with every component non-zero, so that every term of the frame maps is exercised
 FABRIC0 = frames.vec_to_sym([0.031, 0.024, 0.027, -0.006, 0.002, 0.0015])

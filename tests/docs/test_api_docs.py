@@ -2,7 +2,7 @@
 every docstring as written: no Sphinx role (``:func:`x```) left as literal text, and no word lost
 on the way (a tensor bracket such as <nn> once vanished as an unknown HTML tag).
 
-Reads the site built once per session by tests/test_docs_build.py (its ``build_site``)."""
+Reads the site built once per session by tests/docs/test_docs_build.py (its ``build_site``)."""
 
 import importlib
 import inspect

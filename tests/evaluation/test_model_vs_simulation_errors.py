@@ -2,7 +2,7 @@
 
 propagated_fit_errors gives 1-sigma parameter errors by linear propagation of the standard
 errors of the steady-state targets (fits.json's errors_propagated; its errors are a jackknife over
-seeds, tests/test_fit_errors.py); here they are compared with the actual spread of the
+seeds, tests/evaluation/test_fit_errors.py); here they are compared with the actual spread of the
 fitted parameters over noisy targets (Monte Carlo). summarise_errors is checked on a
 hand-built error table with exactly representable numbers.
 """

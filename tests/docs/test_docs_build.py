@@ -1,7 +1,7 @@
 """The documentation site builds with warnings as errors (mkdocs --strict: broken links, missing
 pages, API reference from the docstrings, BENCHMARKS.md included), so docs that rot fail CI.
 
-The site is built once per session (the ``site`` fixture, shared with tests/test_api_docs.py) and
+The site is built once per session (the ``site`` fixture, shared with tests/docs/test_api_docs.py) and
 its HTML checked: the equations, LaTeX in the Markdown and the docstrings, are rendered to MathML
 at build time (docs/hooks/mathml.py), the site loads nothing from outside itself (no script,
 stylesheet or web font), and every page shows what its Markdown meant: lists as lists, brackets
@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 DOCS = REPO / "docs"
 
 #: Pages with display equations, and the labelled equations each must show (anchor, tag).
@@ -47,7 +47,7 @@ _BUILT: dict[str, Path] = {}
 
 
 def build_site(tmp_path_factory) -> Path:
-    """The site, built strictly once per test session (tests/test_api_docs.py reads it too)."""
+    """The site, built strictly once per test session (tests/docs/test_api_docs.py reads it too)."""
     if "site" not in _BUILT:
         _BUILT["site"] = _build(tmp_path_factory.mktemp("docs") / "site")
     return _BUILT["site"]

@@ -159,6 +159,7 @@ def test_a_validation_error_names_the_file_or_the_command_line_that_set_the_key(
     )
 
 
+@pytest.mark.workflow
 @pytest.mark.fault("refused")
 def test_the_workflow_stops_on_a_repeated_section_before_any_job(tmp_path):
     """The one Snakemake run: the Snakefile reads its --configfile again strictly."""
@@ -221,7 +222,7 @@ def test_a_comparison_label_may_not_replace_the_study_or_a_verdict_choice(tmp_pa
 @pytest.mark.fault("refused")
 def test_one_seed_is_refused_for_the_full_study_only(tmp_path):
     """The model benchmarks fit over >= 2 seeds (rule benchmark_models failed after every simulation);
-    one seed still validates, for single targets (a seed's startup, as tests/test_resume.py runs)."""
+    one seed still validates, for single targets (a seed's startup, as tests/simulation/test_resume.py runs)."""
     files = [study_file(tmp_path, with_keys(TEST_STUDY, seeds=[1]))]
     config, _ = workflow_config(files)
     assert config["seeds"] == [1]

@@ -283,7 +283,13 @@ thermo_style custom step c_pl[1] c_pv[1] vol f_integrate[1]
 def write_sphere_data(path, ids, diameters, positions, box_length):
     """A LAMMPS data file (atom style sphere, cubic triclinic box 0..L, density 1, zero
     velocities) like the one pack.lmp writes; type 1 = small (d < 1.2), 2 = large."""
-    lines = ["sphere packing written by tests/test_stress_lammps.py", "", f"{len(ids)} atoms", "2 atom types", ""]
+    lines = [
+        "sphere packing written by tests/simulation/test_stress_lammps.py",
+        "",
+        f"{len(ids)} atoms",
+        "2 atom types",
+        "",
+    ]
     lines += [f"0 {float(box_length)!r} {lo} {hi}" for lo, hi in (("xlo", "xhi"), ("ylo", "yhi"), ("zlo", "zhi"))]
     lines += ["0 0 0 xy xz yz", "", "Atoms # sphere", ""]
     for atom_id, diameter, p in zip(ids, diameters, positions):

@@ -106,7 +106,7 @@ from suspension_fabric.models import gillissen_wilson as model
 from suspension_fabric.study.config import SCHEMA_PATH, ConfigError, load_config, validate_config
 from suspension_fabric.study.dataset import load, read_dataset
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "data" / "default"
 
 #: Examples per target (for the file readers: per (file, corruption kind); "config extreme numbers"

@@ -1,5 +1,5 @@
 """Force-model time scales (suspension_fabric.simulation.scales); the LAMMPS check of the same formula
-is tests/test_lammps_plugin.py::test_overlap_relaxes_on_the_contact_relaxation_time."""
+is tests/simulation/test_lammps_plugin.py::test_overlap_relaxes_on_the_contact_relaxation_time."""
 
 import math
 

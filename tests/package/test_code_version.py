@@ -1,7 +1,7 @@
 """suspension_fabric.code_version: which files a script's code version covers, and which edits
 change it. A small stand-in package in tmp_path (named suspension_fabric, as the real one) for the
 rules, the real workflow scripts for what the rules' params cover; the workflow itself is run in
-tests/test_workflow_code_reruns.py."""
+tests/workflow/test_workflow_code_reruns.py."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ import pytest
 
 from suspension_fabric.code_version import CodeVersions, code_files, code_version, imported_modules
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 SCRIPTS = REPO / "workflow" / "scripts"
 
 PACKAGE = {

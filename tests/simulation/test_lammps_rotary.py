@@ -67,7 +67,13 @@ def write_data(path, spheres, box, tilt=(0.0, 0.0, 0.0)):
     """A LAMMPS data file (atom style sphere, density 1, at rest) of ``spheres`` = [(diameter,
     x, y, z), ...] in the box 0..lx, 0..ly, 0..lz with tilts (xy, xz, yz); type 1 = d < 1.2, 2 = larger."""
     (lx, ly, lz), (xy, xz, yz) = (float(v) for v in box), (float(v) for v in tilt)
-    lines = ["spheres written by tests/test_lammps_rotary.py", "", f"{len(spheres)} atoms", "2 atom types", ""]
+    lines = [
+        "spheres written by tests/simulation/test_lammps_rotary.py",
+        "",
+        f"{len(spheres)} atoms",
+        "2 atom types",
+        "",
+    ]
     lines += [f"0 {lx!r} xlo xhi", f"0 {ly!r} ylo yhi", f"0 {lz!r} zlo zhi", f"{xy!r} {xz!r} {yz!r} xy xz yz"]
     lines += ["", "Atoms # sphere", ""]
     for atom_id, (diameter, x, y, z) in enumerate(spheres, start=1):

@@ -14,7 +14,7 @@ from suspension_fabric.evaluation import model_vs_simulation
 from suspension_fabric.models.fits_file import read_fits, upgrade_fits, write_fits
 from suspension_fabric.reporting import fits_page, html_tables, model_errors_page, steady_state_page, verdicts_page
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 #: Model labels by key, as fits.json records them
 LABELS = {"gw": "G-W (Eq. 1)", "modified": "modified G-W (Eq. 2)"}
 
