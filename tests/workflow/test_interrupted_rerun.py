@@ -14,12 +14,13 @@ import time
 
 import pytest
 
+from suspension_fabric.simulation.lammps.process import lammps_processes_in
 from workflow_helpers import SNAKEMAKE, TEST_CONFIG, dry_run_jobs, result_digests, snakemake
 
 pytestmark = pytest.mark.workflow
 
 # long enough that no rotation can finish before the interrupt (the test study's take ~0.1 s per 0.1 strain)
-SLOW_ROTATIONS = "run={rotation_strain: 200.0}"
+SLOW_ROTATIONS = "run={rotation_strain: 30.0}"
 LOCKED = "Directory cannot be locked"
 ROTATIONS = {f"seed={s}, run=rotation_theta{a}" for s in (1, 2) for a in (0, 90)}
 
@@ -47,8 +48,16 @@ def start_and_interrupt(workdir, signum):
         assert second.returncode != 0 and LOCKED in second.stderr, second.stderr[-2000:]
     finally:
         os.killpg(process.pid, signum)
+        if signum == signal.SIGKILL:
+            # LAMMPS runs in process groups of its own; a killed session or batch job takes them too
+            for pid in lammps_processes_in(workdir):
+                os.killpg(pid, signal.SIGKILL)
     output = process.communicate(timeout=120)[0]
     assert process.returncode != 0, output[-3000:]
+    deadline = time.monotonic() + 30
+    while lammps_processes_in(workdir):  # Ctrl-C: each runner stops its own
+        assert time.monotonic() < deadline, "a LAMMPS run outlived the interrupt"
+        time.sleep(0.2)
     return output
 
 
