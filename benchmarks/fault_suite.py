@@ -25,7 +25,6 @@ class Tally:
     def __init__(self):
         self.outcome = {}
         self.result = {}
-        self.duration = collections.Counter()
 
     def pytest_collection_modifyitems(self, items):
         for item in items:
@@ -36,7 +35,6 @@ class Tally:
     def pytest_runtest_logreport(self, report):
         if report.nodeid not in self.outcome:
             return
-        self.duration[report.nodeid] += report.duration
         if self.result.get(report.nodeid) == "failed":
             return
         if report.failed:

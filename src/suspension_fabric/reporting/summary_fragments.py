@@ -21,7 +21,7 @@ from suspension_fabric.models.fabric_models import load_model
 from suspension_fabric.reporting.html_tables import format_interval
 
 FABRIC_COMPONENTS = ("n11", "n22", "n33", "n12", "n13", "n23")
-STRESS_QUANTITIES = {"eta_r": "eta_r", "N1": "N1", "N2": "N2", "Pi": "Pi"}
+STRESS_QUANTITIES = ("eta_r", "N1", "N2", "Pi")
 # the claims the headline names, grouped as the paper states them
 SHEAR_ROTATION_CLAIMS = ("C1", "C2", "C3", "C4", "C5", "C6")
 
@@ -38,19 +38,16 @@ def _paper(key: str) -> dict:
     return load_model(key).published or {}
 
 
-def fits_paragraph(fits: dict, steady: pd.DataFrame, stress_steady: pd.DataFrame | None) -> str:
+def fits_paragraph(fits: dict, steady: pd.DataFrame, stress_steady: pd.DataFrame) -> str:
     """The fits and the steady state of one study: ``fits`` as in fits.json, ``steady`` and
-    ``stress_steady`` the steady-state tables (tables/steady_state.csv, stress_steady_state.csv;
-    None for a study without stress), quoted with the standard errors of the seed means."""
+    ``stress_steady`` the steady-state tables (tables/steady_state.csv, stress_steady_state.csv),
+    quoted with the standard errors of the seed means."""
     gw, modified = fits["models"]["gw"], fits["models"]["modified"]
     paper_gw, paper_mod = _paper("gw"), _paper("modified")
     window = "-".join(f"{s:g}" for s in fits["steady_window"])
     seeds = fits["n_seeds"]
-    rows = [steady]
-    if stress_steady is not None:
-        rows.append(stress_steady)
-    table = pd.concat(rows).set_index("quantity")
-    names = {**{c: f"<nn>_{c[1:]}" for c in FABRIC_COMPONENTS}, "Z": "Z", **STRESS_QUANTITIES}
+    table = pd.concat([steady, stress_steady]).set_index("quantity")
+    names = {**{c: f"<nn>_{c[1:]}" for c in FABRIC_COMPONENTS}, "Z": "Z", **{q: q for q in STRESS_QUANTITIES}}
     state = ", ".join(
         f"{name} = {_estimate(table.loc[q, 'mean'], table.loc[q, 'sem_between_seeds'])}"
         for q, name in names.items()
@@ -110,8 +107,7 @@ def headline_paragraph(fits: dict, verdicts: pd.DataFrame, stress_board: pd.Data
     listed = [f"{_and(decided[v])} {'is' if len(decided[v]) == 1 else 'are'} {v}" for v in decided if decided[v]]
     if listed:
         parts.append(f"Of the paper's shear-rotation claims, {'; '.join(listed)}.")
-    rotation = stress_board[(stress_board["quantity"] == "eta_r rotation") & (stress_board["mode"] != "")]
-    held_out = rotation.dropna(subset=["held_out_mse"])
+    held_out = stress_board[stress_board["quantity"] == "eta_r rotation"].dropna(subset=["held_out_mse"])
     if len(held_out) > 1 and "gw" in set(held_out["relation"]):
         best = held_out.loc[held_out["held_out_mse"].idxmin()]
         reference = held_out[held_out["relation"] == "gw"]["held_out_mse"].min()
