@@ -9,6 +9,7 @@ from suspension_fabric.reporting.summary_fragments import (
     choices_table,
     fits_paragraph,
     headline_paragraph,
+    verdict_table,
 )
 
 
@@ -84,3 +85,29 @@ def test_the_headline_names_the_verdicts_and_the_best_stress_relation():
     assert text.startswith("What the data say, in short (test: N = 40, 2 seeds): G-W beta = 11.00 ± 0.12")
     assert "C1 and C2 are confirmed; C3 is refuted." in text
     assert "diverging (global fit)" in text and "75% smaller" in text
+
+
+def test_the_verdict_table_has_a_column_per_dataset_and_the_seeds_an_undecided_claim_needs():
+    rows = [
+        ("primary", "C1", 16, 0.217, 0.180, 0.254, "confirmed", float("nan")),
+        ("primary", "C2", 16, 0.038, -0.015, 0.060, "undecided", 5.0),
+        ("window 1", "C1", 16, 0.1, 0.05, 0.15, "confirmed", float("nan")),
+        ("N = 500 (data/default)", "C1", 3, 0.30, 0.07, 0.53, "confirmed", float("nan")),
+        ("N = 500 (data/default)", "C2", 3, 0.0, -0.15, 0.15, "undecided", float("inf")),
+    ]
+    choices = pd.DataFrame(
+        rows, columns=["choice", "claim", "n_seeds", "mean", "low", "high", "verdict", "seeds_needed"]
+    ).assign(
+        text=lambda t: t["claim"].map({"C1": "G-W overestimates for pi/4 <~ |theta|", "C2": "G-W underestimates"}),
+        statistic="D12(ref) - 1.25 D12(sim)",
+    )
+    lines = verdict_table(choices, "test: N = 40, 16 seeds", ["N = 500 (data/default)", "absent"]).splitlines()
+    assert lines[0] == (
+        "| | claim of the paper | T (> 0: as the paper says) | test: N = 40, 16 seeds | "
+        "N = 500 (data/default), 3 seeds |"
+    )
+    assert len(lines) == 4  # the analysis choices and an absent dataset make no column
+    assert lines[2].startswith("| C1 | G-W overestimates for pi/4 <~ &#124;theta&#124; | D12(ref) - 1.25 D12(sim) |")
+    assert lines[2].endswith("| 0.217 [0.180, 0.254] **confirmed** | 0.30 [0.07, 0.53] **confirmed** |")
+    assert "0.038 [-0.015, 0.060] undecided (5 seeds would decide)" in lines[3]
+    assert "undecided (> 10000 seeds would decide)" in lines[3]

@@ -4,17 +4,21 @@ runs with the pair stresslets recorded, from config/config.yaml) and the study t
 the stress figures from it (config/reference.yaml):
 no simulation job in its plan, every run's files present with their recorded checksums, its fits
 equal to the ones recorded with the data, and a polar figure whose every cell is resolved by the
-seeds."""
+seeds; the fragments the docs include and the numbers their prose quotes (tests/quoted_numbers.py)
+are the rebuild's, with the N = 500 study's stress tables rebuilt from data/default
+(config/default_reference.yaml)."""
 
 from __future__ import annotations
 
 import json
+import re
 import shutil
 
 import numpy as np
 import pandas as pd
 import pytest
 
+import quoted_numbers
 from suspension_fabric.analysis.stress import OPTIONAL_COLUMNS, read_stress_csv
 from suspension_fabric.reporting.figures import polar_cell_errors
 from suspension_fabric.study.config import load_config
@@ -24,6 +28,23 @@ from workflow_helpers import REPO, copy_workflow, dry_run_jobs, snakemake
 pytestmark = pytest.mark.workflow
 
 DATASET = REPO / "data" / "reference"
+#: The fragments of rule summary_fragments that the docs include (docs/generated/) or the README holds.
+SUMMARY_FRAGMENTS = (
+    "fits_summary.md",
+    "verdict_choices.md",
+    "headline.md",
+    "verdict_table.md",
+    "model_parameters.md",
+    "leaderboard.md",
+    "stress_leaderboard.md",
+    "rotation_peaks.md",
+    "viscosity_transients.md",
+)
+
+
+def rules_run(result) -> set[str]:
+    """The rules of the jobs a Snakemake run started."""
+    return set(re.findall(r"^(?:local)?rule (\w+):$", result.stdout + result.stderr, flags=re.M))
 
 
 @pytest.mark.parametrize(
@@ -135,7 +156,7 @@ def test_the_reference_study_rebuilds_the_fits_without_simulating(tmp_path):
     largest = residual.groupby("variant")["steady_residual"].mean()
     assert largest["measured_rates"] < 0.2 * largest["measured"]
     # the results the docs and the README quote: the fragments the workflow writes, never typed
-    for fragment in ("fits_summary.md", "verdict_choices.md", "headline.md"):
+    for fragment in SUMMARY_FRAGMENTS:
         made = (workdir / "results/reference/tables" / fragment).read_text()
         assert made == (REPO / "docs" / "generated" / fragment).read_text(), fragment
     # the sparse model (docs/fabric_models.md): the docs quote the workflow's fragment, the committed
@@ -149,6 +170,15 @@ def test_the_reference_study_rebuilds_the_fits_without_simulating(tmp_path):
         assert made["coefficients"][name] == pytest.approx(value, rel=1e-7), name  # summation order, BLAS
     target = pd.read_csv(workdir / "results/reference/tables/sparse_model_target.csv").set_index("component")
     assert target.loc["n12", "target_met"] and target.loc["n23", "target_met"]
+    # the numbers the docs' prose quotes (tests/quoted_numbers.py), against the rebuilt tables: the
+    # reference's and the N = 500 study's stress tables (data/default, config/default_reference.yaml)
+    stress = "results/default_reference/tables/stress_viscosity_transients.csv"
+    rebuilt = snakemake(workdir, stress, "--configfile", "config/default_reference.yaml", timeout=300)
+    assert rebuilt.returncode == 0, rebuilt.stderr[-3000:]
+    assert not rules_run(rebuilt) & {"pack", "shear_segment", "fabric_table", "stress_table"}
+    studies = {name: quoted_numbers.Results(workdir / "results" / name) for name in ("reference", "default_reference")}
+    problems = quoted_numbers.value_problems([q for q in quoted_numbers.QUOTES if q.study], studies)
+    assert not problems, "\n".join(problems)
 
 
 def test_the_readme_quotes_the_generated_headline():

@@ -136,7 +136,10 @@ rule compare_datasets:
 
 rule summary_fragments:
     """The results the docs and the README quote, as Markdown: the fits and steady state, the
-    verdicts under each analysis choice, the headline (suspension_fabric.reporting.summary_fragments)."""
+    verdicts under each analysis choice and on each comparison dataset, the headline
+    (suspension_fabric.reporting.summary_fragments); the leaderboards of fabric models and stress
+    relations (reporting.leaderboard_fragments); per rotation angle the peak of <nn>'_12 and the
+    viscosity's dip (reporting.rotation_fragments)."""
     input:
         fits=rules.fit_models.output[0],
         steady=rules.aggregate_startup.output.steady,
@@ -144,15 +147,29 @@ rule summary_fragments:
         verdicts=rules.verdicts.output.verdicts,
         choices=rules.verdicts.output.choices,
         stress_board=rules.benchmark_stress_relations.output.leaderboard,
+        stress_parameters=rules.benchmark_stress_relations.output.parameters,
+        leaderboard=rules.benchmark_models.output.leaderboard,
+        parameters=rules.benchmark_models.output.parameters,
+        predictions=rules.predict.output[0],
+        rotation=rules.aggregate_rotation.output.aggregate,
+        viscosity=rules.stress_relation.output.transients,
     output:
         fits=f"{RESULTS}/tables/fits_summary.md",
         choices=f"{RESULTS}/tables/verdict_choices.md",
         headline=f"{RESULTS}/tables/headline.md",
+        verdicts=f"{RESULTS}/tables/verdict_table.md",
+        parameters=f"{RESULTS}/tables/model_parameters.md",
+        leaderboard=f"{RESULTS}/tables/leaderboard.md",
+        stress_board=f"{RESULTS}/tables/stress_leaderboard.md",
+        peaks=f"{RESULTS}/tables/rotation_peaks.md",
+        viscosity=f"{RESULTS}/tables/viscosity_transients.md",
     params:
         label=lambda wildcards: (
             f"{wildcards.study}: N = {STUDIES[wildcards.study]['particles']['n']}, "
             f"{len(STUDIES[wildcards.study]['seeds'])} seeds"
         ),
+        datasets=lambda wildcards: list(STUDIES[wildcards.study]["verdicts"]["comparisons"]),
+        window=setting("verdicts", "window"),
         code=code_version("../scripts/summary_fragments.py"),
     conda:
         CONDA_ENV

@@ -9,6 +9,8 @@ the reference rebuild's test compares each committed fragment with the one the w
   the scatter of the seed means).
 - [`choices_table`][suspension_fabric.reporting.summary_fragments.choices_table]: the claims'
   statistics under each analysis choice and comparison dataset.
+- [`verdict_table`][suspension_fabric.reporting.summary_fragments.verdict_table]: each claim of the
+  paper, its decision statistic and its verdict on the study's data and on each comparison dataset.
 - [`headline_paragraph`][suspension_fabric.reporting.summary_fragments.headline_paragraph]: the
   README's summary: fits, verdicts, the best stress relation against G-W's.
 """
@@ -19,6 +21,7 @@ import pandas as pd
 
 from suspension_fabric.models.fabric_models import load_model
 from suspension_fabric.reporting.html_tables import format_interval
+from suspension_fabric.reporting.verdicts_page import seeds_text
 
 FABRIC_COMPONENTS = ("n11", "n22", "n33", "n12", "n13", "n23")
 STRESS_QUANTITIES = ("eta_r", "N1", "N2", "Pi")
@@ -80,6 +83,46 @@ def choices_table(choices: pd.DataFrame) -> str:
             verdict = row["verdict"] if row["verdict"] == "undecided" else f"**{row['verdict']}**"
             cells.append(f"{format_interval(row['mean'], row['low'], row['high'])} {verdict}")
         lines.append(f"| {choice} | " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def _cell_text(text) -> str:
+    """A text for a Markdown table's cell: its pipes escaped (``|theta|``)."""
+    return str(text).replace("|", "&#124;")
+
+
+def verdict_table(choices: pd.DataFrame, label: str, datasets: list[str]) -> str:
+    """tables/verdict_choices.csv as the verdict on each claim: a row per claim (the paper's text
+    and the decision statistic T, ref the reference model and chal the challenger), a column for
+    the study's own data under the primary choices (headed ``label``) and one per comparison
+    dataset of ``datasets`` (the choice names of verdicts.comparisons, headed with their seeds),
+    each cell ``T [interval] verdict`` with, when undecided, the seeds that would decide it."""
+    columns = {"primary": label}
+    for name in datasets:
+        rows = choices[choices["choice"] == name]
+        if len(rows):
+            columns[name] = f"{name}, {int(rows['n_seeds'].max())} seeds"
+    claims = choices[choices["choice"] == "primary"].set_index("claim")
+    lines = [
+        "| | claim of the paper | T (> 0: as the paper says) | " + " | ".join(columns.values()) + " |",
+        "|---|---|---|" + "---|" * len(columns),
+    ]
+    for claim, row in claims.iterrows():
+        cells = []
+        for name in columns:
+            mine = choices[(choices["choice"] == name) & (choices["claim"] == claim)]
+            if not len(mine):
+                cells.append("")
+                continue
+            r = mine.iloc[0]
+            if r["verdict"] == "undecided":
+                verdict = f"undecided ({seeds_text(r['seeds_needed'])} seeds would decide)"
+            else:
+                verdict = f"**{r['verdict']}**"
+            cells.append(f"{format_interval(r['mean'], r['low'], r['high'])} {verdict}")
+        lines.append(
+            f"| {claim} | {_cell_text(row['text'])} | {_cell_text(row['statistic'])} | " + " | ".join(cells) + " |"
+        )
     return "\n".join(lines) + "\n"
 
 

@@ -20,10 +20,16 @@ from .html_tables import (
     write_html_tables,
 )
 
-__all__ = ["verdicts_display_table", "choices_display_table", "per_angle_display_table", "write_verdicts_page"]
+__all__ = [
+    "seeds_text",
+    "verdicts_display_table",
+    "choices_display_table",
+    "per_angle_display_table",
+    "write_verdicts_page",
+]
 
 
-def _seeds_text(seeds) -> str:
+def seeds_text(seeds) -> str:
     """The seeds an undecided claim would need (seed_statistics.seeds_needed): an integer or "> 10000"."""
     if is_missing(seeds):
         return MISSING
@@ -31,7 +37,7 @@ def _seeds_text(seeds) -> str:
 
 
 def _cell(mean, low, high, verdict, seeds) -> str:
-    needed = f"; {_seeds_text(seeds)} seeds would decide" if verdict == "undecided" else ""
+    needed = f"; {seeds_text(seeds)} seeds would decide" if verdict == "undecided" else ""
     return f"{format_interval(mean, low, high)} {verdict}{needed}"
 
 
@@ -49,7 +55,7 @@ def verdicts_display_table(verdicts: pd.DataFrame) -> pd.DataFrame:
                 format_interval(m, lo, hi) for m, lo, hi in zip(verdicts["mean"], verdicts["low"], verdicts["high"])
             ],
             "seeds that would decide": [
-                _seeds_text(n) if v == "undecided" else "" for n, v in zip(verdicts["seeds_needed"], verdict)
+                seeds_text(n) if v == "undecided" else "" for n, v in zip(verdicts["seeds_needed"], verdict)
             ],
             "angles (deg)": [format_angles(a) for a in verdicts["angles"]],
             "decision statistic T (> 0: as the paper says)": verdicts["statistic"],
