@@ -109,7 +109,8 @@ read_restart {checkpoint}
 newton on on
 pair_style lubricate/sf {variables["eta_f"]} {variables["delta"]} {variables["h_out"]} implicit
 pair_coeff * *
-fix integrate all hydro/implicit/sf tol {variables["solver_tol"]} precond {variables["preconditioner"]} contacts {variables["kn"]} {variables["kt"]} {variables["mu"]} solve {solve}
+fix integrate all hydro/implicit/sf tol {variables["solver_tol"]} precond {variables["preconditioner"]} &
+    contacts {variables["kn"]} {variables["kt"]} {variables["mu"]} solve {solve}
 neighbor 0.1 bin
 neigh_modify delay 0 every 1 check yes
 comm_modify mode single vel yes

@@ -143,7 +143,9 @@ class ForceModel:
         if self.contact_solve not in ("lagged", "newton"):
             raise ValueError(f"contact_solve must be 'lagged' or 'newton', got {self.contact_solve!r}")
         if self.contact_solve == "newton" and self.contact_springs != "implicit":
-            raise ValueError("contact_solve='newton' needs contact_springs='implicit' (it solves the fix's own contacts)")
+            raise ValueError(
+                "contact_solve='newton' needs contact_springs='implicit' (it solves the fix's own contacts)"
+            )
         if self.preconditioner not in ("jacobi", "dilu"):
             raise ValueError(f"preconditioner must be 'jacobi' or 'dilu', got {self.preconditioner!r}")
         kt = 2.0 / 7.0 * self.kn if self.kt is None else self.kt
