@@ -1,30 +1,35 @@
-"""The step error of the two contact solves over a short horizon (BENCHMARKS.md, "Engine III").
+"""The step error of the two contact solves, paired on the same sheared states (BENCHMARKS.md,
+"Engine III").
 
-From one sheared state of a campaign point (seed 1's packing, a startup to strain 2 on the
-point's own engine: the lagged solve at dt = 0.024 tau), each rung continues the shear for
-``--strain`` at one (solve, dt) and records, per chunk of strain: the contact shear stress and
-pressure (units eta_f gammadot), the sliding fraction of the contacts, the contact-state passes
-and CG iterations per step and the wall time. Over so short a horizon the trajectories of
-different steps stay close, so the difference from the reference rung (the point's own engine)
-is the step error, not sampling noise.
+Each state is the end of a steady startup (a run's ``checkpoint.rst``, one per seed). From it,
+every rung continues the shear for ``--strain`` at one (solve, dt as a fraction of tau) and
+records the mean contact shear stress and pressure (units eta_f gammadot), the contact number
+per particle, the sliding fraction, the contact-state passes and CG iterations per step and the
+LAMMPS wall time per unit strain. Over so short a horizon the trajectories from one state stay
+close, so a rung's difference from the reference rung on the same state is its step error, not
+sampling noise; the seeds' states are the independent units (mean and 95% t-interval over them).
 
-    .venv/bin/python benchmarks/contact_solve.py run [--points phi0.53_mu0.5 ...]
+    .venv/bin/python benchmarks/contact_solve.py run --point phi0.53_mu0.5 \
+        --states 'results/engine_newton_phi0.53_mu0.5/seed*/startup/checkpoint.rst'
     .venv/bin/python benchmarks/contact_solve.py report
 
-tau = X(delta)/kn of two small spheres (suspension_fabric.simulation.scales.contact_relaxation_time).
-The wall times are per unit strain, one LAMMPS process at a time; time it on an idle machine.
+The reference rung is the lagged solve at 0.024 tau (the campaign's engine; tau = X(delta)/kn of
+two small spheres, suspension_fabric.simulation.scales.contact_relaxation_time). The wall times
+are of one LAMMPS process; time it on an idle machine.
 """
 
 from __future__ import annotations
 
 import argparse
+import glob
 import time
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from scipy import stats
 
-from suspension_fabric.simulation.lammps import ForceModel, ShearSettings, pack, run_startup
+from suspension_fabric.simulation.lammps import ForceModel
 from suspension_fabric.simulation.lammps.plugin import new_lammps
 from suspension_fabric.simulation.scales import contact_relaxation_time
 from suspension_fabric.study.campaign import campaign_points
@@ -33,69 +38,36 @@ from suspension_fabric.study.config import load_config
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parent
 TABLE = HERE / "data" / "contact_solve.csv"
-#: (solve, dt as a fraction of the point's tau); 0.024 lagged is the point's own engine
-RUNGS = (
-    ("lagged", 0.024),
-    ("lagged", 0.24),
-    ("newton", 0.024),
-    ("newton", 0.12),
-    ("newton", 0.24),
-    ("newton", 0.6),
-)
-DEFAULT_POINTS = ("phi0.53_mu0.5", "phi0.55_mu0.5")
-#: the engine of the points the campaign left out: kn from the pilot's stiffness factor
-#: (campaign_pilot.py, m = 25) and the lagged solve's step, 0.024 tau
-MISSING_POINT_ENGINE = {
-    name: {"forces": {"kn": 3.125e9}, "run": {"dt": 4.0e-6}} for name in ("phi0.53_mu1", "phi0.55_mu0.5")
-}
-CHUNK = 0.005
+#: (solve, dt as a fraction of tau); the first is the reference
+RUNGS = (("lagged", 0.024), ("lagged", 0.24), ("newton", 0.12), ("newton", 0.24), ("newton", 0.6))
+#: the engine of the points the campaign left out before the Newton solve: kn from the pilot's
+#: stiffness factor (campaign_pilot.py, m = 25)
+MISSING_POINT_KN = {"phi0.53_mu1": 3.125e9, "phi0.55_mu0.5": 3.125e9}
+QUANTITIES = ("contact_12", "contact_pressure", "contact_number", "sliding_fraction")
 
 
 def point_study(name: str, config: Path) -> dict:
-    """The validated study of one point of the campaign's grid, the points it left out included."""
+    """The validated study of one point of the campaign's grid (the points it leaves out included)."""
     campaign_config = load_config(config)
     campaign = campaign_config["campaign"]
-    overrides = {**campaign["overrides"], **{k: v for k, v in MISSING_POINT_ENGINE.items() if k == name}}
+    overrides = dict(campaign["overrides"])
+    if name in MISSING_POINT_KN:
+        overrides[name] = {"forces": {"kn": MISSING_POINT_KN[name]}, "run": {"dt": 4.0e-6}}
     campaign = {**campaign, "points": [name], "not_run": {}, "overrides": overrides}
     return campaign_points({**campaign_config, "campaign": campaign})[name]
 
 
-def sheared_state(study: dict, where: Path, tau: float) -> Path:
-    """The checkpoint of seed 1's startup to strain 2 on the lagged solve at dt ~ 0.024 tau."""
-    checkpoint = where / "startup" / "checkpoint.rst"
-    if checkpoint.is_file():
-        return checkpoint
-    p = study["particles"]
-    packing = pack(
-        where / "packing",
-        n_particles=p["n"],
-        phi=p["phi"],
-        seed=1,
-        split=p["split"],
-        fraction_large=p["fraction_large"],
-        d_small=p["d_small"],
-        d_large=p["d_large"],
-        overwrite=True,
-    )
-    run = {**study["run"], "dt": rung_dt(0.024, tau), "max_overlap": 1.0, "max_stress_jitter": None}
-    settings = ShearSettings.from_config({**study, "run": run})
-    model = ForceModel.from_config({**study, "run": {**run, "contact_solve": "lagged"}})
-    run_startup(where / "startup", packing.data_file, 2.0, force_model=model, settings=settings, overwrite=True)
-    return checkpoint
-
-
 def rung_dt(fraction: float, tau: float) -> float:
-    """fraction x tau rounded down to 1, 2, 4 or 5 x 10^k, so that chunks are whole steps."""
+    """fraction x tau rounded down to 1, 2, 4 or 5 x 10^k (whole steps per output stride)."""
     target = fraction * tau
     decade = 10.0 ** np.floor(np.log10(target))
-    return max(m * decade for m in (1, 2, 4, 5) if m * decade <= target * (1 + 1e-9))
+    return float(max(m * decade for m in (1, 2, 4, 5) if m * decade <= target * (1 + 1e-9)))
 
 
-def continue_shear(checkpoint: Path, study: dict, solve: str, dt: float, strain: float) -> list[dict]:
-    """Rows per chunk of strain: contact stress, sliding fraction, passes, iterations, wall time."""
-    forces, run = study["forces"], study["run"]
-    model = ForceModel.from_config({**study, "run": {**run, "contact_solve": solve}})
-    variables = model.variables()
+def continue_shear(checkpoint: Path, study: dict, solve: str, dt: float, strain: float) -> dict:
+    """Means over ``strain`` of shear continued from ``checkpoint``, and the wall time per strain."""
+    model = ForceModel.from_config({**study, "run": {**study["run"], "contact_solve": solve}})
+    v = model.variables()
     lmp = new_lammps(load_plugin=False)
     lmp.commands_string(
         f"""
@@ -104,13 +76,13 @@ atom_style sphere
 atom_modify map array
 dimension 3
 boundary p p p
-plugin load {variables["plugin"]}
+plugin load {v["plugin"]}
 read_restart {checkpoint}
 newton on on
-pair_style lubricate/sf {variables["eta_f"]} {variables["delta"]} {variables["h_out"]} implicit
+pair_style lubricate/sf {v["eta_f"]} {v["delta"]} {v["h_out"]} implicit
 pair_coeff * *
-fix integrate all hydro/implicit/sf tol {variables["solver_tol"]} precond {variables["preconditioner"]} &
-    contacts {variables["kn"]} {variables["kt"]} {variables["mu"]} solve {solve}
+fix integrate all hydro/implicit/sf tol {v["solver_tol"]} precond {v["preconditioner"]} &
+    contacts {v["kn"]} {v["kt"]} {v["mu"]} solve {solve}
 neighbor 0.1 bin
 neigh_modify delay 0 every 1 check yes
 comm_modify mode single vel yes
@@ -120,70 +92,101 @@ thermo_style custom step
 run 0 post no
 """
     )
-    scale = 1.0 / forces["eta_f"]
-    steps = round(CHUNK / dt)
-    rows = []
-    for chunk in range(round(strain / CHUNK)):
-        start = time.perf_counter()
+    scale = 1.0 / study["forces"]["eta_f"]
+    samples, chunks = [], 20
+    steps = max(1, round(strain / chunks / dt))
+    start = time.perf_counter()
+    for _ in range(chunks):
         lmp.command(f"run {steps} post no")
-        wall = time.perf_counter() - start
-        vector = [lmp.extract_fix("integrate", 0, 1, k) for k in range(29)]
-        volume = lmp.get_thermo("vol")
-        contacts = vector[19]
-        rows.append(
+        f = [lmp.extract_fix("integrate", 0, 1, k) for k in range(29)]
+        volume, atoms = lmp.get_thermo("vol"), lmp.get_natoms()
+        samples.append(
             {
-                "strain": (chunk + 1) * CHUNK,
-                "contact_12": -vector[7] / volume * scale,
-                "contact_pressure": (vector[3] + vector[4] + vector[5]) / (3.0 * volume) * scale,
-                "contacts": contacts,
-                "sliding_fraction": vector[20] / contacts if contacts else np.nan,
-                "passes_per_step": vector[18],
-                "iterations_per_step": vector[1],
-                "wall_per_strain": wall / CHUNK,
+                "contact_12": -f[7] / volume * scale,
+                "contact_pressure": (f[3] + f[4] + f[5]) / (3.0 * volume) * scale,
+                "contact_number": 2.0 * f[19] / atoms,
+                "sliding_fraction": f[20] / f[19] if f[19] else np.nan,
+                "passes_per_step": f[18],
+                "iterations_per_step": f[1],
             }
         )
+    wall = time.perf_counter() - start
     lmp.close()
-    return rows
+    means = pd.DataFrame(samples)
+    row = {q: means[q].mean() for q in QUANTITIES}
+    # the fix's counters are means since it was defined: the last sample covers the whole run
+    row.update(means.iloc[-1][["passes_per_step", "iterations_per_step"]].to_dict())
+    return {**row, "wall_per_strain": wall / (chunks * steps * dt)}
 
 
-def measure(points, config: Path, workdir: Path, strain: float) -> pd.DataFrame:
+def measure(point: str, states: list[Path], config: Path, strain: float) -> pd.DataFrame:
+    study = point_study(point, config)
+    forces = study["forces"]
+    tau = contact_relaxation_time(1.0, 1.0, forces["eta_f"], forces["delta"], forces["kn"])
     rows = []
-    for name in points:
-        study = point_study(name, config)
-        forces = study["forces"]
-        tau = contact_relaxation_time(1.0, 1.0, forces["eta_f"], forces["delta"], forces["kn"])
-        checkpoint = sheared_state(study, workdir / name, tau)
+    for state in states:
         for solve, fraction in RUNGS:
             dt = rung_dt(fraction, tau)
-            for row in continue_shear(checkpoint, study, solve, dt, strain):
-                rows.append({"point": name, "kn": forces["kn"], "tau": tau, "solve": solve, "dt": dt, **row})
-            print(pd.DataFrame(rows[-1:]).to_string(index=False), flush=True)
+            row = continue_shear(state, study, solve, dt, strain)
+            rows.append(
+                {
+                    "point": point,
+                    "state": str(state),
+                    "kn": forces["kn"],
+                    "tau": tau,
+                    "solve": solve,
+                    "dt": dt,
+                    "strain": strain,
+                    **row,
+                }
+            )
+            print(
+                pd.DataFrame(rows[-1:]).drop(columns="state").to_string(index=False, header=len(rows) == 1), flush=True
+            )
     return pd.DataFrame(rows)
 
 
-def report(table: pd.DataFrame) -> str:
-    """Per point and rung: means over the horizon, and their difference from the reference rung."""
+def report(table: pd.DataFrame, level: float = 0.95) -> str:
+    """Per point and rung: the mean over states of each quantity's relative difference from the
+    reference rung on the same state, with its t-interval over the states, and the cost."""
     lines = []
     for point, rows in table.groupby("point", sort=False):
-        means = rows.groupby(["solve", "dt"], sort=False).agg(
-            tau=("tau", "first"),
-            contact_12=("contact_12", "mean"),
-            contact_pressure=("contact_pressure", "mean"),
-            sliding_fraction=("sliding_fraction", "mean"),
-            passes_per_step=("passes_per_step", "last"),
-            iterations_per_step=("iterations_per_step", "last"),
-            wall_per_strain=("wall_per_strain", "mean"),
-        )
-        reference = means.iloc[0]
-        means.insert(0, "dt_over_tau", [dt / tau for (_, dt), tau in zip(means.index, means["tau"])])
-        for column in ("contact_12", "contact_pressure"):
-            means[f"{column}_change"] = means[column] / reference[column] - 1.0
-        means["speed_up"] = reference["wall_per_strain"] / means["wall_per_strain"]
+        reference = rows[(rows["solve"] == RUNGS[0][0]) & np.isclose(rows["dt"] / rows["tau"], RUNGS[0][1], rtol=0.2)]
+        reference = reference.set_index("state")
+        states = len(reference)
         lines.append(
-            f"{point}: kn = {rows['kn'].iloc[0]:.4g}, tau = {reference['tau']:.3g}; means over strain "
-            f"0-{rows['strain'].max():g} after the sheared state"
+            f"{point}: kn = {rows['kn'].iloc[0]:.4g}, tau = {rows['tau'].iloc[0]:.3g}, {states} states, "
+            f"{rows['strain'].iloc[0]:g} strain from each; relative difference from the reference rung "
+            f"(lagged, dt {reference['dt'].iloc[0]:g}) on the same state, mean [{level:.0%} t-interval over states]"
         )
-        lines.append(means.drop(columns="tau").reset_index().to_markdown(index=False, floatfmt=".4g"))
+        header = [
+            "solve",
+            "dt",
+            "dt/tau",
+            *QUANTITIES,
+            "passes/step",
+            "CG iterations/step",
+            "wall s/strain",
+            "speed-up",
+        ]
+        lines.append("| " + " | ".join(header) + " |")
+        lines.append("|" + "---|" * len(header))
+        t = stats.t.ppf(0.5 + level / 2, states - 1) if states > 1 else np.nan
+        for (solve, dt), rung in rows.groupby(["solve", "dt"], sort=False):
+            rung = rung.set_index("state").loc[reference.index]
+            cells = [solve, f"{dt:g}", f"{dt / rung['tau'].iloc[0]:.3g}"]
+            for quantity in QUANTITIES:
+                change = rung[quantity] / reference[quantity] - 1.0
+                half = t * change.std(ddof=1) / np.sqrt(states)
+                cells.append(f"{change.mean():+.4f} [{change.mean() - half:+.4f}, {change.mean() + half:+.4f}]")
+            speed = reference["wall_per_strain"].mean() / rung["wall_per_strain"].mean()
+            cells += [
+                f"{rung['passes_per_step'].mean():.2f}",
+                f"{rung['iterations_per_step'].mean():.1f}",
+                f"{rung['wall_per_strain'].mean():.1f}",
+                f"{speed:.2f}",
+            ]
+            lines.append("| " + " | ".join(cells) + " |")
         lines.append("")
     return "\n".join(lines)
 
@@ -191,13 +194,19 @@ def report(table: pd.DataFrame) -> str:
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("command", choices=("run", "report"))
+    parser.add_argument("--point", help="the campaign point whose engine the states were made with (run)")
+    parser.add_argument("--states", help="glob of the checkpoints to continue, one per seed (run)")
     parser.add_argument("--config", type=Path, default=REPO / "config" / "campaign.yaml")
-    parser.add_argument("--workdir", type=Path, default=REPO / "results" / "contact_solve")
-    parser.add_argument("--points", nargs="*", default=list(DEFAULT_POINTS))
-    parser.add_argument("--strain", type=float, default=0.05)
+    parser.add_argument("--strain", type=float, default=0.1)
     args = parser.parse_args(argv)
     if args.command == "run":
-        table = measure(args.points, args.config, args.workdir, args.strain)
+        states = [Path(p) for p in sorted(glob.glob(args.states or ""))]
+        if not args.point or not states:
+            parser.error("run needs --point and --states matching at least one checkpoint")
+        table = measure(args.point, states, args.config, args.strain)
+        if TABLE.is_file():  # keep the other points' rows
+            old = pd.read_csv(TABLE)
+            table = pd.concat([old[old["point"] != args.point], table], ignore_index=True)
         TABLE.parent.mkdir(parents=True, exist_ok=True)
         table.to_csv(TABLE, index=False, float_format="%.6g")
     print(report(pd.read_csv(TABLE)))
