@@ -1,19 +1,21 @@
 """A numerical change against a committed dataset of the same state point (BENCHMARKS.md, "Engine III").
 
-    .venv/bin/python benchmarks/engine_validation.py results/engine_newton_phi0.53_mu0.5 \
-        data/campaign/phi0.53_mu0.5 [--save benchmarks/data/engine_validation]
+    .venv/bin/python benchmarks/engine_validation.py --study results/engine_newton_phi0.53_mu0.5 \
+        --dataset data/campaign/phi0.53_mu0.5 [--save benchmarks/data/engine_validation]
 
-Both studies hold the same seeds' packings, sheared with independent trajectories. Steady state
-over strain 2-5 of the startup: per quantity (the fabric <nn>_ij and Z; eta_r with its contact
-and lubrication parts, N1, N2, Pi in units of eta_f gammadot) the seed mean with its
-correlation-aware standard error (tables.steady_state), and z = (study - dataset) /
-sqrt(sem_study^2 + sem_dataset^2). After every rotation of both: <nn>'_12, <nn>'_23, sigma'_12 and
-sigma'_23 in the strain bins of engine_ladder.BINS, per bin the seed mean, its standard error
-over the seeds (the seeds are the independent units) and z as above. The acceptance criterion,
-named before looking: |z| <= 2 (two combined standard errors) for every steady quantity and
-every transient bin; with many bins about 5% exceed 2 by chance alone, so the report also gives
-how many do and the largest |z| against the Sidak bound for the number of bins compared.
-``--save`` copies the tables the report reads (no trajectories) for the record.
+``--study`` and ``--dataset`` each take one or more folders of seeds (their seeds pooled; a
+folder with startups only adds to the steady state). Both hold the same seeds' packings where
+they overlap, sheared with independent trajectories, so the seeds are the independent units.
+Steady state over strain 2-5 of the startup, per quantity (the fabric <nn>_ij and Z; eta_r with
+its contact and lubrication parts, N1, N2, Pi in units of eta_f gammadot): each seed's mean over
+the window, the difference of the two seed means, its standard error
+sqrt(s_a^2/n_a + s_b^2/n_b) from the seed-to-seed spreads, z = difference / standard error and
+Welch's two-sided p. After every rotation both have: <nn>'_12, <nn>'_23, sigma'_12 and sigma'_23
+in the strain bins of engine_ladder.BINS, per bin z in the same way. The criterion, named before
+looking: |z| <= 2 (two combined standard errors) for every steady quantity and transient bin;
+about 5% of the bins exceed 2 by chance alone, so the report also gives how many do and the
+largest |z| against the Sidak bound for the number compared. ``--save`` copies the first study
+folder's tables (no trajectories) to the given folder for the record.
 """
 
 from __future__ import annotations
@@ -23,7 +25,8 @@ import shutil
 from pathlib import Path
 
 import numpy as np
-from engine_ladder import BINS, FABRIC, STEADY_WINDOW, STRESS, binned_seed_means, engine_label, seed_folders, steady
+import pandas as pd
+from engine_ladder import BINS, FABRIC, STEADY_WINDOW, STRESS, binned_seed_means, engine_label, run_table, seed_folders
 from scipy import stats
 
 TRANSIENTS = (("fabric", "n12", "<nn>'_12"), ("fabric", "n23", "<nn>'_23"), ("stress", "total_12", "sigma'_12"))
@@ -50,20 +53,36 @@ def save(study: Path, root: Path) -> Path:
     return target
 
 
-def steady_table(study: Path, dataset: Path) -> tuple[str, list[float]]:
-    rows, zs = [], []
-    rows.append("| quantity | study | dataset | z |")
-    rows.append("|---|---|---|---|")
+def seed_means(folders: list[Path], kind: str, columns) -> pd.DataFrame:
+    """Each seed's mean of `columns` over the steady window of its startup (rows: seeds)."""
+    tables = [run_table(folder, "startup", kind) for folder in folders]
+    table = pd.concat(tables, ignore_index=True)
+    window = table[(table["strain"] >= STEADY_WINDOW[0]) & (table["strain"] <= STEADY_WINDOW[1])]
+    means = window.groupby("seed")[list(columns)].mean()
+    if len(means) != sum(t["seed"].nunique() for t in tables):
+        raise ValueError(f"{[str(f) for f in folders]}: a seed appears in more than one folder")
+    return means
+
+
+def steady_table(study: list[Path], dataset: list[Path]) -> tuple[str, list[float]]:
+    rows = ["| quantity | study | dataset | difference | z | Welch p |", "|---|---|---|---|---|---|"]
+    zs = []
     for kind, columns in (("fabric", FABRIC), ("stress", STRESS)):
-        a, b = steady(study, kind, columns), steady(dataset, kind, columns)
+        a, b = seed_means(study, kind, columns), seed_means(dataset, kind, columns)
         for quantity in columns:
-            z = (a.loc[quantity, "mean"] - b.loc[quantity, "mean"]) / np.hypot(
-                a.loc[quantity, "sem"], b.loc[quantity, "sem"]
-            )
+            x, y = a[quantity].to_numpy(), b[quantity].to_numpy()
+            error = np.sqrt(x.var(ddof=1) / len(x) + y.var(ddof=1) / len(y))
+            z = (x.mean() - y.mean()) / error
             zs.append(z)
+            p = stats.ttest_ind(x, y, equal_var=False).pvalue
+            difference = x.mean() - y.mean()
+            # relative only where the dataset's mean is well resolved (not for components near 0)
+            resolved = abs(y.mean()) > 10 * y.std(ddof=1) / np.sqrt(len(y))
+            relative = f" ({difference / abs(y.mean()):+.1%})" if resolved else ""
             rows.append(
-                f"| {quantity} | {a.loc[quantity, 'mean']:.4f} +- {a.loc[quantity, 'sem']:.4f} | "
-                f"{b.loc[quantity, 'mean']:.4f} +- {b.loc[quantity, 'sem']:.4f} | {z:+.2f} |"
+                f"| {quantity} | {x.mean():.4f} +- {x.std(ddof=1) / np.sqrt(len(x)):.4f} ({len(x)}) | "
+                f"{y.mean():.4f} +- {y.std(ddof=1) / np.sqrt(len(y)):.4f} ({len(y)}) | "
+                f"{difference:+.4f}{relative} | {z:+.2f} | {p:.3f} |"
             )
     return "\n".join(rows), zs
 
@@ -76,6 +95,7 @@ def transient_z(study: Path, dataset: Path, angle: int, kind: str, column: str) 
 
 
 def transient_table(study: Path, dataset: Path) -> tuple[str, list[float]]:
+    """z per strain bin after each rotation that both folders hold."""
     angles = [angle for angle in rotation_angles(study) if angle in rotation_angles(dataset)]
     bins = " | ".join(f"{lo:g}-{hi:g}" for lo, hi in BINS)
     rows = [f"| angle | quantity | {bins} | max abs z |", "|---|---|" + "---|" * (len(BINS) + 1)]
@@ -95,18 +115,22 @@ def sidak_bound(count: int, level: float = 0.95) -> float:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("study", type=Path)
-    parser.add_argument("dataset", type=Path)
-    parser.add_argument("--save", type=Path, help="copy the study's tables here first")
+    parser.add_argument("--study", type=Path, nargs="+", required=True)
+    parser.add_argument("--dataset", type=Path, nargs="+", required=True)
+    parser.add_argument("--save", type=Path, help="copy the first study folder's tables here first")
     args = parser.parse_args()
-    study = save(args.study, args.save) if args.save else args.study
-    print(f"study: {engine_label(study)} ({len(seed_folders(study))} seeds)")
-    print(f"dataset: {engine_label(args.dataset)} ({len(seed_folders(args.dataset))} seeds)")
-    print(f"steady window strain {STEADY_WINDOW[0]:g}-{STEADY_WINDOW[1]:g}; z = difference / combined standard error\n")
+    study = list(args.study)
+    if args.save:
+        study[0] = save(study[0], args.save)
+    for name, folders in (("study", study), ("dataset", args.dataset)):
+        for folder in folders:
+            print(f"{name}: {folder}: {engine_label(folder)} ({len(seed_folders(folder))} seeds)")
+    window = f"{STEADY_WINDOW[0]:g}-{STEADY_WINDOW[1]:g}"
+    print(f"steady window strain {window}; z = difference / its standard error over seeds\n")
     text, steady_z = steady_table(study, args.dataset)
     print(text)
     print("\nAfter each rotation: z per strain bin\n")
-    text, transient = transient_table(study, args.dataset)
+    text, transient = transient_table(study[0], args.dataset[0])
     print(text)
     for name, zs in (("steady quantities", steady_z), ("transient bins", transient)):
         zs = np.abs(np.asarray(zs))
