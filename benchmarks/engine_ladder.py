@@ -81,8 +81,10 @@ def engine_label(study: Path) -> str:
         run = json.loads(marker.read_text())["variables"]
         kn = run["kn"]
     springs = run.get("contact_springs", "explicit")
+    solve = run.get("contact_solve", "lagged")
     preconditioner = run.get("preconditioner", "jacobi")
     tolerance = float(run.get("solver_tol", 1e-5))
+    springs += ", newton solve" if solve == "newton" else ""
     label = f"kn {float(kn):.3g}, springs {springs}, {preconditioner}, dt {float(run['dt']):g}"
     return label + (f", tol {tolerance:g}" if tolerance != 1e-5 else "")
 

@@ -44,7 +44,7 @@ def test_shear_script_defaults_equal_the_schema(section, key):
 def test_shear_script_text_defaults_and_python_defaults():
     """Non-numeric script defaults, kt = 2/7 kn (schema null), and the dataclass defaults."""
     assert SHARED["integrator"] == schema_default("run", "integrator") == ForceModel().integrator
-    for key in ("contact_springs", "preconditioner"):
+    for key in ("contact_springs", "contact_solve", "preconditioner"):
         assert SHARED[key] == schema_default("run", key) == getattr(ForceModel(), key), key
     assert schema_default("forces", "kt") is None and SHARED["kt"] == "$(2.0/7.0*v_kn)"
     model, settings = ForceModel(), ShearSettings()

@@ -36,7 +36,7 @@ def touching_packing(tmp_path_factory):
     return pack(tmp_path_factory.mktemp("touching") / "packing", 60, phi=0.45, seed=11, gap_margin=0.0)
 
 
-def short_startup(path, packing, springs, dt, strain):
+def short_startup(path, packing, springs, dt, strain, solve="lagged"):
     settings = ShearSettings(
         dt=dt,
         dump_strain=strain / 4,
@@ -51,7 +51,9 @@ def short_startup(path, packing, springs, dt, strain):
         strain,
         settings=settings,
         progress=None,
-        force_model=ForceModel(plugin=plugin_path(), contact_springs=springs, kn=KN, solver_tol=1e-5),
+        force_model=ForceModel(
+            plugin=plugin_path(), contact_springs=springs, contact_solve=solve, kn=KN, solver_tol=1e-5
+        ),
     )
 
 
@@ -89,6 +91,74 @@ def test_implicit_springs_run_far_above_the_explicit_spring_limit(tmp_path, touc
     assert np.all(np.isfinite(table["contact_pxz"]))
     assert np.abs(table["contact_pxz"]).max() < 1e5
     assert max_overlap_in_dump(implicit.dump_file)[0] < 5e-3
+
+
+def test_newton_solve_is_the_lagged_solve_at_a_resolved_step(tmp_path, touching_packing):
+    """Where the step resolves the contact relaxation time (dt = 2e-6 = 0.005 tau), taking the
+    contact law implicitly (solve newton: states re-decided from each pass's solution, the
+    sliding force linearised) changes nothing the lagged states get wrong: 0.02 strain of a
+    touching N = 60 packing gives the same positions to 1e-6 d and the same contact and
+    lubrication stress within 0.5%."""
+    strain = 0.02
+    newton = short_startup(tmp_path / "newton", touching_packing, "implicit", 2e-6, strain, solve="newton")
+    lagged = short_startup(tmp_path / "lagged", touching_packing, "implicit", 2e-6, strain)
+    last = [list(iter_dump_frames(run.dump_file))[-1] for run in (newton, lagged)]
+    assert np.abs(last[0].positions - last[1].positions).max() < 1e-6
+    a, b = read_stress_table(newton.table_file), read_stress_table(lagged.table_file)
+    late = a["strain"] >= strain / 2
+    for column in ("contact_pxz", "contact_pxx", "lubrication_pxz"):
+        assert np.mean(b[column][late]) != 0.0
+        assert np.mean(a[column][late]) == pytest.approx(np.mean(b[column][late]), rel=5e-3), column
+
+
+def test_newton_solve_keeps_the_contact_stress_where_the_lagged_solve_loses_it(tmp_path):
+    """Backward Euler converges to the stiff contact law as dt grows past the contact relaxation
+    time tau = X(delta)/kn only if the law itself is solved implicitly. A dense frictional
+    packing (N = 100, phi = 0.55, mu = 0.5, kn = 1.25e9: tau = 4.2e-4, touching from the start)
+    sheared 0.3 strain from rest: the mean contact shear stress over the second half at
+    dt = 1e-4 = 0.24 tau with solve newton is within 2% of that at dt = 1e-5 = 0.024 tau (the
+    lagged solve's accurate step); with the lagged solve at 0.24 tau, where contacts that should
+    stick keep sliding on their explicit Coulomb force, it keeps less than half of it (measured
+    17%: BENCHMARKS.md, "Engine III")."""
+    packing = pack(tmp_path / "packing", 100, phi=0.55, seed=5, gap_margin=0.0)
+    strain = 0.3
+
+    def contact_shear_stress(name, dt, solve):
+        settings = ShearSettings(
+            dt=dt,
+            dump_strain=strain / 4,
+            table_strain=strain / 50,
+            thermo_strain=strain / 10,
+            restart_strain=strain,
+            max_stress_jitter=None,
+        )
+        run = run_startup(
+            tmp_path / name,
+            packing.data_file,
+            strain,
+            settings=settings,
+            progress=None,
+            force_model=ForceModel(plugin=plugin_path(), kn=KN, contact_solve=solve),
+        )
+        table = read_stress_table(run.table_file)
+        return np.mean(table["contact_pxz"][table["strain"] >= strain / 2])
+
+    assert contact_relaxation_time(1.0, 1.0, ETA_F, DELTA, KN) == pytest.approx(4.2e-4, rel=0.01)
+    resolved = contact_shear_stress("resolved", 1e-5, "lagged")
+    assert resolved < 0.0
+    assert contact_shear_stress("newton", 1e-4, "newton") == pytest.approx(resolved, rel=0.02)
+    assert contact_shear_stress("lagged", 1e-4, "lagged") / resolved < 0.5
+
+
+def test_solve_newton_needs_the_fix_own_contacts():
+    """solve newton solves the contacts the fix owns: without the keyword contacts it is refused
+    before the run, naming both keywords."""
+    with pytest.raises(Exception, match="solve newton needs the keyword contacts"):
+        make_system(
+            [(5.0, 5.0, 5.0, 1.0, (0, 0, 0), (0, 0, 0)), (7.0, 5.0, 5.0, 1.0, (0, 0, 0), (0, 0, 0))],
+            pair=IMPLICIT_PAIR,
+            extra="fix integrate all hydro/implicit/sf solve newton\nrun 0\n",
+        )
 
 
 def test_contact_force_is_capped_by_coulomb_and_normal_force_is_kn_overlap():

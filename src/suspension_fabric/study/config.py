@@ -82,6 +82,7 @@ NAME_MAX = 255
 SIMULATION_RUN_KEYS = (
     "integrator",
     "contact_springs",
+    "contact_solve",
     "preconditioner",
     "solver_tol",
     "dt",
@@ -484,6 +485,11 @@ def _cross_check(config: dict) -> None:
         raise ConfigError(
             "config key 'run.contact_springs' (implicit) needs run.integrator = implicit: the "
             "springs are solved with the implicit hydrodynamics"
+        )
+    if run["contact_solve"] == "newton" and run["contact_springs"] != "implicit":
+        raise ConfigError(
+            "config key 'run.contact_solve' (newton) needs run.contact_springs = implicit: it solves the "
+            "contacts that fix hydro/implicit/sf owns"
         )
     if run["integrator"] == "implicit" and run["mpi_ranks"] > 1:
         raise ConfigError(

@@ -292,20 +292,25 @@ DATASET_FORMAT = 2
 #: ``run`` keys added after format-1 datasets were exported, with the value those datasets were
 #: made with (the contact springs taken explicitly by pair granular, the block-Jacobi solve).
 KEYS_BEFORE_RECORDED = {"contact_springs": "explicit", "preconditioner": "jacobi"}
+#: ``run`` keys added after datasets of the current format were exported, with the value those
+#: datasets were made with (the contacts' states lagged, the only solve there was).
+KEYS_ADDED_SINCE = {"contact_solve": "lagged"}
 
 
 def upgrade_dataset(record: dict, source: str | Path = "dataset record") -> dict:
     """A dataset record in the current format (`DATASET_FORMAT`). Format 1 (no ``format`` key)
     lacked the ``run`` keys of `KEYS_BEFORE_RECORDED` where they did not exist yet, and held
     fits in fits format 1
-    ([`suspension_fabric.models.fits_file.upgrade_fits`][suspension_fabric.models.fits_file.upgrade_fits]); a format
+    ([`suspension_fabric.models.fits_file.upgrade_fits`][suspension_fabric.models.fits_file.upgrade_fits]); records of
+    either format lack the keys of `KEYS_ADDED_SINCE` if exported before they existed. A format
     this package does not know is an error naming ``source``."""
     version = record.get("format", 1)
     if version == DATASET_FORMAT:
-        return record
+        return {**record, "config": {**record["config"], "run": {**KEYS_ADDED_SINCE, **record["config"]["run"]}}}
     if version != 1:
         raise ValueError(f"{source}: dataset format {version!r} is not one this package reads (1 or {DATASET_FORMAT})")
-    config = {**record["config"], "run": {**KEYS_BEFORE_RECORDED, **record["config"]["run"]}}
+    run = {**KEYS_ADDED_SINCE, **KEYS_BEFORE_RECORDED, **record["config"]["run"]}
+    config = {**record["config"], "run": run}
     fits = record.get("fits")
     return {
         **record,

@@ -92,7 +92,9 @@ class ForceModel:
     hydro/implicit/sf (drag and lubrication solved implicitly, CG to ``solver_tol`` in
     gammadot d), "explicit" = velocity Verlet (needs dt ~ 2e-7; ``suspension_fabric.simulation.scales``).
     ``contact_springs`` (implicit integrator) "implicit" = the fix owns the contacts and solves
-    the sticking springs with the hydrodynamics, "explicit" = pair granular; ``preconditioner``
+    the sticking springs with the hydrodynamics, "explicit" = pair granular; ``contact_solve`` (implicit
+    springs) "lagged" = contact states from the old velocities, "newton" = the contact law solved
+    implicitly by Newton passes (config/schema.yaml ``run.contact_solve``); ``preconditioner``
     of the implicit solve, "jacobi" or "dilu".
     """
 
@@ -107,6 +109,7 @@ class ForceModel:
     plugin: str | os.PathLike | None = None
     integrator: str = schema_default("run", "integrator")
     contact_springs: str = schema_default("run", "contact_springs")
+    contact_solve: str = schema_default("run", "contact_solve")
     preconditioner: str = schema_default("run", "preconditioner")
     solver_tol: float = schema_default("run", "solver_tol")
 
@@ -117,6 +120,7 @@ class ForceModel:
             plugin=plugin,
             integrator=config["run"]["integrator"],
             contact_springs=config["run"]["contact_springs"],
+            contact_solve=config["run"]["contact_solve"],
             preconditioner=config["run"]["preconditioner"],
             solver_tol=config["run"]["solver_tol"],
             **config["forces"],
@@ -136,6 +140,12 @@ class ForceModel:
                 "contact_springs='implicit' needs integrator='implicit' (the springs are "
                 "solved with the implicit hydrodynamics)"
             )
+        if self.contact_solve not in ("lagged", "newton"):
+            raise ValueError(f"contact_solve must be 'lagged' or 'newton', got {self.contact_solve!r}")
+        if self.contact_solve == "newton" and self.contact_springs != "implicit":
+            raise ValueError(
+                "contact_solve='newton' needs contact_springs='implicit' (it solves the fix's own contacts)"
+            )
         if self.preconditioner not in ("jacobi", "dilu"):
             raise ValueError(f"preconditioner must be 'jacobi' or 'dilu', got {self.preconditioner!r}")
         kt = 2.0 / 7.0 * self.kn if self.kt is None else self.kt
@@ -150,6 +160,7 @@ class ForceModel:
             "newton_pair": self.newton_pair,
             "integrator": self.integrator,
             "contact_springs": self.contact_springs,
+            "contact_solve": self.contact_solve,
             "preconditioner": self.preconditioner,
             "solver_tol": _number(self.solver_tol),
             "plugin": str(_plugin_library(self.plugin)),

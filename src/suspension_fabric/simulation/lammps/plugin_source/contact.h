@@ -38,6 +38,9 @@ struct Contact {
   double spring[3];      // xi of the last step, projected onto the current tangent plane
   double flow_slip[3];   // slip of the imposed flow, P E (x_i - x_j)
   double sliding_force[3];    // tangential force of a sliding contact (explicit)
+  double sliding_direction[3];  // unit trial spring of a sliding contact (solve newton)
+  double sliding_stiffness;     // bound / |trial spring|: its stiffness across that direction (solve newton)
+  int changes;           // changes of sticking or pressed in this step's passes (solve newton)
   double force[3];       // tangential force on i after the step
   double history_sign;   // +1 if the history is stored for (i, j), -1 for (j, i)
   unsigned long long key;

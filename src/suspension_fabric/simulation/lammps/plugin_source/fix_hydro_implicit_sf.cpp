@@ -1,4 +1,4 @@
-/* fix <ID> all hydro/implicit/sf [tol <t>] [maxiter <n>] [contacts <kn> <kt> <mu>]
+/* fix <ID> all hydro/implicit/sf [tol <t>] [maxiter <n>] [contacts <kn> <kt> <mu>] [solve lagged|newton]
 
    Time integration of spheres whose hydrodynamic forces, the one-body Stokes drag and the
    pairwise lubrication of pair_style lubricate/sf, are taken implicitly.  Replaces fix
@@ -30,8 +30,24 @@
    contact that the solved velocities open becomes explicit, and the system is solved again
    (at most MAX_CONTACT_PASSES solves per step).  After the step each spring holds
    xi_{n+1} = xi_n + dt s_{n+1} (capped), the displacement the next position update makes.
-   Stability no longer limits dt; accuracy does: the contact relaxation time X(delta)/kn
-   must be resolved (BENCHMARKS.md, "Engine speed II").
+   Stability no longer limits dt; accuracy does: with this `solve lagged` the contact
+   relaxation time X(delta)/kn must be resolved, dt <= 0.025 of it (BENCHMARKS.md, "Engine
+   speed II"), because a contact's sliding is decided with the old velocities and its Coulomb
+   force stays explicit: at larger dt contacts keep sliding that should stick and the contact
+   stress drains away.
+
+   `solve newton` takes the whole contact law implicitly, by a semi-smooth Newton iteration
+   over the passes.  After each solve every contact is classified again from the solved
+   velocities: pressed iff the step leaves it overlapping, sticking iff its trial spring
+   t = xi_n + dt s_{n+1} is within the Coulomb bound; a sliding contact carries the force
+   -mu F_n t/|t| linearised about the solved t, i.e. the constant -mu F_n t^ plus the stiffness
+   mu F_n / |t| across t^ (none along it) in the operator, the consistent tangent of the
+   Coulomb law; a sliding contact whose slip reverses between passes sticks.  The passes end
+   when no contact changes between sticking and sliding or pressed and open (at most
+   MAX_CONTACT_PASSES_NEWTON; a contact changes at most MAX_CONTACT_CHANGES times a step,
+   which stops cycling).  Then accuracy is no longer tied to X(delta)/kn: at phi = 0.53,
+   mu = 0.5, dt = 10x and 25x the lagged limit keep the contact stress of dt -> 0 (BENCHMARKS.md,
+   "Engine III").
 
    The linear system is solved matrix-free by conjugate gradients over the pair list with a
    6x6 block-Jacobi preconditioner (rebuilt every 10 steps and after the atoms are re-sorted),
@@ -139,10 +155,12 @@ double dot(const std::vector<double> &a, const std::vector<double> &b)
 constexpr double INERTIA = 0.4;    // moment of inertia of a solid sphere / (m a^2)
 constexpr bigint PRECONDITIONER_AGE = 10;    // steps between preconditioner rebuilds at most
 constexpr int MAX_CONTACT_PASSES = 4;        // solves per step while sticking springs are released
+constexpr int MAX_CONTACT_PASSES_NEWTON = 8;    // solves per step of solve newton
+constexpr int MAX_CONTACT_CHANGES = 2;          // changes of state of one contact per step (newton)
 }    // namespace
 
 FixHydroImplicitSF::FixHydroImplicitSF(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), tolerance(1.0e-5), max_iterations(1000), own_contacts(false), kn(0.0),
+    Fix(lmp, narg, arg), tolerance(1.0e-5), max_iterations(1000), own_contacts(false), newton_contacts(false), kn(0.0),
     kt(0.0), mu(0.0), dtv(0.0), lubrication(nullptr), steps(0), total_iterations(0),
     total_passes(0), total_released(0), last_iterations(0), last_error(0.0), sliding_contacts(0),
     use_dilu(false), dilu_fallbacks(0)
@@ -162,6 +180,11 @@ FixHydroImplicitSF::FixHydroImplicitSF(LAMMPS *lmp, int narg, char **arg) :
       else if (strcmp(arg[iarg + 1], "jacobi") == 0) use_dilu = false;
       else error->all(FLERR, "fix hydro/implicit/sf: precond must be dilu or jacobi, got '{}'", arg[iarg + 1]);
       iarg += 2;
+    } else if (strcmp(arg[iarg], "solve") == 0 && iarg + 1 < narg) {
+      if (strcmp(arg[iarg + 1], "newton") == 0) newton_contacts = true;
+      else if (strcmp(arg[iarg + 1], "lagged") == 0) newton_contacts = false;
+      else error->all(FLERR, "fix hydro/implicit/sf: solve must be lagged or newton, got '{}'", arg[iarg + 1]);
+      iarg += 2;
     } else if (strcmp(arg[iarg], "contacts") == 0 && iarg + 3 < narg) {
       own_contacts = true;
       kn = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
@@ -172,7 +195,7 @@ FixHydroImplicitSF::FixHydroImplicitSF(LAMMPS *lmp, int narg, char **arg) :
       iarg += 4;
     } else {
       error->all(FLERR, "Illegal fix hydro/implicit/sf keyword '{}': expected tol <t>, maxiter <n>, "
-                        "precond dilu|jacobi or contacts <kn> <kt> <mu>",
+                        "precond dilu|jacobi, contacts <kn> <kt> <mu> or solve lagged|newton",
                  arg[iarg]);
     }
   }
@@ -216,6 +239,8 @@ void FixHydroImplicitSF::init()
                       "'implicit' (else the lubrication would be applied twice)");
   if (!modify->get_fix_by_style("^stokes/sf$").empty())
     error->all(FLERR, "fix hydro/implicit/sf already includes the Stokes drag; remove fix stokes/sf");
+  if (newton_contacts && !own_contacts)
+    error->all(FLERR, "fix hydro/implicit/sf: solve newton needs the keyword contacts (the fix's own contacts)");
   if (own_contacts) {
     if (force->pair_match("granular", 0, 0) != nullptr || force->pair_match("gran", 0, 0) != nullptr)
       error->all(FLERR, "fix hydro/implicit/sf ... contacts computes the contacts itself; remove the "
@@ -360,6 +385,17 @@ double predicted_overlap(const SuspensionFabric::Contact &c, const std::vector<d
   return c.overlap - dt * (SuspensionFabric::dot3(du, c.n) + c.flow_approach);
 }
 
+// a sliding contact along its trial spring t: the force -bound t^ and the stiffness bound/|t| across t^
+void set_sliding(SuspensionFabric::Contact &c, const double *trial, double bound)
+{
+  const double length = std::sqrt(SuspensionFabric::dot3(trial, trial));
+  for (int k = 0; k < 3; k++) {
+    c.sliding_direction[k] = length > 0.0 ? trial[k] / length : 0.0;
+    c.sliding_force[k] = -bound * c.sliding_direction[k];
+  }
+  c.sliding_stiffness = length > 0.0 ? bound / length : 0.0;
+}
+
 // the Coulomb force mu F_n against the trial spring direction
 void coulomb_force(const double *trial, double bound, double *f)
 {
@@ -379,8 +415,36 @@ void FixHydroImplicitSF::classify_contacts()
     trial_spring(c, solution, dtv, trial);
     const double bound = mu * c.normal_force;
     c.sticking = kt * std::sqrt(SuspensionFabric::dot3(trial, trial)) <= bound;
-    if (!c.sticking) coulomb_force(trial, bound, c.sliding_force);
+    if (!c.sticking) set_sliding(c, trial, bound);
+    c.changes = 0;
   }
+}
+
+/* solve newton: every contact classified again from the solved velocities (see the header
+   comment); returns how many contacts changed between sticking and sliding or pressed and open. */
+int FixHydroImplicitSF::relinearise_contacts()
+{
+  int changed = 0;
+  double trial[3];
+  for (SuspensionFabric::Contact &c : contacts) {
+    const bool may_change = c.changes < MAX_CONTACT_CHANGES;
+    const bool pressed = predicted_overlap(c, solution, dtv) > 0.0;
+    trial_spring(c, solution, dtv, trial);
+    const double bound = mu * c.normal_force;
+    const double stretch = kt * std::sqrt(SuspensionFabric::dot3(trial, trial));
+    bool sticking = stretch <= bound * (1.0 + 1.0e-9);
+    // the linearised sliding law has no stiffness along the sliding direction: a slip that
+    // reversed within the step is taken by the spring
+    if (!c.sticking && SuspensionFabric::dot3(trial, c.sliding_direction) < 0.0) sticking = true;
+    if (may_change && (pressed != c.pressed || sticking != c.sticking)) {
+      c.pressed = pressed;
+      c.sticking = sticking;
+      c.changes++;
+      changed++;
+    }
+    if (!c.sticking) set_sliding(c, trial, bound);
+  }
+  return changed;
 }
 
 /* Sticking springs stretched beyond the Coulomb bound by the solved velocities slide, and
@@ -429,6 +493,12 @@ void FixHydroImplicitSF::finish_contacts(bool update_springs)
       const double magnitude = kt * std::sqrt(SuspensionFabric::dot3(trial, trial));
       const double scale = magnitude > bound ? bound / magnitude : 1.0;
       for (int k = 0; k < 3; k++) c.force[k] = -kt * scale * trial[k];
+    } else if (newton_contacts && update_springs) {
+      // the Coulomb force along the solved trial spring
+      const double magnitude = kt * std::sqrt(SuspensionFabric::dot3(trial, trial));
+      const double scale = magnitude > bound ? bound / magnitude : 1.0;
+      for (int k = 0; k < 3; k++) c.force[k] = -kt * scale * trial[k];
+      sliding_contacts++;
     } else {
       for (int k = 0; k < 3; k++) c.force[k] = c.sliding_force[k];
       sliding_contacts++;
@@ -492,12 +562,18 @@ void FixHydroImplicitSF::apply_operator(const std::vector<double> &in, std::vect
   const double stiffness = kt * dtv;
   const double normal_stiffness = kn * dtv;
   for (const SuspensionFabric::Contact &c : contacts) {
-    if (!c.sticking && !c.pressed) continue;
+    const bool sliding_tangent = newton_contacts && !c.sticking;
+    if (!c.sticking && !c.pressed && !sliding_tangent) continue;
     const double *ui = &in[6 * c.i], *uj = &in[6 * c.j];
     const double du[3] = {ui[0] - uj[0], ui[1] - uj[1], ui[2] - uj[2]};
     double s[3] = {0.0, 0.0, 0.0};
-    if (c.sticking) SuspensionFabric::contact_slip(c, du, ui + 3, uj + 3, s);
-    for (int k = 0; k < 3; k++) fi[k] = -stiffness * s[k];
+    if (c.sticking || sliding_tangent) SuspensionFabric::contact_slip(c, du, ui + 3, uj + 3, s);
+    if (sliding_tangent) {    // the consistent tangent: stiffness across the sliding direction only
+      const double along = SuspensionFabric::dot3(s, c.sliding_direction);
+      for (int k = 0; k < 3; k++) fi[k] = -c.sliding_stiffness * dtv * (s[k] - along * c.sliding_direction[k]);
+    } else {
+      for (int k = 0; k < 3; k++) fi[k] = -stiffness * s[k];
+    }
     if (c.pressed) {
       const double separation = SuspensionFabric::dot3(du, c.n);
       for (int k = 0; k < 3; k++) fi[k] -= normal_stiffness * separation * c.n[k];
@@ -783,6 +859,14 @@ void FixHydroImplicitSF::assemble_rhs(const double E[3][3])
     double ft[3];
     if (c.sticking) {
       for (int k = 0; k < 3; k++) ft[k] = -kt * (c.spring[k] + dtv * c.flow_slip[k]);
+    } else if (newton_contacts) {
+      // the linearised Coulomb force at zero relative velocity: -bound t^ less the stiffness
+      // across t^ times the trial spring without the solved slip
+      double t[3];
+      for (int k = 0; k < 3; k++) t[k] = c.spring[k] + dtv * c.flow_slip[k];
+      const double along = SuspensionFabric::dot3(t, c.sliding_direction);
+      for (int k = 0; k < 3; k++)
+        ft[k] = c.sliding_force[k] - c.sliding_stiffness * (t[k] - along * c.sliding_direction[k]);
     } else {
       for (int k = 0; k < 3; k++) ft[k] = c.sliding_force[k];
     }
@@ -869,8 +953,9 @@ void FixHydroImplicitSF::final_integrate()
   int iterations = conjugate_gradients();
   int passes = 1;
   if (own_contacts) {
-    while (passes < MAX_CONTACT_PASSES) {
-      const int released = release_violated_springs();
+    const int max_passes = newton_contacts ? MAX_CONTACT_PASSES_NEWTON : MAX_CONTACT_PASSES;
+    while (passes < max_passes) {
+      const int released = newton_contacts ? relinearise_contacts() : release_violated_springs();
       if (released == 0) break;
       total_released += released;
       assemble_rhs(E);

@@ -1,4 +1,4 @@
-/* fix <ID> all hydro/implicit/sf [tol <t>] [maxiter <n>] [contacts <kn> <kt> <mu>]
+/* fix <ID> all hydro/implicit/sf [tol <t>] [maxiter <n>] [contacts <kn> <kt> <mu>] [solve lagged|newton]
    Time integration with the hydrodynamic forces (Stokes drag + lubricate/sf) taken
    implicitly, and with `contacts` also the frictional contact springs.  See
    fix_hydro_implicit_sf.cpp and README.md in this folder. */
@@ -23,7 +23,7 @@ class PairLubricateSF;
 /* The fix's global vector, as an input script reads it: f_ID[i], i counted from 1 as LAMMPS does.
    Three-component and six-component entries start at the index given (virials and stresslets in
    LAMMPS's order xx yy zz xy xz yz, summed over pairs: divide by the volume for a pressure).
-   forces_sf.lmp reads these; tests/test_fix_vector.py checks every index it uses against this list. */
+   forces_sf.lmp reads these; tests/simulation/test_fix_vector.py checks every index it uses against this list. */
 namespace HydroVector {
   enum : int {
     LAST_ITERATIONS = 1,       // CG iterations of the last step
@@ -71,6 +71,7 @@ class FixHydroImplicitSF : public Fix {
   double tolerance;    // largest velocity error |D^-1 r| allowed, in gammadot d
   int max_iterations;
   bool own_contacts;   // keyword contacts: the fix computes the contacts, springs implicit
+  bool newton_contacts;    // solve newton: the contact law re-linearised about each pass's solution
   double kn, kt, mu;
   double dtv;
   PairLubricateSF *lubrication;
@@ -114,6 +115,7 @@ class FixHydroImplicitSF : public Fix {
   void assemble_rhs(const double E[3][3]);
   int conjugate_gradients();
   int release_violated_springs();
+  int relinearise_contacts();
   void finish_contacts(bool update_springs);
   void apply_operator(const std::vector<double> &in, std::vector<double> &out) const;
   void build_preconditioner();

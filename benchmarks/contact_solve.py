@@ -1,0 +1,216 @@
+"""The step error of the two contact solves, paired on the same sheared states (BENCHMARKS.md,
+"Engine III").
+
+Each state is the end of a steady startup (a run's ``checkpoint.rst``, one per seed). From it,
+every rung continues the shear for ``--strain`` at one (solve, dt as a fraction of tau) and
+records the mean contact shear stress and pressure (units eta_f gammadot), the contact number
+per particle, the sliding fraction, the contact-state passes and CG iterations per step and the
+LAMMPS wall time per unit strain. Over so short a horizon the trajectories from one state stay
+close, so a rung's difference from the reference rung on the same state is its step error, not
+sampling noise; the seeds' states are the independent units (mean and 95% t-interval over them).
+
+    .venv/bin/python benchmarks/contact_solve.py run --point phi0.53_mu0.5 \
+        --states 'results/engine_newton_phi0.53_mu0.5/seed*/startup/checkpoint.rst'
+    .venv/bin/python benchmarks/contact_solve.py report
+
+The reference rung is the lagged solve at 0.024 tau (the campaign's engine; tau = X(delta)/kn of
+two small spheres, suspension_fabric.simulation.scales.contact_relaxation_time). The wall times
+are of one LAMMPS process; time it on an idle machine.
+"""
+
+from __future__ import annotations
+
+import argparse
+import glob
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from scipy import stats
+
+from suspension_fabric.simulation.lammps import ForceModel
+from suspension_fabric.simulation.lammps.plugin import new_lammps
+from suspension_fabric.simulation.scales import contact_relaxation_time
+from suspension_fabric.study.campaign import campaign_points
+from suspension_fabric.study.config import load_config
+
+HERE = Path(__file__).resolve().parent
+REPO = HERE.parent
+TABLE = HERE / "data" / "contact_solve.csv"
+#: (solve, dt as a fraction of tau); the first is the reference
+RUNGS = (("lagged", 0.024), ("lagged", 0.24), ("newton", 0.12), ("newton", 0.24), ("newton", 0.6))
+#: the engine of the points the campaign left out before the Newton solve: kn from the pilot's
+#: stiffness factor (campaign_pilot.py, m = 25)
+MISSING_POINT_KN = {"phi0.53_mu1": 3.125e9, "phi0.55_mu0.5": 3.125e9}
+QUANTITIES = ("contact_12", "contact_pressure", "contact_number", "sliding_fraction")
+
+
+def point_study(name: str, config: Path) -> dict:
+    """The validated study of one point of the campaign's grid (the points it leaves out included)."""
+    campaign_config = load_config(config)
+    campaign = campaign_config["campaign"]
+    overrides = dict(campaign["overrides"])
+    if name in MISSING_POINT_KN:
+        overrides[name] = {"forces": {"kn": MISSING_POINT_KN[name]}, "run": {"dt": 4.0e-6}}
+    campaign = {**campaign, "points": [name], "not_run": {}, "overrides": overrides}
+    return campaign_points({**campaign_config, "campaign": campaign})[name]
+
+
+def rung_dt(fraction: float, tau: float) -> float:
+    """fraction x tau rounded down to 1, 2, 4 or 5 x 10^k (whole steps per output stride)."""
+    target = fraction * tau
+    decade = 10.0 ** np.floor(np.log10(target))
+    return float(max(m * decade for m in (1, 2, 4, 5) if m * decade <= target * (1 + 1e-9)))
+
+
+def continue_shear(checkpoint: Path, study: dict, solve: str, dt: float, strain: float) -> dict:
+    """Means over ``strain`` of shear continued from ``checkpoint``, and the wall time per strain."""
+    model = ForceModel.from_config({**study, "run": {**study["run"], "contact_solve": solve}})
+    v = model.variables()
+    lmp = new_lammps(load_plugin=False)
+    lmp.commands_string(
+        f"""
+units lj
+atom_style sphere
+atom_modify map array
+dimension 3
+boundary p p p
+plugin load {v["plugin"]}
+read_restart {checkpoint}
+newton on on
+pair_style lubricate/sf {v["eta_f"]} {v["delta"]} {v["h_out"]} implicit
+pair_coeff * *
+fix integrate all hydro/implicit/sf tol {v["solver_tol"]} precond {v["preconditioner"]} &
+    contacts {v["kn"]} {v["kt"]} {v["mu"]} solve {solve}
+neighbor 0.1 bin
+neigh_modify delay 0 every 1 check yes
+comm_modify mode single vel yes
+fix shear all deform 1 xz erate 1.0 remap v flip yes
+timestep {dt!r}
+thermo_style custom step
+run 0 post no
+"""
+    )
+    scale = 1.0 / study["forces"]["eta_f"]
+    samples, chunks = [], 20
+    steps = max(1, round(strain / chunks / dt))
+    start = time.perf_counter()
+    for _ in range(chunks):
+        lmp.command(f"run {steps} post no")
+        f = [lmp.extract_fix("integrate", 0, 1, k) for k in range(29)]
+        volume, atoms = lmp.get_thermo("vol"), lmp.get_natoms()
+        samples.append(
+            {
+                "contact_12": -f[7] / volume * scale,
+                "contact_pressure": (f[3] + f[4] + f[5]) / (3.0 * volume) * scale,
+                "contact_number": 2.0 * f[19] / atoms,
+                "sliding_fraction": f[20] / f[19] if f[19] else np.nan,
+                "passes_per_step": f[18],
+                "iterations_per_step": f[1],
+            }
+        )
+    wall = time.perf_counter() - start
+    lmp.close()
+    means = pd.DataFrame(samples)
+    row = {q: means[q].mean() for q in QUANTITIES}
+    # the fix's counters are means since it was defined: the last sample covers the whole run
+    row.update(means.iloc[-1][["passes_per_step", "iterations_per_step"]].to_dict())
+    return {**row, "wall_per_strain": wall / (chunks * steps * dt)}
+
+
+def measure(point: str, states: list[Path], config: Path, strain: float) -> pd.DataFrame:
+    study = point_study(point, config)
+    forces = study["forces"]
+    tau = contact_relaxation_time(1.0, 1.0, forces["eta_f"], forces["delta"], forces["kn"])
+    rows = []
+    for state in states:
+        for solve, fraction in RUNGS:
+            dt = rung_dt(fraction, tau)
+            row = continue_shear(state, study, solve, dt, strain)
+            rows.append(
+                {
+                    "point": point,
+                    "state": str(state),
+                    "kn": forces["kn"],
+                    "tau": tau,
+                    "solve": solve,
+                    "dt": dt,
+                    "strain": strain,
+                    **row,
+                }
+            )
+            print(
+                pd.DataFrame(rows[-1:]).drop(columns="state").to_string(index=False, header=len(rows) == 1), flush=True
+            )
+    return pd.DataFrame(rows)
+
+
+def report(table: pd.DataFrame, level: float = 0.95) -> str:
+    """Per point and rung: the mean over states of each quantity's relative difference from the
+    reference rung on the same state, with its t-interval over the states, and the cost."""
+    lines = []
+    for point, rows in table.groupby("point", sort=False):
+        reference = rows[(rows["solve"] == RUNGS[0][0]) & np.isclose(rows["dt"] / rows["tau"], RUNGS[0][1], rtol=0.2)]
+        reference = reference.set_index("state")
+        states = len(reference)
+        lines.append(
+            f"{point}: kn = {rows['kn'].iloc[0]:.4g}, tau = {rows['tau'].iloc[0]:.3g}, {states} states, "
+            f"{rows['strain'].iloc[0]:g} strain from each; relative difference from the reference rung "
+            f"(lagged, dt {reference['dt'].iloc[0]:g}) on the same state, mean [{level:.0%} t-interval over states]"
+        )
+        header = [
+            "solve",
+            "dt",
+            "dt/tau",
+            *QUANTITIES,
+            "passes/step",
+            "CG iterations/step",
+            "wall s/strain",
+            "speed-up",
+        ]
+        lines.append("| " + " | ".join(header) + " |")
+        lines.append("|" + "---|" * len(header))
+        t = stats.t.ppf(0.5 + level / 2, states - 1) if states > 1 else np.nan
+        for (solve, dt), rung in rows.groupby(["solve", "dt"], sort=False):
+            rung = rung.set_index("state").loc[reference.index]
+            cells = [solve, f"{dt:g}", f"{dt / rung['tau'].iloc[0]:.3g}"]
+            for quantity in QUANTITIES:
+                change = rung[quantity] / reference[quantity] - 1.0
+                half = t * change.std(ddof=1) / np.sqrt(states)
+                cells.append(f"{change.mean():+.4f} [{change.mean() - half:+.4f}, {change.mean() + half:+.4f}]")
+            speed = reference["wall_per_strain"].mean() / rung["wall_per_strain"].mean()
+            cells += [
+                f"{rung['passes_per_step'].mean():.2f}",
+                f"{rung['iterations_per_step'].mean():.1f}",
+                f"{rung['wall_per_strain'].mean():.1f}",
+                f"{speed:.2f}",
+            ]
+            lines.append("| " + " | ".join(cells) + " |")
+        lines.append("")
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("command", choices=("run", "report"))
+    parser.add_argument("--point", help="the campaign point whose engine the states were made with (run)")
+    parser.add_argument("--states", help="glob of the checkpoints to continue, one per seed (run)")
+    parser.add_argument("--config", type=Path, default=REPO / "config" / "campaign.yaml")
+    parser.add_argument("--strain", type=float, default=0.1)
+    args = parser.parse_args(argv)
+    if args.command == "run":
+        states = [Path(p) for p in sorted(glob.glob(args.states or ""))]
+        if not args.point or not states:
+            parser.error("run needs --point and --states matching at least one checkpoint")
+        table = measure(args.point, states, args.config, args.strain)
+        if TABLE.is_file():  # keep the other points' rows
+            old = pd.read_csv(TABLE)
+            table = pd.concat([old[old["point"] != args.point], table], ignore_index=True)
+        TABLE.parent.mkdir(parents=True, exist_ok=True)
+        table.to_csv(TABLE, index=False, float_format="%.6g")
+    print(report(pd.read_csv(TABLE)))
+
+
+if __name__ == "__main__":
+    main()
