@@ -40,21 +40,16 @@ REPO = HERE.parent
 TABLE = HERE / "data" / "contact_solve.csv"
 #: (solve, dt as a fraction of tau); the first is the reference
 RUNGS = (("lagged", 0.024), ("lagged", 0.24), ("newton", 0.12), ("newton", 0.24), ("newton", 0.6))
-#: the engine of the points the campaign left out before the Newton solve: kn from the pilot's
-#: stiffness factor (campaign_pilot.py, m = 25)
-MISSING_POINT_KN = {"phi0.53_mu1": 3.125e9, "phi0.55_mu0.5": 3.125e9}
 QUANTITIES = ("contact_12", "contact_pressure", "contact_number", "sliding_fraction")
 
 
 def point_study(name: str, config: Path) -> dict:
-    """The validated study of one point of the campaign's grid (the points it leaves out included)."""
-    campaign_config = load_config(config)
-    campaign = campaign_config["campaign"]
-    overrides = dict(campaign["overrides"])
-    if name in MISSING_POINT_KN:
-        overrides[name] = {"forces": {"kn": MISSING_POINT_KN[name]}, "run": {"dt": 4.0e-6}}
-    campaign = {**campaign, "points": [name], "not_run": {}, "overrides": overrides}
-    return campaign_points({**campaign_config, "campaign": campaign})[name]
+    """The validated study of one point of a campaign config (the two points the Newton solve freed:
+    benchmarks/configs/campaign_newton_points.yaml)."""
+    points = campaign_points(load_config(config))
+    if name not in points:
+        raise SystemExit(f"{config}: no point {name!r} to run (points: {', '.join(points)})")
+    return points[name]
 
 
 def rung_dt(fraction: float, tau: float) -> float:

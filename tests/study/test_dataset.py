@@ -31,17 +31,26 @@ from workflow_helpers import REPO, RESULTS, copy_workflow, dry_run_jobs, snakema
 pytestmark = pytest.mark.workflow
 SIMULATION_RULES = {"pack", "shear_segment", "fabric_table"}
 
-SIMULATION_RULES = {"pack", "shear_segment", "fabric_table"}
 
-
-@pytest.mark.parametrize("folder", ["reference", "reference_v1", "stresslets", "campaign/phi0.45_mu0.5"])
-def test_every_committed_dataset_reads_in_the_current_format(folder):
-    """The committed records were written in format 1; read_dataset upgrades them in one step
-    (upgrade_dataset): the run keys added since filled with the values they were made with, the fits
-    in fits format 2 with the paper's two models once each."""
+@pytest.mark.parametrize(
+    ("folder", "contact_solve"),
+    [
+        ("reference", "lagged"),
+        ("reference_v1", "lagged"),
+        ("stresslets", "lagged"),
+        ("campaign/phi0.45_mu0.5", "lagged"),
+        ("campaign_newton/phi0.55_mu0.5", "newton"),
+    ],
+)
+def test_every_committed_dataset_reads_in_the_current_format(folder, contact_solve):
+    """The committed records were written in format 1 or 2; read_dataset upgrades them in one step
+    (upgrade_dataset): the run keys added since filled with the values they were made with (the
+    contact solve lagged before run.contact_solve existed, as recorded after), the fits in fits
+    format 2 with the paper's two models once each."""
     record = read_dataset(REPO / "data" / folder)
     assert record["format"] == DATASET_FORMAT == 2
     assert {"contact_springs", "preconditioner"} <= set(record["config"]["run"])
+    assert record["config"]["run"]["contact_solve"] == contact_solve
     assert record["fits"]["format"] == 2 and {"gw", "modified"} <= set(record["fits"]["models"])
     for entry in record["fits"]["models"].values():
         assert set(entry["parameters"]) == set(entry["errors"]) == set(entry["errors_propagated"])
