@@ -152,7 +152,7 @@ def report(table: pd.DataFrame, level: float = 0.95) -> str:
         lines.append(
             f"{point}: kn = {rows['kn'].iloc[0]:.4g}, tau = {rows['tau'].iloc[0]:.3g}, {states} states, "
             f"{rows['strain'].iloc[0]:g} strain from each; relative difference from the reference rung "
-            f"(lagged, dt {reference['dt'].iloc[0]:g}) on the same state, mean [{level:.0%} t-interval over states]"
+            f"(lagged, dt {reference['dt'].iloc[0]:g}) on the same state, mean [{level:.0%} t-interval over states]\n"
         )
         header = [
             "solve",
