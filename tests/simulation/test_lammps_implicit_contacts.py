@@ -118,28 +118,13 @@ def test_newton_solve_keeps_the_contact_stress_where_the_lagged_solve_loses_it(t
     sheared 0.3 strain from rest: the mean contact shear stress over the second half at
     dt = 1e-4 = 0.24 tau with solve newton is within 2% of that at dt = 1e-5 = 0.024 tau (the
     lagged solve's accurate step); with the lagged solve at 0.24 tau, where contacts that should
-    stick keep sliding on their explicit Coulomb force, it keeps less than half of it (measured
-    17%: BENCHMARKS.md, "Engine III")."""
+    stick keep sliding on their explicit Coulomb force, it keeps less than half of it (17%
+    when this test was written; the same loss on steady states: BENCHMARKS.md, "Engine III")."""
     packing = pack(tmp_path / "packing", 100, phi=0.55, seed=5, gap_margin=0.0)
     strain = 0.3
 
     def contact_shear_stress(name, dt, solve):
-        settings = ShearSettings(
-            dt=dt,
-            dump_strain=strain / 4,
-            table_strain=strain / 50,
-            thermo_strain=strain / 10,
-            restart_strain=strain,
-            max_stress_jitter=None,
-        )
-        run = run_startup(
-            tmp_path / name,
-            packing.data_file,
-            strain,
-            settings=settings,
-            progress=None,
-            force_model=ForceModel(plugin=plugin_path(), kn=KN, contact_solve=solve),
-        )
+        run = short_startup(tmp_path / name, packing, "implicit", dt, strain, solve=solve)
         table = read_stress_table(run.table_file)
         return np.mean(table["contact_pxz"][table["strain"] >= strain / 2])
 
