@@ -15,7 +15,7 @@ import yaml
 from suspension_fabric.evaluation.state_map import bgp_viscosities, map_table, steady_state_drift
 from suspension_fabric.reporting.map_page import map_display_table
 from suspension_fabric.study.campaign import campaign_points, point_name, study_configs
-from suspension_fabric.study.config import ConfigError, validate_config
+from suspension_fabric.study.config import ConfigError, load_config, validate_config
 from workflow_helpers import REPO, copy_workflow, dry_run_jobs, job_counts, snakemake
 
 BASE = {"study": "grid", "seeds": [1, 2], "angles_deg": [0, 90], "forces": {"kn": 1.25e8}}
@@ -34,6 +34,17 @@ def test_a_campaign_is_one_study_per_point_of_the_grid():
     assert list(study_configs(campaign())) == [f"grid/{name}" for name in points]
     single = validate_config(dict(BASE))
     assert study_configs(single) == {"grid": single}
+
+
+def test_the_newton_points_config_is_the_campaign_with_two_points_selected():
+    """benchmarks/configs/campaign_newton_points.yaml made data/campaign/phi0.53_mu1 and phi0.55_mu0.5:
+    it must describe the same studies as config/campaign.yaml, so that the map's points come from one config."""
+    campaign_config = load_config(REPO / "config" / "campaign.yaml")
+    selected = load_config(REPO / "benchmarks" / "configs" / "campaign_newton_points.yaml")
+    assert selected["campaign"]["points"] == ["phi0.53_mu1", "phi0.55_mu0.5"]
+    assert {**campaign_config["campaign"], "points": selected["campaign"]["points"]} == selected["campaign"]
+    studies = study_configs(selected)
+    assert studies == {name: study for name, study in study_configs(campaign_config).items() if name in studies}
 
 
 def test_overrides_subsets_and_points_not_run():

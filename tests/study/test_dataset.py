@@ -39,7 +39,7 @@ SIMULATION_RULES = {"pack", "shear_segment", "fabric_table"}
         ("reference_v1", "lagged"),
         ("stresslets", "lagged"),
         ("campaign/phi0.45_mu0.5", "lagged"),
-        ("campaign_newton/phi0.55_mu0.5", "newton"),
+        ("campaign/phi0.55_mu0.5", "newton"),
     ],
 )
 def test_every_committed_dataset_reads_in_the_current_format(folder, contact_solve):

@@ -19,8 +19,10 @@ from workflow_helpers import SNAKEMAKE, TEST_CONFIG, dry_run_jobs, result_digest
 
 pytestmark = pytest.mark.workflow
 
-# long enough that no rotation can finish before the interrupt (the test study's take ~0.1 s per 0.1 strain)
-SLOW_ROTATIONS = "run={rotation_strain: 30.0}"
+# long enough that no rotation can finish before the interrupt, which waits for a second Snakemake
+# to start and be refused (several seconds on a loaded machine): the test study's rotations take
+# ~0.5 s per strain, so 30 strain finished first in some runs
+SLOW_ROTATIONS = "run={rotation_strain: 600.0}"
 LOCKED = "Directory cannot be locked"
 ROTATIONS = {f"seed={s}, run=rotation_theta{a}" for s in (1, 2) for a in (0, 90)}
 

@@ -8,7 +8,8 @@ MAP_FIGURE_NAMES = list(MAP_FIGURES)
 
 
 rule campaign_map:
-    """The map table: per point the steady fabric, Z, stress, fits, steady-state check and claim statistics."""
+    """The map table: per point the steady fabric, Z, stress, fits, steady-state check and claim
+    statistics; its report page and its Markdown summary for the docs (docs/generated/map_summary.md)."""
     input:
         steady=per_point(rules.aggregate_startup.output.steady),
         stress_steady=per_point(rules.aggregate_stress_startup.output.steady),
@@ -19,6 +20,7 @@ rule campaign_map:
     output:
         table=f"{CAMPAIGN_RESULTS}/tables/map.csv",
         page=report(f"{CAMPAIGN_RESULTS}/tables/map.html", caption="../report/table_map.rst", category="Map"),
+        summary=f"{CAMPAIGN_RESULTS}/tables/map_summary.md",
     params:
         points=POINTS,
         not_run=config["campaign"]["not_run"],

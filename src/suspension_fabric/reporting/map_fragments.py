@@ -1,0 +1,96 @@
+"""The map over the state point as Markdown fragments for the docs, so that no number of the map
+is typed by hand: rule campaign_map writes them from the map table
+([`suspension_fabric.evaluation.state_map.map_table`][suspension_fabric.evaluation.state_map.map_table]),
+and the map's rebuild test compares them with their committed copy in ``docs/generated/``.
+
+- [`map_state_table`][suspension_fabric.reporting.map_fragments.map_state_table]: per point the
+  steady eta_r, Pi, Z and <nn>_12, the fitted parameters of the two models the claims compare, and
+  the steady-state check.
+- [`map_claims_table`][suspension_fabric.reporting.map_fragments.map_claims_table]: per point the
+  seed mean and interval of each claim statistic the map reports, with its verdict.
+"""
+
+from __future__ import annotations
+
+import pandas as pd
+
+from suspension_fabric.evaluation.state_map import fitted_columns
+
+from .html_tables import MISSING, format_interval, is_missing, parameter_label
+from .leaderboard_fragments import markdown_table
+
+__all__ = ["MAP_CLAIMS", "map_claims_table", "map_state_table", "map_summary"]
+
+#: The claims the map's fragment reports per point: the paired model-error statistics after a
+#: rotation (> 0: the challenger is better) and the challenger's overshoot
+MAP_CLAIMS = ("C3'", "C4'", "C5")
+#: Steady quantities of the state table: (column, heading, significant figures)
+_STATE = (("eta_r", "eta_r", 3), ("Pi", "Pi", 3), ("Z", "Z", 3), ("n12", "<nn>_12", 3))
+
+
+def _simulated(table: pd.DataFrame) -> pd.DataFrame:
+    return table[~table["steady"].astype(str).str.startswith("not run")]
+
+
+def _point(entry: dict) -> str:
+    return f"{entry['phi']:.2f}, {entry['mu']:g}"
+
+
+def _significant(value: float, digits: int) -> str:
+    """``value`` to ``digits`` significant figures, trailing zeros kept (8.30, 120, -0.080)."""
+    if is_missing(value):
+        return MISSING
+    text = f"{value:#.{digits}g}"
+    return f"{value:.0f}" if "e" in text else text.rstrip(".")
+
+
+def map_state_table(table: pd.DataFrame) -> str:
+    """The simulated points of the map table (in its order: by mu, then phi) as a Markdown table:
+    steady eta_r, Pi, Z and <nn>_12 (3 significant figures), each compared model's fitted
+    parameters (4; their jackknife errors are in the map's report page), and the steady-state check."""
+    fitted = fitted_columns(table)
+    header = ["phi, mu", *(h for _, h, _ in _STATE), *(f"{m} {parameter_label(p)}" for m, p, _, _ in fitted)]
+    rows = [
+        [
+            _point(entry),
+            *(_significant(entry[column], digits) for column, _, digits in _STATE),
+            *(_significant(entry[column], 4) for _, _, column, _ in fitted),
+            entry["steady"],
+        ]
+        for entry in _simulated(table).to_dict("records")
+    ]
+    return markdown_table([*header, "steady state"], rows)
+
+
+def map_claims_table(table: pd.DataFrame, claims=MAP_CLAIMS) -> str:
+    """The simulated points' claim statistics as a Markdown table: per claim the seed mean
+    [t-interval] and the verdict."""
+    header = ["phi, mu", *claims]
+    rows = []
+    for entry in _simulated(table).to_dict("records"):
+        cells = [_point(entry)]
+        for claim in claims:
+            mean = entry.get(f"{claim}_mean")
+            if is_missing(mean):
+                cells.append(MISSING)
+                continue
+            interval = format_interval(mean, entry[f"{claim}_low"], entry[f"{claim}_high"])
+            cells.append(f"{interval} {entry[f'{claim}_verdict']}")
+        rows.append(cells)
+    return markdown_table(header, rows)
+
+
+def map_summary(table: pd.DataFrame, level: float) -> str:
+    """Both tables, each under a one-line caption (``level``: the claims' interval level), and
+    the points not run with their reason."""
+    not_run = table[table["steady"].astype(str).str.startswith("not run")]
+    parts = [
+        "Steady state (mean over seeds) and fits:\n",
+        map_state_table(table),
+        f"Claim statistics, seed mean [{level:.0%} t-interval over seeds] and verdict:\n",
+        map_claims_table(table),
+    ]
+    if len(not_run):
+        listed = "; ".join(f"({_point(e)}): {e['steady'][len('not run: ') :]}" for e in not_run.to_dict("records"))
+        parts.append(f"Not run: {listed}.\n")
+    return "\n".join(parts)
