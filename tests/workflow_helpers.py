@@ -2,6 +2,7 @@
 the parsed dry-run output, and the session's one real run of the test study (conftest.py)."""
 
 import hashlib
+import os
 import re
 import shutil
 import subprocess
@@ -12,6 +13,14 @@ REPO = Path(__file__).resolve().parents[1]
 SNAKEMAKE = Path(sys.executable).with_name("snakemake")
 TEST_CONFIG = ["--configfile", "config/test.yaml"]
 RESULTS = "results/test"
+
+
+def session_folder(tmp_path_factory) -> Path:
+    """The test session's temporary folder: pytest's base folder, or under pytest-xdist the one that
+    holds each worker's base folder, where what one worker makes for the whole session is found by
+    the others (conftest.py's study, the docs site)."""
+    base = tmp_path_factory.getbasetemp()
+    return base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base
 
 
 def snakemake(workdir, *args, timeout=900, env=None):

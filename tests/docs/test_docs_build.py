@@ -15,6 +15,9 @@ from html.parser import HTMLParser
 from pathlib import Path
 
 import pytest
+from filelock import FileLock
+
+from workflow_helpers import session_folder
 
 REPO = Path(__file__).resolve().parents[2]
 DOCS = REPO / "docs"
@@ -47,9 +50,15 @@ _BUILT: dict[str, Path] = {}
 
 
 def build_site(tmp_path_factory) -> Path:
-    """The site, built strictly once per test session (tests/docs/test_api_docs.py reads it too)."""
+    """The site, built strictly once per test session (tests/docs/test_api_docs.py reads it too;
+    under pytest-xdist the first worker to ask builds it where every worker finds it, and the
+    others wait for it). No test changes it."""
     if "site" not in _BUILT:
-        _BUILT["site"] = _build(tmp_path_factory.mktemp("docs") / "site")
+        folder = session_folder(tmp_path_factory)
+        with FileLock(folder / "docs_site.lock"):
+            if not (folder / "docs_site").is_dir():
+                _build(folder / "docs_site.part").rename(folder / "docs_site")
+        _BUILT["site"] = folder / "docs_site"
     return _BUILT["site"]
 
 

@@ -15,7 +15,7 @@ from datetime import datetime
 
 import pytest
 
-from slurm_helpers import SLURM_STUDY, SlurmRun, find_cluster
+from slurm_helpers import SlurmRun, find_cluster, study_on_slurm
 from workflow_helpers import RESULTS, copy_workflow, job_counts
 
 pytestmark = [pytest.mark.slurm, pytest.mark.workflow]
@@ -86,7 +86,7 @@ def rule_of(comment: str) -> str:
 @pytest.fixture(scope="module")
 def slurm_study(cluster, request):
     """The test study on the cluster: the run conftest.py started in the background at collection."""
-    run = request.config.stash.get(SLURM_STUDY, None)
+    run = study_on_slurm(request.config)
     assert run is not None, "conftest.py starts the study on SLURM when the tests are collected"
     log = finished(run)
     return run.workdir, log, sacct_jobs(log, run.started)
