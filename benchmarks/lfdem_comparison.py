@@ -105,22 +105,23 @@ def write_lfdem_configuration(packing: Path, target: Path) -> tuple[float, float
     return sum(vf), float(radii.min())
 
 
-def lfdem_parameters(small_radius: float, strain: float) -> str:
-    """LF_DEM's parameter file for ENGINE's physics (module docstring), hydrodynamic units."""
-    kn_small_pairs = ENGINE["kn"] / (6.0 * math.pi * ETA_F * ENGINE["rate"] * small_radius)
+def lfdem_parameters(small_radius: float, strain: float, engine: dict = ENGINE) -> str:
+    """LF_DEM's parameter file for ``engine``'s physics (module docstring; keys kn, kt, mu, h_out,
+    delta, eta_f, rate), hydrodynamic units."""
+    kn_small_pairs = engine["kn"] / (6.0 * math.pi * engine["eta_f"] * engine["rate"] * small_radius)
     return "\n".join(
         [
             "lubrication_model = tangential;",
-            f"lub_max_gap = {ENGINE['h_out']};",
-            f"lub_reduce_parameter = {ENGINE['delta']};",
+            f"lub_max_gap = {engine['h_out']};",
+            f"lub_reduce_parameter = {engine['delta']};",
             "contact_relaxation_time = -1h;",
             "contact_relaxation_time_tan = -1h;",
             "friction_model = 1;",
-            f"mu_static = {ENGINE['mu']};",
-            f"mu_dynamic = {ENGINE['mu']};",
+            f"mu_static = {engine['mu']};",
+            f"mu_dynamic = {engine['mu']};",
             "mu_rolling = 0;",
             f"kn = {kn_small_pairs:.6g}h;",
-            f"kt = {ENGINE['kt'] / ENGINE['kn']:.12g}kn;",
+            f"kt = {engine['kt'] / engine['kn']:.12g}kn;",
             "kr = 0kn;",
             "sd_coeff = 1;",
             "integration_method = 1;",

@@ -20,8 +20,8 @@ from workflow_helpers import SNAKEMAKE, TEST_CONFIG, dry_run_jobs, result_digest
 pytestmark = pytest.mark.workflow
 
 # long enough that no rotation can finish before the interrupt, which waits for a second Snakemake
-# to start and be refused (several seconds on a loaded machine): the test study's rotations take
-# ~0.5 s per strain, so 30 strain finished first in some runs
+# to start and be refused (several seconds on a loaded machine; the test study's rotations take
+# ~0.5 s per strain)
 SLOW_ROTATIONS = "run={rotation_strain: 600.0}"
 LOCKED = "Directory cannot be locked"
 ROTATIONS = {f"seed={s}, run=rotation_theta{a}" for s in (1, 2) for a in (0, 90)}
@@ -37,6 +37,9 @@ def start_and_interrupt(workdir, signum):
         stderr=subprocess.STDOUT,
         text=True,
         start_new_session=True,
+        # as started from a terminal: a test suite run in the background of a shell (nohup ... &)
+        # inherits SIGINT ignored, and so would Snakemake and its jobs
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
     deadline = time.monotonic() + 120
     try:

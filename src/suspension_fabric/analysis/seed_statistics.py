@@ -15,7 +15,7 @@ import itertools
 from typing import NamedTuple
 
 import numpy as np
-from scipy import stats
+from scipy.special import stdtrit  # the t quantile (scipy.stats.t.ppf calls it), without importing scipy.stats
 
 __all__ = [
     "LEVEL",
@@ -63,7 +63,7 @@ def _check_level(level: float) -> float:
 @functools.lru_cache(maxsize=4096)
 def _t_quantile(level: float, dof: int) -> float:
     """The two-sided quantile t_{1-a/2, dof} (cached: scipy's ppf is slow and the same few are asked for)."""
-    return float(stats.t.ppf(0.5 + level / 2.0, dof))
+    return float(stdtrit(dof, 0.5 + level / 2.0))
 
 
 def t_interval(values, level: float = LEVEL) -> Interval:
@@ -214,5 +214,5 @@ def welch_interval(first, second, level: float = LEVEL) -> Interval:
     if se == 0.0:
         return Interval(difference, 0.0, difference, difference, min(a.size, b.size), level)
     dof = (va + vb) ** 2 / (va**2 / (a.size - 1) + vb**2 / (b.size - 1))
-    half = float(stats.t.ppf(0.5 + level / 2.0, dof)) * se
+    half = float(stdtrit(dof, 0.5 + level / 2.0)) * se
     return Interval(difference, se, difference - half, difference + half, min(a.size, b.size), level)

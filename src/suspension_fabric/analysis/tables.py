@@ -65,7 +65,7 @@ import pandas as pd
 
 from suspension_fabric.io.runinfo import read_run_info
 
-from .fabric import COMPONENTS, DEFAULT_EPS, FOURTH_MOMENT_COMPONENTS, HARMONIC_COLUMNS, FabricAnalysis
+from .components import COMPONENTS, DEFAULT_EPS, FOURTH_MOMENT_COMPONENTS, HARMONIC_COLUMNS
 
 __all__ = [
     "METADATA_COLUMNS",
@@ -144,6 +144,8 @@ def run_fabric_table(
     ([`suspension_fabric.io.runinfo.read_run_info`][suspension_fabric.io.runinfo.read_run_info]), near contacts at gap <
     ``eps`` d_min.
     """
+    from .fabric import FabricAnalysis  # noqa: PLC0415 (MDAnalysis only where contacts are detected)
+
     info = read_run_info(marker)
     analysis = FabricAnalysis.from_dump(
         dump,

@@ -38,7 +38,7 @@ import numpy as np
 import pandas as pd
 
 from suspension_fabric.analysis import tables
-from suspension_fabric.analysis.fabric import COMPONENTS
+from suspension_fabric.analysis.components import COMPONENTS
 from suspension_fabric.analysis.frames import rotation_about_gradient, simple_shear_gradient, to_basis
 from suspension_fabric.analysis.seed_statistics import LEVEL, decide, seeds_needed, t_interval
 from suspension_fabric.analysis.tables import fabric_tensors

@@ -60,7 +60,7 @@ import pandas as pd
 import scipy.linalg
 import scipy.optimize
 
-from suspension_fabric.analysis.fabric import FOURTH_MOMENT_COMPONENTS
+from suspension_fabric.analysis.components import FOURTH_MOMENT_COMPONENTS
 from suspension_fabric.analysis.frames import VECTOR_ORDER, simple_shear_gradient, sym_to_vec, vec_to_sym
 from suspension_fabric.analysis.seed_statistics import LEVEL, t_interval
 from suspension_fabric.analysis.tables import fabric_tensors

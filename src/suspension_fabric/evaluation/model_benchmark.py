@@ -33,7 +33,7 @@ import numpy as np
 import pandas as pd
 from scipy.optimize import least_squares
 
-from suspension_fabric.analysis.fabric import COMPONENTS
+from suspension_fabric.analysis.components import COMPONENTS
 from suspension_fabric.analysis.seed_statistics import LEVEL, jackknife, t_interval
 from suspension_fabric.analysis.tables import fabric_tensors
 from suspension_fabric.models import fabric_models

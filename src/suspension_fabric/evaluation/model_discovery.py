@@ -38,7 +38,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from suspension_fabric.analysis.fabric import component_label
+from suspension_fabric.analysis.components import component_label
 from suspension_fabric.analysis.frames import VECTOR_ORDER, simple_shear_gradient, sym_to_vec
 from suspension_fabric.analysis.seed_statistics import LEVEL, jackknife, t_interval
 from suspension_fabric.analysis.tables import fabric_tensors

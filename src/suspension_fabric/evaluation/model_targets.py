@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from suspension_fabric.analysis.fabric import component_label
+from suspension_fabric.analysis.components import component_label
 from suspension_fabric.analysis.frames import sym_to_vec
 from suspension_fabric.analysis.seed_statistics import LEVEL, t_interval
 from suspension_fabric.models import fabric_models

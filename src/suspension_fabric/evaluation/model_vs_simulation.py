@@ -36,7 +36,7 @@ import numpy as np
 import pandas as pd
 
 from suspension_fabric.analysis import tables
-from suspension_fabric.analysis.fabric import COMPONENTS
+from suspension_fabric.analysis.components import COMPONENTS
 from suspension_fabric.analysis.seed_statistics import jackknife
 from suspension_fabric.models import fabric_models
 from suspension_fabric.models.fits_file import FITS_FORMAT

@@ -30,7 +30,7 @@ from typing import NamedTuple
 import numpy as np
 import pandas as pd
 
-from suspension_fabric.analysis.fabric import COMPONENTS
+from suspension_fabric.analysis.components import COMPONENTS
 from suspension_fabric.analysis.seed_statistics import LEVEL, t_interval
 from suspension_fabric.io.protocols import Protocol
 from suspension_fabric.models import fabric_models

@@ -43,7 +43,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from suspension_fabric.analysis.fabric import COMPONENTS
+from suspension_fabric.analysis.components import COMPONENTS
 from suspension_fabric.analysis.seed_statistics import LEVEL, bootstrap_means, t_interval
 from suspension_fabric.analysis.tables import TOLERANCE, fabric_tensors, settle_strain, steady_state
 from suspension_fabric.models import stress_relations as relations

@@ -31,6 +31,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
+from suspension_fabric.analysis.seed_statistics import t_interval  # noqa: E402
 from suspension_fabric.evaluation.model_vs_simulation import model_labels  # noqa: E402
 
 __all__ = [
@@ -441,8 +442,6 @@ def figure_stress_rotation(
 
 def _seed_interval(statistics: pd.DataFrame, column: str, level: float) -> pd.DataFrame:
     """Per angle: the seed mean of ``column`` and its t-interval over seeds."""
-    from suspension_fabric.analysis.seed_statistics import t_interval  # noqa: PLC0415 (figures stay importable without scipy.stats first)
-
     rows = []
     for theta, group in statistics.groupby("theta", sort=True):
         interval = t_interval(group[column].to_numpy(), level)

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from suspension_fabric.analysis.fabric import component_label  # component_label: re-exported
+from suspension_fabric.analysis.components import component_label  # component_label: re-exported
 
 __all__ = [
     "MISSING",

@@ -1,0 +1,255 @@
+"""Speed of the project's engine against the peer code LF_DEM on the same packing, one core each,
+at the same time: per code the wall time per unit strain over a window at steady state, the steps
+per unit strain and the wall time per step.
+
+A point is a study of config/campaign.yaml (``phi0.45_mu0.5`` is the paper's point): its packing
+(seed 1, the pack rule's settings) is sheared from rest to the window's end by
+
+- the project, with the engine that study runs (its kn, dt, contact solve and outputs:
+  ForceModel.from_config, ShearSettings.from_config), and
+- LF_DEM with the same physics (lfdem_comparison.py: lubrication resistances and cutoffs, contact
+  dashpot at the resistance of xi = 0, Coulomb friction, kt = 2/7 kn, the spring matched on
+  small-small pairs), overdamped with Heun steps of at most 1e-3 radii.
+
+Both start together, so they share the machine alike. The project's progress reports (every thermo
+line, its elapsed wall time) and LF_DEM's data table (polled every POLL_S, its last complete row's
+strain) give each code's wall clock against strain; the time per unit strain is the slope of a
+straight line through the (strain, wall) pairs inside the window. LF_DEM's steps per unit strain
+are the mean of 1 / dt over its rows in the window (its data table's ``dt`` column is the mean
+step of each output interval; time = strain at rate 1); the project's are 1 / dt.
+
+    .venv/bin/python benchmarks/peer_speed.py run --lfdem /path/to/LF_DEM/LF_DEM --point phi0.45_mu0.5
+    .venv/bin/python benchmarks/peer_speed.py report
+
+`run` appends one row per point to benchmarks/data/peer_speed.csv; `report` prints the table.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from datetime import date
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from lfdem_comparison import BUILD_HELP, lfdem_parameters, write_lfdem_configuration
+
+from suspension_fabric.simulation.lammps import ForceModel, ShearSettings, pack, run_startup
+from suspension_fabric.study.campaign import campaign_points
+from suspension_fabric.study.config import load_config
+
+HERE = Path(__file__).resolve().parent
+REPO = HERE.parent
+TABLE = HERE / "data" / "peer_speed.csv"
+CAMPAIGN = REPO / "config" / "campaign.yaml"
+WINDOW = (1.5, 2.5)
+SEED = 1
+POLL_S = 0.5
+
+
+def point_study(name: str) -> dict:
+    points = campaign_points(load_config(CAMPAIGN))
+    if name not in points:
+        raise SystemExit(f"{CAMPAIGN}: no point {name!r} (points: {', '.join(points)})")
+    return points[name]
+
+
+def lfdem_engine(study: dict) -> dict:
+    """The physics LF_DEM is given (lfdem_comparison.lfdem_parameters) from a study config."""
+    forces = study["forces"]
+    kt = forces["kt"] if forces["kt"] is not None else forces["kn"] * 2.0 / 7.0
+    return {
+        "kn": forces["kn"],
+        "kt": kt,
+        "mu": forces["mu"],
+        "h_out": forces["h_out"],
+        "delta": forces["delta"],
+        "eta_f": forces["eta_f"],
+        "rate": 1.0,
+    }
+
+
+def window_slope(strain, wall, window) -> float:
+    """Wall seconds per unit strain: the least-squares slope of wall against strain in ``window``."""
+    strain, wall = np.asarray(strain, dtype=float), np.asarray(wall, dtype=float)
+    inside = (strain >= window[0]) & (strain <= window[1])
+    if inside.sum() < 3:
+        raise RuntimeError(f"fewer than 3 progress points in the strain window {window}")
+    return float(np.polyfit(strain[inside], wall[inside], 1)[0])
+
+
+def last_data_row(path: Path) -> list[str] | None:
+    """The last complete row of an LF_DEM data table (the tail of the file), split."""
+    try:
+        with open(path, "rb") as handle:
+            handle.seek(0, os.SEEK_END)
+            size = handle.tell()
+            handle.seek(max(size - 8192, 0))
+            tail = handle.read().decode(errors="replace")
+    except FileNotFoundError:
+        return None
+    lines = [line for line in tail.split("\n")[:-1] if line.strip() and not line.startswith("#")]
+    return lines[-1].split() if lines else None
+
+
+def lfdem_columns(path: Path) -> dict[str, int]:
+    """Column name -> 0-based index from an LF_DEM data table's header lines ("#1: time")."""
+    columns = {}
+    for line in path.read_text().splitlines():
+        if not line.startswith("#"):
+            break
+        head, _, name = line[1:].partition(":")
+        if head.strip().isdigit():
+            columns[name.strip()] = int(head) - 1
+    return columns
+
+
+def run_peer(binary: Path, packing: Path, study: dict, folder: Path, strain: float, clock: list) -> Path:
+    """LF_DEM on ``packing`` to ``strain``; appends (strain, elapsed wall s) to ``clock`` as it runs."""
+    _, small_radius = write_lfdem_configuration(packing, folder / "conf.dat")
+    (folder / "shear.txt").write_text(lfdem_parameters(small_radius, strain, lfdem_engine(study)))
+    start = time.monotonic()
+    with open(folder / "lfdem.out", "w") as out:
+        process = subprocess.Popen(
+            [str(binary), "-f", "-r", "1h", "conf.dat", "shear.txt"],
+            cwd=folder,
+            stdout=out,
+            stderr=subprocess.STDOUT,
+            env={**os.environ, "OMP_NUM_THREADS": "1"},
+        )
+        while process.poll() is None:
+            time.sleep(POLL_S)
+            data = next(folder.glob("data_*.dat"), None)
+            row = last_data_row(data) if data else None
+            if row and (not clock or float(row[1]) > clock[-1][0]):
+                clock.append((float(row[1]), time.monotonic() - start))
+    if process.returncode != 0:
+        raise RuntimeError(f"LF_DEM failed ({process.returncode}); see {folder}/lfdem.out")
+    return next(folder.glob("data_*.dat"))
+
+
+def lfdem_steps_per_strain(data: Path, window) -> float:
+    table = np.loadtxt(data, ndmin=2)
+    columns = lfdem_columns(data)
+    strain, dt = table[:, columns["cumulated shear strain"]], table[:, columns["dt"]]
+    inside = (strain >= window[0]) & (strain <= window[1])
+    return float(np.mean(1.0 / dt[inside]))
+
+
+def measure(binary: Path, point: str, window, keep: Path | None) -> dict:
+    study = point_study(point)
+    folder = Path(tempfile.mkdtemp(prefix="peer_speed_", dir=keep))
+    particles = study["particles"]
+    packing = pack(
+        folder / "packing",
+        n_particles=particles["n"],
+        phi=particles["phi"],
+        seed=SEED,
+        split=particles["split"],
+        fraction_large=particles["fraction_large"],
+        d_small=particles["d_small"],
+        d_large=particles["d_large"],
+    ).data_file
+    strain = window[1] + 0.01
+    project_clock, peer_clock, peer_outcome = [], [], {}
+    (folder / "peer").mkdir()
+
+    def peer():
+        try:
+            peer_outcome["data"] = run_peer(binary, packing, study, folder / "peer", strain, peer_clock)
+        except Exception as err:  # raised after the project's run
+            peer_outcome["error"] = err
+
+    worker = threading.Thread(target=peer)
+    worker.start()
+    settings = ShearSettings.from_config(study)
+    run_startup(
+        folder / "project",
+        packing,
+        strain,
+        force_model=ForceModel.from_config(study),
+        settings=settings,
+        progress=lambda label, reached, total, elapsed: project_clock.append((reached, elapsed)),
+        progress_interval=0.0,
+    )
+    worker.join()
+    if "error" in peer_outcome:
+        raise peer_outcome["error"]
+    project_per_strain = window_slope(*zip(*project_clock), window)
+    peer_per_strain = window_slope(*zip(*peer_clock), window)
+    project_steps = 1.0 / (settings.dt * settings.rate)
+    peer_steps = lfdem_steps_per_strain(peer_outcome["data"], window)
+    return {
+        "date": date.today().isoformat(),
+        "machine": f"{platform.machine()} {os.cpu_count()} cores",
+        "point": point,
+        "n": particles["n"],
+        "kn": study["forces"]["kn"],
+        "engine": f"{study['run']['contact_solve']} dt {settings.dt:g}",
+        "window": f"{window[0]:g}-{window[1]:g}",
+        "project_s_per_strain": project_per_strain,
+        "peer_s_per_strain": peer_per_strain,
+        "ratio": peer_per_strain / project_per_strain,
+        "project_steps_per_strain": project_steps,
+        "peer_steps_per_strain": peer_steps,
+        "project_ms_per_step": 1e3 * project_per_strain / project_steps,
+        "peer_ms_per_step": 1e3 * peer_per_strain / peer_steps,
+        "step_cost_ratio": (peer_per_strain / peer_steps) / (project_per_strain / project_steps),
+    }
+
+
+def report(table: pd.DataFrame) -> str:
+    lines = [
+        "| point | N | kn | project engine | window | project s/strain | LF_DEM s/strain | LF_DEM / project "
+        "| steps/strain project | steps/strain LF_DEM | ms/step project | ms/step LF_DEM | per-step ratio |",
+        "|:--|--:|--:|:--|:--|--:|--:|--:|--:|--:|--:|--:|--:|",
+    ]
+    for row in table.itertuples():
+        lines.append(
+            f"| {row.point} | {row.n} | {row.kn:.3g} | {row.engine} | {row.window} | {row.project_s_per_strain:.1f} "
+            f"| {row.peer_s_per_strain:.0f} | {row.ratio:.0f} | {row.project_steps_per_strain:.0f} "
+            f"| {row.peer_steps_per_strain:.0f} | {row.project_ms_per_step:.3g} | {row.peer_ms_per_step:.3g} "
+            f"| {row.step_cost_ratio:.0f} |"
+        )
+    return "\n".join(lines)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="command", required=True)
+    run = sub.add_parser("run", help="time both codes at one point and append the row")
+    run.add_argument("--point", required=True, help="a point of config/campaign.yaml, e.g. phi0.45_mu0.5")
+    run.add_argument(
+        "--lfdem",
+        type=Path,
+        default=os.environ.get("LF_DEM"),
+        help="the LF_DEM binary (default: $LF_DEM)",
+    )
+    run.add_argument("--window", type=float, nargs=2, default=WINDOW, help="strain window (default 1.5 2.5)")
+    run.add_argument("--keep", type=Path, help="keep the runs' files under this folder")
+    sub.add_parser("report", help="print benchmarks/data/peer_speed.csv as a table")
+    args = parser.parse_args()
+    if args.command == "report":
+        print(report(pd.read_csv(TABLE)))
+        return
+    if args.lfdem is None or not args.lfdem.is_file():
+        print(BUILD_HELP)
+        sys.exit(1)
+    if args.window[0] < 1.5:
+        raise SystemExit(f"--window: starts at strain {args.window[0]:g}; steady state needs 1.5 or later")
+    row = measure(args.lfdem.resolve(), args.point, tuple(args.window), args.keep)
+    table = pd.concat([pd.read_csv(TABLE), pd.DataFrame([row])]) if TABLE.is_file() else pd.DataFrame([row])
+    TABLE.parent.mkdir(parents=True, exist_ok=True)
+    table.to_csv(TABLE, index=False)
+    print(report(pd.DataFrame([row])))
+
+
+if __name__ == "__main__":
+    main()
