@@ -152,19 +152,25 @@ def snapshots(path: Path):
         yield strain, np.array(rows, dtype=float).reshape(len(rows), -1)
 
 
+def start_lfdem(binary: Path, folder: Path, out) -> subprocess.Popen:
+    """LF_DEM on ``folder``'s conf.dat and shear.txt at shear rate 1 (hydrodynamic units), one
+    thread, its output to the open file ``out``."""
+    return subprocess.Popen(
+        [str(binary), "-f", "-r", "1h", "conf.dat", "shear.txt"],
+        cwd=folder,
+        stdout=out,
+        stderr=subprocess.STDOUT,
+        env={**os.environ, "OMP_NUM_THREADS": "1"},
+    )
+
+
 def run_lfdem(binary: Path, packing: Path, folder: Path, strain: float = STRAIN) -> Path:
     phi, small_radius = write_lfdem_configuration(packing, folder / "conf.dat")
     (folder / "shear.txt").write_text(lfdem_parameters(small_radius, strain))
     with open(folder / "lfdem.out", "w") as out:
-        done = subprocess.run(
-            [str(binary), "-f", "-r", "1h", "conf.dat", "shear.txt"],
-            cwd=folder,
-            stdout=out,
-            stderr=subprocess.STDOUT,
-            env={**os.environ, "OMP_NUM_THREADS": "1"},
-        )
-    if done.returncode != 0:
-        raise RuntimeError(f"{packing}: LF_DEM failed ({done.returncode}); see {folder}/lfdem.out")
+        returncode = start_lfdem(binary, folder, out).wait()
+    if returncode != 0:
+        raise RuntimeError(f"{packing}: LF_DEM failed ({returncode}); see {folder}/lfdem.out")
     return folder
 
 

@@ -29,7 +29,6 @@ from __future__ import annotations
 import argparse
 import os
 import platform
-import subprocess
 import sys
 import tempfile
 import threading
@@ -39,7 +38,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from lfdem_comparison import BUILD_HELP, lfdem_parameters, write_lfdem_configuration
+from lfdem_comparison import BUILD_HELP, lfdem_parameters, start_lfdem, write_lfdem_configuration
 
 from suspension_fabric.simulation.lammps import ForceModel, ShearSettings, pack, run_startup
 from suspension_fabric.study.campaign import campaign_points
@@ -117,13 +116,7 @@ def run_peer(binary: Path, packing: Path, study: dict, folder: Path, strain: flo
     (folder / "shear.txt").write_text(lfdem_parameters(small_radius, strain, lfdem_engine(study)))
     start = time.monotonic()
     with open(folder / "lfdem.out", "w") as out:
-        process = subprocess.Popen(
-            [str(binary), "-f", "-r", "1h", "conf.dat", "shear.txt"],
-            cwd=folder,
-            stdout=out,
-            stderr=subprocess.STDOUT,
-            env={**os.environ, "OMP_NUM_THREADS": "1"},
-        )
+        process = start_lfdem(binary, folder, out)
         while process.poll() is None:
             time.sleep(POLL_S)
             data = next(folder.glob("data_*.dat"), None)
