@@ -71,7 +71,7 @@ def site(tmp_path_factory):
 def _build(out: Path) -> Path:
     mkdocs = Path(sys.executable).with_name("mkdocs")
     result = subprocess.run(
-        [str(mkdocs), "build", "--strict", "--quiet", "-d", str(out)],
+        [str(mkdocs), "build", "--strict", "-d", str(out)],  # not --quiet: it hides the warnings --strict counts
         cwd=REPO,
         capture_output=True,
         text=True,
