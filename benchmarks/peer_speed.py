@@ -19,6 +19,7 @@ are the mean of 1 / dt over its rows in the window (its data table's ``dt`` colu
 step of each output interval; time = strain at rate 1); the project's are 1 / dt.
 
     .venv/bin/python benchmarks/peer_speed.py run --lfdem /path/to/LF_DEM/LF_DEM --point phi0.45_mu0.5
+    .venv/bin/python benchmarks/peer_speed.py run --lfdem ... --point phi0.50_mu0.5 --contact-solve newton
     .venv/bin/python benchmarks/peer_speed.py report
 
 `run` appends one row per point to benchmarks/data/peer_speed.csv; `report` prints the table.
@@ -42,7 +43,7 @@ from lfdem_comparison import BUILD_HELP, lfdem_parameters, start_lfdem, write_lf
 
 from suspension_fabric.simulation.lammps import ForceModel, ShearSettings, pack, run_startup
 from suspension_fabric.study.campaign import campaign_points
-from suspension_fabric.study.config import load_config
+from suspension_fabric.study.config import load_config, validate_config
 
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parent
@@ -53,11 +54,20 @@ SEED = 1
 POLL_S = 0.5
 
 
-def point_study(name: str) -> dict:
+def point_study(name: str, contact_solve: str | None = None) -> dict:
+    """The study config/campaign.yaml runs at point ``name``; with ``contact_solve`` "newton" at a
+    point the campaign runs with the lagged solve, the Newton solve at ten times its step (0.24 of
+    the contact relaxation time instead of 0.024: BENCHMARKS.md, "Engine III")."""
     points = campaign_points(load_config(CAMPAIGN))
     if name not in points:
         raise SystemExit(f"{CAMPAIGN}: no point {name!r} (points: {', '.join(points)})")
-    return points[name]
+    study = points[name]
+    if contact_solve is None or contact_solve == study["run"]["contact_solve"]:
+        return study
+    if contact_solve != "newton":
+        raise SystemExit(f"--contact-solve: {name} runs the Newton solve; only 'newton' changes a lagged point")
+    run = {**study["run"], "contact_solve": "newton", "dt": 10 * study["run"]["dt"], "max_dt_per_relaxation": 0.25}
+    return validate_config({**study, "study": "peer_speed", "run": run})
 
 
 def lfdem_engine(study: dict) -> dict:
@@ -136,8 +146,8 @@ def lfdem_steps_per_strain(data: Path, window) -> float:
     return float(np.mean(1.0 / dt[inside]))
 
 
-def measure(binary: Path, point: str, window, keep: Path | None) -> dict:
-    study = point_study(point)
+def measure(binary: Path, point: str, window, keep: Path | None, contact_solve: str | None = None) -> dict:
+    study = point_study(point, contact_solve)
     folder = Path(tempfile.mkdtemp(prefix="peer_speed_", dir=keep))
     particles = study["particles"]
     packing = pack(
@@ -227,6 +237,11 @@ def main() -> None:
     )
     run.add_argument("--window", type=float, nargs=2, default=WINDOW, help="strain window (default 1.5 2.5)")
     run.add_argument("--keep", type=Path, help="keep the runs' files under this folder")
+    run.add_argument(
+        "--contact-solve",
+        choices=("lagged", "newton"),
+        help="newton: the Newton solve at ten times the lagged step at a lagged point (default: the point's own)",
+    )
     sub.add_parser("report", help="print benchmarks/data/peer_speed.csv as a table")
     args = parser.parse_args()
     if args.command == "report":
@@ -237,7 +252,7 @@ def main() -> None:
         sys.exit(1)
     if args.window[0] < 1.5:
         raise SystemExit(f"--window: starts at strain {args.window[0]:g}; steady state needs 1.5 or later")
-    row = measure(args.lfdem.resolve(), args.point, tuple(args.window), args.keep)
+    row = measure(args.lfdem.resolve(), args.point, tuple(args.window), args.keep, args.contact_solve)
     table = pd.concat([pd.read_csv(TABLE), pd.DataFrame([row])]) if TABLE.is_file() else pd.DataFrame([row])
     TABLE.parent.mkdir(parents=True, exist_ok=True)
     table.to_csv(TABLE, index=False)
