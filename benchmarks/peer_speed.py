@@ -70,19 +70,11 @@ def point_study(name: str, contact_solve: str | None = None) -> dict:
     return validate_config({**study, "study": "peer_speed", "run": run})
 
 
-def lfdem_engine(study: dict) -> dict:
-    """The physics LF_DEM is given (lfdem_comparison.lfdem_parameters) from a study config."""
-    forces = study["forces"]
-    kt = forces["kt"] if forces["kt"] is not None else forces["kn"] * 2.0 / 7.0
-    return {
-        "kn": forces["kn"],
-        "kt": kt,
-        "mu": forces["mu"],
-        "h_out": forces["h_out"],
-        "delta": forces["delta"],
-        "eta_f": forces["eta_f"],
-        "rate": 1.0,
-    }
+def lfdem_engine(force_model: ForceModel) -> dict:
+    """The physics LF_DEM is given (lfdem_comparison.lfdem_parameters): the project's force model
+    as its LAMMPS variables have it (kt defaulted there), at shear rate 1."""
+    variables = force_model.variables()
+    return {name: float(variables[name]) for name in ("kn", "kt", "mu", "h_out", "delta", "eta_f")} | {"rate": 1.0}
 
 
 def window_slope(strain, wall, window) -> float:
@@ -120,10 +112,10 @@ def lfdem_columns(path: Path) -> dict[str, int]:
     return columns
 
 
-def run_peer(binary: Path, packing: Path, study: dict, folder: Path, strain: float, clock: list) -> Path:
+def run_peer(binary: Path, packing: Path, force_model: ForceModel, folder: Path, strain: float, clock: list) -> Path:
     """LF_DEM on ``packing`` to ``strain``; appends (strain, elapsed wall s) to ``clock`` as it runs."""
     _, small_radius = write_lfdem_configuration(packing, folder / "conf.dat")
-    (folder / "shear.txt").write_text(lfdem_parameters(small_radius, strain, lfdem_engine(study)))
+    (folder / "shear.txt").write_text(lfdem_parameters(small_radius, strain, lfdem_engine(force_model)))
     start = time.monotonic()
     with open(folder / "lfdem.out", "w") as out:
         process = start_lfdem(binary, folder, out)
@@ -161,12 +153,13 @@ def measure(binary: Path, point: str, window, keep: Path | None, contact_solve: 
         d_large=particles["d_large"],
     ).data_file
     strain = window[1] + 0.01
+    force_model = ForceModel.from_config(study)
     project_clock, peer_clock, peer_outcome = [], [], {}
     (folder / "peer").mkdir()
 
     def peer():
         try:
-            peer_outcome["data"] = run_peer(binary, packing, study, folder / "peer", strain, peer_clock)
+            peer_outcome["data"] = run_peer(binary, packing, force_model, folder / "peer", strain, peer_clock)
         except Exception as err:  # raised after the project's run
             peer_outcome["error"] = err
 
@@ -177,7 +170,7 @@ def measure(binary: Path, point: str, window, keep: Path | None, contact_solve: 
         folder / "project",
         packing,
         strain,
-        force_model=ForceModel.from_config(study),
+        force_model=force_model,
         settings=settings,
         progress=lambda label, reached, total, elapsed: project_clock.append((reached, elapsed)),
         progress_interval=0.0,

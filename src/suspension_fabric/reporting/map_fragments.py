@@ -28,8 +28,13 @@ MAP_CLAIMS = ("C3'", "C4'", "C5")
 _STATE = (("eta_r", "eta_r", 3), ("Pi", "Pi", 3), ("Z", "Z", 3), ("n12", "<nn>_12", 3))
 
 
+def _not_run(table: pd.DataFrame) -> pd.Series:
+    """The rows state_map.map_table wrote for points not run (``steady`` = "not run: <reason>")."""
+    return table["steady"].astype(str).str.startswith("not run")
+
+
 def _simulated(table: pd.DataFrame) -> pd.DataFrame:
-    return table[~table["steady"].astype(str).str.startswith("not run")]
+    return table[~_not_run(table)]
 
 
 def _point(entry: dict) -> str:
@@ -83,7 +88,7 @@ def map_claims_table(table: pd.DataFrame, claims=MAP_CLAIMS) -> str:
 def map_summary(table: pd.DataFrame, level: float) -> str:
     """Both tables, each under a one-line caption (``level``: the claims' interval level), and
     the points not run with their reason."""
-    not_run = table[table["steady"].astype(str).str.startswith("not run")]
+    not_run = table[_not_run(table)]
     parts = [
         "Steady state (mean over seeds) and fits:\n",
         map_state_table(table),
