@@ -288,20 +288,6 @@ def test_two_mpi_ranks(tmp_path, packing, monkeypatch):
     assert "with 2 MPI tasks" in log and "1 OpenMP thread" in log
 
 
-def test_implicit_integrator_refuses_several_mpi_ranks(tmp_path, packing, force_model):
-    """fix hydro/implicit/sf solves on one rank only: 2 ranks stop with an error that says
-    so and points to running seeds and angles side by side."""
-    with pytest.raises(LammpsRunError, match=r"one MPI rank only.*side by side"):
-        run_startup(
-            tmp_path / "mpi",
-            packing.data_file,
-            0.001,
-            force_model=force_model,
-            settings=replace(SMALL_SETTINGS, ranks=2),
-            progress=None,
-        )
-
-
 def test_implicit_and_explicit_integrators_agree_on_a_short_startup(tmp_path):
     """The implicit hydrodynamics at dt = 2e-5 and the explicit velocity Verlet at dt = 5e-7
     (40x smaller) integrate the same equations, both with the contacts of pair granular at

@@ -491,12 +491,6 @@ def _cross_check(config: dict) -> None:
             "config key 'run.contact_solve' (newton) needs run.contact_springs = implicit: it solves the "
             "contacts that fix hydro/implicit/sf owns"
         )
-    if run["integrator"] == "implicit" and run["mpi_ranks"] > 1:
-        raise ConfigError(
-            f"config key 'run.mpi_ranks' ({run['mpi_ranks']}): the implicit integrator runs on one MPI "
-            "rank; parallelism comes from running seeds and angles as separate jobs (use "
-            "run.integrator = explicit for MPI runs)"
-        )
     window = config["verdicts"]["window"]
     if window > run["rotation_strain"]:
         raise ConfigError(

@@ -178,7 +178,7 @@ class ShearSettings:
     any dumped frame exceeds ``max_overlap`` (in d; a blow-up detector) or, with the table
     sampled at least every 0.002 strain, the stress jitter exceeds ``max_stress_jitter``
     ([`checks.stress_jitter`][suspension_fabric.simulation.lammps.checks.stress_jitter]; None disables it). ``ranks``
-    MPI ranks (explicit integrator only).
+    MPI ranks.
     """
 
     dt: float = schema_default("run", "dt")

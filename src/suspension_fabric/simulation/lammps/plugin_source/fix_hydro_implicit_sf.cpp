@@ -62,7 +62,15 @@
    the pairs' lubrication stresslets (lubrication.h), which the virial does not include.
    The springs are written to restart files (global fix state) and read back when a fix with
    the same ID and style is defined after read_restart.
-   One MPI rank only: parallelism comes from running seeds and angles side by side. */
+
+   MPI: the system is the same on any number of ranks.  Each rank owns its atoms' rows; a pair
+   whose partner is owned by another rank acts through the partner's ghost copy: the operator's
+   input is copied to the ghosts (forward communication), the ghosts' results are added to
+   their owners (reverse communication), and the dot products are summed over the ranks.  The
+   preconditioner is block Jacobi across ranks (each rank factors its own rows, the pairs
+   between ranks enter its diagonal blocks only), so the iterations, not the solution, depend
+   on the number of ranks.  On one rank no ghost is used: the pairs act on their owners
+   directly. */
 
 #include "fix_hydro_implicit_sf.h"
 
@@ -72,6 +80,7 @@
 #include "error.h"
 #include "force.h"
 #include "modify.h"
+#include "neighbor.h"
 #include "neigh_list.h"
 #include "update.h"
 #include "utils.h"
@@ -145,12 +154,15 @@ void add_diagonal_block(const double *n, double along, double across, double pum
     }
 }
 
-double dot(const std::vector<double> &a, const std::vector<double> &b)
+// sum over the first `size` entries (the local atoms' rows)
+double local_dot(const std::vector<double> &a, const std::vector<double> &b, size_t size)
 {
   double s = 0.0;
-  for (size_t k = 0; k < a.size(); k++) s += a[k] * b[k];
+  for (size_t k = 0; k < size; k++) s += a[k] * b[k];
   return s;
 }
+
+constexpr int SPRING_RECORD = 5;    // smaller tag, larger tag, xi
 
 constexpr double INERTIA = 0.4;    // moment of inertia of a solid sphere / (m a^2)
 constexpr bigint PRECONDITIONER_AGE = 10;    // steps between preconditioner rebuilds at most
@@ -163,7 +175,7 @@ FixHydroImplicitSF::FixHydroImplicitSF(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), tolerance(1.0e-5), max_iterations(1000), own_contacts(false), newton_contacts(false), kn(0.0),
     kt(0.0), mu(0.0), dtv(0.0), lubrication(nullptr), steps(0), total_iterations(0),
     total_passes(0), total_released(0), last_iterations(0), last_error(0.0), sliding_contacts(0),
-    use_dilu(false), dilu_fallbacks(0)
+    use_dilu(false), dilu_fallbacks(0), distributed(false), comm_values(nullptr), comm_stride(6)
 {
   int iarg = 3;
   while (iarg < narg) {
@@ -207,6 +219,9 @@ FixHydroImplicitSF::FixHydroImplicitSF(LAMMPS *lmp, int narg, char **arg) :
   size_vector = HydroVector::SIZE;
   global_freq = 1;
   extvector = 0;
+  comm_forward = 6;     // a velocity (u, w)
+  comm_reverse = 36;    // a 6x6 diagonal block
+  for (double &v : reported) v = 0.0;
   for (double &v : virial) v = 0.0;
   for (double &v : contact_virial) v = 0.0;
   for (double &v : contact_torque) v = 0.0;
@@ -221,10 +236,7 @@ int FixHydroImplicitSF::setmask()
 
 void FixHydroImplicitSF::init()
 {
-  if (comm->nprocs > 1)
-    error->all(FLERR, "fix hydro/implicit/sf runs on one MPI rank only ({} requested); run seeds "
-                      "and angles side by side for parallelism",
-               comm->nprocs);
+  distributed = comm->nprocs > 1;
   if (igroup != 0) error->all(FLERR, "fix hydro/implicit/sf must act on group all");
   if (!atom->radius_flag || !atom->omega_flag || !atom->torque_flag || !atom->rmass_flag)
     error->all(FLERR, "fix hydro/implicit/sf requires atom style sphere");
@@ -265,6 +277,10 @@ void FixHydroImplicitSF::setup(int /*vflag*/)
   // forces and virial of the current state, for output at the first step; springs unchanged
   const SuspensionFabric::ImposedFlow flow(domain);
   const auto &E = flow.strain;
+  if (distributed && own_contacts) {
+    const std::vector<double> records = gathered_springs();
+    load_springs(records.data(), records.size() / SPRING_RECORD);
+  }
   collect_pairs(E);
   relative_velocities(flow);
   if (own_contacts) {
@@ -272,15 +288,17 @@ void FixHydroImplicitSF::setup(int /*vflag*/)
     finish_contacts(false);
   }
   tally_virial(E);
+  report_vector();
 }
 
 // E = (L + L^T)/2 of the imposed flow
 
-// solution = (v - u_inf(x), omega - Omega_inf) of every local atom
+// solution = (v - u_inf(x), omega - Omega_inf) of every local atom, copied to the ghosts
+// (the relative velocity of a periodic image is its owner's)
 void FixHydroImplicitSF::relative_velocities(const SuspensionFabric::ImposedFlow &flow)
 {
   const int nlocal = atom->nlocal;
-  solution.resize(6 * static_cast<size_t>(nlocal));
+  solution.resize(6 * static_cast<size_t>(nlocal + atom->nghost));
   double u[3];
   for (int i = 0; i < nlocal; i++) {
     flow.velocity(atom->x[i], u);
@@ -289,6 +307,7 @@ void FixHydroImplicitSF::relative_velocities(const SuspensionFabric::ImposedFlow
       solution[6 * i + 3 + k] = atom->omega[i][k] - flow.omega[k];
     }
   }
+  exchange_ghosts(solution, 6);
 }
 
 void FixHydroImplicitSF::initial_integrate(int /*vflag*/)
@@ -321,9 +340,13 @@ void FixHydroImplicitSF::collect_pairs(const double E[3][3])
       for (int k = 0; k < 3; k++) p.del[k] = x[i][k] - x[j][k];
       if (!lubrication->resistance(i, j, p.del, p.R)) continue;
       p.i = i;
-      p.j = (j < nlocal) ? j : atom->map(tag[j]);
-      if (p.j < 0 || p.j >= nlocal)
-        error->one(FLERR, "fix hydro/implicit/sf: no local owner of ghost atom {}", tag[j]);
+      p.j = j;
+      if (j >= nlocal) {    // a periodic image of a local atom acts on the atom itself
+        const int owner = atom->map(tag[j]);
+        if (owner >= 0 && owner < nlocal) p.j = owner;
+        else if (!distributed)
+          error->one(FLERR, "fix hydro/implicit/sf: no local owner of ghost atom {}", tag[j]);
+      }
       p.add_to_j = newton_pair || j < nlocal;
       pairs.push_back(p);
       if (!own_contacts) continue;
@@ -524,9 +547,12 @@ void FixHydroImplicitSF::finish_contacts(bool update_springs)
   if (update_springs) springs.swap(next_springs);
 }
 
-void FixHydroImplicitSF::apply_operator(const std::vector<double> &in, std::vector<double> &out) const
+// out = A in for the local rows; in's ghost entries are refreshed first
+void FixHydroImplicitSF::apply_operator(std::vector<double> &in, std::vector<double> &out)
 {
   const int nlocal = atom->nlocal;
+  exchange_ghosts(in, 6);
+  std::fill(out.begin() + 6 * static_cast<size_t>(nlocal), out.end(), 0.0);
   const double *radius = atom->radius;
   const double *rmass = atom->rmass;
   const double pi_eta = M_PI * lubrication->eta_f;
@@ -587,6 +613,7 @@ void FixHydroImplicitSF::apply_operator(const std::vector<double> &in, std::vect
       oj[3 + k] -= tj[k];
     }
   }
+  sum_ghosts(out, 6);
 }
 
 void FixHydroImplicitSF::build_preconditioner()
@@ -595,7 +622,7 @@ void FixHydroImplicitSF::build_preconditioner()
   const double *radius = atom->radius;
   const double *rmass = atom->rmass;
   const double pi_eta = M_PI * lubrication->eta_f;
-  block_factor.assign(36 * static_cast<size_t>(nlocal), 0.0);
+  block_factor.assign(36 * static_cast<size_t>(nlocal + atom->nghost), 0.0);
   for (int i = 0; i < nlocal; i++) {
     const double a = radius[i];
     double *b = &block_factor[36 * i];
@@ -617,6 +644,7 @@ void FixHydroImplicitSF::build_preconditioner()
     add_diagonal_block(c.n, along, across, across * c.li, across * c.li * c.li, &block_factor[36 * c.i]);
     add_diagonal_block(c.n, along, across, -across * c.lj, across * c.lj * c.lj, &block_factor[36 * c.j]);
   }
+  sum_ghosts(block_factor, 36);
   block_inverse.resize(block_factor.size());
   if (use_dilu) {
     const std::vector<double> diagonal = block_factor;
@@ -709,7 +737,8 @@ void FixHydroImplicitSF::collect_couplings()
   pair_coupling.assign(pairs.size(), -1);
   for (size_t k = 0; k < pairs.size(); k++) {
     const LubricatedPair &p = pairs[k];
-    if (!p.add_to_j || p.i == p.j) continue;    // acts on i only, or a pair with its own image
+    // acts on i only, a pair with its own image, or a partner on another rank (block Jacobi there)
+    if (!p.add_to_j || p.i == p.j || p.j >= atom->nlocal) continue;
     Coupling c;
     c.lo = p.i;
     c.hi = p.j;
@@ -780,7 +809,7 @@ bool FixHydroImplicitSF::factor_dilu()
 
 /* z = M^-1 r: block Jacobi (z = D^-1 r) or, with couplings, the dilu sweeps
    (D + L) y = r, then z = y - D^-1 L^T z from the last atom back.  Returns r.z and sets
-   largest = max |z_k|, the velocity error estimate the solve stops on. */
+   largest = max |z_k|, the velocity error estimate the solve stops on (both over all ranks). */
 double FixHydroImplicitSF::apply_preconditioner(const std::vector<double> &r, std::vector<double> &z,
                                                double &largest) const
 {
@@ -815,7 +844,8 @@ double FixHydroImplicitSF::apply_preconditioner(const std::vector<double> &r, st
     rz += r[k] * z[k];
     largest = std::max(largest, std::fabs(z[k]));
   }
-  return rz;
+  largest = global_max(largest);
+  return global_sum(rz);
 }
 
 /* Right-hand side: inertia of the old velocities (relative to the flow here, in
@@ -830,6 +860,7 @@ void FixHydroImplicitSF::assemble_rhs(const double E[3][3])
   double **torque = atom->torque;
   const double *radius = atom->radius;
   const double *rmass = atom->rmass;
+  std::fill(rhs.begin() + 6 * static_cast<size_t>(nlocal), rhs.end(), 0.0);
   for (int i = 0; i < nlocal; i++) {
     const double a = radius[i];
     const double m_dt = rmass[i] / dtv;
@@ -881,6 +912,7 @@ void FixHydroImplicitSF::assemble_rhs(const double E[3][3])
       rhs[6 * c.j + 3 + k] += tj[k];
     }
   }
+  sum_ghosts(rhs, 6);
 }
 
 /* Preconditioned conjugate gradients from the current `solution`; returns the iterations. */
@@ -895,12 +927,12 @@ int FixHydroImplicitSF::conjugate_gradients()
   int iteration = 0;
   while (error_now > tolerance) {
     if (iteration == max_iterations || !std::isfinite(error_now))
-      error->one(FLERR,
+      error->all(FLERR,
                  "fix hydro/implicit/sf: conjugate gradients did not converge at step {}: velocity "
                  "error {:.3g} > tol {:.3g} after {} iterations; reduce dt or raise maxiter",
                  update->ntimestep, error_now, tolerance, iteration);
     apply_operator(direction, product);
-    const double alpha = rz / dot(direction, product);
+    const double alpha = rz / global_sum(local_dot(direction, product, size));
     for (size_t k = 0; k < size; k++) {
       solution[k] += alpha * direction[k];
       residual[k] -= alpha * product[k];
@@ -911,6 +943,7 @@ int FixHydroImplicitSF::conjugate_gradients()
     for (size_t k = 0; k < size; k++) direction[k] = precond[k] + beta * direction[k];
     iteration++;
   }
+  exchange_ghosts(solution, 6);
   last_error = error_now;
   return iteration;
 }
@@ -926,8 +959,13 @@ void FixHydroImplicitSF::final_integrate()
   const double *W = flow.omega;
   const auto &E = flow.strain;
 
+  // a new neighbour list may give a pair to another rank: every rank gets every spring
+  if (distributed && own_contacts && neighbor->ago == 0) {
+    const std::vector<double> records = gathered_springs();
+    load_springs(records.data(), records.size() / SPRING_RECORD);
+  }
   collect_pairs(E);
-  const size_t size = 6 * static_cast<size_t>(nlocal);
+  const size_t size = 6 * static_cast<size_t>(nlocal + atom->nghost);
   // every entry of these buffers is written before it is read
   rhs.resize(size);
   residual.resize(size);
@@ -946,7 +984,8 @@ void FixHydroImplicitSF::final_integrate()
   // of the current operator to within tol
   bool reordered = preconditioner_tags.size() != static_cast<size_t>(nlocal);
   for (int i = 0; i < nlocal && !reordered; i++) reordered = preconditioner_tags[i] != atom->tag[i];
-  if (reordered || update->ntimestep % PRECONDITIONER_AGE == 0) {
+  // the rebuild communicates: all ranks rebuild when one must
+  if (global_max(reordered ? 1.0 : 0.0) > 0.0 || update->ntimestep % PRECONDITIONER_AGE == 0) {
     build_preconditioner();
     preconditioner_tags.assign(atom->tag, atom->tag + nlocal);
   }
@@ -955,7 +994,8 @@ void FixHydroImplicitSF::final_integrate()
   if (own_contacts) {
     const int max_passes = newton_contacts ? MAX_CONTACT_PASSES_NEWTON : MAX_CONTACT_PASSES;
     while (passes < max_passes) {
-      const int released = newton_contacts ? relinearise_contacts() : release_violated_springs();
+      const int released = static_cast<int>(
+          global_sum(newton_contacts ? relinearise_contacts() : release_violated_springs()));
       if (released == 0) break;
       total_released += released;
       assemble_rhs(E);
@@ -978,6 +1018,7 @@ void FixHydroImplicitSF::final_integrate()
   total_iterations += iterations;
   total_passes += passes;
   last_iterations = iterations;
+  report_vector();
 }
 
 /* Virial of the lubrication forces at the velocities in `solution`: sum over pairs of
@@ -1020,52 +1061,151 @@ void FixHydroImplicitSF::tally_virial(const double E[3][3])
    /vol is their pressure tensor).  4-12 and 20-22 are zero without `contacts`. */
 double FixHydroImplicitSF::compute_vector(int n)
 {
-  using namespace HydroVector;
-  const int i = n + 1;    // compute_vector counts from 0, input scripts from 1
-  const auto per_step = [this](double total) { return steps > 0 ? total / steps : 0.0; };
-  if (i == LAST_ITERATIONS) return last_iterations;
-  if (i == MEAN_ITERATIONS) return per_step(static_cast<double>(total_iterations));
-  if (i == LAST_ERROR) return last_error;
-  if (i >= CONTACT_VIRIAL && i < CONTACT_VIRIAL + 6) return contact_virial[i - CONTACT_VIRIAL];
-  if (i >= CONTACT_TORQUE && i < CONTACT_TORQUE + 3) return contact_torque[i - CONTACT_TORQUE];
-  if (i >= LUBRICATION_VIRIAL && i < LUBRICATION_VIRIAL + 6) return lubrication_virial[i - LUBRICATION_VIRIAL];
-  if (i == MEAN_PASSES) return per_step(static_cast<double>(total_passes));
-  if (i == CONTACTS) return static_cast<double>(contacts.size());
-  if (i == SLIDING_CONTACTS) return sliding_contacts;
-  if (i == MEAN_RELEASED) return per_step(static_cast<double>(total_released));
-  if (i == DILU_FALLBACKS) return static_cast<double>(dilu_fallbacks);
-  return stresslet_virial[i - STRESSLET_VIRIAL];
+  return reported[n];
 }
 
-/* Global restart state: the springs, as (smaller tag, larger tag, xi) records. */
+/* The global vector of the step (compute_vector's list), the same on every rank. */
+void FixHydroImplicitSF::report_vector()
+{
+  using namespace HydroVector;
+  double local[SIZE] = {};    // entry i - 1 for the vector index i
+  for (int k = 0; k < 6; k++) {
+    local[CONTACT_VIRIAL - 1 + k] = contact_virial[k];
+    local[LUBRICATION_VIRIAL - 1 + k] = lubrication_virial[k];
+    local[STRESSLET_VIRIAL - 1 + k] = stresslet_virial[k];
+  }
+  for (int k = 0; k < 3; k++) local[CONTACT_TORQUE - 1 + k] = contact_torque[k];
+  local[CONTACTS - 1] = static_cast<double>(contacts.size());
+  local[SLIDING_CONTACTS - 1] = sliding_contacts;
+  local[DILU_FALLBACKS - 1] = static_cast<double>(dilu_fallbacks);
+  MPI_Allreduce(local, reported, SIZE, MPI_DOUBLE, MPI_SUM, world);
+  // already global: the solve's figures
+  const auto per_step = [this](double total) { return steps > 0 ? total / steps : 0.0; };
+  reported[LAST_ITERATIONS - 1] = last_iterations;
+  reported[MEAN_ITERATIONS - 1] = per_step(static_cast<double>(total_iterations));
+  reported[LAST_ERROR - 1] = last_error;
+  reported[MEAN_PASSES - 1] = per_step(static_cast<double>(total_passes));
+  reported[MEAN_RELEASED - 1] = per_step(static_cast<double>(total_released));
+}
+
+/* The springs of all ranks as (smaller tag, larger tag, xi) records, on every rank. */
+std::vector<double> FixHydroImplicitSF::gathered_springs() const
+{
+  std::vector<double> mine;
+  mine.reserve(SPRING_RECORD * springs.size());
+  for (const auto &entry : springs) {
+    mine.push_back(static_cast<double>(entry.first >> 32));
+    mine.push_back(static_cast<double>(entry.first & 0xffffffffULL));
+    for (int k = 0; k < 3; k++) mine.push_back(entry.second.xi[k]);
+  }
+  if (!distributed) return mine;
+  const int nprocs = comm->nprocs;
+  const int count = static_cast<int>(mine.size());
+  std::vector<int> counts(nprocs), offsets(nprocs, 0);
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
+  for (int p = 1; p < nprocs; p++) offsets[p] = offsets[p - 1] + counts[p - 1];
+  std::vector<double> all(static_cast<size_t>(offsets[nprocs - 1] + counts[nprocs - 1]));
+  MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, world);
+  return all;
+}
+
+void FixHydroImplicitSF::load_springs(const double *records, size_t count)
+{
+  springs.clear();
+  springs.reserve(count);
+  for (size_t e = 0; e < count; e++) {
+    const double *record = &records[SPRING_RECORD * e];
+    const auto key = (static_cast<unsigned long long>(record[0]) << 32) |
+        static_cast<unsigned long long>(record[1]);
+    Spring &stored = springs[key];
+    for (int k = 0; k < 3; k++) stored.xi[k] = record[2 + k];
+  }
+}
+
+/* Global restart state: the springs of all ranks, their count then their records, so that a
+   run written on any number of ranks continues on any other. */
 void FixHydroImplicitSF::write_restart(FILE *fp)
 {
-  std::vector<double> list;
-  list.reserve(1 + 5 * springs.size());
-  list.push_back(static_cast<double>(springs.size()));
-  for (const auto &entry : springs) {
-    list.push_back(static_cast<double>(entry.first >> 32));
-    list.push_back(static_cast<double>(entry.first & 0xffffffffULL));
-    for (int k = 0; k < 3; k++) list.push_back(entry.second.xi[k]);
-  }
+  const std::vector<double> records = gathered_springs();
   if (comm->me == 0) {
-    const int size = static_cast<int>(list.size() * sizeof(double));
+    const double count = static_cast<double>(records.size() / SPRING_RECORD);
+    const int size = static_cast<int>((records.size() + 1) * sizeof(double));
     fwrite(&size, sizeof(int), 1, fp);
-    fwrite(list.data(), sizeof(double), list.size(), fp);
+    fwrite(&count, sizeof(double), 1, fp);
+    fwrite(records.data(), sizeof(double), records.size(), fp);
   }
 }
 
 void FixHydroImplicitSF::restart(char *buf)
 {
   const double *list = reinterpret_cast<const double *>(buf);
-  const auto count = static_cast<size_t>(list[0]);
-  springs.clear();
-  springs.reserve(count);
-  for (size_t e = 0; e < count; e++) {
-    const double *record = &list[1 + 5 * e];
-    const auto key = (static_cast<unsigned long long>(record[0]) << 32) |
-        static_cast<unsigned long long>(record[1]);
-    Spring &stored = springs[key];
-    for (int k = 0; k < 3; k++) stored.xi[k] = record[2 + k];
-  }
+  load_springs(list + 1, static_cast<size_t>(list[0]));
+}
+
+/* Ghost communication of a vector with `stride` entries per atom (6: a velocity; 36: a block).
+   On one rank no pair refers to a ghost, and nothing is communicated. */
+void FixHydroImplicitSF::exchange_ghosts(std::vector<double> &values, int stride)
+{
+  if (!distributed) return;
+  comm_values = &values;
+  comm_stride = stride;
+  comm->forward_comm(this, stride);
+}
+
+void FixHydroImplicitSF::sum_ghosts(std::vector<double> &values, int stride)
+{
+  if (!distributed) return;
+  comm_values = &values;
+  comm_stride = stride;
+  comm->reverse_comm(this, stride);
+}
+
+int FixHydroImplicitSF::pack_forward_comm(int n, int *list, double *buf, int /*pbc_flag*/, int * /*pbc*/)
+{
+  const double *values = comm_values->data();
+  int m = 0;
+  for (int q = 0; q < n; q++)
+    for (int k = 0; k < comm_stride; k++) buf[m++] = values[comm_stride * static_cast<size_t>(list[q]) + k];
+  return m;
+}
+
+void FixHydroImplicitSF::unpack_forward_comm(int n, int first, double *buf)
+{
+  double *values = comm_values->data();
+  int m = 0;
+  for (int i = first; i < first + n; i++)
+    for (int k = 0; k < comm_stride; k++) values[comm_stride * static_cast<size_t>(i) + k] = buf[m++];
+}
+
+int FixHydroImplicitSF::pack_reverse_comm(int n, int first, double *buf)
+{
+  const double *values = comm_values->data();
+  int m = 0;
+  for (int i = first; i < first + n; i++)
+    for (int k = 0; k < comm_stride; k++) buf[m++] = values[comm_stride * static_cast<size_t>(i) + k];
+  return m;
+}
+
+void FixHydroImplicitSF::unpack_reverse_comm(int n, int *list, double *buf)
+{
+  double *values = comm_values->data();
+  int m = 0;
+  for (int q = 0; q < n; q++)
+    for (int k = 0; k < comm_stride; k++) values[comm_stride * static_cast<size_t>(list[q]) + k] += buf[m++];
+}
+
+double FixHydroImplicitSF::global_sum(double local) const
+{
+  if (!distributed) return local;
+  double total;
+  MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_SUM, world);
+  return total;
+}
+
+double FixHydroImplicitSF::global_max(double local) const
+{
+  if (!distributed) return local;
+  double largest;
+  MPI_Allreduce(&local, &largest, 1, MPI_DOUBLE, MPI_MAX, world);
+  return largest;
 }

@@ -55,10 +55,14 @@ class FixHydroImplicitSF : public Fix {
   double compute_vector(int) override;
   void write_restart(FILE *) override;
   void restart(char *) override;
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
+  int pack_reverse_comm(int, int, double *) override;
+  void unpack_reverse_comm(int, int *, double *) override;
 
  private:
   struct LubricatedPair {
-    int i, j;           // local indices; j is the owner of a ghost partner
+    int i, j;           // i local; j local (the owner of a ghost image on this rank) or a ghost owned by another rank
     bool add_to_j;      // newton on, or j local: this pair also acts on j
     double del[3];      // x_i - x_j (image of j next to i)
     SuspensionFabric::PairResistance R;
@@ -79,7 +83,9 @@ class FixHydroImplicitSF : public Fix {
   std::vector<LubricatedPair> pairs;
   std::vector<SuspensionFabric::Contact> contacts;
   // tangential spring of each contact, by (smaller tag, larger tag): displacement of the atom
-  // with the smaller tag relative to the other
+  // with the smaller tag relative to the other.  Each rank keeps the springs of the pairs it
+  // lists; after a neighbour-list build, when a pair may move to another rank, all ranks
+  // gather all springs and each keeps, after the step, those of its own pairs.
   std::unordered_map<unsigned long long, Spring> springs, next_springs;
   double contact_virial[6];       // sum (x_i - x_j)_a F_b, LAMMPS order xx yy zz xy xz yz
   double contact_torque[3];       // summed contact torques: -sum (x_i - x_j) x F
@@ -109,6 +115,20 @@ class FixHydroImplicitSF : public Fix {
   int last_iterations;
   double last_error;
   int sliding_contacts;
+  double reported[HydroVector::SIZE];    // the global vector of the last step, summed over the ranks
+
+  // more than one MPI rank: partners owned by other ranks enter as ghosts, whose vector entries
+  // are exchanged through the fix's forward and reverse communication
+  bool distributed;
+  std::vector<double> *comm_values;    // the vector being communicated, comm_stride entries per atom
+  int comm_stride;
+  void exchange_ghosts(std::vector<double> &values, int stride);
+  void sum_ghosts(std::vector<double> &values, int stride);
+  double global_sum(double local) const;
+  double global_max(double local) const;
+  std::vector<double> gathered_springs() const;
+  void load_springs(const double *records, size_t count);
+  void report_vector();
 
   void collect_pairs(const double E[3][3]);
   void classify_contacts();
@@ -117,7 +137,7 @@ class FixHydroImplicitSF : public Fix {
   int release_violated_springs();
   int relinearise_contacts();
   void finish_contacts(bool update_springs);
-  void apply_operator(const std::vector<double> &in, std::vector<double> &out) const;
+  void apply_operator(std::vector<double> &in, std::vector<double> &out);
   void build_preconditioner();
   void collect_couplings();
   bool factor_dilu();
