@@ -1,41 +1,53 @@
 """One simulation across MPI ranks: the default engine (fix hydro/implicit/sf) on 1 and 2 ranks
-of the same steady state (BENCHMARKS.md, "One simulation across MPI ranks").
+of the same steady state, and a model of its parallel efficiency on more (BENCHMARKS.md, "One
+simulation across MPI ranks").
 
     .venv/bin/python benchmarks/mpi_scaling.py prepare [--n 16000]   # steady state (any load)
-    .venv/bin/python benchmarks/mpi_scaling.py measure [--n 16000]   # timings: idle machine
-    .venv/bin/python benchmarks/mpi_scaling.py iterations [--n 16000] [--ranks 1 2 4 8 16]
-    .venv/bin/python benchmarks/mpi_scaling.py model [--n 16000]      # efficiency model, 8-64 ranks
+    .venv/bin/python benchmarks/mpi_scaling.py measure [--n 16000]   # 1 and 2 ranks: idle machine
+    .venv/bin/python benchmarks/mpi_scaling.py split [--n 16000]     # price of an iteration: idle
+    .venv/bin/python benchmarks/mpi_scaling.py iterations [--n 16000] [--ranks 1 2 4 8]
+    .venv/bin/python benchmarks/mpi_scaling.py latency [--n 16000]   # MPI's prices: idle machine
+    .venv/bin/python benchmarks/mpi_scaling.py model [--n 16000]     # efficiency, 1-64 ranks
 
 `prepare`: the paper's point (phi = 0.45, packing seed 1, the default forces and engine) at
 N = n, a startup to strain PREPARE_STRAIN on 2 ranks, into results/mpi_scaling/n<N>/.
 
 `measure`: from that checkpoint, the same shear continued for MEASURE_STRAIN on 1 rank and on
-2 ranks, alternating, REPEATS times each; per run LAMMPS's loop time, the time of its Comm and
-Modify (the fix) sections averaged over the ranks, the mean CG iterations per step and the
-ghost atoms per rank. Prints a Markdown table and the speed-up of 2 ranks over 1 (median of
-the pairs). Written to results/mpi_scaling/n<N>/measure.csv.
+2 ranks, alternating, REPEATS times each; per run LAMMPS's loop time, its Comm and Modify (the
+fix) sections averaged over the ranks, the mean CG iterations per step and the ghost atoms per
+rank. Prints a Markdown table and the speed-up of 2 ranks over 1 (per pair and the median);
+writes measure.csv.
 
-`iterations`: the same continuation, ITERATION_STRAIN long, on 1, 2, 4, ... ranks; on this
-2-core machine more than 2 ranks share cores, so only the iteration counts and ghost counts
-are kept (results/mpi_scaling/n<N>/iterations.csv), not the times.
+`split`: the 1-rank continuation at the default solver_tol and at SPLIT_TOL: more CG iterations
+for the same other work, so the difference prices one iteration per atom (split.csv).
 
-`model`: the parallel efficiency on P = 8-64 ranks of one node of dedicated cores, from the
-measured figures: a step's work per atom (the 1-rank run's Modify time less nothing: no ghost is
-used on 1 rank) splits into a part per CG iteration and a fixed part (fitted from the
-iterations); on P ranks each rank does N/P atoms' work times I(P)/I(1) for the iterations, plus
-the communication: per step (2 + 2 I) ghost exchanges of 6 doubles per ghost atom and 3 I + 4
-global sums, priced with the 2-rank run's measured Comm time per exchanged double and the
-measured latency of a global sum; the ghosts per rank are measured up to 16 ranks and, beyond,
-scaled as the surface of a rank's cube of atoms, (N/P)^(2/3).
+`iterations`: the continuation, ITERATION_STRAIN long, on each rank count given; on this 2-core
+machine more than 2 ranks share cores, so only the iteration and ghost counts are kept, not the
+times (iterations.csv).
+
+`model`: the time per step on P ranks of dedicated cores of one node,
+    t(P) = N/P (a + b I(P)) + (5 + 2 I(P)) 6 g(P) c + (5 + 3 I(P)) s log2 P,
+with a and b the 1-rank costs per atom outside and per CG iteration (measure and split), I(P)
+the iterations per step (measured up to the largest P of `iterations`, then growing by their
+mean growth per rank doubling), g(P) the ghosts per rank, from the shell of one subdomain of
+LAMMPS's grid (checked against the measured counts), c the price of one exchanged double (the
+2-rank run's time less its modelled compute, divided by its ghost traffic: waiting for the
+slower rank included), s the latency of a global sum on 2 ranks (`latency`: benchmarks/
+mpi_latency.c), growing as log2 P; the counts of ghost exchanges (5 + 2 I) and global sums
+(5 + 3 I) per step are those of fix_hydro_implicit_sf.cpp. Prints t(P), the speed-up
+t(1)/t(P) and the efficiency t(1)/(P t(P)).
 """
 
 from __future__ import annotations
 
 import argparse
 import csv
+import math
 import platform
 import re
 import statistics
+import subprocess
+import sys
 from pathlib import Path
 
 from suspension_fabric.simulation.lammps import (
@@ -48,19 +60,41 @@ from suspension_fabric.simulation.lammps import (
     run_rotation,
     run_startup,
 )
+from suspension_fabric.simulation.lammps.plugin import mpi_include_dir
+from suspension_fabric.simulation.lammps.process import lammps_environment, mpi_launcher
 
 ROOT = Path("results/mpi_scaling")
+TABLES = Path("benchmarks/data/mpi_scaling")
 PREPARE_STRAIN = 1.0
 MEASURE_STRAIN = 0.1
 ITERATION_STRAIN = 0.02
 REPEATS = 3
+SPLIT_TOL = 1.0e-5
+MODEL_RANKS = (8, 16, 32, 64)
+# per step, with I CG iterations (all passes): ghost exchanges (forward or reverse, 6 doubles per
+# ghost) and global sums, as fix_hydro_implicit_sf.cpp makes them with one pass: exchanges for
+# the relative velocities, the right-hand side, the first residual's product (2) and the end of
+# the solve, and 2 per iteration (the product: the direction to the ghosts, the ghosts' sums
+# back; the preconditioner is local); sums: 2 for the first residual, 3 per iteration, 3 per step
+EXCHANGES_FIXED = 5
+EXCHANGES_PER_ITERATION = 2
+SUMS_FIXED = 5
+SUMS_PER_ITERATION = 3
+LATENCY_SOURCE = Path(__file__).with_name("mpi_latency.c")
 LOOP_TIME = re.compile(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms")
 SECTION = re.compile(r"^(Comm|Modify)\s*\|\s*[0-9.eE+-]+\s*\|\s*([0-9.eE+-]+)\s*\|", re.MULTILINE)
 GHOSTS = re.compile(r"^Nghost:\s+([0-9.eE+-]+) ave", re.MULTILINE)
+BOX = re.compile(r"triclinic box = \(([^)]*)\) to \(([^)]*)\)")
+CUTOFF = re.compile(r"ghost atom cutoff = ([0-9.eE+-]+)")
 
 
 def folder(n: int) -> Path:
     return ROOT / f"n{n}"
+
+
+def tables(n: int) -> Path:
+    """The committed tables of the measurements (the run folders stay in results/)."""
+    return TABLES / f"n{n}"
 
 
 def checkpoint(n: int) -> Path:
@@ -83,8 +117,9 @@ def prepare(n: int) -> None:
         )
 
 
-def continuation(n: int, ranks: int, strain: float, name: str) -> dict:
-    """The prepared shear continued for `strain` on `ranks` ranks; LAMMPS's figures of the run."""
+def continuation(n: int, ranks: int, strain: float, name: str, force_model: ForceModel | None = None) -> dict:
+    """The prepared shear continued for `strain` on `ranks` ranks (the default engine unless
+    `force_model` is given); LAMMPS's figures of the run."""
     settings = ShearSettings(
         dump_strain=strain,
         table_strain=strain / 10,
@@ -94,11 +129,25 @@ def continuation(n: int, ranks: int, strain: float, name: str) -> dict:
         ranks=ranks,
     )
     run = run_rotation(
-        folder(n) / name, checkpoint(n), 0.0, strain, settings=settings, overwrite=True, resume=False, progress=None
+        folder(n) / name,
+        checkpoint(n),
+        0.0,
+        strain,
+        force_model=force_model or ForceModel(),
+        settings=settings,
+        overwrite=True,
+        resume=False,
+        progress=None,
     )
-    log = run.log_file.read_text()
+    return figures(run.log_file.read_text())
+
+
+def figures(log: str) -> dict:
+    """A run's figures from its LAMMPS log: size, ranks, loop and section times, mean CG
+    iterations, ghosts per rank, box lengths and ghost cutoff."""
     seconds, procs, steps, atoms = LOOP_TIME.findall(log)[-1]
     sections = dict(SECTION.findall(log))
+    low, high = (tuple(float(v) for v in corner.split()) for corner in BOX.findall(log)[-1])
     return {
         "n": int(atoms),
         "ranks": int(procs),
@@ -108,6 +157,8 @@ def continuation(n: int, ranks: int, strain: float, name: str) -> dict:
         "modify_s": float(sections["Modify"]),
         "iterations": mean_iterations(log),
         "ghosts_per_rank": float(GHOSTS.findall(log)[-1]),
+        **{f"box_{axis}": h - lo for axis, h, lo in zip("xyz", high, low, strict=True)},
+        "ghost_cutoff": float(CUTOFF.findall(log)[-1]),
     }
 
 
@@ -126,6 +177,7 @@ def mean_iterations(log: str) -> float:
 
 
 def write_rows(rows: list[dict], path: Path) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
     with path.open("w", newline="") as handle:
         writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
         writer.writeheader()
@@ -149,7 +201,7 @@ def measure(n: int) -> None:
                 f"{row['comm_s']:.2f} | {row['iterations']:.2f} | {row['ghosts_per_rank']:.0f} |",
                 flush=True,
             )
-    write_rows(rows, folder(n) / "measure.csv")
+    write_rows(rows, tables(n) / "measure.csv")
     speedups = [one["loop_s"] / two["loop_s"] for one, two in zip(rows[0::2], rows[1::2], strict=True)]
     print(
         f"\nspeed-up of 2 ranks over 1 (loop time), per pair: {', '.join(f'{s:.2f}' for s in speedups)}; "
@@ -162,14 +214,149 @@ def iterations(n: int, ranks_list: list[int]) -> None:
     rows = []
     for ranks in ranks_list:
         row = continuation(n, ranks, ITERATION_STRAIN, f"iterations_ranks{ranks}")
-        rows.append({key: row[key] for key in ("n", "ranks", "steps", "iterations", "ghosts_per_rank")})
+        keep = ("n", "ranks", "steps", "iterations", "ghosts_per_rank", "box_x", "box_y", "box_z", "ghost_cutoff")
+        rows.append({key: row[key] for key in keep})
         print(f"| {ranks} | {row['steps']} | {row['iterations']:.2f} | {row['ghosts_per_rank']:.0f} |", flush=True)
-    write_rows(rows, folder(n) / "iterations.csv")
+    write_rows(rows, tables(n) / "iterations.csv")
+
+
+def split(n: int) -> None:
+    """The 1-rank continuation at the default solver_tol and at SPLIT_TOL, alternating, REPEATS
+    times each: more CG iterations for the same other work, so the difference prices one
+    iteration per atom."""
+    rows = []
+    for repeat in range(1, REPEATS + 1):
+        for tol in (ForceModel().solver_tol, SPLIT_TOL):
+            run = continuation(n, 1, MEASURE_STRAIN, f"split_tol{tol:g}", ForceModel(solver_tol=tol))
+            rows.append({"repeat": repeat, "solver_tol": tol, **run})
+            print(f"solver_tol {tol:g}: {run['loop_s']:.1f} s, {run['iterations']:.2f} iterations per step", flush=True)
+    write_rows(rows, tables(n) / "split.csv")
+
+
+def read_rows(path: Path) -> list[dict]:
+    with path.open() as handle:
+        return [{key: float(value) for key, value in row.items()} for row in csv.DictReader(handle)]
+
+
+def latency(n: int) -> None:
+    """Compiles benchmarks/mpi_latency.c against the venv's mpich and runs it on 2 ranks, with
+    messages of the size of one ghost exchange of the measured 2-rank run (6 doubles per ghost)."""
+    two = [row for row in read_rows(tables(n) / "measure.csv") if row["ranks"] == 2]
+    doubles = round(6 * statistics.median(row["ghosts_per_rank"] for row in two))
+    binary = ROOT / "mpi_latency"
+    compile_command = ["gcc", "-O2", f"-I{mpi_include_dir()}", str(LATENCY_SOURCE), "-o", str(binary)]
+    subprocess.run(compile_command + [f"-L{Path(sys.prefix) / 'lib'}", "-lmpi"], check=True)
+    command = [str(mpi_launcher()), "-np", "2", str(binary), str(doubles)]
+    output = subprocess.run(command, env=lammps_environment(), capture_output=True, text=True, check=True).stdout
+    allreduce_us, message_ns = (float(value) for value in output.split())
+    write_rows(
+        [{"doubles": doubles, "allreduce_us": allreduce_us, "ns_per_double": message_ns}], tables(n) / "latency.csv"
+    )
+    print(
+        f"2 ranks: MPI_Allreduce of one double {allreduce_us:.3f} us; a message of {doubles} doubles "
+        f"{message_ns:.3f} ns per double one way"
+    )
+
+
+def processor_grid(ranks: int, lengths: tuple[float, float, float]) -> tuple[int, int, int]:
+    """LAMMPS's default grid: the factorisation px py pz = ranks whose subdomains have the least surface."""
+    best = None
+    for px in range(1, ranks + 1):
+        for py in range(1, ranks // px + 1):
+            if ranks % (px * py):
+                continue
+            pz = ranks // (px * py)
+            a = (lengths[0] / px, lengths[1] / py, lengths[2] / pz)
+            surface = a[0] * a[1] + a[1] * a[2] + a[0] * a[2]
+            if best is None or surface < best[0] - 1e-12:
+                best = (surface, (px, py, pz))
+    return best[1]
+
+
+def modelled_ghosts(n: int, lengths, cutoff: float, grid) -> float:
+    """Atoms in the shell of thickness `cutoff` around one subdomain, at the mean number density."""
+    sub = [length / p for length, p in zip(lengths, grid, strict=True)]
+    density = n / math.prod(lengths)
+    return density * (math.prod(a + 2 * cutoff for a in sub) - math.prod(sub))
+
+
+def model(n: int) -> None:
+    """Parallel efficiency on P ranks of dedicated cores (the module's docstring gives the model)."""
+    measured = read_rows(tables(n) / "measure.csv")
+    tols = read_rows(tables(n) / "split.csv")
+    loose, tight = (
+        {key: statistics.median(row[key] for row in tols if row["solver_tol"] == tol) for key in tols[0]}
+        for tol in sorted({row["solver_tol"] for row in tols}, reverse=True)
+    )
+    counts = {int(row["ranks"]): row for row in read_rows(tables(n) / "iterations.csv")}
+    prices = read_rows(tables(n) / "latency.csv")[0]
+    lengths = tuple(counts[1][f"box_{axis}"] for axis in "xyz")
+    cutoff = counts[1]["ghost_cutoff"]
+
+    def median_of(ranks: int, key: str) -> float:
+        return statistics.median(
+            row[key] / (row["steps"] if key == "loop_s" else 1.0) for row in measured if row["ranks"] == ranks
+        )
+
+    step_one, iterations_one = median_of(1, "loop_s"), median_of(1, "iterations")
+    # the iteration's share of the 1-rank step from the split (its runs need not see the machine
+    # at measure's speed: the share, not the seconds, is carried over)
+    share = (tight["loop_s"] - loose["loop_s"]) / (tight["iterations"] - loose["iterations"]) * loose["iterations"]
+    share /= loose["loop_s"]
+    per_iteration = share * step_one / (n * iterations_one)  # s per atom per CG iteration
+    fixed = (1.0 - share) * step_one / n  # s per atom per step outside the iterations
+    largest = max(counts)
+    growth = (counts[largest]["iterations"] - counts[2]["iterations"]) / math.log2(largest / 2)
+
+    def iterations_at(ranks: int) -> float:
+        # the iterations windows are shorter than measure's: their ratios to 1 rank carry over
+        if ranks in counts:
+            return iterations_one * counts[ranks]["iterations"] / counts[1]["iterations"]
+        extra = growth * math.log2(ranks / largest)
+        return iterations_one * (counts[largest]["iterations"] + extra) / counts[1]["iterations"]
+
+    def step_at(ranks: int) -> tuple[float, float, float, float]:
+        iterations_p = iterations_at(ranks)
+        ghosts = modelled_ghosts(n, lengths, cutoff, processor_grid(ranks, lengths))
+        compute = n / ranks * (fixed + per_iteration * iterations_p)
+        communication = 0.0
+        if ranks > 1:
+            exchanges = EXCHANGES_FIXED + EXCHANGES_PER_ITERATION * iterations_p
+            communication = exchanges * 6 * ghosts * prices["ns_per_double"] * 1e-9
+            sums = SUMS_FIXED + SUMS_PER_ITERATION * iterations_p
+            communication += sums * prices["allreduce_us"] * 1e-6 * math.log2(ranks)
+        return iterations_p, ghosts, compute + communication, communication
+
+    print(
+        f"# N = {n}, box {' x '.join(f'{x:.2f}' for x in lengths)}, ghost cutoff {cutoff:g}. 1 rank "
+        f"(measure): {step_one * 1e3:.1f} ms per step at {iterations_one:.2f} CG iterations; the iterations' "
+        f"share {share:.2f} (split: solver_tol {loose['solver_tol']:g} against {tight['solver_tol']:g}, "
+        f"medians of {len(tols) // 2}), so a = {fixed * 1e6:.3f} us per atom per step and "
+        f"b = {per_iteration * 1e6:.3f} us per atom per iteration. Prices on 2 ranks (latency): a global "
+        f"sum {prices['allreduce_us']:.3f} us, {prices['ns_per_double']:.3f} ns per exchanged double. "
+        f"Beyond P = {largest}, I(P) grows by {growth:.2f} per doubling (its mean from 2 to {largest} ranks). "
+        f"Check at P = 2: modelled {step_at(2)[2] * 1e3:.1f} ms per step, measured {median_of(2, 'loop_s') * 1e3:.1f}\n"
+    )
+    print(
+        "| ranks P | grid | atoms per rank | CG iterations I(P) | ghosts per rank (measured) "
+        "| ghosts per rank (model) | ms per step | of it communication | speed-up | efficiency |"
+    )
+    print("|--:|:-:|--:|--:|--:|--:|--:|--:|--:|--:|")
+    for ranks in sorted(set(counts) | set(MODEL_RANKS)):
+        iterations_p, ghosts, step, communication = step_at(ranks)
+        measured_ghosts = f"{counts[ranks]['ghosts_per_rank']:.0f}" if ranks in counts else ""
+        speedup = step_one / step
+        print(
+            f"| {ranks} | {'x'.join(map(str, processor_grid(ranks, lengths)))} | {n // ranks} | "
+            f"{iterations_p:.2f} | {measured_ghosts} | {ghosts:.0f} | {step * 1e3:.2f} | "
+            f"{communication / step:.2f} | {speedup:.2f} | "
+            f"{speedup / ranks:.2f} |"
+        )
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("command", choices=("prepare", "measure", "iterations", "model"))
+    parser.add_argument("command", choices=("prepare", "measure", "split", "iterations", "latency", "model"))
     parser.add_argument("--n", type=int, default=16000)
     parser.add_argument("--ranks", type=int, nargs="+", default=[1, 2, 4, 8, 16])
     args = parser.parse_args()
@@ -179,6 +366,12 @@ def main() -> None:
         measure(args.n)
     elif args.command == "iterations":
         iterations(args.n, args.ranks)
+    elif args.command == "split":
+        split(args.n)
+    elif args.command == "latency":
+        latency(args.n)
+    else:
+        model(args.n)
 
 
 if __name__ == "__main__":

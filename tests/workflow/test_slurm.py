@@ -124,8 +124,7 @@ def test_slurm_results_equal_a_local_run(slurm_study, request):
 
 
 def test_two_mpi_ranks_run_as_one_two_task_slurm_job(cluster, tmp_path):
-    """run.mpi_ranks = 2 (explicit integrator with explicit springs, dt below its 5.5e-5 limit,
-    the lubrication squeeze at the test study's eta_f = 1):
+    """run.mpi_ranks = 2 with the default engine (fix hydro/implicit/sf split over the ranks):
     one SLURM job of 2 tasks x 1 core on one node, in which LAMMPS runs on a 2-rank grid."""
     node_cpus = subprocess.run(
         ["sinfo", "-h", "-p", cluster[1], "-o", "%c"], capture_output=True, text=True, check=True
@@ -138,7 +137,7 @@ def test_two_mpi_ranks_run_as_one_two_task_slurm_job(cluster, tmp_path):
         workdir,
         "--config",
         "seeds=[1]",
-        "run={integrator: explicit, contact_springs: explicit, mpi_ranks: 2, dt: 4.0e-5}",
+        "run={mpi_ranks: 2}",
         "--",
         target,
     )

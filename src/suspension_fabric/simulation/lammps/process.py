@@ -55,7 +55,7 @@ def lammps_executable() -> Path:
     return Path(found)
 
 
-def _lammps_environment() -> dict[str, str]:
+def lammps_environment() -> dict[str, str]:
     """Environment for lmp: one OpenMP thread, libmpi (PyPI mpich) on LD_LIBRARY_PATH.
 
     One thread always: no style in use is threaded, and a job's cores go to its MPI ranks
@@ -73,7 +73,8 @@ def _lammps_environment() -> dict[str, str]:
     return env
 
 
-def _mpi_launcher() -> Path:
+def mpi_launcher() -> Path:
+    """The venv's mpirun (PyPI mpich), else mpirun or mpiexec on PATH."""
     for name in ("mpirun", "mpiexec"):
         candidate = Path(sys.prefix) / "bin" / name
         if candidate.is_file():
@@ -94,7 +95,7 @@ def lammps_command(
     for name, value in variables.items():
         command += ["-var", name, str(value)]
     if ranks > 1:
-        command = [str(_mpi_launcher()), "-np", str(int(ranks))] + command
+        command = [str(mpi_launcher()), "-np", str(int(ranks))] + command
     return command
 
 
@@ -182,7 +183,7 @@ def launch(
         process = subprocess.Popen(
             command,
             cwd=cwd,
-            env=_lammps_environment(),
+            env=lammps_environment(),
             stdout=subprocess.PIPE,
             stderr=subprocess.STDOUT,
             text=True,
