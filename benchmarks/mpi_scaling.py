@@ -8,6 +8,7 @@ simulation across MPI ranks").
     .venv/bin/python benchmarks/mpi_scaling.py iterations [--n 16000] [--ranks 1 2 4 8]
     .venv/bin/python benchmarks/mpi_scaling.py latency [--n 16000]   # MPI's prices: idle machine
     .venv/bin/python benchmarks/mpi_scaling.py model [--n 16000]     # efficiency, 1-64 ranks
+    .venv/bin/python benchmarks/mpi_scaling.py sizes --n 500 4000 16000   # cost per atom against N
 
 `prepare`: the paper's point (phi = 0.45, packing seed 1, the default forces and engine) at
 N = n, a startup to strain PREPARE_STRAIN on 2 ranks, into results/mpi_scaling/n<N>/.
@@ -18,12 +19,16 @@ fix) sections averaged over the ranks, the mean CG iterations per step and the g
 rank. Prints a Markdown table and the speed-up of 2 ranks over 1 (per pair and the median);
 writes measure.csv.
 
-`split`: the 1-rank continuation at the default solver_tol and at SPLIT_TOL: more CG iterations
+`split`: the 1-rank continuation (MEASURE_STRAIN at N = 16000, longer for smaller N, at most
+1 strain) at the default solver_tol and at SPLIT_TOL, alternating, REPEATS times each: more CG iterations
 for the same other work, so the difference prices one iteration per atom (split.csv).
 
 `iterations`: the continuation, ITERATION_STRAIN long, on each rank count given; on this 2-core
 machine more than 2 ranks share cores, so only the iteration and ghost counts are kept, not the
 times (iterations.csv).
+
+`sizes`: from each N's split.csv, the 1-rank cost per atom per step split into the part outside
+the CG iterations and the iterations' part: what the growth of the cost with N comes from.
 
 `model`: the time per step on P ranks of dedicated cores of one node,
     t(P) = N/P (a + b I(P)) + (5 + 2 I(P)) 6 g(P) c + (5 + 3 I(P)) s log2 P,
@@ -220,6 +225,14 @@ def iterations(n: int, ranks_list: list[int]) -> None:
     write_rows(rows, tables(n) / "iterations.csv")
 
 
+def split_strain(n: int) -> float:
+    """MEASURE_STRAIN at N = 16000; smaller systems run longer, for comparable loop times: the
+    first of 0.1, 0.2, 0.5 and 1 strain (steps that divide the checkpoint's, so that the outputs
+    stay on LAMMPS's grid) at least MEASURE_STRAIN x 16000 / n."""
+    wanted = MEASURE_STRAIN * 16000 / n
+    return next((strain for strain in (0.1, 0.2, 0.5) if strain >= wanted - 1e-12), 1.0)
+
+
 def split(n: int) -> None:
     """The 1-rank continuation at the default solver_tol and at SPLIT_TOL, alternating, REPEATS
     times each: more CG iterations for the same other work, so the difference prices one
@@ -227,7 +240,7 @@ def split(n: int) -> None:
     rows = []
     for repeat in range(1, REPEATS + 1):
         for tol in (ForceModel().solver_tol, SPLIT_TOL):
-            run = continuation(n, 1, MEASURE_STRAIN, f"split_tol{tol:g}", ForceModel(solver_tol=tol))
+            run = continuation(n, 1, split_strain(n), f"split_tol{tol:g}", ForceModel(solver_tol=tol))
             rows.append({"repeat": repeat, "solver_tol": tol, **run})
             print(f"solver_tol {tol:g}: {run['loop_s']:.1f} s, {run['iterations']:.2f} iterations per step", flush=True)
     write_rows(rows, tables(n) / "split.csv")
@@ -283,11 +296,7 @@ def modelled_ghosts(n: int, lengths, cutoff: float, grid) -> float:
 def model(n: int) -> None:
     """Parallel efficiency on P ranks of dedicated cores (the module's docstring gives the model)."""
     measured = read_rows(tables(n) / "measure.csv")
-    tols = read_rows(tables(n) / "split.csv")
-    loose, tight = (
-        {key: statistics.median(row[key] for row in tols if row["solver_tol"] == tol) for key in tols[0]}
-        for tol in sorted({row["solver_tol"] for row in tols}, reverse=True)
-    )
+    split_row = split_costs(n)
     counts = {int(row["ranks"]): row for row in read_rows(tables(n) / "iterations.csv")}
     prices = read_rows(tables(n) / "latency.csv")[0]
     lengths = tuple(counts[1][f"box_{axis}"] for axis in "xyz")
@@ -301,8 +310,7 @@ def model(n: int) -> None:
     step_one, iterations_one = median_of(1, "loop_s"), median_of(1, "iterations")
     # the iteration's share of the 1-rank step from the split (its runs need not see the machine
     # at measure's speed: the share, not the seconds, is carried over)
-    share = (tight["loop_s"] - loose["loop_s"]) / (tight["iterations"] - loose["iterations"]) * loose["iterations"]
-    share /= loose["loop_s"]
+    share = split_row["iterations"] * split_row["per_iteration"] * n / split_row["step"]
     per_iteration = share * step_one / (n * iterations_one)  # s per atom per CG iteration
     fixed = (1.0 - share) * step_one / n  # s per atom per step outside the iterations
     largest = max(counts)
@@ -330,8 +338,8 @@ def model(n: int) -> None:
     print(
         f"# N = {n}, box {' x '.join(f'{x:.2f}' for x in lengths)}, ghost cutoff {cutoff:g}. 1 rank "
         f"(measure): {step_one * 1e3:.1f} ms per step at {iterations_one:.2f} CG iterations; the iterations' "
-        f"share {share:.2f} (split: solver_tol {loose['solver_tol']:g} against {tight['solver_tol']:g}, "
-        f"medians of {len(tols) // 2}), so a = {fixed * 1e6:.3f} us per atom per step and "
+        f"share {share:.2f} (split: solver_tol {ForceModel().solver_tol:g} against {SPLIT_TOL:g}, "
+        f"medians of {split_row['repeats']}), so a = {fixed * 1e6:.3f} us per atom per step and "
         f"b = {per_iteration * 1e6:.3f} us per atom per iteration. Prices on 2 ranks (latency): a global "
         f"sum {prices['allreduce_us']:.3f} us, {prices['ns_per_double']:.3f} ns per exchanged double. "
         f"Beyond P = {largest}, I(P) grows by {growth:.2f} per doubling (its mean from 2 to {largest} ranks). "
@@ -354,12 +362,57 @@ def model(n: int) -> None:
         )
 
 
+def split_costs(n: int) -> dict:
+    """From split.csv (medians per solver_tol): the 1-rank step at the default tolerance, its
+    iterations, and its cost per atom outside the CG iterations (a) and per iteration (b)."""
+    tols = read_rows(tables(n) / "split.csv")
+    loose, tight = (
+        {key: statistics.median(row[key] for row in tols if row["solver_tol"] == tol) for key in tols[0]}
+        for tol in sorted({row["solver_tol"] for row in tols}, reverse=True)
+    )
+    step = loose["loop_s"] / loose["steps"]
+    per_iteration = (tight["loop_s"] - loose["loop_s"]) / (tight["iterations"] - loose["iterations"])
+    per_iteration /= loose["steps"] * n
+    return {
+        "step": step,
+        "iterations": loose["iterations"],
+        "fixed": step / n - per_iteration * loose["iterations"],
+        "per_iteration": per_iteration,
+        "repeats": len(tols) // 2,
+    }
+
+
+def sizes(ns: list[int]) -> None:
+    """The 1-rank cost per atom split into its part outside the CG iterations and its iterations,
+    for each N with a split.csv: what the growth of the cost with N comes from."""
+    rows = {n: split_costs(n) for n in ns}
+    base = rows[min(ns)]
+    print(
+        "| N | ms per step | CG iterations | us per atom per step | outside the iterations (a) "
+        f"| per iteration (b) | iterations x b | cost per atom / N = {min(ns)} |"
+    )
+    print("|--:|--:|--:|--:|--:|--:|--:|--:|")
+    for n, row in rows.items():
+        per_atom = row["step"] / n
+        print(
+            f"| {n} | {row['step'] * 1e3:.2f} | {row['iterations']:.2f} | {per_atom * 1e6:.3f} | "
+            f"{row['fixed'] * 1e6:.3f} | {row['per_iteration'] * 1e6:.3f} | "
+            f"{row['iterations'] * row['per_iteration'] * 1e6:.3f} | {per_atom / (base['step'] / min(ns)):.2f} |"
+        )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("command", choices=("prepare", "measure", "split", "iterations", "latency", "model"))
-    parser.add_argument("--n", type=int, default=16000)
+    parser.add_argument("command", choices=("prepare", "measure", "split", "iterations", "latency", "model", "sizes"))
+    parser.add_argument("--n", type=int, nargs="+", default=[16000])
     parser.add_argument("--ranks", type=int, nargs="+", default=[1, 2, 4, 8, 16])
     args = parser.parse_args()
+    if args.command == "sizes":
+        sizes(args.n)
+        return
+    if len(args.n) != 1:
+        parser.error(f"{args.command} takes one --n")
+    args.n = args.n[0]
     if args.command == "prepare":
         prepare(args.n)
     elif args.command == "measure":
