@@ -10,7 +10,8 @@ Steady state over strain 2-5 of the startup, per quantity (the fabric <nn>_ij an
 its contact and lubrication parts, N1, N2, Pi in units of eta_f gammadot): each seed's mean over
 the window, the difference of the two seed means, its standard error
 sqrt(s_a^2/n_a + s_b^2/n_b) from the seed-to-seed spreads, z = difference / standard error and
-Welch's two-sided p. After every rotation both have: <nn>'_12, <nn>'_23, sigma'_12 and sigma'_23
+Welch's two-sided p. After every rotation both sides have (seeds pooled over the folders
+that hold it): <nn>'_12, <nn>'_23, sigma'_12 and sigma'_23
 in the strain bins of engine_ladder.BINS, per bin z in the same way. The criterion, named before
 looking: |z| <= 2 (two combined standard errors) for every steady quantity and transient bin;
 about 5% of the bins exceed 2 by chance alone, so the report also gives how many do and the
@@ -87,16 +88,22 @@ def steady_table(study: list[Path], dataset: list[Path]) -> tuple[str, list[floa
     return "\n".join(rows), zs
 
 
-def transient_z(study: Path, dataset: Path, angle: int, kind: str, column: str) -> np.ndarray:
-    a = binned_seed_means(study, angle, kind, column)
-    b = binned_seed_means(dataset, angle, kind, column)
+def pooled_bins(folders: list[Path], angle: int, kind: str, column: str) -> np.ndarray:
+    """binned_seed_means of every folder that holds the rotation, their seeds stacked."""
+    return np.vstack([binned_seed_means(f, angle, kind, column) for f in folders if angle in rotation_angles(f)])
+
+
+def transient_z(study: list[Path], dataset: list[Path], angle: int, kind: str, column: str) -> np.ndarray:
+    a = pooled_bins(study, angle, kind, column)
+    b = pooled_bins(dataset, angle, kind, column)
     error = np.sqrt(a.var(axis=0, ddof=1) / len(a) + b.var(axis=0, ddof=1) / len(b))
     return (a.mean(axis=0) - b.mean(axis=0)) / error
 
 
-def transient_table(study: Path, dataset: Path) -> tuple[str, list[float]]:
-    """z per strain bin after each rotation that both folders hold."""
-    angles = [angle for angle in rotation_angles(study) if angle in rotation_angles(dataset)]
+def transient_table(study: list[Path], dataset: list[Path]) -> tuple[str, list[float]]:
+    """z per strain bin after each rotation that both sides hold (seeds pooled over their folders)."""
+    held = [{angle for folder in folders for angle in rotation_angles(folder)} for folders in (study, dataset)]
+    angles = sorted(held[0] & held[1])
     bins = " | ".join(f"{lo:g}-{hi:g}" for lo, hi in BINS)
     rows = [f"| angle | quantity | {bins} | max abs z |", "|---|---|" + "---|" * (len(BINS) + 1)]
     zs = []
@@ -130,7 +137,7 @@ def main() -> None:
     text, steady_z = steady_table(study, args.dataset)
     print(text)
     print("\nAfter each rotation: z per strain bin\n")
-    text, transient = transient_table(study[0], args.dataset[0])
+    text, transient = transient_table(study, list(args.dataset))
     print(text)
     for name, zs in (("steady quantities", steady_z), ("transient bins", transient)):
         zs = np.abs(np.asarray(zs))
