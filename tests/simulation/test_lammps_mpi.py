@@ -4,7 +4,7 @@ under the environment's mpirun.
 The fix solves the same linear system on any number of ranks: partners owned by another rank
 enter as ghosts (forward and reverse communication), the dot products are global, and only the
 preconditioner (block Jacobi across ranks) and the order of floating-point sums depend on the
-ranks. So with the solve converged far below the step's own error (tol 1e-8 in gammadot d), 1
+ranks. So with the solve converged far below the step's own error (tol 1e-7 in gammadot d), 1
 and 2 ranks follow the same trajectory to the solver tolerance: over 1000 steps of a dense
 frictional packing (N = 2000, phi = 0.50, touching from the start, the contact law solved by
 Newton passes) the positions agree to 1e-7 d and the stress to 1e-6 of its size, although the
@@ -37,7 +37,7 @@ STEPS = 1000
 DT = 1.0e-4
 STRAIN = STEPS * DT
 CONTINUATION = 0.02
-TOLERANCE = 1.0e-8
+TOLERANCE = 1.0e-7
 STRESS_COLUMNS = ("pxz", "pxx", "pzz", "contact_pxz", "contact_pxx", "lubrication_pxz", "stresslet_pxz")
 
 
