@@ -298,7 +298,7 @@ void FixHydroImplicitSF::setup(int /*vflag*/)
 void FixHydroImplicitSF::relative_velocities(const SuspensionFabric::ImposedFlow &flow)
 {
   const int nlocal = atom->nlocal;
-  solution.resize(6 * static_cast<size_t>(nlocal + atom->nghost));
+  solution.resize(6 * static_cast<size_t>(vector_atoms()));
   double u[3];
   for (int i = 0; i < nlocal; i++) {
     flow.velocity(atom->x[i], u);
@@ -622,7 +622,7 @@ void FixHydroImplicitSF::build_preconditioner()
   const double *radius = atom->radius;
   const double *rmass = atom->rmass;
   const double pi_eta = M_PI * lubrication->eta_f;
-  block_factor.assign(36 * static_cast<size_t>(nlocal + atom->nghost), 0.0);
+  block_factor.assign(36 * static_cast<size_t>(vector_atoms()), 0.0);
   for (int i = 0; i < nlocal; i++) {
     const double a = radius[i];
     double *b = &block_factor[36 * i];
@@ -965,7 +965,7 @@ void FixHydroImplicitSF::final_integrate()
     load_springs(records.data(), records.size() / SPRING_RECORD);
   }
   collect_pairs(E);
-  const size_t size = 6 * static_cast<size_t>(nlocal + atom->nghost);
+  const size_t size = 6 * static_cast<size_t>(vector_atoms());
   // every entry of these buffers is written before it is read
   rhs.resize(size);
   residual.resize(size);
@@ -1140,6 +1140,13 @@ void FixHydroImplicitSF::restart(char *buf)
 {
   const double *list = reinterpret_cast<const double *>(buf);
   load_springs(list + 1, static_cast<size_t>(list[0]));
+}
+
+/* Atoms with entries in the solver's vectors: the local ones and, on several ranks, the ghosts
+   (on one rank every pair acts on its partner's owner, so the vectors stop at the local atoms). */
+int FixHydroImplicitSF::vector_atoms() const
+{
+  return atom->nlocal + (distributed ? atom->nghost : 0);
 }
 
 /* Ghost communication of a vector with `stride` entries per atom (6: a velocity; 36: a block).

@@ -122,6 +122,7 @@ class FixHydroImplicitSF : public Fix {
   bool distributed;
   std::vector<double> *comm_values;    // the vector being communicated, comm_stride entries per atom
   int comm_stride;
+  int vector_atoms() const;
   void exchange_ghosts(std::vector<double> &values, int stride);
   void sum_ghosts(std::vector<double> &values, int stride);
   double global_sum(double local) const;
