@@ -9,6 +9,7 @@ simulation across MPI ranks").
     .venv/bin/python benchmarks/mpi_scaling.py latency [--n 16000]   # MPI's prices: idle machine
     .venv/bin/python benchmarks/mpi_scaling.py model [--n 16000]     # efficiency, 1-64 ranks
     .venv/bin/python benchmarks/mpi_scaling.py sizes --n 500 4000 16000   # cost per atom against N
+    .venv/bin/python benchmarks/mpi_scaling.py local --n 500 4000 16000   # local solves: idle
 
 `prepare`: the paper's point (phi = 0.45, packing seed 1, the default forces and engine) at
 N = n, a startup to strain PREPARE_STRAIN on 2 ranks, into results/mpi_scaling/n<N>/.
@@ -29,6 +30,11 @@ times (iterations.csv).
 
 `sizes`: from each N's split.csv, the 1-rank cost per atom per step split into the part outside
 the CG iterations and the iterations' part: what the growth of the cost with N comes from.
+
+`local`: for each N, the 1-rank continuation (split's strain) with global iterations only and
+with local solves (run.local_solve_fraction = LOCAL_FRACTION), alternating, REPEATS times each:
+the cost per atom per step, the global CG iterations, and the cost per atom against the
+smallest N (local_solves.csv).
 
 `model`: the time per step on P ranks of dedicated cores of one node,
     t(P) = N/P (a + b I(P)) + (5 + 2 I(P)) 6 g(P) c + (5 + 3 I(P)) s log2 P,
@@ -77,6 +83,7 @@ MEASURE_STRAIN = 0.1
 ITERATION_STRAIN = 0.02
 REPEATS = 3
 SPLIT_TOL = 1.0e-5
+LOCAL_FRACTION = 0.02
 MODEL_RANKS = (8, 16, 32, 64)
 # per step, with I CG iterations (all passes): ghost exchanges (forward or reverse, 6 doubles per
 # ghost) and global sums, as fix_hydro_implicit_sf.cpp makes them with one pass: exchanges for
@@ -247,6 +254,48 @@ def split(n: int) -> None:
     write_rows(rows, tables(n) / "split.csv")
 
 
+def local_solves(ns: list[int]) -> None:
+    rows = []
+    for n in ns:
+        for repeat in range(1, REPEATS + 1):
+            for fraction in (0.0, LOCAL_FRACTION):
+                model = ForceModel(local_solve_fraction=fraction)
+                run = continuation(n, 1, split_strain(n), f"local{fraction:g}", model)
+                rows.append({"repeat": repeat, "local_solve_fraction": fraction, **run})
+                print(
+                    f"N {n}, local {fraction:g}: {run['loop_s']:.2f} s, {run['iterations']:.2f} iterations", flush=True
+                )
+    write_rows(rows, TABLES / "local_solves.csv")
+    print_local_solves(rows)
+
+
+def print_local_solves(rows: list[dict]) -> None:
+    """Medians over the repeats: us per atom per step, global CG iterations per step, and the
+    cost per atom against the smallest N of the same setting."""
+    ns = sorted({int(row["n"]) for row in rows})
+    fractions = sorted({row["local_solve_fraction"] for row in rows})
+
+    def median(n, fraction, key):
+        return statistics.median(
+            row[key] / (row["steps"] * n) if key == "loop_s" else row[key]
+            for row in rows
+            if int(row["n"]) == n and row["local_solve_fraction"] == fraction
+        )
+
+    print(
+        "| N | local_solve_fraction | us per atom per step | global CG iterations | cost per atom / N = "
+        f"{ns[0]} | local against global |"
+    )
+    print("|--:|--:|--:|--:|--:|--:|")
+    for n in ns:
+        for fraction in fractions:
+            cost = median(n, fraction, "loop_s")
+            print(
+                f"| {n} | {fraction:g} | {cost * 1e6:.3f} | {median(n, fraction, 'iterations'):.2f} | "
+                f"{cost / median(ns[0], fraction, 'loop_s'):.2f} | {cost / median(n, fractions[0], 'loop_s'):.2f} |"
+            )
+
+
 def read_rows(path: Path) -> list[dict]:
     with path.open() as handle:
         return [{key: float(value) for key, value in row.items()} for row in csv.DictReader(handle)]
@@ -404,12 +453,17 @@ def sizes(ns: list[int]) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("command", choices=("prepare", "measure", "split", "iterations", "latency", "model", "sizes"))
+    parser.add_argument(
+        "command", choices=("prepare", "measure", "split", "iterations", "latency", "model", "sizes", "local")
+    )
     parser.add_argument("--n", type=int, nargs="+", default=[16000])
     parser.add_argument("--ranks", type=int, nargs="+", default=[1, 2, 4, 8, 16])
     args = parser.parse_args()
     if args.command == "sizes":
         sizes(args.n)
+        return
+    if args.command == "local":
+        local_solves(args.n)
         return
     if len(args.n) != 1:
         parser.error(f"{args.command} takes one --n")

@@ -15,16 +15,14 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-import numpy as np
 import pytest
+from trajectory_helpers import assert_same_run
 
-from suspension_fabric.io.dumpio import iter_dump_frames
 from suspension_fabric.simulation.lammps import (
     RUN_FILES,
     ForceModel,
     ShearSettings,
     pack,
-    read_stress_table,
     run_rotation,
     run_startup,
 )
@@ -38,7 +36,6 @@ DT = 1.0e-4
 STRAIN = STEPS * DT
 CONTINUATION = 0.02
 TOLERANCE = 1.0e-7
-STRESS_COLUMNS = ("pxz", "pxx", "pzz", "contact_pxz", "contact_pxx", "lubrication_pxz", "stresslet_pxz")
 
 
 def settings(ranks: int) -> ShearSettings:
@@ -73,21 +70,6 @@ def startups(tmp_path_factory):
         )
         for ranks in (1, 2)
     }
-
-
-def last_positions(dump_file) -> np.ndarray:
-    frame = list(iter_dump_frames(dump_file))[-1]
-    return frame.positions[np.argsort(frame.ids)]
-
-
-def assert_same_run(a, b) -> None:
-    assert np.abs(last_positions(a.dump_file) - last_positions(b.dump_file)).max() < 1e-7
-    first, second = read_stress_table(a.table_file), read_stress_table(b.table_file)
-    np.testing.assert_array_equal(first["step"], second["step"])
-    for column in STRESS_COLUMNS:
-        scale = np.abs(first[column]).max()
-        assert scale > 0.0, column
-        assert np.abs(first[column] - second[column]).max() < 1e-6 * scale, column
 
 
 def test_two_ranks_follow_the_one_rank_trajectory(startups):

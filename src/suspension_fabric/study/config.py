@@ -85,6 +85,7 @@ SIMULATION_RUN_KEYS = (
     "contact_solve",
     "preconditioner",
     "solver_tol",
+    "local_solve_fraction",
     "dt",
     "dump_strain",
     "table_strain",

@@ -293,8 +293,8 @@ DATASET_FORMAT = 2
 #: made with (the contact springs taken explicitly by pair granular, the block-Jacobi solve).
 KEYS_BEFORE_RECORDED = {"contact_springs": "explicit", "preconditioner": "jacobi"}
 #: ``run`` keys added after datasets of the current format were exported, with the value those
-#: datasets were made with (the contacts' states lagged, the only solve there was).
-KEYS_ADDED_SINCE = {"contact_solve": "lagged"}
+#: datasets were made with (the contacts' states lagged, the only solve there was; no local solves).
+KEYS_ADDED_SINCE = {"contact_solve": "lagged", "local_solve_fraction": 0.0}
 
 
 def upgrade_dataset(record: dict, source: str | Path = "dataset record") -> dict:

@@ -95,7 +95,10 @@ class ForceModel:
     the sticking springs with the hydrodynamics, "explicit" = pair granular; ``contact_solve`` (implicit
     springs) "lagged" = contact states from the old velocities, "newton" = the contact law solved
     implicitly by Newton passes (config/schema.yaml ``run.contact_solve``); ``preconditioner``
-    of the implicit solve, "jacobi" or "dilu".
+    of the implicit solve, "jacobi" or "dilu"; ``local_solve_fraction`` the fraction of particles
+    above ``solver_tol`` below which the solve finishes locally (0: off; config/schema.yaml
+    ``run.local_solve_fraction``); ``verify_solve`` (tests) stops the run if a solve's recomputed
+    residual misses ``solver_tol``.
     """
 
     eta_f: float = schema_default("forces", "eta_f")
@@ -112,6 +115,8 @@ class ForceModel:
     contact_solve: str = schema_default("run", "contact_solve")
     preconditioner: str = schema_default("run", "preconditioner")
     solver_tol: float = schema_default("run", "solver_tol")
+    local_solve_fraction: float = schema_default("run", "local_solve_fraction")
+    verify_solve: bool = False
 
     @classmethod
     def from_config(cls, config: Mapping, plugin: str | os.PathLike | None = None) -> ForceModel:
@@ -123,6 +128,7 @@ class ForceModel:
             contact_solve=config["run"]["contact_solve"],
             preconditioner=config["run"]["preconditioner"],
             solver_tol=config["run"]["solver_tol"],
+            local_solve_fraction=config["run"]["local_solve_fraction"],
             **config["forces"],
         )
 
@@ -148,6 +154,8 @@ class ForceModel:
             )
         if self.preconditioner not in ("jacobi", "dilu"):
             raise ValueError(f"preconditioner must be 'jacobi' or 'dilu', got {self.preconditioner!r}")
+        if not 0.0 <= self.local_solve_fraction < 1.0:
+            raise ValueError(f"local_solve_fraction must be in [0, 1), got {self.local_solve_fraction!r}")
         kt = 2.0 / 7.0 * self.kn if self.kt is None else self.kt
         return {
             "lubrication": self.lubrication,
@@ -163,6 +171,8 @@ class ForceModel:
             "contact_solve": self.contact_solve,
             "preconditioner": self.preconditioner,
             "solver_tol": _number(self.solver_tol),
+            "local_solve_fraction": _number(self.local_solve_fraction),
+            "verify_solve": "yes" if self.verify_solve else "no",
             "plugin": str(_plugin_library(self.plugin)),
         }
 

@@ -1,4 +1,5 @@
-/* fix <ID> all hydro/implicit/sf [tol <t>] [maxiter <n>] [contacts <kn> <kt> <mu>] [solve lagged|newton]
+/* fix <ID> all hydro/implicit/sf [tol <t>] [maxiter <n>] [precond dilu|jacobi] [local <f>] [verify yes|no]
+   [contacts <kn> <kt> <mu>] [solve lagged|newton]
    Time integration with the hydrodynamic forces (Stokes drag + lubricate/sf) taken
    implicitly, and with `contacts` also the frictional contact springs.  See
    fix_hydro_implicit_sf.cpp and README.md in this folder. */
@@ -38,7 +39,8 @@ namespace HydroVector {
     MEAN_RELEASED = 22,        // mean released contacts per step
     DILU_FALLBACKS = 23,       // dilu factorisations that fell back to Jacobi
     STRESSLET_VIRIAL = 24,     // 6: pair lubrication stresslets
-    SIZE = 29
+    MEAN_LOCAL_WORK = 30,      // mean local-solve work per step, in sweeps over all atoms
+    SIZE = 30
   };
 }    // namespace HydroVector
 
@@ -73,6 +75,8 @@ class FixHydroImplicitSF : public Fix {
   };
 
   double tolerance;    // largest velocity error |D^-1 r| allowed, in gammadot d
+  double local_fraction;    // keyword local: solve locally once fewer atoms than this fraction are above tol
+  bool verify;              // keyword verify: stop if the recomputed residual of a solve misses tol
   int max_iterations;
   bool own_contacts;   // keyword contacts: the fix computes the contacts, springs implicit
   bool newton_contacts;    // solve newton: the contact law re-linearised about each pass's solution
@@ -112,6 +116,12 @@ class FixHydroImplicitSF : public Fix {
   long long dilu_fallbacks;
   std::vector<tagint> preconditioner_tags;    // atom order the preconditioner was built for
   long long steps, total_iterations, total_passes, total_released;
+  double total_local_work;
+  // local solves: the atoms still above tol and their pair neighbours (the patch), the pairs and
+  // contacts acting on them, and the atoms those reach
+  std::vector<char> in_patch;
+  std::vector<int> patch_atoms, patch_pairs, patch_contacts, reached_atoms;
+  std::vector<double> local_step, local_product, local_residual, local_precond, local_direction;
   int last_iterations;
   double last_error;
   int sliding_contacts;
@@ -139,6 +149,14 @@ class FixHydroImplicitSF : public Fix {
   int relinearise_contacts();
   void finish_contacts(bool update_springs);
   void apply_operator(std::vector<double> &in, std::vector<double> &out);
+  void add_pair_products(const std::vector<double> &in, std::vector<double> &out, const std::vector<int> *pair_subset,
+                         const std::vector<int> *contact_subset) const;
+  void self_resistance(int i, double &translation, double &rotation) const;
+  int atoms_above_tolerance(const std::vector<double> &z) const;
+  void collect_patch();
+  void patch_product(const std::vector<double> &in, std::vector<double> &out);
+  double patch_preconditioner(const std::vector<double> &r, std::vector<double> &z) const;
+  double local_solve();
   void build_preconditioner();
   void collect_couplings();
   bool factor_dilu();
