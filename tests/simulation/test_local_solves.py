@@ -5,7 +5,7 @@ Once fewer than the given fraction of the atoms have a velocity error above tol 
 is more than twice tol), the fix solves the system restricted to them and their pair neighbours
 and restarts the global CG; the stopping rule, |M^-1 r| <= tol on every atom, is the same. So
 with the solve converged far below the step's own error (tol 1e-7 in gammadot d) the trajectory
-is the one of global iterations alone to the solver tolerance: over 1000 steps of a dense
+is the one of global iterations alone to the solver tolerance: over 500 steps of a dense
 frictional packing (N = 500, phi = 0.50, touching from the start, the contact law solved by
 Newton passes), positions within 1e-7 d and the stress within 1e-6 of its size, on 1 rank and
 with each of 2 ranks solving its own patches; and every solve of these runs is verified (the fix
@@ -28,7 +28,7 @@ from suspension_fabric.simulation.lammps.plugin import plugin_path
 pytestmark = pytest.mark.lammps
 
 N = 500
-STEPS = 1000
+STEPS = 500
 DT = 1.0e-4
 TOLERANCE = 1.0e-7
 DEFAULT_TOLERANCE = schema_default("run", "solver_tol")

@@ -36,12 +36,20 @@ def test_a_campaign_is_one_study_per_point_of_the_grid():
     assert study_configs(single) == {"grid": single}
 
 
-def test_the_newton_points_config_is_the_campaign_with_two_points_selected():
-    """benchmarks/configs/campaign_newton_points.yaml made data/campaign/phi0.53_mu1 and phi0.55_mu0.5:
-    it must describe the same studies as config/campaign.yaml, so that the map's points come from one config."""
+@pytest.mark.parametrize(
+    ("config_file", "points"),
+    [
+        ("campaign_newton_points.yaml", ["phi0.53_mu1", "phi0.55_mu0.5"]),
+        ("campaign_corner_point.yaml", ["phi0.55_mu1"]),
+    ],
+)
+def test_a_config_that_made_points_is_the_campaign_with_those_points_selected(config_file, points):
+    """benchmarks/configs/campaign_newton_points.yaml made data/campaign/phi0.53_mu1 and phi0.55_mu0.5,
+    campaign_corner_point.yaml made phi0.55_mu1: each must describe the same studies as
+    config/campaign.yaml, so that the map's points come from one config."""
     campaign_config = load_config(REPO / "config" / "campaign.yaml")
-    selected = load_config(REPO / "benchmarks" / "configs" / "campaign_newton_points.yaml")
-    assert selected["campaign"]["points"] == ["phi0.53_mu1", "phi0.55_mu0.5"]
+    selected = load_config(REPO / "benchmarks" / "configs" / config_file)
+    assert selected["campaign"]["points"] == points
     assert {**campaign_config["campaign"], "points": selected["campaign"]["points"]} == selected["campaign"]
     studies = study_configs(selected)
     assert studies == {name: study for name, study in study_configs(campaign_config).items() if name in studies}
