@@ -74,7 +74,7 @@ from suspension_fabric.simulation.lammps import (
     run_startup,
 )
 from suspension_fabric.simulation.lammps.plugin import mpi_include_dir
-from suspension_fabric.simulation.lammps.process import lammps_environment, mpi_launcher
+from suspension_fabric.simulation.lammps.process import lammps_environment, mpi_launcher, thermo_rows
 
 ROOT = Path("results/mpi_scaling")
 TABLES = Path("benchmarks/data/mpi_scaling")
@@ -177,16 +177,7 @@ def figures(log: str) -> dict:
 
 def mean_iterations(log: str) -> float:
     """Mean of the thermo column v_solver_iterations (the last step's CG iterations) after step 0."""
-    values, columns = [], None
-    for line in log.splitlines():
-        fields = line.split()
-        if fields[:1] == ["Step"]:
-            columns = fields
-        elif columns and len(fields) == len(columns) and fields[0].isdigit():
-            values.append(float(fields[columns.index("v_solver_iterations")]))
-        elif fields[:2] == ["Loop", "time"]:
-            columns = None
-    return statistics.fmean(values[1:])
+    return statistics.fmean(row["v_solver_iterations"] for row in thermo_rows(log)[1:])
 
 
 def write_rows(rows: list[dict], path: Path) -> None:

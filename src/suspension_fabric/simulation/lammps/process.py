@@ -159,6 +159,16 @@ class ThermoWatcher:
         return "".join(self.lines[-lines:])
 
 
+def thermo_rows(log: str) -> list[dict[str, float]]:
+    """Every thermo row of a LAMMPS log (or screen output), in order, as {column: value}."""
+    watcher, rows = ThermoWatcher(), []
+    for line in log.splitlines():
+        watcher.feed(line)
+        if watcher.rows_seen > len(rows):
+            rows.append(watcher.last_row)
+    return rows
+
+
 @dataclass(frozen=True)
 class LaunchResult:
     returncode: int

@@ -55,7 +55,7 @@
    warm-started from the old velocities, until the largest component of D^-1 r (a velocity,
    in units of gammadot d) is below `tol` (default 1e-5).  A solve that does not converge
    within `maxiter` (default 1000) stops the run with an error.  `local f` finishes a solve
-   by CG on the few atoms still above tol once they are fewer than f N (local_solve, below);
+   by CG on the few atoms still above tol once they are at most f N (local_solve, below);
    `verify yes` recomputes each solve's residual and stops the run if it misses tol.
 
    Virial: the symmetrised lubrication virial sum (x_i - x_j) F_ij of the solved velocities,
@@ -883,8 +883,9 @@ double FixHydroImplicitSF::apply_preconditioner(const std::vector<double> &r, st
 
 /* Local solves.  With the block preconditioner the error of a step's solve is, after a few
    iterations, left on a few atoms around a contact event (a contact made or broken): global
-   iterations would go on over every atom for them.  Once fewer than `local` x N atoms have
-   |z_i| > tol, the system restricted to those atoms and their pair neighbours (the patch),
+   iterations would go on over every atom for them.  Once at most `local` x N atoms have
+   |z_i| > tol and the largest is above LOCAL_GAIN x tol (below it one more global iteration
+   costs less than a local solve's passes over the pairs), the system restricted to those atoms and their pair neighbours (the patch),
    A_PP d = r_P with the other atoms held, is solved by CG on the patch (the preconditioner
    restricted to it: its diagonal blocks and the couplings within the patch, still symmetric
    positive definite) to LOCAL_TOLERANCE x tol; the solution moves by d, the residual by -A d,
