@@ -589,6 +589,23 @@ def test_relation_errors_accepts_a_finer_prediction_grid():
     np.testing.assert_allclose(sim["rms_error"], 0.0, atol=1e-12)
 
 
+def test_relation_errors_matches_strains_a_rounding_below_the_grid():
+    """Predicted strains a rounding below the simulated ones (0.09999999999999999 for 0.1, as a
+    strain summed from the step gives them) are matched to them, not to the next grid point:
+    still zero error for 'simulation'."""
+    relation = relation_table()
+    startup, rotation, predictions = synthetic_fabrics()
+    startup_below = startup.assign(strain=np.nextafter(startup["strain"].to_numpy(), -np.inf))
+    rotation_below = rotation.assign(strain=np.nextafter(rotation["strain"].to_numpy(), -np.inf))
+    predictions_below = predictions.assign(strain=np.nextafter(predictions["strain"].to_numpy(), -np.inf))
+    predicted = stress_model.stress_predictions(relation, startup_below, rotation_below, predictions_below, PHI)
+    errors = stress_model.relation_errors(
+        simulated_stress(startup, relation), simulated_stress(rotation, relation), predicted, SIGMA12_SS
+    )
+    sim = errors[errors["source"] == "simulation"]
+    np.testing.assert_allclose(sim[["rms_error", "max_abs_error"]].to_numpy(), 0.0, atol=1e-12)
+
+
 def test_relation_errors_strain_grid_mismatch():
     """A source whose strains miss the simulated ones -> ValueError naming protocol, source, angle."""
     relation = relation_table()
