@@ -874,7 +874,8 @@ def _over_bgp_percent(phi: str) -> float:
 QUOTES += [
     Quote(
         MAP,
-        "one per point, {35} MB, {8.44} core-hours, of which {1.60}, {1.32} and {1.89} for the three points of the Newton solve;",
+        "one per point, {35} MB, {8.44} core-hours, of which {1.60}, {1.32} and {1.89} for the three points of the "
+        "Newton solve;",
         lambda: [
             megabytes("data/campaign"),
             sum(map(core_hours, MAP_FOLDERS)),
