@@ -35,7 +35,7 @@ import scipy.linalg as la
 import scipy.sparse as sp
 from scipy.sparse.linalg import spsolve_triangular
 
-BOX = {500: 10.288546, 4000: 20.577091}  # box lengths of the prepared states (mpi_scaling.py prepare)
+PHI = 0.45  # volume fraction of the prepared states (mpi_scaling.py prepare: the paper's point)
 
 
 def load(path):
@@ -43,7 +43,7 @@ def load(path):
         n = int(np.fromfile(f, np.int32, 1)[0])
         tol = float(np.fromfile(f, np.float64, 1)[0])
         lam = np.fromfile(f, np.float64, 3 * n).reshape(n, 3)
-        np.fromfile(f, np.float64, n)  # radii
+        radii = np.fromfile(f, np.float64, n)
         b = np.fromfile(f, np.float64, 6 * n)
         x0 = np.fromfile(f, np.float64, 6 * n)
         nnz = int(np.fromfile(f, np.int64, 1)[0])
@@ -51,7 +51,9 @@ def load(path):
         rows = np.fromfile(f, np.int32, nnz)
         values = np.fromfile(f, np.float64, nnz)
     A = sp.csc_matrix((values, rows, starts), shape=(6 * n, 6 * n)).tocsr()
-    return {"n": n, "tol": tol, "lam": lam, "b": b, "x0": x0, "A": A}
+    # the cubic box holding the spheres at PHI
+    box = float((np.sum(4.0 / 3.0 * np.pi * radii**3) / PHI) ** (1.0 / 3.0))
+    return {"n": n, "tol": tol, "lam": lam, "box": box, "b": b, "x0": x0, "A": A}
 
 
 class Dilu:
@@ -136,7 +138,7 @@ def rigid_space(d, groups):
     cols, n = [], d["n"]
     for members in groups:
         rel = d["lam"][members] - d["lam"][members[0]]
-        rel = (rel - np.round(rel)) * BOX[n]
+        rel = (rel - np.round(rel)) * d["box"]
         rel -= rel.mean(0)
         for component in range(6):
             v = np.zeros((n, 6))

@@ -1,7 +1,7 @@
 """Local solves in the implicit solve (fix hydro/implicit/sf `local`, run.local_solve_fraction),
 real LAMMPS.
 
-Once fewer than the given fraction of the atoms have a velocity error above tol (and the largest
+Once at most the given fraction of the atoms have a velocity error above tol (and the largest
 is more than twice tol), the fix solves the system restricted to them and their pair neighbours
 and restarts the global CG; the stopping rule, |M^-1 r| <= tol on every atom, is the same. So
 with the solve converged far below the step's own error (tol 1e-7 in gammadot d) the trajectory
