@@ -3,7 +3,7 @@ of the same steady state, and a model of its parallel efficiency on more (BENCHM
 simulation across MPI ranks").
 
     .venv/bin/python benchmarks/mpi_scaling.py prepare [--n 16000]   # steady state (any load)
-    .venv/bin/python benchmarks/mpi_scaling.py measure [--n 16000]   # 1 and 2 ranks: idle machine
+    .venv/bin/python benchmarks/mpi_scaling.py measure [--n 16000] [--local-solve-fraction 0.02]   # idle
     .venv/bin/python benchmarks/mpi_scaling.py split [--n 16000]     # price of an iteration: idle
     .venv/bin/python benchmarks/mpi_scaling.py iterations [--n 16000] [--ranks 1 2 4 8]
     .venv/bin/python benchmarks/mpi_scaling.py latency [--n 16000]   # MPI's prices: idle machine
@@ -18,7 +18,8 @@ N = n, a startup to strain PREPARE_STRAIN on 2 ranks, into results/mpi_scaling/n
 2 ranks, alternating, REPEATS times each; per run LAMMPS's loop time, its Comm and Modify (the
 fix) sections averaged over the ranks, the mean CG iterations per step and the ghost atoms per
 rank. Prints a Markdown table and the speed-up of 2 ranks over 1 (per pair and the median);
-writes measure.csv.
+writes measure.csv. With --local-solve-fraction f > 0 both run local solves
+(run.local_solve_fraction = f), into measure_local<f>.csv.
 
 `split`: the 1-rank continuation (MEASURE_STRAIN at N = 16000, longer for smaller N, at most
 1 strain) at the default solver_tol and at SPLIT_TOL, alternating, REPEATS times each: more CG iterations
@@ -188,9 +189,13 @@ def write_rows(rows: list[dict], path: Path) -> None:
         writer.writerows(rows)
 
 
-def measure(n: int) -> None:
+def measure(n: int, local_fraction: float = 0.0) -> None:
+    """1 and 2 ranks alternating; with local solves (run.local_solve_fraction = local_fraction > 0)
+    into their own run folders and table (measure_local<f>.csv)."""
+    engine = "default engine" + (f", local solves {local_fraction:g}" if local_fraction else "")
+    suffix = f"_local{local_fraction:g}" if local_fraction else ""
     print(
-        f"# {platform.machine()}, {platform.python_version()}; N = {n}, the paper's point, default engine; "
+        f"# {platform.machine()}, {platform.python_version()}; N = {n}, the paper's point, {engine}; "
         f"{MEASURE_STRAIN:g} strain continued from strain {PREPARE_STRAIN:g}, 1 and 2 ranks alternating\n"
     )
     print("| run | ranks | steps | loop s | Modify s (fix) | Comm s | mean CG iterations | ghosts per rank |")
@@ -198,14 +203,15 @@ def measure(n: int) -> None:
     rows = []
     for repeat in range(1, REPEATS + 1):
         for ranks in (1, 2):
-            row = {"repeat": repeat, **continuation(n, ranks, MEASURE_STRAIN, f"measure_ranks{ranks}")}
+            model = ForceModel(local_solve_fraction=local_fraction)
+            row = {"repeat": repeat, **continuation(n, ranks, MEASURE_STRAIN, f"measure{suffix}_ranks{ranks}", model)}
             rows.append(row)
             print(
                 f"| {repeat} | {ranks} | {row['steps']} | {row['loop_s']:.1f} | {row['modify_s']:.1f} | "
                 f"{row['comm_s']:.2f} | {row['iterations']:.2f} | {row['ghosts_per_rank']:.0f} |",
                 flush=True,
             )
-    write_rows(rows, tables(n) / "measure.csv")
+    write_rows(rows, tables(n) / f"measure{suffix}.csv")
     speedups = [one["loop_s"] / two["loop_s"] for one, two in zip(rows[0::2], rows[1::2], strict=True)]
     print(
         f"\nspeed-up of 2 ranks over 1 (loop time), per pair: {', '.join(f'{s:.2f}' for s in speedups)}; "
@@ -449,6 +455,9 @@ def main() -> None:
     )
     parser.add_argument("--n", type=int, nargs="+", default=[16000])
     parser.add_argument("--ranks", type=int, nargs="+", default=[1, 2, 4, 8, 16])
+    parser.add_argument(
+        "--local-solve-fraction", type=float, default=0.0, help="measure: run.local_solve_fraction (0: off)"
+    )
     args = parser.parse_args()
     if args.command == "sizes":
         sizes(args.n)
@@ -462,7 +471,7 @@ def main() -> None:
     if args.command == "prepare":
         prepare(args.n)
     elif args.command == "measure":
-        measure(args.n)
+        measure(args.n, args.local_solve_fraction)
     elif args.command == "iterations":
         iterations(args.n, args.ranks)
     elif args.command == "split":

@@ -31,7 +31,6 @@ from typing import NamedTuple
 
 import numpy as np
 import pandas as pd
-from scipy.optimize import least_squares
 
 from suspension_fabric.analysis.components import COMPONENTS
 from suspension_fabric.analysis.seed_statistics import LEVEL, jackknife, t_interval
@@ -201,6 +200,8 @@ def fit_global(
     # a model integrated numerically (rtol 1e-10) has residuals noisy at ~1e-10: the default
     # finite-difference step (~1e-8) would turn that into ~1% noise in the Jacobian
     step = None if fabric_model.affine else NUMERICAL_DIFF_STEP
+    from scipy.optimize import least_squares  # scipy where used: table-only jobs start without it
+
     result = least_squares(residual, x0, bounds=bounds, x_scale="jac", xtol=1e-10, ftol=1e-10, diff_step=step)
     if not result.success:
         raise ValueError(f"model {fabric_model.key}: global fit failed ({result.message})")

@@ -32,7 +32,6 @@ from typing import NamedTuple
 
 import numpy as np
 import pandas as pd
-from scipy.optimize import minimize, minimize_scalar
 
 from suspension_fabric.analysis.seed_statistics import LEVEL, jackknife, t_interval
 from suspension_fabric.analysis.tables import read_fabric_table
@@ -243,6 +242,8 @@ def fit_shape(relation: StressRelation, curves: StressCurves, train_thetas=None,
     ``train_thetas`` (default all) of ``seeds`` (default all); {} for a relation without any."""
     if not relation.parameters:
         return {}
+    from scipy.optimize import minimize, minimize_scalar  # scipy where used: table-only jobs start without it
+
     objective = _objective(relation, curves, train_thetas, seeds)
     bounds = [(p.lower, p.upper) for p in relation.parameters]
     if len(bounds) == 1:

@@ -58,8 +58,6 @@ from functools import partial
 from typing import NamedTuple
 
 import numpy as np
-from scipy.integrate import solve_ivp
-from scipy.optimize import least_squares, root
 
 from suspension_fabric.analysis.frames import (
     VECTOR_ORDER,
@@ -339,6 +337,8 @@ def newton_steady(fabric_model: FabricModel, params, phi, start) -> np.ndarray:
     def residual(v):
         return _rhs_vec(fabric_model, v, flow, params, phi)
 
+    from scipy.optimize import root  # scipy where used: table-only jobs start without it
+
     solution = root(residual, sym_to_vec(np.asarray(start, dtype=float)), method="hybr", tol=1e-13)
     if not solution.success or np.abs(residual(solution.x)).max() > 1e-10:
         raise ModelError(f"model {fabric_model.key}: no steady state near the start at {params} ({solution.message})")
@@ -437,6 +437,8 @@ def integrate(
 
 def _solve_ode(fabric_model: FabricModel, rhs, start, strains, rtol, atol) -> np.ndarray:
     """The 6-vectors (len(strains), 6) of dv/dgamma = rhs(v) from ``start`` (DOP853)."""
+    from scipy.integrate import solve_ivp
+
     solution = solve_ivp(
         lambda _g, v: rhs(v),
         (0.0, float(strains.max(initial=0.0))),
@@ -493,6 +495,8 @@ def fit_steady(fabric_model: FabricModel, targets: Mapping[str, float], phi) -> 
 
     start = [p.start for p in fabric_model.parameters]
     bounds = ([p.lower for p in fabric_model.parameters], [p.upper for p in fabric_model.parameters])
+    from scipy.optimize import least_squares
+
     result = least_squares(residual, start, bounds=bounds, x_scale="jac", xtol=1e-14, ftol=1e-14, gtol=1e-14)
     if np.abs(result.fun).max() > 1e-8:
         raise ModelError(
@@ -528,6 +532,8 @@ def fit_startup_curve(
 
     x0 = [fabric_model.check(start)[name] for name in fabric_model.names]
     bounds = ([p.lower for p in fabric_model.parameters], [p.upper for p in fabric_model.parameters])
+    from scipy.optimize import least_squares
+
     result = least_squares(residual, x0, bounds=bounds, x_scale="jac", xtol=1e-12, ftol=1e-12)
     if not result.success:
         raise ModelError(f"model {fabric_model.key}: the startup-curve fit failed ({result.message})")

@@ -51,9 +51,6 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-import scipy.linalg
-from scipy.integrate import solve_ivp
-from scipy.optimize import brentq, least_squares
 
 from suspension_fabric.analysis.frames import (
     VECTOR_ORDER,
@@ -291,6 +288,8 @@ def propagate_affine(M, deviation, strains) -> np.ndarray:
         coefficients = np.linalg.solve(vectors, np.asarray(deviation, dtype=complex)[..., None])[..., 0]
         growth = np.exp(eigenvalues[..., None, :] * strains[:, None])  # flow batch + (strains, 6)
         return np.einsum("...ij,...sj->...si", vectors, growth * coefficients[..., None, :]).real
+    import scipy.linalg  # scipy where used: table-only jobs start without it
+
     propagators = scipy.linalg.expm(M[..., None, :, :] * strains[:, None, None])
     return np.einsum("...sij,...j->...si", propagators, deviation)
 
@@ -315,6 +314,8 @@ def solve_affine(M, b, v0, strains) -> np.ndarray:
     augmented[..., :6, :6] = M
     augmented[..., :6, 6] = b
     start = np.concatenate([v0, np.ones(v0.shape[:-1] + (1,))], axis=-1)
+    import scipy.linalg
+
     propagators = scipy.linalg.expm(augmented[..., None, :, :] * strains[:, None, None])
     return np.einsum("...sij,...j->...si", propagators, start)[..., :6]
 
@@ -347,6 +348,8 @@ def integrate_fabric_ode(fabric0, velocity_gradient, strains, beta, A=None, phi=
 
     def rhs(gamma, v):
         return sym_to_vec(fabric_rhs(vec_to_sym(v), gradient_at(gamma), beta, A, phi))
+
+    from scipy.integrate import solve_ivp
 
     sol = solve_ivp(
         rhs,
@@ -450,6 +453,8 @@ def _reproduces(beta, A, phi, targets, tol=1e-9) -> bool:
 
 def roots_on_grid(func, grid):
     """All sign changes of a vectorised ``func`` on ``grid``, refined with brentq."""
+    from scipy.optimize import brentq
+
     values = func(grid)
     roots = []  # may include poles (sign change through infinity); callers verify
     for i in np.flatnonzero(
@@ -588,6 +593,8 @@ def fit_startup_curve(strains, observed: dict, phi, fabric0=None, *, free_A: boo
     x0 = [start[0], start[1]] if free_A else [start[0]]
     lower = [_BETA_SEARCH[0], 0.0] if free_A else [_BETA_SEARCH[0]]
     upper = [_BETA_SEARCH[1], np.inf] if free_A else [_BETA_SEARCH[1]]
+    from scipy.optimize import least_squares
+
     result = least_squares(residual, x0, bounds=(lower, upper), x_scale="jac", xtol=1e-12, ftol=1e-12)
     if not result.success:
         raise ValueError(f"fit_startup_curve: least squares failed ({result.message})")
