@@ -34,6 +34,7 @@ from suspension_fabric.io.protocols import (
     run_tree,
 )
 from suspension_fabric.io.resources import SCHEMA_PATH
+from suspension_fabric.io.schema import read_schema
 from suspension_fabric.models.fabric_models import ModelError, resolve_models
 from suspension_fabric.models.stress_relations import RelationError, resolve_relations
 from suspension_fabric.simulation.scales import (
@@ -299,7 +300,7 @@ def read_config_sources(files, command_line=None, schema_path: str | os.PathLike
     workflow run, each read strictly ([`read_config_file`][suspension_fabric.study.config.read_config_file],
     `_command_line_config`)."""
     sources = ConfigSources((_shown(path), read_config_file(path)) for path in files)
-    schema = yaml.safe_load(Path(schema_path).read_text())
+    schema = read_schema(schema_path)
     overrides = _command_line_config(command_line or [], schema)
     if overrides:
         sources.append(("--config", overrides))
@@ -425,7 +426,7 @@ def validate_config(
 
 
 def _validate(config: dict, schema_path) -> dict:
-    schema = yaml.safe_load(Path(schema_path).read_text())
+    schema = read_schema(schema_path)
     config.update(_coerce_command_line_text(dict(config), schema))
     _check_numbers(config)
     _fill_and_validate(config, schema)
@@ -491,6 +492,13 @@ def _cross_check(config: dict) -> None:
         raise ConfigError(
             "config key 'run.contact_solve' (newton) needs run.contact_springs = implicit: it solves the "
             "contacts that fix hydro/implicit/sf owns"
+        )
+    if run["local_solve_fraction"] > 0 and run["mpi_ranks"] > 1:
+        raise ConfigError(
+            f"config key 'run.local_solve_fraction' ({run['local_solve_fraction']:g}) needs run.mpi_ranks = 1: "
+            "on several ranks each solves its patches without the couplings to the other ranks' atoms, "
+            "and the global CG iterations grow instead of falling (BENCHMARKS.md, local solves); "
+            "set run.local_solve_fraction = 0 to run on several ranks"
         )
     window = config["verdicts"]["window"]
     if window > run["rotation_strain"]:
