@@ -3,6 +3,7 @@ of the same steady state, and a model of its parallel efficiency on more (BENCHM
 simulation across MPI ranks").
 
     .venv/bin/python benchmarks/mpi_scaling.py prepare [--n 16000]   # steady state (any load)
+    .venv/bin/python benchmarks/mpi_scaling.py startup [--n 16000]   # the prepared startup's figures
     .venv/bin/python benchmarks/mpi_scaling.py measure [--n 16000] [--local-solve-fraction 0.02]   # idle
     .venv/bin/python benchmarks/mpi_scaling.py split [--n 16000]     # price of an iteration: idle
     .venv/bin/python benchmarks/mpi_scaling.py iterations [--n 16000] [--ranks 1 2 4 8]
@@ -13,6 +14,8 @@ simulation across MPI ranks").
 
 `prepare`: the paper's point (phi = 0.45, packing seed 1, the default forces and engine) at
 N = n, a startup to strain PREPARE_STRAIN on 2 ranks, into results/mpi_scaling/n<N>/.
+
+`startup`: that startup's loop time and its CG iterations per step over each half of its strain.
 
 `measure`: from that checkpoint, the same shear continued for MEASURE_STRAIN on 1 rank and on
 2 ranks, alternating, REPEATS times each; per run LAMMPS's loop time, its Comm and Modify (the
@@ -35,7 +38,7 @@ the CG iterations and the iterations' part: what the growth of the cost with N c
 `local`: for each N, the 1-rank continuation (split's strain) with global iterations only and
 with local solves (run.local_solve_fraction = LOCAL_FRACTION), alternating, REPEATS times each:
 the cost per atom per step, the global CG iterations, and the cost per atom against the
-smallest N (local_solves.csv).
+smallest N (local_solves_n<N>_..., one table per command).
 
 `model`: the time per step on P ranks of dedicated cores of one node,
     t(P) = N/P (a + b I(P)) + (5 + 2 I(P)) 6 g(P) c + (5 + 3 I(P)) s log2 P,
@@ -262,7 +265,7 @@ def local_solves(ns: list[int]) -> None:
                 print(
                     f"N {n}, local {fraction:g}: {run['loop_s']:.2f} s, {run['iterations']:.2f} iterations", flush=True
                 )
-    write_rows(rows, TABLES / "local_solves.csv")
+    write_rows(rows, TABLES / f"local_solves_{'_'.join(f'n{n}' for n in ns)}.csv")
     print_local_solves(rows)
 
 
@@ -291,6 +294,25 @@ def print_local_solves(rows: list[dict]) -> None:
                 f"| {n} | {fraction:g} | {cost * 1e6:.3f} | {median(n, fraction, 'iterations'):.2f} | "
                 f"{cost / median(ns[0], fraction, 'loop_s'):.2f} | {cost / median(n, fractions[0], 'loop_s'):.2f} |"
             )
+
+
+def startup_report(n: int) -> None:
+    """The prepared startup's own figures (its LAMMPS log): loop time, ranks, steps, and the mean
+    CG iterations per step over each half of its strain (thermo rows, one step each)."""
+    log = (folder(n) / "startup" / "log.lammps").read_text()
+    run = figures(log)
+    rows = thermo_rows(log)[1:]
+    halves = [
+        statistics.fmean(r["v_solver_iterations"] for r in rows if low < r["v_strain"] <= high + 1e-9)
+        for low, high in ((0.0, PREPARE_STRAIN / 2), (PREPARE_STRAIN / 2, PREPARE_STRAIN))
+    ]
+    print(
+        f"N = {run['n']}: startup to strain {PREPARE_STRAIN:g} on {run['ranks']} ranks, {run['steps']} steps in "
+        f"{run['loop_s']:.0f} s ({run['loop_s'] / run['steps'] * 1e3:.1f} ms per step, "
+        f"{run['loop_s'] * run['ranks'] / (run['steps'] * run['n']) * 1e6:.2f} core-us per atom per step); "
+        f"CG iterations per step {halves[0]:.2f} over strain 0-{PREPARE_STRAIN / 2:g}, "
+        f"{halves[1]:.2f} over {PREPARE_STRAIN / 2:g}-{PREPARE_STRAIN:g}; ghosts per rank {run['ghosts_per_rank']:.0f}"
+    )
 
 
 def read_rows(path: Path) -> list[dict]:
@@ -451,7 +473,8 @@ def sizes(ns: list[int]) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument(
-        "command", choices=("prepare", "measure", "split", "iterations", "latency", "model", "sizes", "local")
+        "command",
+        choices=("prepare", "startup", "measure", "split", "iterations", "latency", "model", "sizes", "local"),
     )
     parser.add_argument("--n", type=int, nargs="+", default=[16000])
     parser.add_argument("--ranks", type=int, nargs="+", default=[1, 2, 4, 8, 16])
@@ -470,6 +493,8 @@ def main() -> None:
     args.n = args.n[0]
     if args.command == "prepare":
         prepare(args.n)
+    elif args.command == "startup":
+        startup_report(args.n)
     elif args.command == "measure":
         measure(args.n, args.local_solve_fraction)
     elif args.command == "iterations":
