@@ -1,6 +1,6 @@
 """Shared fixtures: the session's one real run of the test study (config/test.yaml), and the same
 study on a SLURM cluster, started in the background when a test asks for it (slurm_helpers.py).
-The suite runs on three pytest-xdist workers (pyproject.toml, addopts): each is run once for the
+The suite runs on two pytest-xdist workers (pyproject.toml, addopts): each is run once for the
 whole session all the same, in the folder the workers share."""
 
 import json
