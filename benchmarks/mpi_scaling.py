@@ -204,9 +204,9 @@ def measure(n: int, local_fraction: float = 0.0) -> None:
     print("| run | ranks | steps | loop s | Modify s (fix) | Comm s | mean CG iterations | ghosts per rank |")
     print("|---|--:|--:|--:|--:|--:|--:|--:|")
     rows = []
+    model = ForceModel(local_solve_fraction=local_fraction)
     for repeat in range(1, REPEATS + 1):
         for ranks in (1, 2):
-            model = ForceModel(local_solve_fraction=local_fraction)
             row = {"repeat": repeat, **continuation(n, ranks, MEASURE_STRAIN, f"measure{suffix}_ranks{ranks}", model)}
             rows.append(row)
             print(

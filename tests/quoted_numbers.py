@@ -793,17 +793,27 @@ QUOTES += [
 ]
 
 
-def mpi_speedup(n: int) -> float:
+def scaling_table(name: str) -> pd.DataFrame:
+    """A table of benchmarks/mpi_scaling.py (benchmarks/data/mpi_scaling/<name>)."""
+    return pd.read_csv(REPO / "benchmarks/data/mpi_scaling" / name)
+
+
+def scaling_median(name: str, column: str, **where) -> float:
+    """Median of ``column`` over the rows of the table whose columns equal ``where``; the column
+    "cost" is the loop time per atom per step."""
+    table = scaling_table(name)
+    for key, value in where.items():
+        table = table[np.isclose(table[key], value)]
+    values = table["loop_s"] / (table["steps"] * table["n"]) if column == "cost" else table[column]
+    return float(values.median())
+
+
+def mpi_speedup(n: int, table: str = "measure.csv") -> float:
     """Median over the alternating pairs of benchmarks/mpi_scaling.py measure: 1-rank loop time
     over 2-rank loop time."""
-    import csv
-    import statistics
-
-    with (REPO / f"benchmarks/data/mpi_scaling/n{n}/measure.csv").open() as handle:
-        rows = list(csv.DictReader(handle))
-    one = [float(r["loop_s"]) for r in rows if r["ranks"] == "1"]
-    two = [float(r["loop_s"]) for r in rows if r["ranks"] == "2"]
-    return statistics.median(a / b for a, b in zip(one, two, strict=True))
+    rows = scaling_table(f"n{n}/{table}")
+    one, two = rows[rows["ranks"] == 1]["loop_s"].to_numpy(), rows[rows["ranks"] == 2]["loop_s"].to_numpy()
+    return float(np.median(one / two))
 
 
 OTHER_PAGES = [
@@ -816,6 +826,65 @@ OTHER_PAGES = [
     Quote("docs/workflow.md", "(N = 16000: {1.53}x faster on 2 ranks than on 1;", lambda: [mpi_speedup(16000)], None),
 ]
 QUOTES += OTHER_PAGES
+
+# -- BENCHMARKS.md's reading of the N-scaling and local-solve tables -----------------------------
+
+SIZES = "local_solves_n500_n4000_n16000.csv"
+LARGEST = "local_solves_n500_n32000.csv"
+BENCHMARK_QUOTES = [
+    Quote(
+        "BENCHMARKS.md",
+        "the local solves make the solve slower, not faster: {37.85} global CG iterations per step against {15.35} "
+        "without them",
+        lambda: [
+            scaling_median("n16000/measure_local0.02.csv", "iterations", ranks=2),
+            scaling_median("n16000/measure.csv", "iterations", ranks=2),
+        ],
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "The 2-rank speed-up of the default engine stays the {1.53}x measured without them.",
+        lambda: [mpi_speedup(16000)],
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "Its cost per atom per step on one rank is about {3.1} times N = 500's, and its global CG iterations "
+        "({12.10} per step) continue the growth with N of the table above ({4.20}, {7.65}, {9.90} at N = 500, 4000, "
+        "16000): {1.1} more per doubling of N from 4000 to 16000, {2.2} from 16000 to 32000. Local solves take "
+        "{40}% of the iterations there ({12.10} to {7.20}) and {10}% of the time.",
+        lambda: [
+            scaling_median(LARGEST, "cost", n=32000, local_solve_fraction=0)
+            / scaling_median(LARGEST, "cost", n=500, local_solve_fraction=0),
+            scaling_median(LARGEST, "iterations", n=32000, local_solve_fraction=0),
+            *(scaling_median(SIZES, "iterations", n=n, local_solve_fraction=0) for n in (500, 4000, 16000)),
+            (
+                scaling_median(SIZES, "iterations", n=16000, local_solve_fraction=0)
+                - scaling_median(SIZES, "iterations", n=4000, local_solve_fraction=0)
+            )
+            / 2,
+            scaling_median(LARGEST, "iterations", n=32000, local_solve_fraction=0)
+            - scaling_median(SIZES, "iterations", n=16000, local_solve_fraction=0),
+            100
+            * (
+                1
+                - scaling_median(LARGEST, "iterations", n=32000, local_solve_fraction=0.02)
+                / scaling_median(LARGEST, "iterations", n=32000, local_solve_fraction=0)
+            ),
+            scaling_median(LARGEST, "iterations", n=32000, local_solve_fraction=0),
+            scaling_median(LARGEST, "iterations", n=32000, local_solve_fraction=0.02),
+            100
+            * (
+                1
+                - scaling_median(LARGEST, "cost", n=32000, local_solve_fraction=0.02)
+                / scaling_median(LARGEST, "cost", n=32000, local_solve_fraction=0)
+            ),
+        ],
+        None,
+    ),
+]
+QUOTES += BENCHMARK_QUOTES
 
 
 # -- the map (docs/map.md): each campaign point's committed dataset ------------------------------

@@ -573,20 +573,24 @@ void FixHydroImplicitSF::self_resistance(int i, double &translation, double &rot
   rotation = INERTIA * atom->rmass[i] * a * a / dtv + 8.0 * pi_eta * a * a * a;
 }
 
+// out_i = the one-body terms times in_i (the start of row i of A in)
+void FixHydroImplicitSF::set_self_product(int i, const std::vector<double> &in, std::vector<double> &out) const
+{
+  double translation, rotation;
+  self_resistance(i, translation, rotation);
+  for (int k = 0; k < 3; k++) {
+    out[6 * i + k] = translation * in[6 * i + k];
+    out[6 * i + 3 + k] = rotation * in[6 * i + 3 + k];
+  }
+}
+
 // out = A in for the local rows; in's ghost entries are refreshed first
 void FixHydroImplicitSF::apply_operator(std::vector<double> &in, std::vector<double> &out)
 {
   const int nlocal = atom->nlocal;
   exchange_ghosts(in, 6);
   std::fill(out.begin() + 6 * static_cast<size_t>(nlocal), out.end(), 0.0);
-  double translation, rotation;
-  for (int i = 0; i < nlocal; i++) {
-    self_resistance(i, translation, rotation);
-    for (int k = 0; k < 3; k++) {
-      out[6 * i + k] = translation * in[6 * i + k];
-      out[6 * i + 3 + k] = rotation * in[6 * i + 3 + k];
-    }
-  }
+  for (int i = 0; i < nlocal; i++) set_self_product(i, in, out);
   add_pair_products(in, out, nullptr, nullptr);
   sum_ghosts(out, 6);
 }
@@ -956,14 +960,7 @@ void FixHydroImplicitSF::patch_product(const std::vector<double> &in, std::vecto
 {
   for (int i : reached_atoms)
     for (int k = 0; k < 6; k++) out[6 * static_cast<size_t>(i) + k] = 0.0;
-  double translation, rotation;
-  for (int i : patch_atoms) {
-    self_resistance(i, translation, rotation);
-    for (int k = 0; k < 3; k++) {
-      out[6 * i + k] = translation * in[6 * i + k];
-      out[6 * i + 3 + k] = rotation * in[6 * i + 3 + k];
-    }
-  }
+  for (int i : patch_atoms) set_self_product(i, in, out);
   add_pair_products(in, out, &patch_pairs, &patch_contacts);
 }
 

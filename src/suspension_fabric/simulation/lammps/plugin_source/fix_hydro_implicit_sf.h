@@ -152,6 +152,7 @@ class FixHydroImplicitSF : public Fix {
   void add_pair_products(const std::vector<double> &in, std::vector<double> &out, const std::vector<int> *pair_subset,
                          const std::vector<int> *contact_subset) const;
   void self_resistance(int i, double &translation, double &rotation) const;
+  void set_self_product(int i, const std::vector<double> &in, std::vector<double> &out) const;
   int atoms_above_tolerance(const std::vector<double> &z) const;
   void collect_patch();
   void patch_product(const std::vector<double> &in, std::vector<double> &out);
