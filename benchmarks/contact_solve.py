@@ -13,6 +13,14 @@ sampling noise; the seeds' states are the independent units (mean and 95% t-inte
         --states 'results/engine_newton_phi0.53_mu0.5/seed*/startup/checkpoint.rst'
     .venv/bin/python benchmarks/contact_solve.py report
 
+    .venv/bin/python benchmarks/contact_solve.py local --point phi0.55_mu1 \
+        --states 'results/corner_probe/seed*/startup/checkpoint.rst' --strain 0.05
+
+`local`: from each state, the point's own engine (its solve and dt) with each
+run.local_solve_fraction of LOCAL_FRACTIONS in turn, LOCAL_REPEATS rounds (the same solve to the
+tolerance, so the wall times compare the local solves' cost; time it on an idle machine);
+`local-report` prints its table again.
+
 The reference rung is the lagged solve at 0.024 tau (the campaign's engine; tau = X(delta)/kn of
 two small spheres, suspension_fabric.simulation.scales.contact_relaxation_time). The wall times
 are of one LAMMPS process; time it on an idle machine.
@@ -41,6 +49,10 @@ TABLE = HERE / "data" / "contact_solve.csv"
 #: (solve, dt as a fraction of tau); the first is the reference
 RUNGS = (("lagged", 0.024), ("lagged", 0.24), ("newton", 0.12), ("newton", 0.24), ("newton", 0.6))
 QUANTITIES = ("contact_12", "contact_pressure", "contact_number", "sliding_fraction")
+LOCAL_TABLE = HERE / "data" / "contact_solve_local.csv"
+#: run.local_solve_fraction of the `local` command; the first (global iterations only) is the reference
+LOCAL_FRACTIONS = (0.0, 0.02, 0.05)
+LOCAL_REPEATS = 3
 
 
 def point_study(name: str, config: Path) -> dict:
@@ -59,9 +71,12 @@ def rung_dt(fraction: float, tau: float) -> float:
     return float(max(m * decade for m in (1, 2, 4, 5) if m * decade <= target * (1 + 1e-9)))
 
 
-def continue_shear(checkpoint: Path, study: dict, solve: str, dt: float, strain: float) -> dict:
+def continue_shear(
+    checkpoint: Path, study: dict, solve: str, dt: float, strain: float, local_fraction: float = 0.0
+) -> dict:
     """Means over ``strain`` of shear continued from ``checkpoint``, and the wall time per strain."""
-    model = ForceModel.from_config({**study, "run": {**study["run"], "contact_solve": solve}})
+    run = {**study["run"], "contact_solve": solve, "local_solve_fraction": local_fraction}
+    model = ForceModel.from_config({**study, "run": run})
     v = model.variables()
     lmp = new_lammps(load_plugin=False)
     lmp.commands_string(
@@ -77,7 +92,7 @@ newton on on
 pair_style lubricate/sf {v["eta_f"]} {v["delta"]} {v["h_out"]} implicit
 pair_coeff * *
 fix integrate all hydro/implicit/sf tol {v["solver_tol"]} precond {v["preconditioner"]} &
-    contacts {v["kn"]} {v["kt"]} {v["mu"]} solve {solve}
+    contacts {v["kn"]} {v["kt"]} {v["mu"]} solve {solve} local {v["local_solve_fraction"]}
 neighbor 0.1 bin
 neigh_modify delay 0 every 1 check yes
 comm_modify mode single vel yes
@@ -93,7 +108,7 @@ run 0 post no
     start = time.perf_counter()
     for _ in range(chunks):
         lmp.command(f"run {steps} post no")
-        f = [lmp.extract_fix("integrate", 0, 1, k) for k in range(29)]
+        f = [lmp.extract_fix("integrate", 0, 1, k) for k in range(30)]
         volume, atoms = lmp.get_thermo("vol"), lmp.get_natoms()
         samples.append(
             {
@@ -103,6 +118,7 @@ run 0 post no
                 "sliding_fraction": f[20] / f[19] if f[19] else np.nan,
                 "passes_per_step": f[18],
                 "iterations_per_step": f[1],
+                "local_work_per_step": f[29],
             }
         )
     wall = time.perf_counter() - start
@@ -110,7 +126,7 @@ run 0 post no
     means = pd.DataFrame(samples)
     row = {q: means[q].mean() for q in QUANTITIES}
     # the fix's counters are means since it was defined: the last sample covers the whole run
-    row.update(means.iloc[-1][["passes_per_step", "iterations_per_step"]].to_dict())
+    row.update(means.iloc[-1][["passes_per_step", "iterations_per_step", "local_work_per_step"]].to_dict())
     return {**row, "wall_per_strain": wall / (chunks * steps * dt)}
 
 
@@ -139,6 +155,58 @@ def measure(point: str, states: list[Path], config: Path, strain: float) -> pd.D
                 pd.DataFrame(rows[-1:]).drop(columns="state").to_string(index=False, header=len(rows) == 1), flush=True
             )
     return pd.DataFrame(rows)
+
+
+def measure_local(point: str, states: list[Path], config: Path, strain: float) -> pd.DataFrame:
+    """The point's own engine (its solve and dt) from each state, with each of LOCAL_FRACTIONS in
+    turn, LOCAL_REPEATS rounds: the same trajectory to the solver's tolerance, so the wall times
+    compare the solves."""
+    study = point_study(point, config)
+    rows = []
+    for repeat in range(1, LOCAL_REPEATS + 1):
+        for state in states:
+            for fraction in LOCAL_FRACTIONS:
+                row = continue_shear(state, study, study["run"]["contact_solve"], study["run"]["dt"], strain, fraction)
+                rows.append({"point": point, "state": str(state), "repeat": repeat, "local_solve_fraction": fraction})
+                rows[-1].update(dt=study["run"]["dt"], strain=strain, **row)
+                print(
+                    pd.DataFrame(rows[-1:]).drop(columns="state").to_string(index=False, header=len(rows) == 1),
+                    flush=True,
+                )
+    return pd.DataFrame(rows)
+
+
+def report_local(table: pd.DataFrame, level: float = 0.95) -> str:
+    """Per point and local_solve_fraction: CG iterations and local work per step, the wall time per
+    strain (each state's median over the repeats) and its ratio to global iterations only, mean
+    and t-interval over the states; the contact quantities' largest relative difference from the
+    global-only run on the same state (the solves agree to the tolerance)."""
+    lines = []
+    for point, rows in table.groupby("point", sort=False):
+        per_state = rows.groupby(["local_solve_fraction", "state"]).median(numeric_only=True)
+        base = per_state.loc[LOCAL_FRACTIONS[0]]
+        states = len(base)
+        lines.append(
+            f"{point}: dt {rows['dt'].iloc[0]:g}, {states} states, {rows['strain'].iloc[0]:g} strain from each, "
+            f"{rows['repeat'].nunique()} rounds (median per state); ratio to local_solve_fraction 0 on the same state, "
+            f"mean [{level:.0%} t-interval over states]\n"
+        )
+        header = ["local_solve_fraction", "CG iterations/step", "local work/step (sweeps)", "wall s/strain"]
+        header += ["wall / global only", "contact quantities: largest relative change"]
+        lines.append("| " + " | ".join(header) + " |")
+        lines.append("|" + "--:|" * len(header))
+        t = stats.t.ppf(0.5 + level / 2, states - 1) if states > 1 else np.nan
+        for fraction, rung in per_state.groupby(level=0):
+            rung = rung.droplevel(0).loc[base.index]
+            ratio = rung["wall_per_strain"] / base["wall_per_strain"]
+            half = t * ratio.std(ddof=1) / np.sqrt(states)
+            drift = max(float((rung[q] / base[q] - 1.0).abs().max()) for q in QUANTITIES)
+            cells = [f"{fraction:g}", f"{rung['iterations_per_step'].mean():.2f}"]
+            cells += [f"{rung['local_work_per_step'].mean():.3f}", f"{rung['wall_per_strain'].mean():.1f}"]
+            cells += [f"{ratio.mean():.3f} [{ratio.mean() - half:.3f}, {ratio.mean() + half:.3f}]", f"{drift:.2e}"]
+            lines.append("| " + " | ".join(cells) + " |")
+        lines.append("")
+    return "\n".join(lines)
 
 
 def report(table: pd.DataFrame, level: float = 0.95) -> str:
@@ -188,12 +256,24 @@ def report(table: pd.DataFrame, level: float = 0.95) -> str:
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("command", choices=("run", "report"))
+    parser.add_argument("command", choices=("run", "report", "local", "local-report"))
     parser.add_argument("--point", help="the campaign point whose engine the states were made with (run)")
     parser.add_argument("--states", help="glob of the checkpoints to continue, one per seed (run)")
     parser.add_argument("--config", type=Path, default=REPO / "config" / "campaign.yaml")
     parser.add_argument("--strain", type=float, default=0.1)
     args = parser.parse_args(argv)
+    if args.command in ("local", "local-report"):
+        if args.command == "local":
+            states = [Path(p) for p in sorted(glob.glob(args.states or ""))]
+            if not args.point or not states:
+                parser.error("local needs --point and --states matching at least one checkpoint")
+            table = measure_local(args.point, states, args.config, args.strain)
+            if LOCAL_TABLE.is_file():
+                old = pd.read_csv(LOCAL_TABLE)
+                table = pd.concat([old[old["point"] != args.point], table], ignore_index=True)
+            table.to_csv(LOCAL_TABLE, index=False, float_format="%.6g")
+        print(report_local(pd.read_csv(LOCAL_TABLE)))
+        return
     if args.command == "run":
         states = [Path(p) for p in sorted(glob.glob(args.states or ""))]
         if not args.point or not states:

@@ -1,7 +1,7 @@
 """A numerical change against a committed dataset of the same state point (BENCHMARKS.md, "Engine III").
 
     .venv/bin/python benchmarks/engine_validation.py --study results/engine_newton_phi0.53_mu0.5 \
-        --dataset data/campaign/phi0.53_mu0.5 [--save benchmarks/data/engine_validation]
+        --dataset data/campaign/phi0.53_mu0.5 [--save benchmarks/data/engine_validation] [--paired]
 
 ``--study`` and ``--dataset`` each take one or more folders of seeds (their seeds pooled; a
 folder with startups only adds to the steady state). Both hold the same seeds' packings where
@@ -16,7 +16,9 @@ in the strain bins of engine_ladder.BINS, per bin z in the same way. The criteri
 looking: |z| <= 2 (two combined standard errors) for every steady quantity and transient bin;
 about 5% of the bins exceed 2 by chance alone, so the report also gives how many do and the
 largest |z| against the Sidak bound for the number compared. ``--save`` copies the first study
-folder's tables (no trajectories) to the given folder for the record.
+folder's tables (no trajectories) to the given folder for the record. ``--paired`` adds, over the
+seeds both sides ran, each seed's difference of the steady means (the same packing on both sides),
+their mean and its 95% t-interval.
 """
 
 from __future__ import annotations
@@ -88,6 +90,26 @@ def steady_table(study: list[Path], dataset: list[Path]) -> tuple[str, list[floa
     return "\n".join(rows), zs
 
 
+def paired_table(study: list[Path], dataset: list[Path], level: float = 0.95) -> str:
+    """Per packing: for each seed both sides ran (the same packing, independent trajectories), the
+    difference of its steady means; their mean with a t-interval over those seeds."""
+    rows = [f"| quantity | seeds | mean difference | {level:.0%} t-interval | seeds with a lower study value |"]
+    rows.append("|---|--:|--:|---|--:|")
+    for kind, columns in (("fabric", FABRIC), ("stress", STRESS)):
+        a, b = seed_means(study, kind, columns), seed_means(dataset, kind, columns)
+        shared = a.index.intersection(b.index)
+        if len(shared) < 2:
+            raise SystemExit(f"--paired: the study and the dataset share {len(shared)} seeds, at least 2 needed")
+        for quantity in columns:
+            d = (a.loc[shared, quantity] - b.loc[shared, quantity]).to_numpy()
+            half = stats.t.ppf(0.5 + level / 2, len(d) - 1) * d.std(ddof=1) / np.sqrt(len(d))
+            rows.append(
+                f"| {quantity} | {len(d)} | {d.mean():+.4f} | [{d.mean() - half:+.4f}, {d.mean() + half:+.4f}] | "
+                f"{int((d < 0).sum())} of {len(d)} |"
+            )
+    return "\n".join(rows)
+
+
 def pooled_bins(folders: list[Path], angle: int, kind: str, column: str) -> np.ndarray:
     """binned_seed_means of every folder that holds the rotation, their seeds stacked."""
     return np.vstack([binned_seed_means(f, angle, kind, column) for f in folders if angle in rotation_angles(f)])
@@ -125,6 +147,7 @@ def main() -> None:
     parser.add_argument("--study", type=Path, nargs="+", required=True)
     parser.add_argument("--dataset", type=Path, nargs="+", required=True)
     parser.add_argument("--save", type=Path, help="copy the first study folder's tables here first")
+    parser.add_argument("--paired", action="store_true", help="also the per-packing differences of the steady means")
     args = parser.parse_args()
     study = list(args.study)
     if args.save:
@@ -136,11 +159,17 @@ def main() -> None:
     print(f"steady window strain {window}; z = difference / its standard error over seeds\n")
     text, steady_z = steady_table(study, args.dataset)
     print(text)
+    if args.paired:
+        print("\nPaired by packing (the seeds both sides ran)\n")
+        print(paired_table(study, args.dataset))
     print("\nAfter each rotation: z per strain bin\n")
     text, transient = transient_table(study, list(args.dataset))
     print(text)
     for name, zs in (("steady quantities", steady_z), ("transient bins", transient)):
         zs = np.abs(np.asarray(zs))
+        if not len(zs):
+            print(f"\n{name}: none (a side holds startups only)")
+            continue
         print(
             f"\n{name}: {len(zs)}, {int((zs > LEVEL).sum())} with |z| > {LEVEL:g} "
             f"({0.0455 * len(zs):.1f} expected by chance), largest {zs.max():.2f} "
