@@ -944,6 +944,12 @@ STEP_QUOTES = [
         None,
     ),
     Quote(
+        "docs/map.md",
+        "which at (0.53, 0.5) gave an eta_r {11}% below the accurate step's",
+        lambda: [-newton_eta_r_change("1e-4")],
+        None,
+    ),
+    Quote(
         "docs/campaign.md",
         "and give a viscosity {10}-{11}% lower at 0.12 and 0.24",
         lambda: [-newton_eta_r_change("5e-5"), -newton_eta_r_change("1e-4")],
