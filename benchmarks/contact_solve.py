@@ -167,8 +167,10 @@ def measure_local(point: str, states: list[Path], config: Path, strain: float) -
         for state in states:
             for fraction in LOCAL_FRACTIONS:
                 row = continue_shear(state, study, study["run"]["contact_solve"], study["run"]["dt"], strain, fraction)
-                rows.append({"point": point, "state": str(state), "repeat": repeat, "local_solve_fraction": fraction})
-                rows[-1].update(dt=study["run"]["dt"], strain=strain, **row)
+                rows.append(
+                    {"point": point, "state": str(state), "repeat": repeat, "local_solve_fraction": fraction}
+                    | {"dt": study["run"]["dt"], "strain": strain, **row}
+                )
                 print(
                     pd.DataFrame(rows[-1:]).drop(columns="state").to_string(index=False, header=len(rows) == 1),
                     flush=True,
@@ -262,29 +264,19 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--config", type=Path, default=REPO / "config" / "campaign.yaml")
     parser.add_argument("--strain", type=float, default=0.1)
     args = parser.parse_args(argv)
-    if args.command in ("local", "local-report"):
-        if args.command == "local":
-            states = [Path(p) for p in sorted(glob.glob(args.states or ""))]
-            if not args.point or not states:
-                parser.error("local needs --point and --states matching at least one checkpoint")
-            table = measure_local(args.point, states, args.config, args.strain)
-            if LOCAL_TABLE.is_file():
-                old = pd.read_csv(LOCAL_TABLE)
-                table = pd.concat([old[old["point"] != args.point], table], ignore_index=True)
-            table.to_csv(LOCAL_TABLE, index=False, float_format="%.6g")
-        print(report_local(pd.read_csv(LOCAL_TABLE)))
-        return
-    if args.command == "run":
+    if args.command in ("run", "local"):
         states = [Path(p) for p in sorted(glob.glob(args.states or ""))]
         if not args.point or not states:
-            parser.error("run needs --point and --states matching at least one checkpoint")
-        table = measure(args.point, states, args.config, args.strain)
-        if TABLE.is_file():  # keep the other points' rows
-            old = pd.read_csv(TABLE)
+            parser.error(f"{args.command} needs --point and --states matching at least one checkpoint")
+        measured, path = (measure, TABLE) if args.command == "run" else (measure_local, LOCAL_TABLE)
+        table = measured(args.point, states, args.config, args.strain)
+        if path.is_file():  # keep the other points' rows
+            old = pd.read_csv(path)
             table = pd.concat([old[old["point"] != args.point], table], ignore_index=True)
-        TABLE.parent.mkdir(parents=True, exist_ok=True)
-        table.to_csv(TABLE, index=False, float_format="%.6g")
-    print(report(pd.read_csv(TABLE)))
+        path.parent.mkdir(parents=True, exist_ok=True)
+        table.to_csv(path, index=False, float_format="%.6g")
+    local = args.command in ("local", "local-report")
+    print(report_local(pd.read_csv(LOCAL_TABLE)) if local else report(pd.read_csv(TABLE)))
 
 
 if __name__ == "__main__":

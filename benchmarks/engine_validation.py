@@ -67,11 +67,19 @@ def seed_means(folders: list[Path], kind: str, columns) -> pd.DataFrame:
     return means
 
 
-def steady_table(study: list[Path], dataset: list[Path]) -> tuple[str, list[float]]:
+def both_seed_means(study: list[Path], dataset: list[Path]) -> list[tuple[tuple, pd.DataFrame, pd.DataFrame]]:
+    """(columns, study's seed means, dataset's seed means) for the fabric and the stress."""
+    return [
+        (columns, seed_means(study, kind, columns), seed_means(dataset, kind, columns))
+        for kind, columns in (("fabric", FABRIC), ("stress", STRESS))
+    ]
+
+
+def steady_table(means) -> tuple[str, list[float]]:
+    """Welch's comparison of each quantity's seed means (both_seed_means)."""
     rows = ["| quantity | study | dataset | difference | z | Welch p |", "|---|---|---|---|---|---|"]
     zs = []
-    for kind, columns in (("fabric", FABRIC), ("stress", STRESS)):
-        a, b = seed_means(study, kind, columns), seed_means(dataset, kind, columns)
+    for columns, a, b in means:
         for quantity in columns:
             x, y = a[quantity].to_numpy(), b[quantity].to_numpy()
             error = np.sqrt(x.var(ddof=1) / len(x) + y.var(ddof=1) / len(y))
@@ -90,13 +98,12 @@ def steady_table(study: list[Path], dataset: list[Path]) -> tuple[str, list[floa
     return "\n".join(rows), zs
 
 
-def paired_table(study: list[Path], dataset: list[Path], level: float = 0.95) -> str:
+def paired_table(means, level: float = 0.95) -> str:
     """Per packing: for each seed both sides ran (the same packing, independent trajectories), the
-    difference of its steady means; their mean with a t-interval over those seeds."""
+    difference of its steady means (both_seed_means); their mean with a t-interval over those seeds."""
     rows = [f"| quantity | seeds | mean difference | {level:.0%} t-interval | seeds with a lower study value |"]
     rows.append("|---|--:|--:|---|--:|")
-    for kind, columns in (("fabric", FABRIC), ("stress", STRESS)):
-        a, b = seed_means(study, kind, columns), seed_means(dataset, kind, columns)
+    for columns, a, b in means:
         shared = a.index.intersection(b.index)
         if len(shared) < 2:
             raise SystemExit(f"--paired: the study and the dataset share {len(shared)} seeds, at least 2 needed")
@@ -157,11 +164,12 @@ def main() -> None:
             print(f"{name}: {folder}: {engine_label(folder)} ({len(seed_folders(folder))} seeds)")
     window = f"{STEADY_WINDOW[0]:g}-{STEADY_WINDOW[1]:g}"
     print(f"steady window strain {window}; z = difference / its standard error over seeds\n")
-    text, steady_z = steady_table(study, args.dataset)
+    means = both_seed_means(study, args.dataset)
+    text, steady_z = steady_table(means)
     print(text)
     if args.paired:
         print("\nPaired by packing (the seeds both sides ran)\n")
-        print(paired_table(study, args.dataset))
+        print(paired_table(means))
     print("\nAfter each rotation: z per strain bin\n")
     text, transient = transient_table(study, list(args.dataset))
     print(text)
