@@ -5,12 +5,13 @@
 The map's rebuild from the committed datasets (data/campaign, config/campaign.yaml with
 config/map.yaml: 121 analysis jobs, no simulation) in a fresh copy of the workflow, once per
 setting and round, the settings interleaved: Snakemake's defaults (the ILP scheduler, at most 100
-jobs started per second), the greedy scheduler, and the greedy scheduler with a rate limit of 1000
-jobs per minute (profiles/default/config.yaml). The copy has no profiles/ folder, so each run has
+jobs started per second), the greedy scheduler (profiles/default/config.yaml), and the greedy
+scheduler with a rate limit of 1000 jobs per minute (less scheduling, but Snakemake then waits for
+its pending wake-up, up to a minute, before it exits). The copy has no profiles/ folder, so each run has
 only the settings given. Prints per run the wall time, the CPU of Snakemake's own process and that
 of everything it ran (the jobs).
 
-Why the rate limit matters: after every pass over the ready jobs, Snakemake's scheduler starts a
+Why the rate limit's span matters: after every pass over the ready jobs, Snakemake's scheduler starts a
 timer that wakes it once the limit's timespan has passed, whatever woke it; a pass woken by a
 finished job starts one more such chain, so with a 1 s span a run of n jobs ends up passing over
 its ready jobs about n times a second, each pass checking the size of every input of every ready

@@ -1072,8 +1072,8 @@ def scheduler_cpu(setting: str, column: str) -> list[float]:
 QUOTES.append(
     Quote(
         "BENCHMARKS.md",
-        "spent {52.3}-{59.2} s of CPU with the defaults, {17.3}-{19.2} s with the greedy scheduler and {6.1}-{6.3} s "
-        "with both settings, against {142}-{171} s for the jobs themselves",
+        "spent {52.3}-{59.2} s of CPU with the defaults, {17.3}-{19.2} s with the greedy scheduler (the profiles' "
+        "setting) and {6.1}-{6.3} s with the minute's span as well, against {142}-{171} s for the jobs themselves",
         lambda: [
             *scheduler_cpu("defaults (ilp, 100/1s)", "main"),
             *scheduler_cpu("greedy", "main"),
