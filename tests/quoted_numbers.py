@@ -1062,10 +1062,16 @@ STEP_QUOTES += [
 QUOTES += STEP_QUOTES
 
 
-def scheduler_cpu(setting: str, column: str) -> list[float]:
-    """benchmarks/data/scheduler_overhead.csv: the smallest and largest CPU seconds of a setting's rounds."""
-    table = pd.read_csv(REPO / "benchmarks/data/scheduler_overhead.csv")
-    values = table.loc[table["setting"] == setting, column]
+@cache
+def scheduler_overhead() -> pd.DataFrame:
+    """benchmarks/data/scheduler_overhead.csv (benchmarks/scheduler_overhead.py --save)."""
+    return pd.read_csv(REPO / "benchmarks/data/scheduler_overhead.csv")
+
+
+def cpu_range(column: str, setting: str | None = None) -> list[float]:
+    """The smallest and largest CPU seconds in a column, over one setting's rounds or every row."""
+    table = scheduler_overhead()
+    values = table[column] if setting is None else table.loc[table["setting"] == setting, column]
     return [values.min(), values.max()]
 
 
@@ -1075,11 +1081,10 @@ QUOTES.append(
         "spent {52.3}-{59.2} s of CPU with the defaults, {17.3}-{19.2} s with the greedy scheduler (the profiles' "
         "setting) and {6.1}-{6.3} s with the minute's span as well, against {142}-{171} s for the jobs themselves",
         lambda: [
-            *scheduler_cpu("defaults (ilp, 100/1s)", "main"),
-            *scheduler_cpu("greedy", "main"),
-            *scheduler_cpu("greedy, 1000/1m", "main"),
-            pd.read_csv(REPO / "benchmarks/data/scheduler_overhead.csv")["jobs"].min(),
-            pd.read_csv(REPO / "benchmarks/data/scheduler_overhead.csv")["jobs"].max(),
+            *cpu_range("main", "defaults (ilp, 100/1s)"),
+            *cpu_range("main", "greedy"),
+            *cpu_range("main", "greedy, 1000/1m"),
+            *cpu_range("jobs"),
         ],
         None,
     )
