@@ -190,3 +190,49 @@ def test_g_w_with_the_hybrid_closure_is_g_w_where_the_closures_agree():
     steady = fm.steady_state(fm.GW_HYBRID, params, 0.45)
     integrated = fm.startup_shear(fm.GW_HYBRID, [60.0], params, 0.45)[0]
     np.testing.assert_allclose(steady, integrated, atol=1e-9)
+
+
+def fabrics_with_an_empty_one(count: int) -> np.ndarray:
+    """Random positive semi-definite fabrics (count, 3, 3), the first without contacts (trace 0)."""
+    shape = np.random.default_rng(7).normal(size=(count, 3, 3)) * 0.2
+    fabrics = shape @ np.swapaxes(shape, -1, -2)
+    fabrics[0] = 0.0
+    return fabrics
+
+
+def every_term_sparse_model():
+    from suspension_fabric.models.sparse_fabric import LIBRARY, sparse_model
+
+    return sparse_model({name: np.sin(k + 1.0) for k, name in enumerate(LIBRARY)})
+
+
+@pytest.mark.parametrize(
+    "make_model, params", [(lambda: fm.GW_HYBRID, {"beta": 37.0}), (every_term_sparse_model, {"rate": 1.3})]
+)
+def test_a_vector_form_is_its_right_hand_side(make_model, params):
+    """A model's vector_form (the solver's fast path) gives the same dv/dgamma as its tensor rhs, to
+    rounding: for one flow, a batch of equal flows and (where it takes them) a batch of turned
+    flows, on fabrics that include one without contacts (where the hybrid closure's a = I/3)."""
+    fabric_model = make_model()
+    fabrics = fabrics_with_an_empty_one(6)
+    vectors = frames.sym_to_vec(fabrics)
+    one = fm.flow_of(SHEAR)
+    equal = fm.Flow(*(np.broadcast_to(t, fabrics.shape) for t in one))
+    turned = fm.flow_of(frames.to_basis(SHEAR, frames.rotation_about_gradient(np.linspace(0.0, 3.0, 6))))
+    for flow in (one, equal, turned):
+        expected = frames.sym_to_vec(fabric_model.rhs(fabrics, flow, params, PHI))
+        np.testing.assert_allclose(fm.vector_rhs(fabric_model, flow, params, PHI)(vectors), expected, atol=1e-14)
+    assert fabric_model.vector_form(one, params, PHI) is not None
+    single = fm.vector_rhs(fabric_model, one, params, PHI)(vectors[3])
+    np.testing.assert_allclose(single, frames.sym_to_vec(fabric_model.rhs(fabrics[3], one, params, PHI)), atol=1e-14)
+
+
+def test_integration_through_the_vector_form_follows_the_right_hand_side():
+    """The solver's path through G-W-hybrid's vector form and through its tensor rhs (the form
+    removed) give the same startup and rotation transients to the integration's tolerance."""
+    params = {"beta": 21.0}
+    both = (fm.GW_HYBRID, dataclasses.replace(fm.GW_HYBRID, vector_form=None))
+    fast, slow = (fm.shear_rotation(m, THETAS, STRAINS, params, PHI, 2.0) for m in both)
+    np.testing.assert_allclose(fast, slow, rtol=1e-8, atol=1e-11)
+    fast, slow = (fm.integrate_segment(m, FABRIC0, STRAINS, params, PHI, 30.0) for m in both)
+    np.testing.assert_allclose(fast, slow, rtol=1e-8, atol=1e-11)

@@ -24,6 +24,8 @@ __all__ = [
     "VECTOR_ORDER",
     "sym_to_vec",
     "vec_to_sym",
+    "SYMMETRIC_BASIS",
+    "map_matrix",
     "rotation_about_gradient",
     "paper_basis_in_simulation_frame",
     "to_basis",
@@ -55,6 +57,19 @@ def vec_to_sym(vec) -> np.ndarray:
     out[..., _ROWS, _COLS] = vec
     out[..., _COLS, _ROWS] = vec
     return out
+
+
+#: The symmetric tensors whose 6-vectors are the unit vectors, (6, 3, 3): a tensor X is
+#: sum_k v_k SYMMETRIC_BASIS[k] with v = sym_to_vec(X).
+SYMMETRIC_BASIS = vec_to_sym(np.eye(6))
+SYMMETRIC_BASIS.setflags(write=False)
+
+
+def map_matrix(images) -> np.ndarray:
+    """The matrix (..., 6, 6) on 6-vectors of a linear map of symmetric tensors to symmetric
+    tensors, from its images (..., 6, 3, 3) of `SYMMETRIC_BASIS`: column k is the image of
+    basis tensor k."""
+    return np.swapaxes(sym_to_vec(images), -1, -2)
 
 
 def rotation_about_gradient(theta) -> np.ndarray:

@@ -60,7 +60,9 @@ from typing import NamedTuple
 import numpy as np
 
 from suspension_fabric.analysis.frames import (
+    SYMMETRIC_BASIS,
     VECTOR_ORDER,
+    map_matrix,
     rotation_about_gradient,
     simple_shear_gradient,
     sym_to_vec,
@@ -89,6 +91,8 @@ __all__ = [
     "resolve_models",
     "check_parameters",
     "affine_system",
+    "vector_rhs",
+    "common_flow",
     "integrate",
     "steady_state",
     "fit_steady",
@@ -164,7 +168,13 @@ class FabricModel:
     leading axes of ``fabric`` and of the flow's tensors; ``steady`` (optional) returns the closed
     steady fabric in simple shear L = e1 e2 from (params, phi); ``fit`` (optional) returns the
     parameters whose steady state matches ``targets`` ({component: value}) exactly; ``published``
-    (optional) holds the parameters its source printed, for comparison with the fits."""
+    (optional) holds the parameters its source printed, for comparison with the fits.
+
+    ``vector_form`` (optional) is ``rhs`` again, in the form the ODE solver calls about 10^5 times
+    per fit: ``vector_form(flow, params, phi)`` returns the function v -> dv/dgamma on 6-vectors
+    (..., 6) under that fixed flow, with whatever depends on the flow alone computed once (or None
+    for a flow it does not handle, where ``rhs`` is used). It must equal ``rhs`` to rounding
+    (tests/models/test_fabric_models.py checks the built-in ones)."""
 
     key: str
     label: str
@@ -176,6 +186,7 @@ class FabricModel:
     fit: Callable | None = None
     description: str = field(default="", compare=False)
     published: Mapping[str, float] | None = field(default=None, compare=False)
+    vector_form: Callable | None = field(default=None, compare=False)
 
     def __post_init__(self):
         if not self.key.isidentifier():
@@ -327,6 +338,66 @@ def _hybrid_rhs(fabric, flow: Flow, params, phi):
     return convective - contract_hybrid(drive, fabric) + creation
 
 
+def _hybrid_vector_form(flow: Flow, params, phi):
+    """`_hybrid_rhs` on 6-vectors: with X' = Tr X a (X' = X for Tr X > 0, Tr X I/3 otherwise, as
+    [`suspension_fabric.models.closures.normalised`][] has it) and D the drive, D:<nnnn> =
+    (1 - f) C(X') + f X' (D:X') / Tr X, C the linear closure's contraction, a matrix for the fixed flow."""
+    flow = common_flow(flow) or flow
+    beta = params["beta"]
+    drive = 2.0 * flow.e_hat + beta * flow.e_ext
+    convective = map_matrix(
+        flow.grad_hat[..., None, :, :] @ SYMMETRIC_BASIS
+        + SYMMETRIC_BASIS @ np.swapaxes(flow.grad_hat, -1, -2)[..., None, :, :]
+    )
+    closure = map_matrix(paper_models.contract_closure(drive[..., None, :, :], SYMMETRIC_BASIS))
+    creation = sym_to_vec(paper_models.source_part(flow.e_comp, beta, beta, phi))
+    drive_weights = sym_to_vec(drive) * _OFF_DIAGONALS_TWICE  # D:X = drive_weights . v
+    convective, closure, drive_weights = _applied(convective), _applied(closure), _applied(drive_weights[..., None, :])
+
+    def rhs(v):
+        x11, x22, x33, x12, x13, x23 = (v[..., k] for k in range(6))
+        trace = x11 + x22 + x33
+        det = x11 * (x22 * x33 - x23 * x23) - x12 * (x12 * x33 - x23 * x13) + x13 * (x12 * x23 - x22 * x13)
+        if np.all(trace > 0.0):
+            f = (1.0 - 27.0 * det / trace**3)[..., None]
+            scaled, ratio = v, drive_weights(v) / trace[..., None]
+        else:  # no contacts (the start of a startup): a = I/3, f = 0
+            positive = trace > 0.0
+            safe = np.where(positive, trace, 1.0)
+            f = np.where(positive, 1.0 - 27.0 * det / safe**3, 0.0)[..., None]
+            scaled = np.where(positive[..., None], v, trace[..., None] * _ISOTROPIC_THIRD)
+            ratio = np.where(positive[..., None], drive_weights(v) / safe[..., None], 0.0)
+        return convective(v) - (1.0 - f) * closure(scaled) - f * scaled * ratio + creation
+
+    return rhs
+
+
+#: Weights of the 6-vector components in a double contraction A:X of symmetric tensors.
+_OFF_DIAGONALS_TWICE = np.array([1.0, 1.0, 1.0, 2.0, 2.0, 2.0])
+#: The 6-vector of I/3.
+_ISOTROPIC_THIRD = np.array([1.0, 1.0, 1.0, 0.0, 0.0, 0.0]) / 3.0
+
+
+def _applied(matrix) -> Callable:
+    """v -> matrix v for 6-vectors v (..., 6) and a matrix (6 or m, 6), or one per batch entry
+    (..., m, 6)."""
+    if matrix.ndim == 2:
+        transposed = np.ascontiguousarray(matrix.T)
+        return lambda v: v @ transposed
+    return lambda v: (matrix @ v[..., None])[..., 0]
+
+
+def common_flow(flow: Flow) -> Flow | None:
+    """The flow as one (3, 3) flow if every entry of a batch is the same, else None."""
+    grad = np.asarray(flow.grad_hat)
+    if grad.ndim == 2:
+        return flow
+    flat = grad.reshape(-1, 3, 3)
+    if np.all(flat == flat[0]):
+        return Flow(*(np.asarray(t).reshape(-1, 3, 3)[0] for t in flow))
+    return None
+
+
 def newton_steady(fabric_model: FabricModel, params, phi, start) -> np.ndarray:
     """The steady fabric of a model in simple shear as the root of its right-hand side nearest
     ``start`` (Powell's hybrid method), accepted only if it attracts (every eigenvalue of the
@@ -360,6 +431,7 @@ GW_HYBRID = FabricModel(
     parameters=(_BETA,),
     steady_targets=("12",),
     rhs=_hybrid_rhs,
+    vector_form=_hybrid_vector_form,
     steady=lambda p, phi: newton_steady(GW_HYBRID, p, phi, paper_models.steady_state(p["beta"], None, phi)),
     description="Eq. 1 with <nnnn> = Tr<nn> [(1 - f) A_linear(a) + f a a], a = <nn>/Tr<nn>, f = 1 - 27 det(a)",
 )
@@ -389,6 +461,13 @@ def resolve_models(specs) -> dict[str, FabricModel]:
 # --------------------------------------------------------------------------- dynamics
 def _rhs_vec(fabric_model: FabricModel, vectors, flow: Flow, params, phi):
     return sym_to_vec(fabric_model.rhs(vec_to_sym(vectors), flow, params, phi))
+
+
+def vector_rhs(fabric_model: FabricModel, flow: Flow, params, phi) -> Callable:
+    """v -> dv/dgamma on 6-vectors (..., 6) under a fixed flow: the model's ``vector_form`` where it
+    has one for this flow, else its ``rhs`` between tensors and 6-vectors."""
+    fast = None if fabric_model.vector_form is None else fabric_model.vector_form(flow, params, phi)
+    return fast if fast is not None else partial(_rhs_vec, fabric_model, flow=flow, params=params, phi=phi)
 
 
 def affine_system(fabric_model: FabricModel, flow: Flow, params, phi):
@@ -427,8 +506,10 @@ def integrate(
     starts = sym_to_vec(np.broadcast_to(fabric0, batch + (3, 3)).reshape(-1, 3, 3))
     flows = Flow(*(np.broadcast_to(t, batch + (3, 3)).reshape(-1, 3, 3) for t in flow))
 
+    step = vector_rhs(fabric_model, flows, params, phi)
+
     def rhs(v):
-        return _rhs_vec(fabric_model, v.reshape(-1, 6), flows, params, phi).ravel()
+        return step(v.reshape(-1, 6)).ravel()
 
     solved = _solve_ode(fabric_model, rhs, starts.ravel(), strains, rtol, atol)  # (strains, batch * 6)
     out = vec_to_sym(solved.reshape(len(strains), -1, 6).swapaxes(0, 1))
@@ -574,8 +655,7 @@ def _spin_matrix(turning_rad: float) -> np.ndarray:
     """(6, 6) matrix of X -> K X - X K on 6-vectors, K = turning x generator: the rate of change
     of the components of a fixed tensor seen from a frame turning at ``turning_rad`` per strain."""
     K = turning_rad * _TURN_GENERATOR
-    basis = vec_to_sym(np.eye(6))
-    return np.swapaxes(sym_to_vec(K @ basis - basis @ K), -1, -2)
+    return map_matrix(K @ SYMMETRIC_BASIS - SYMMETRIC_BASIS @ K)
 
 
 def integrate_segment(
@@ -608,7 +688,7 @@ def integrate_segment(
     if fabric_model.affine:
         M, b = affine_system(fabric_model, flow, params, phi)
         return vec_to_sym(solve_affine(M + spin, b, start, strains))
-    rhs = partial(_rhs_vec, fabric_model, flow=flow, params=params, phi=phi)
+    rhs = vector_rhs(fabric_model, flow, params, phi)
     return vec_to_sym(_solve_ode(fabric_model, lambda v: rhs(v) + spin @ v, start, strains, rtol, atol))
 
 

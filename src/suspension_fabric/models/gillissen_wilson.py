@@ -53,7 +53,9 @@ from typing import NamedTuple
 import numpy as np
 
 from suspension_fabric.analysis.frames import (
+    SYMMETRIC_BASIS,
     VECTOR_ORDER,
+    map_matrix,
     rotation_about_gradient,
     simple_shear_gradient,
     sym_to_vec,
@@ -242,11 +244,7 @@ def fabric_rhs(fabric, velocity_gradient, beta, A=None, phi=0.45) -> np.ndarray:
 def _affine_system(velocity_gradient, beta, A, phi):
     """(M, b) of dv/dgamma = M v + b without argument checks (internal)."""
     grad_hat, _, e_ext, e_comp, _ = split_strain_rate(velocity_gradient)
-    basis = vec_to_sym(np.eye(6))  # (6, 3, 3): basis tensor for each component
-    columns = _linear_part(
-        basis, grad_hat[..., None, :, :], e_ext[..., None, :, :], beta
-    )  # (..., 6, 3, 3), one image per basis tensor
-    M = np.swapaxes(sym_to_vec(columns), -1, -2)
+    M = map_matrix(_linear_part(SYMMETRIC_BASIS, grad_hat[..., None, :, :], e_ext[..., None, :, :], beta))
     b = sym_to_vec(source_part(e_comp, beta, A, phi))
     return M, b
 

@@ -32,9 +32,9 @@ from pathlib import Path
 
 import numpy as np
 
-from suspension_fabric.analysis.frames import sym_to_vec, vec_to_sym
+from suspension_fabric.analysis.frames import SYMMETRIC_BASIS, map_matrix, sym_to_vec, vec_to_sym
 
-from .fabric_models import FabricModel, Flow, ModelError, Parameter, newton_steady
+from .fabric_models import FabricModel, Flow, ModelError, Parameter, common_flow, newton_steady
 
 __all__ = [
     "LIBRARY",
@@ -130,17 +130,6 @@ def quadratic_form(function) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return constant, linear, quadratic
 
 
-def _single_flow(flow: Flow) -> Flow | None:
-    """The flow as one (3, 3) flow if every entry of a batch is the same, else None."""
-    grad = np.asarray(flow.grad_hat)
-    if grad.ndim == 2:
-        return flow
-    flat = grad.reshape(-1, 3, 3)
-    if np.all(flat == flat[0]):
-        return Flow(*(np.asarray(t).reshape(-1, 3, 3)[0] for t in flow))
-    return None
-
-
 def sparse_model(
     coefficients: Mapping[str, float],
     key: str = "sparse",
@@ -163,19 +152,34 @@ def sparse_model(
 
     polynomials = {}
 
-    def rhs(fabric, flow, params, phi):
-        fabric = np.asarray(fabric, dtype=float)
-        single = _single_flow(flow)
-        if single is None:  # flows that differ across the batch: the terms themselves
-            return corotational(fabric, flow) + params["rate"] * combination(fabric, flow)
+    def polynomial(single: Flow):
         key = single.grad_hat.tobytes()
         if key not in polynomials:
             polynomials.clear()
             polynomials[key] = quadratic_form(lambda x: combination(x, single))
-        constant, linear, quadratic = polynomials[key]
+        return polynomials[key]
+
+    def rhs(fabric, flow, params, phi):
+        fabric = np.asarray(fabric, dtype=float)
+        single = common_flow(flow)
+        if single is None:  # flows that differ across the batch: the terms themselves
+            return corotational(fabric, flow) + params["rate"] * combination(fabric, flow)
+        constant, linear, quadratic = polynomial(single)
         v = sym_to_vec(fabric)
         terms = constant + v @ linear.T + np.einsum("ijk,...j,...k->...i", quadratic, v, v)
         return corotational(fabric, single) + params["rate"] * vec_to_sym(terms)
+
+    def vector_form(flow, params, phi):
+        """rhs on 6-vectors, one polynomial: (W + r M) v + r (b + T(v, v)), W the corotation."""
+        single = common_flow(flow)
+        if single is None:
+            return None
+        constant, linear, quadratic = polynomial(single)
+        rate = params["rate"]
+        drift = np.ascontiguousarray((map_matrix(corotational(SYMMETRIC_BASIS, single)) + rate * linear).T)
+        pairs = np.ascontiguousarray(rate * quadratic.reshape(6, 36).T)  # (v_j v_k) flattened -> components
+        offset = rate * constant
+        return lambda v: offset + v @ drift + (v[..., :, None] * v[..., None, :]).reshape(v.shape[:-1] + (36,)) @ pairs
 
     affine = all(ORDER[name] <= 1 for name in names)
     text = " + ".join(f"{value:+.4g} {name}" for name, value in zip(names, values))
@@ -185,6 +189,7 @@ def sparse_model(
         parameters=(Parameter("rate", 1e-3, 1e3, 1.0),),
         steady_targets=("12",),
         rhs=rhs,
+        vector_form=vector_form,
         affine=affine,
         description=f"dX/dgamma = Wh.X - X.Wh + rate ({text})",
     )
