@@ -15,7 +15,6 @@ import itertools
 from typing import NamedTuple
 
 import numpy as np
-from scipy.special import stdtrit  # the t quantile (scipy.stats.t.ppf calls it), without importing scipy.stats
 
 __all__ = [
     "LEVEL",
@@ -60,10 +59,19 @@ def _check_level(level: float) -> float:
     return level
 
 
+def _student_quantile(level: float, dof: float) -> float:
+    """The two-sided quantile t_{1-a/2, dof}, by scipy.special.stdtrit (what scipy.stats.t.ppf calls,
+    without importing scipy.stats); imported here, as many table jobs import this module and never
+    ask for one (scipy.special takes about 0.4 s to import)."""
+    from scipy.special import stdtrit
+
+    return float(stdtrit(dof, 0.5 + level / 2.0))
+
+
 @functools.lru_cache(maxsize=4096)
 def _t_quantile(level: float, dof: int) -> float:
-    """The two-sided quantile t_{1-a/2, dof} (cached: scipy's ppf is slow and the same few are asked for)."""
-    return float(stdtrit(dof, 0.5 + level / 2.0))
+    """`_student_quantile` for a whole number of degrees of freedom, cached (the same few are asked for)."""
+    return _student_quantile(level, dof)
 
 
 def t_interval(values, level: float = LEVEL) -> Interval:
@@ -214,5 +222,5 @@ def welch_interval(first, second, level: float = LEVEL) -> Interval:
     if se == 0.0:
         return Interval(difference, 0.0, difference, difference, min(a.size, b.size), level)
     dof = (va + vb) ** 2 / (va**2 / (a.size - 1) + vb**2 / (b.size - 1))
-    half = float(stdtrit(dof, 0.5 + level / 2.0)) * se
+    half = _student_quantile(level, dof) * se
     return Interval(difference, se, difference - half, difference + half, min(a.size, b.size), level)
