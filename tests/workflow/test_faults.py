@@ -188,14 +188,12 @@ def test_a_file_size_limit_fails_the_rerun_naming_it_and_keeps_every_finished_ru
     assert_failed_rerun_kept_the_study(
         finished_study, result, before, "killed by SIGXFSZ (a file reached the file-size limit"
     )
-    rerun = snakemake(finished_study, *TEST_CONFIG, *LONGER_ROTATIONS)
+    # the rotations only: the analysis after them is the same as after any rerun
+    records = [f"{RESULTS}/seed{seed}/rotation_theta{angle}/run_complete.json" for seed in (1, 2) for angle in (0, 90)]
+    rerun = snakemake(finished_study, *TEST_CONFIG, *LONGER_ROTATIONS, "--", *records)
     assert rerun.returncode == 0, rerun.stderr[-3000:]
-    for seed in (1, 2):
-        for angle in (0, 90):
-            record = json.loads(
-                (finished_study / RESULTS / f"seed{seed}/rotation_theta{angle}/run_complete.json").read_text()
-            )
-            assert record["flow_segment"]["strain"] == pytest.approx(2.0)
+    for record in records:
+        assert json.loads((finished_study / record).read_text())["flow_segment"]["strain"] == pytest.approx(2.0)
 
 
 @pytest.fixture
