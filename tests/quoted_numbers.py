@@ -1354,3 +1354,26 @@ QUOTES += [
         None,
     ),
 ]
+
+
+@cache
+def figure_pdf_cost() -> pd.DataFrame:
+    """benchmarks/data/figure_pdf_cost.csv (benchmarks/figure_pdf_cost.py --save)."""
+    return pd.read_csv(REPO / "benchmarks/data/figure_pdf_cost.csv").set_index(["figure", "maps"])
+
+
+QUOTES.append(
+    Quote(
+        "BENCHMARKS.md",
+        "Written as vector paths, Fig. 2's {386166} cells took {33.5} s of CPU and {8.67} MB of PDF; as an image, "
+        "{7.7} s and {0.49} MB.",
+        lambda: [
+            figure_pdf_cost().loc[("fig2_rotation", "vector cells"), "cells"],
+            figure_pdf_cost().loc[("fig2_rotation", "vector cells"), "cpu_s"],
+            figure_pdf_cost().loc[("fig2_rotation", "vector cells"), "pdf_mb"],
+            figure_pdf_cost().loc[("fig2_rotation", "rasterized"), "cpu_s"],
+            figure_pdf_cost().loc[("fig2_rotation", "rasterized"), "pdf_mb"],
+        ],
+        None,
+    )
+)

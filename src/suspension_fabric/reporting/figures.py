@@ -221,7 +221,7 @@ def figure_rotation(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: d
                 vmin=-limits[column],
                 vmax=limits[column],
                 shading="flat",
-                rasterized=True,  # an image in the PDF: as vector cells, 4e5 of them took half a minute to write
+                rasterized=True,  # an image in the PDF, not a path per cell (benchmarks/figure_pdf_cost.py)
             )
             ax.set_thetamin(-180)
             ax.set_thetamax(180)
@@ -425,7 +425,7 @@ def figure_stress_rotation(
                 vmin=limits[column][0],
                 vmax=limits[column][1],
                 shading="flat",
-                rasterized=True,  # an image in the PDF: as vector cells, 4e5 of them took half a minute to write
+                rasterized=True,  # an image in the PDF, not a path per cell (benchmarks/figure_pdf_cost.py)
             )
             ax.set_thetamin(-180)
             ax.set_thetamax(180)
