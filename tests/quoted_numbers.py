@@ -1461,6 +1461,7 @@ QUOTES.append(
 )
 
 
+@cache
 def plugin_pairs() -> pd.DataFrame:
     """benchmarks/data/plugin_pair_corner.csv: per pair, the current build's loop time against the old one's."""
     table = pd.read_csv(REPO / "benchmarks/data/plugin_pair_corner.csv").pivot(index="pair", columns="build")
