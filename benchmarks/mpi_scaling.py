@@ -11,6 +11,7 @@ simulation across MPI ranks").
     .venv/bin/python benchmarks/mpi_scaling.py model [--n 16000]     # efficiency, 1-64 ranks
     .venv/bin/python benchmarks/mpi_scaling.py sizes --n 500 4000 16000   # cost per atom against N
     .venv/bin/python benchmarks/mpi_scaling.py local --n 500 4000 16000   # local solves: idle
+    .venv/bin/python benchmarks/mpi_scaling.py contention [--n 16000]   # two 1-rank runs at once: idle
 
 `prepare`: the paper's point (phi = 0.45, packing seed 1, the default forces and engine) at
 N = n, a startup to strain PREPARE_STRAIN on 2 ranks, into results/mpi_scaling/n<N>/.
@@ -39,6 +40,11 @@ the CG iterations and the iterations' part: what the growth of the cost with N c
 with local solves (run.local_solve_fraction = LOCAL_FRACTION), alternating, REPEATS times each:
 the cost per atom per step, the global CG iterations, and the cost per atom against the
 smallest N (local_solves_n<N>_..., one table per command).
+
+`contention`: the 1-rank continuation (CONTENTION_STRAIN) alone, then two of it at once (one per
+core), alternating, REPEATS times: how much two runs on the two cores slow each other (memory and
+cache shared), which bounds what any split over 2 ranks can gain here: 2 / (1 + slowdown)
+(contention.csv).
 
 `model`: the time per step on P ranks of dedicated cores of one node,
     t(P) = N/P (a + b I(P)) + (5 + 2 I(P)) 6 g(P) c + (5 + 3 I(P)) s log2 P,
@@ -85,6 +91,7 @@ TABLES = Path("benchmarks/data/mpi_scaling")
 PREPARE_STRAIN = 1.0
 MEASURE_STRAIN = 0.1
 ITERATION_STRAIN = 0.02
+CONTENTION_STRAIN = 0.05
 REPEATS = 3
 SPLIT_TOL = 1.0e-5
 LOCAL_FRACTION = 0.02
@@ -470,11 +477,41 @@ def sizes(ns: list[int]) -> None:
         )
 
 
+def contention(n: int) -> None:
+    """The 1-rank continuation alone and two of it at once, alternating (module docstring)."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    rows = []
+    print("| repeat | alone s | two at once s (each) | slowdown |\n|--:|--:|--:|--:|")
+    for repeat in range(1, REPEATS + 1):
+        alone = continuation(n, 1, CONTENTION_STRAIN, "contention_alone")["loop_s"]
+        with ThreadPoolExecutor(2) as pool:
+            pair = list(pool.map(lambda k: continuation(n, 1, CONTENTION_STRAIN, f"contention_{k}"), ("a", "b")))
+        together = [run["loop_s"] for run in pair]
+        slowdown = statistics.fmean(together) / alone - 1.0
+        rows.append({"repeat": repeat, "alone_s": alone, "first_s": together[0], "second_s": together[1]})
+        print(f"| {repeat} | {alone:.1f} | {together[0]:.1f}, {together[1]:.1f} | {slowdown:+.1%} |", flush=True)
+    write_rows(rows, tables(n) / "contention.csv")
+    median = statistics.median((r["first_s"] + r["second_s"]) / 2 / r["alone_s"] - 1.0 for r in rows)
+    print(f"\nmedian slowdown {median:+.1%}: a 2-rank speed-up of at most {2 / (1 + median):.2f} on this machine")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument(
         "command",
-        choices=("prepare", "startup", "measure", "split", "iterations", "latency", "model", "sizes", "local"),
+        choices=(
+            "prepare",
+            "startup",
+            "measure",
+            "split",
+            "iterations",
+            "latency",
+            "model",
+            "sizes",
+            "local",
+            "contention",
+        ),
     )
     parser.add_argument("--n", type=int, nargs="+", default=[16000])
     parser.add_argument("--ranks", type=int, nargs="+", default=[1, 2, 4, 8, 16])
@@ -503,6 +540,8 @@ def main() -> None:
         split(args.n)
     elif args.command == "latency":
         latency(args.n)
+    elif args.command == "contention":
+        contention(args.n)
     else:
         model(args.n)
 
