@@ -827,9 +827,7 @@ OTHER_PAGES = [
 ]
 QUOTES += OTHER_PAGES
 
-# -- BENCHMARKS.md's reading of the N-scaling and local-solve tables -----------------------------
-
-SIZES = "local_solves_n500_n4000_n16000.csv"
+# -- BENCHMARKS.md's dilu order across the MPI ranks, and what two cores allow -----------------
 
 
 def preconditioner_pairs() -> list[float]:
@@ -882,6 +880,11 @@ MPI_PRECONDITIONER_QUOTES = [
     ),
 ]
 QUOTES += MPI_PRECONDITIONER_QUOTES
+
+
+# -- BENCHMARKS.md's reading of the N-scaling and local-solve tables -----------------------------
+
+SIZES = "local_solves_n500_n4000_n16000.csv"
 LARGEST = "local_solves_n500_n32000.csv"
 BENCHMARK_QUOTES = [
     Quote(
