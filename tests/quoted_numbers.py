@@ -848,16 +848,20 @@ def contention_slowdowns() -> list[float]:
 MPI_PRECONDITIONER_QUOTES = [
     Quote(
         "BENCHMARKS.md",
-        "at N = 16000, {10.85} CG iterations per step on 2 ranks against {15.40} with block Jacobi across the ranks.",
-        lambda: [
-            float(iterations.median())
-            for iterations in (
-                scaling_table("n16000/rank_ordered_dilu_pair.csv")
-                .groupby("preconditioner")["iterations"]
-                .get_group(name)
-                for name in ("rank_ordered_dilu", "block_jacobi")
-            )
-        ],
+        "at N = 16000, {10.85} CG iterations per step on 2 ranks against {15.40} with block Jacobi across the ranks "
+        "(one rank: {9.90} in `measure`'s longer window, above).",
+        lambda: (
+            [
+                float(iterations.median())
+                for iterations in (
+                    scaling_table("n16000/rank_ordered_dilu_pair.csv")
+                    .groupby("preconditioner")["iterations"]
+                    .get_group(name)
+                    for name in ("rank_ordered_dilu", "block_jacobi")
+                )
+            ]
+            + [scaling_median("n16000/measure.csv", "iterations", ranks=1)]
+        ),
         None,
     ),
     Quote(
