@@ -803,7 +803,7 @@ def scaling_median(name: str, column: str, **where) -> float:
     "cost" is the loop time per atom per step."""
     table = scaling_table(name)
     for key, value in where.items():
-        table = table[np.isclose(table[key], value)]
+        table = table[table[key] == value if isinstance(value, str) else np.isclose(table[key], value)]
     values = table["loop_s"] / (table["steps"] * table["n"]) if column == "cost" else table[column]
     return float(values.median())
 
@@ -839,10 +839,13 @@ def preconditioner_pairs() -> list[float]:
     return ratios + [float(np.median(ratios))]
 
 
-def contention_slowdowns() -> list[float]:
-    """benchmarks/mpi_scaling.py contention: per repeat, two 1-rank runs at once over one alone, less 1 (%)."""
+def contention_figures() -> list[float]:
+    """benchmarks/mpi_scaling.py contention: the slowdown of two 1-rank runs at once over one alone (%),
+    its median, least and largest over the repeats, and the 2-rank speed-up that median allows."""
     table = scaling_table("n16000/contention.csv")
-    return list(100.0 * ((table["first_s"] + table["second_s"]) / 2 / table["alone_s"] - 1.0))
+    slowdowns = 100.0 * ((table["first_s"] + table["second_s"]) / 2 / table["alone_s"] - 1.0)
+    median = float(slowdowns.median())
+    return [median, float(slowdowns.min()), float(slowdowns.max()), 2.0 / (1.0 + median / 100.0)]
 
 
 MPI_PRECONDITIONER_QUOTES = [
@@ -850,18 +853,11 @@ MPI_PRECONDITIONER_QUOTES = [
         "BENCHMARKS.md",
         "at N = 16000, {10.85} CG iterations per step on 2 ranks against {15.40} with block Jacobi across the ranks "
         "(one rank: {9.90} in `measure`'s longer window, above).",
-        lambda: (
-            [
-                float(iterations.median())
-                for iterations in (
-                    scaling_table("n16000/rank_ordered_dilu_pair.csv")
-                    .groupby("preconditioner")["iterations"]
-                    .get_group(name)
-                    for name in ("rank_ordered_dilu", "block_jacobi")
-                )
-            ]
-            + [scaling_median("n16000/measure.csv", "iterations", ranks=1)]
-        ),
+        lambda: [
+            scaling_median("n16000/rank_ordered_dilu_pair.csv", "iterations", preconditioner="rank_ordered_dilu"),
+            scaling_median("n16000/rank_ordered_dilu_pair.csv", "iterations", preconditioner="block_jacobi"),
+            scaling_median("n16000/measure.csv", "iterations", ranks=1),
+        ],
         None,
     ),
     Quote(
@@ -874,12 +870,7 @@ MPI_PRECONDITIONER_QUOTES = [
         "BENCHMARKS.md",
         "two at once take {2.2}% longer (median; {-4.4}% to {+8.2}%, as much as the machine's own drift between "
         "runs). That bounds the 2-rank speed-up at about {1.96}x.",
-        lambda: [
-            float(np.median(contention_slowdowns())),
-            min(contention_slowdowns()),
-            max(contention_slowdowns()),
-            2.0 / (1.0 + float(np.median(contention_slowdowns())) / 100.0),
-        ],
+        contention_figures,
         None,
     ),
 ]

@@ -150,6 +150,10 @@ def test_pack_into_an_existing_folder_needs_overwrite(tmp_path):
     assert first.data_file.is_file()
 
 
+# the run records of the test study's rotations
+ROTATION_RECORDS = [
+    f"{RESULTS}/seed{seed}/rotation_theta{angle}/run_complete.json" for seed in (1, 2) for angle in (0, 90)
+]
 LONGER_ROTATIONS = ["--config", "run={rotation_strain: 2.0}"]  # trajectories of about 0.6 MB
 FAILED_RERUN = ["--config", "run={rotation_strain: 40.0}"]  # more than the small disk holds
 
@@ -189,10 +193,9 @@ def test_a_file_size_limit_fails_the_rerun_naming_it_and_keeps_every_finished_ru
         finished_study, result, before, "killed by SIGXFSZ (a file reached the file-size limit"
     )
     # the rotations only: the analysis after them is the same as after any rerun
-    records = [f"{RESULTS}/seed{seed}/rotation_theta{angle}/run_complete.json" for seed in (1, 2) for angle in (0, 90)]
-    rerun = snakemake(finished_study, *TEST_CONFIG, *LONGER_ROTATIONS, "--", *records)
+    rerun = snakemake(finished_study, *TEST_CONFIG, *LONGER_ROTATIONS, "--", *ROTATION_RECORDS)
     assert rerun.returncode == 0, rerun.stderr[-3000:]
-    for record in records:
+    for record in ROTATION_RECORDS:
         assert json.loads((finished_study / record).read_text())["flow_segment"]["strain"] == pytest.approx(2.0)
 
 
@@ -227,8 +230,7 @@ def test_a_full_disk_fails_the_rerun_naming_it_and_keeps_every_finished_run(smal
     for work in (small_disk / RESULTS).glob("seed*/.rotation_theta*.partial"):
         shutil.rmtree(work)
     shutil.rmtree(small_disk / ".snakemake/backups", ignore_errors=True)
-    records = [f"{RESULTS}/seed{seed}/rotation_theta{angle}/run_complete.json" for seed in (1, 2) for angle in (0, 90)]
-    again = snakemake(small_disk, *records, *TEST_CONFIG)
+    again = snakemake(small_disk, *ROTATION_RECORDS, *TEST_CONFIG)
     assert again.returncode == 0, again.stderr[-3000:]
     assert "shear_segment" in job_counts(again.stdout + again.stderr)
     assert result_digests(small_disk) == before
