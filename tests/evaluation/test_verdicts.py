@@ -73,6 +73,33 @@ def test_settle_strain_and_censoring():
     assert tables.settle_strain(np.arange(3.0), np.zeros(3)) == (0.0, True)
 
 
+def test_settle_strains_of_stacked_series_are_each_series_settle_strain():
+    """The bootstraps' form: each row of a stack gets the first strain from which it stays inside
+    the band, found by walking back from its end (settled inside, never outside, censored at the
+    end, one point)."""
+
+    def walked_back(row):
+        if abs(row[-1]) > 0.1:
+            return float(strain[-1]), False
+        k = len(row) - 1
+        while k > 0 and abs(row[k - 1]) <= 0.1:
+            k -= 1
+        return float(strain[k]), True
+
+    strain = np.linspace(0.0, 3.0, 31)
+    rows = np.random.default_rng(3).normal(scale=0.1, size=(200, 31))
+    rows[0], rows[1], rows[2, -1] = 0.0, 1.0, 0.5
+    settled_at, settled = tables.settle_strains(strain, rows, tolerance=0.1)
+    assert [(float(a), bool(b)) for a, b in zip(settled_at, settled)] == [walked_back(row) for row in rows]
+    assert [tables.settle_strain(strain, row, 0.1) for row in rows] == [walked_back(row) for row in rows]
+    assert settled[0] and settled_at[0] == 0.0 and not settled[1] and settled_at[1] == 3.0
+    stacked = tables.settle_strains(strain, rows.reshape(20, 10, 31), tolerance=0.1)[0]
+    np.testing.assert_array_equal(stacked.ravel(), settled_at)
+    assert tables.settle_strain(np.zeros(1), np.array([0.2]), 0.1) == (0.0, False)
+    with pytest.raises(ValueError, match="lengths"):
+        tables.settle_strains(strain, rows[:, :30])
+
+
 def test_recovery_strains_follow_tau_ln_10a():
     table = verdicts.recovery_table(runs(0.2), predictions(0.5, 0.25), N12_SS, COMPARED).set_index("theta")
     for theta in (45.0, 90.0, 135.0):

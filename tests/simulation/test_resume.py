@@ -1,8 +1,8 @@
 """Resume for real: a startup killed with SIGKILL part-way continues from its latest readable
 restart file instead of strain 0, through the Python runner and through Snakemake.
 
-N = 40 (test forces: eta_f = 1, kn = 5.6e5, dt = 1e-4), 30 strain = 300000 steps (~8 s),
-restart files every 3 strain. "Continuous" means: the stitched stress table and trajectory hold
+N = 40 (test forces: eta_f = 1, kn = 5.6e5, dt = 1e-4), 15 strain = 150000 steps (~5 s),
+restart files every 1.5 strain. "Continuous" means: the stitched stress table and trajectory hold
 every output step of the uninterrupted run once, in order; up to the restart step they are the
 uninterrupted run's own rows (the same deterministic serial run), and after it the dynamics is
 the same (no jump at the next table row, positions within 1e-3 d half a strain later; the
@@ -32,10 +32,11 @@ from workflow_helpers import copy_workflow, snakemake
 
 pytestmark = pytest.mark.lammps
 
-STRAIN = 30.0
-SETTINGS = dict(dt=1.0e-4, dump_strain=0.5, table_strain=0.01, thermo_strain=0.01, restart_strain=3.0)
+STRAIN = 15.0
+SETTINGS = dict(dt=1.0e-4, dump_strain=0.5, table_strain=0.01, thermo_strain=0.01, restart_strain=1.5)
 FORCES = dict(eta_f=1.0, kn=5.6e5)
 RESTART_STEPS = round(SETTINGS["restart_strain"] / SETTINGS["dt"])
+LATE_STRAIN = 5.0
 
 
 @pytest.fixture(scope="module")
@@ -130,18 +131,20 @@ def assert_continuous(result, uninterrupted, restart_step: int) -> None:
     assert abs(b["pxz"][next_row] - a["pxz"][next_row]) < 0.1 * a["pxz"].std()
     next_frame = restart_step + round(SETTINGS["dump_strain"] / SETTINGS["dt"])
     assert np.abs(frames_b[next_frame] - frames_a[next_frame]).max() < 1e-3
-    # late times: same statistics (block means over 2 strain, 10 blocks)
-    late = a["strain"] >= 10.0
-    blocks_a = -a["pxz"][late][:2000].reshape(10, -1).mean(axis=1)
-    blocks_b = -b["pxz"][late][:2000].reshape(10, -1).mean(axis=1)
+    # late times, past the restart and the parting of the trajectories: same statistics (block
+    # means over 1 strain, 10 blocks)
+    late = a["strain"] >= LATE_STRAIN
+    rows = round((STRAIN - LATE_STRAIN) / SETTINGS["table_strain"])
+    blocks_a = -a["pxz"][late][:rows].reshape(10, -1).mean(axis=1)
+    blocks_b = -b["pxz"][late][:rows].reshape(10, -1).mean(axis=1)
     error = np.hypot(blocks_a.std(ddof=1), blocks_b.std(ddof=1)) / np.sqrt(10)
     assert abs(blocks_a.mean() - blocks_b.mean()) < 4 * error
 
 
 @pytest.mark.fault("survived")
 def test_a_killed_run_resumes_from_its_latest_restart(tmp_path, packing, uninterrupted, capsys):
-    """SIGKILL after the second restart (strain 6): the rerun continues from restart.b at
-    step 60000 (so only the steps after it are run again) and reaches the same outputs. The
+    """SIGKILL after the second restart (strain 3): the rerun continues from restart.b at
+    step 30000 (so only the steps after it are run again) and reaches the same outputs. The
     saving is counted in steps, not in wall time, which load on the machine would blur."""
     output = start_and_kill(tmp_path, packing)
     result, messages = resume(output, packing, capsys)
@@ -212,7 +215,7 @@ def test_snakemake_killed_with_its_simulation_resumes_it(tmp_path):
     config = yaml.safe_load((Path(__file__).parents[2] / "config" / "test.yaml").read_text())
     config.update(study="resume", seeds=[1], angles_deg=[0])
     config["run"].update(startup_strain=STRAIN, rotation_strain=1.0, **{k: v for k, v in SETTINGS.items() if k != "dt"})
-    config["analysis"]["steady_window"] = [10.0, STRAIN]
+    config["analysis"]["steady_window"] = [LATE_STRAIN, STRAIN]
     config["verdicts"]["window"] = 1.0  # at least one frame (dump_strain 0.5) after a rotation
     target = "results/resume/seed1/startup/run_complete.json"
 

@@ -81,6 +81,7 @@ __all__ = [
     "steady_state",
     "TOLERANCE",
     "settle_strain",
+    "settle_strains",
     "fabric_tensors",
 ]
 
@@ -400,10 +401,20 @@ def settle_strain(strain: np.ndarray, deviation: np.ndarray, tolerance: float = 
 
     A series still outside the band at its last point is censored: (last strain, False).
     """
-    strain, outside = np.asarray(strain, float), np.abs(np.asarray(deviation, float)) > tolerance
-    if strain.shape != outside.shape:
+    settled_at, settled = settle_strains(strain, np.asarray(deviation, float)[None], tolerance)
+    return float(settled_at[0]), bool(settled[0])
+
+
+def settle_strains(
+    strain: np.ndarray, deviations: np.ndarray, tolerance: float = TOLERANCE
+) -> tuple[np.ndarray, np.ndarray]:
+    """[`settle_strain`][suspension_fabric.analysis.tables.settle_strain] of many series at once
+    (``deviations`` (..., len(strain)), e.g. a bootstrap's resampled curves): arrays (...) of the
+    strains and of whether each settled."""
+    strain, outside = np.asarray(strain, float), np.abs(np.asarray(deviations, float)) > tolerance
+    if strain.ndim != 1 or outside.shape[-1:] != strain.shape:
         raise ValueError(f"strain and deviation lengths differ: {strain.shape} and {outside.shape}")
-    if outside[-1]:
-        return float(strain[-1]), False
-    last_outside = np.flatnonzero(outside)
-    return (float(strain[last_outside[-1] + 1]) if len(last_outside) else float(strain[0])), True
+    # index just after the last point outside the band (0 if none is)
+    after_last = np.where(outside.any(axis=-1), len(strain) - np.argmax(outside[..., ::-1], axis=-1), 0)
+    settled = ~outside[..., -1]
+    return np.where(settled, strain[np.minimum(after_last, len(strain) - 1)], strain[-1]), settled

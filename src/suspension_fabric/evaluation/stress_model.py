@@ -45,7 +45,7 @@ import pandas as pd
 
 from suspension_fabric.analysis.components import COMPONENTS
 from suspension_fabric.analysis.seed_statistics import LEVEL, bootstrap_means, t_interval
-from suspension_fabric.analysis.tables import TOLERANCE, fabric_tensors, settle_strain, steady_state
+from suspension_fabric.analysis.tables import TOLERANCE, fabric_tensors, settle_strain, settle_strains, steady_state
 from suspension_fabric.models import stress_relations as relations
 from suspension_fabric.models.stress_relations import relation_terms
 
@@ -302,12 +302,13 @@ def viscosity_deficits(stress_runs: pd.DataFrame, eta_ss, window: float) -> pd.D
 
 
 def _with_interval(statistic, whole: np.ndarray, resampled: np.ndarray | None, level: float) -> tuple:
-    """(statistic of the all-seed curve, percentile interval of it over the resampled curves)."""
+    """(statistic of the all-seed curve, percentile interval of it over the resampled curves);
+    ``statistic`` takes curves stacked on the first axis and returns one value per curve."""
+    value = float(statistic(whole[None])[0])
     if resampled is None:
-        return float(statistic(whole)), np.nan, np.nan
-    values = np.array([statistic(curve) for curve in resampled], dtype=float)
-    low, high = np.quantile(values, [0.5 - level / 2.0, 0.5 + level / 2.0])
-    return float(statistic(whole)), float(low), float(high)
+        return value, np.nan, np.nan
+    low, high = np.quantile(np.asarray(statistic(resampled), dtype=float), [0.5 - level / 2.0, 0.5 + level / 2.0])
+    return value, float(low), float(high)
 
 
 def viscosity_transients(
@@ -366,9 +367,9 @@ def viscosity_transients(
 
         whole = smoothed(per_seed.mean(axis=0))
         resampled = smoothed(bootstrap_means(per_seed)) if len(seeds) > 1 else None
-        minimum = _with_interval(lambda c: float(c.min()), whole, resampled, level)
-        at = _with_interval(lambda c: float(strain[np.argmin(c)]), whole, resampled, level)
-        recovery = _with_interval(lambda c: settle_strain(strain, c - 1.0, tolerance)[0], whole, resampled, level)
+        minimum = _with_interval(lambda c: c.min(axis=-1), whole, resampled, level)
+        at = _with_interval(lambda c: strain[np.argmin(c, axis=-1)], whole, resampled, level)
+        recovery = _with_interval(lambda c: settle_strains(strain, c - 1.0, tolerance)[0], whole, resampled, level)
         interval = t_interval(deficits.loc[deficits["theta"] == theta, "deficit"], level)
         row = {
             "theta": float(theta),

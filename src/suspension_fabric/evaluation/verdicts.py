@@ -38,7 +38,7 @@ import numpy as np
 import pandas as pd
 
 from suspension_fabric.analysis.seed_statistics import CONFIRMED, LEVEL, REFUTED, UNDECIDED, seed_bootstrap_of_mean
-from suspension_fabric.analysis.tables import TOLERANCE, settle_strain
+from suspension_fabric.analysis.tables import TOLERANCE, settle_strain, settle_strains
 
 from .claims import ROLES, Compared
 
@@ -129,7 +129,14 @@ def recovery_table(
         strain, deviations = _ratio_curves(runs, theta, n12_ss)
         row = {"theta": theta}
         for key, per_seed in deviations.items():
-            _bootstrap(row, f"sim_{key}", lambda mean: settle_strain(strain, mean, tolerance)[0], per_seed, level)
+            _bootstrap(
+                row,
+                f"sim_{key}",
+                lambda means: settle_strains(strain, means, tolerance)[0],
+                per_seed,
+                level,
+                vectorized=True,
+            )
             row[f"sim_{key}_settled"] = settle_strain(strain, np.mean(list(per_seed.values()), axis=0), tolerance)[1]
         for role, model in compared.items():
             series = _model_series(predictions, model, theta)
