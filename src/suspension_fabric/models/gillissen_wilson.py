@@ -48,6 +48,7 @@ Symmetric tensors are stored as 6-vectors in the order (11, 22, 33, 12, 13, 23)
 
 from __future__ import annotations
 
+import functools
 from typing import NamedTuple
 
 import numpy as np
@@ -420,10 +421,25 @@ def shear_steady_parts(rate_break):
     [`closure_model_rhs`][suspension_fabric.models.gillissen_wilson.closure_model_rhs] is rate_form x_form + rate_iso
     x_iso, since M depends on the breaking rate only (M = M0 + b_e M1) and the source is linear in the two formation
     rates."""
+    if rate_break is RATE_GRID:
+        return _rate_grid_steady_parts()
+    return _solved_steady_parts(rate_break)
+
+
+def _solved_steady_parts(rate_break):
     rate = np.asarray(rate_break, dtype=float)
     M = _SHEAR_M0 + rate[..., None, None] * _SHEAR_M1
     sol = np.linalg.solve(M, -np.stack([_SHEAR_B1, _SHEAR_B2], axis=-1))
     return sol[..., 0], sol[..., 1]
+
+
+@functools.cache
+def _rate_grid_steady_parts():
+    """`shear_steady_parts` on `RATE_GRID`, solved once per process: every steady fit scans the grid."""
+    parts = _solved_steady_parts(RATE_GRID)
+    for part in parts:
+        part.flags.writeable = False
+    return parts
 
 
 def _steady_parts(beta):
