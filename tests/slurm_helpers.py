@@ -1,7 +1,7 @@
 """The SLURM tests' cluster check and the study run on the cluster.
 
-The study on SLURM spends most of its three minutes waiting on the scheduler's accounting, not
-computing, so conftest.py starts it in the background as soon as the tests are collected (when a
+The study on SLURM (up to its fits) spends most of its time waiting on the scheduler's accounting,
+not computing, so conftest.py starts it in the background as soon as the tests are collected (when a
 test asks for it) and tests/workflow/test_slurm.py collects it; without a cluster nothing starts.
 Under pytest-xdist the run is started once for the whole session, by the first worker to finish
 collecting, and any worker can collect it: its record (``slurm_study.json``) and the run's exit
@@ -26,12 +26,21 @@ from pathlib import Path
 import pytest
 from filelock import FileLock
 
-from workflow_helpers import SNAKEMAKE, TEST_CONFIG, copy_workflow, session_folder
+from workflow_helpers import RESULTS, SNAKEMAKE, TEST_CONFIG, copy_workflow, session_folder
 
 ENABLE = 'to run them: eval "$(bash envs/slurm_cluster.sh up)" (as root; starts a local cluster)'
 PROFILE = ["--workflow-profile", "profiles/slurm"]
 #: The record of the background run of the study, in the session's folder (session_folder).
 SLURM_STUDY = "slurm_study.json"
+#: What the run on the cluster makes: the test study up to its fits, every kind of job that simulates
+#: or reduces (packings, segments, fabric and stress tables, aggregates, the fit). The rules after the
+#: fits are script jobs of the same kind, and each SLURM job costs two Snakemake starts (the batch
+#: script's and its job step's, about 3 s of CPU), which the rest of the study would more than double.
+SLURM_STUDY_TARGETS = (
+    f"{RESULTS}/fits.json",
+    f"{RESULTS}/tables/rotation_aggregate.csv",
+    f"{RESULTS}/tables/stress_startup_aggregate.csv",
+)
 #: The run's shell: Snakemake, then its exit status into a file, written whole (renamed into place).
 WRAPPER = '"$@"; status=$?; echo $status > {0}.part && mv {0}.part {0}; exit $status'
 
@@ -152,7 +161,8 @@ def start_study_on_slurm(config: pytest.Config) -> None:
     folder = session_folder(config._tmp_path_factory)
     with FileLock(folder / f"{SLURM_STUDY}.lock"):
         if not (folder / SLURM_STUDY).is_file():
-            run = SlurmRun.start(copy_workflow(Path(tempfile.mkdtemp(prefix="slurm_study_"))))
+            workdir = copy_workflow(Path(tempfile.mkdtemp(prefix="slurm_study_")))
+            run = SlurmRun.start(workdir, "--", *SLURM_STUDY_TARGETS)
             (folder / SLURM_STUDY).write_text(json.dumps(run.record()))
 
 
