@@ -14,7 +14,11 @@ Python (``lmp``, ``mpirun``) except through the children's CPU of the process th
 `run` prints the suite's wall time and the CPU of its process tree.
 
 `report` prints, from a record, the CPU of the scripts (summed over their processes, with the
-count) and of the tests (every process a test started, Snakemake's own process counted apart).
+count), of the tests (every process a test started, Snakemake's own process counted apart) and of
+the processes started outside any test: those of the study on SLURM, which conftest.py starts when
+the tests are collected (its Snakemake job steps run as ``python -m snakemake``, recorded as
+``__main__.py``). pytest and its workers, which live as long as the suite, are left out of that
+count.
 The suite is CPU-bound on two cores (both busy from the first test to the last), so its wall time
 is about half its CPU: these tables say where a cut pays.
 """
@@ -88,6 +92,13 @@ def read_record(record: Path) -> pd.DataFrame:
     return table
 
 
+def outside_tests(table: pd.DataFrame) -> pd.DataFrame:
+    """The processes no test started, but for pytest and its workers (those that lived through more
+    than half of the longest life in the record)."""
+    session = table["wall_s"] > 0.5 * table["wall_s"].max()
+    return table[(table["test"] == "") & ~session]
+
+
 def report(record: Path, top: int) -> None:
     table = read_record(record)
     print(f"{len(table)} Python processes, {table['cpu_s'].sum():.0f} CPU s of their own\n")
@@ -102,6 +113,12 @@ def report(record: Path, top: int) -> None:
     )
     print()
     print(per_test.sort_values("cpu_s", ascending=False).head(top).round(1).to_markdown())
+    outside = outside_tests(table)
+    steps = outside[outside["script"] == "__main__.py"]
+    print(
+        f"\noutside any test: {len(outside)} processes, {outside['cpu_s'].sum():.0f} CPU s "
+        f"(Snakemake job steps: {len(steps)}, {steps['cpu_s'].sum():.0f} CPU s)"
+    )
 
 
 def main(argv=None) -> None:
