@@ -18,6 +18,7 @@ braces, and a function giving those numbers from the tables, in the same order:
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import re
 from collections.abc import Callable
@@ -875,6 +876,49 @@ MPI_PRECONDITIONER_QUOTES = [
     ),
 ]
 QUOTES += MPI_PRECONDITIONER_QUOTES
+
+
+# -- BENCHMARKS.md's record of the test suite's CPU (benchmarks/suite_cpu.py) ---------------------
+
+
+def suite_cpu_figures(commit: str) -> list[float]:
+    """benchmarks/suite_cpu.py's record of a commit: the processes and their CPU; those outside any
+    test, their CPU, the CPU and count of the Snakemake job steps among them; the reference
+    rebuild's and the map rebuild's CPU."""
+    spec = importlib.util.spec_from_file_location("suite_cpu", REPO / "benchmarks" / "suite_cpu.py")
+    suite_cpu = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(suite_cpu)
+    table = suite_cpu.read_record(REPO / "benchmarks/data/suite_cpu" / f"{commit}.tsv")
+    outside = suite_cpu.outside_tests(table)
+    steps = outside[outside["script"] == "__main__.py"]
+
+    def test_cpu(name: str) -> float:
+        return float(table.loc[table["test"].str.endswith(name), "cpu_s"].sum())
+
+    return [
+        len(table),
+        float(table["cpu_s"].sum()),
+        len(outside),
+        float(outside["cpu_s"].sum()),
+        float(steps["cpu_s"].sum()),
+        len(steps),
+        test_cpu("test_the_reference_study_rebuilds_the_fits_without_simulating"),
+        test_cpu("test_the_map_rebuilds_from_the_committed_datasets_as_the_docs_show_it"),
+    ]
+
+
+QUOTES.append(
+    Quote(
+        "BENCHMARKS.md",
+        "it became this script), {714} Python processes spent {1354} s of CPU of their own. The largest single "
+        "item was no test's: the study on SLURM, which `tests/conftest.py` starts when the tests are collected, "
+        "ran {130} processes outside any test with {193} s, {141} s of them in {86} Snakemake job steps (each "
+        "SLURM job starts Snakemake twice, in its batch script and in its job step). Next came the rebuilds from "
+        "the committed datasets: the reference study's test {192} s and the map's {168} s,",
+        lambda: suite_cpu_figures("586572f"),
+        None,
+    )
+)
 
 
 # -- BENCHMARKS.md's reading of the N-scaling and local-solve tables -----------------------------
