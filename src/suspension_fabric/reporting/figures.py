@@ -63,8 +63,8 @@ def save_figure(fig, stem: str | os.PathLike) -> list[Path]:
     stem.parent.mkdir(parents=True, exist_ok=True)
     paths = [stem.with_suffix(".pdf"), stem.with_suffix(".png")]
     fig.savefig(paths[0], dpi=200)
-    # the PDF's layout holds for the PNG: without this each save lays the figure out again (a
-    # constrained layout measures every tick label, a third of a large figure's drawing time)
+    # the PDF's layout holds for the PNG: without this the second save lays the figure out again,
+    # measuring every label once more
     fig.set_layout_engine("none")
     fig.savefig(paths[1], dpi=200)
     plt.close(fig)
