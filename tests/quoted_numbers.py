@@ -919,6 +919,16 @@ QUOTES.append(
         None,
     )
 )
+QUOTES.append(
+    Quote(
+        "BENCHMARKS.md",
+        "{644} Python processes spent {1110} s of CPU of their own; the study on SLURM ran {61} processes outside "
+        "any test with {79} s, {62} s of them in {40} job steps; the reference rebuild's test took {172} s and the "
+        "map's {136} s",
+        lambda: suite_cpu_figures("4e6495e"),
+        None,
+    )
+)
 
 
 # -- BENCHMARKS.md's reading of the N-scaling and local-solve tables -----------------------------
