@@ -19,6 +19,7 @@ the processes started outside any test: those of the study on SLURM, which conft
 the tests are collected (its Snakemake job steps run as ``python -m snakemake``, recorded as
 ``__main__.py``). pytest and its workers, which live as long as the suite, are left out of that
 count.
+
 The suite is CPU-bound on two cores (both busy from the first test to the last), so its wall time
 is about half its CPU: these tables say where a cut pays.
 """
@@ -99,6 +100,19 @@ def outside_tests(table: pd.DataFrame) -> pd.DataFrame:
     return table[(table["test"] == "") & ~session]
 
 
+def outside_summary(table: pd.DataFrame) -> dict[str, float]:
+    """The processes outside any test (`outside_tests`) and the Snakemake job steps among them (run as
+    ``python -m snakemake``, recorded as ``__main__.py``): their counts and CPU seconds."""
+    outside = outside_tests(table)
+    steps = outside[outside["script"] == "__main__.py"]
+    return {
+        "processes": len(outside),
+        "cpu_s": float(outside["cpu_s"].sum()),
+        "job_steps": len(steps),
+        "job_steps_cpu_s": float(steps["cpu_s"].sum()),
+    }
+
+
 def report(record: Path, top: int) -> None:
     table = read_record(record)
     print(f"{len(table)} Python processes, {table['cpu_s'].sum():.0f} CPU s of their own\n")
@@ -113,11 +127,10 @@ def report(record: Path, top: int) -> None:
     )
     print()
     print(per_test.sort_values("cpu_s", ascending=False).head(top).round(1).to_markdown())
-    outside = outside_tests(table)
-    steps = outside[outside["script"] == "__main__.py"]
+    outside = outside_summary(table)
     print(
-        f"\noutside any test: {len(outside)} processes, {outside['cpu_s'].sum():.0f} CPU s "
-        f"(Snakemake job steps: {len(steps)}, {steps['cpu_s'].sum():.0f} CPU s)"
+        f"\noutside any test: {outside['processes']} processes, {outside['cpu_s']:.0f} CPU s "
+        f"(Snakemake job steps: {outside['job_steps']}, {outside['job_steps_cpu_s']:.0f} CPU s)"
     )
 
 

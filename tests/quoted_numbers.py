@@ -889,8 +889,7 @@ def suite_cpu_figures(commit: str) -> list[float]:
     suite_cpu = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(suite_cpu)
     table = suite_cpu.read_record(REPO / "benchmarks/data/suite_cpu" / f"{commit}.tsv")
-    outside = suite_cpu.outside_tests(table)
-    steps = outside[outside["script"] == "__main__.py"]
+    outside = suite_cpu.outside_summary(table)
 
     def test_cpu(name: str) -> float:
         return float(table.loc[table["test"].str.endswith(name), "cpu_s"].sum())
@@ -898,10 +897,10 @@ def suite_cpu_figures(commit: str) -> list[float]:
     return [
         len(table),
         float(table["cpu_s"].sum()),
-        len(outside),
-        float(outside["cpu_s"].sum()),
-        float(steps["cpu_s"].sum()),
-        len(steps),
+        outside["processes"],
+        outside["cpu_s"],
+        outside["job_steps_cpu_s"],
+        outside["job_steps"],
         test_cpu("test_the_reference_study_rebuilds_the_fits_without_simulating"),
         test_cpu("test_the_map_rebuilds_from_the_committed_datasets_as_the_docs_show_it"),
     ]
