@@ -15,11 +15,15 @@ sampling noise; the seeds' states are the independent units (mean and 95% t-inte
 
     .venv/bin/python benchmarks/contact_solve.py local --point phi0.55_mu1 \
         --states 'results/corner_probe/seed*/startup/checkpoint.rst' --strain 0.05
+    .venv/bin/python benchmarks/contact_solve.py guess --point phi0.55_mu1 \
+        --states 'results/corner_probe/seed*/startup/checkpoint.rst' --strain 0.05
 
 `local`: from each state, the point's own engine (its solve and dt) with each
-run.local_solve_fraction of LOCAL_FRACTIONS in turn, LOCAL_REPEATS rounds (the same solve to the
-tolerance, so the wall times compare the local solves' cost; time it on an idle machine);
-`local-report` prints its table again.
+run.local_solve_fraction of LOCAL_FRACTIONS in turn (the old velocities as the solve's first
+iterate), LOCAL_REPEATS rounds (the same solve to the tolerance, so the wall times compare the
+local solves' cost; time it on an idle machine); `local-report` prints its table again.
+`guess`: the same with each (run.initial_guess, run.local_solve_fraction) of GUESS_RUNGS;
+`guess-report` prints its table again.
 
 The reference rung is the lagged solve at 0.024 tau (the campaign's engine; tau = X(delta)/kn of
 two small spheres, suspension_fabric.simulation.scales.contact_relaxation_time). The wall times
@@ -53,6 +57,9 @@ LOCAL_TABLE = HERE / "data" / "contact_solve_local.csv"
 #: run.local_solve_fraction of the `local` command; the first (global iterations only) is the reference
 LOCAL_FRACTIONS = (0.0, 0.02, 0.05)
 LOCAL_REPEATS = 3
+GUESS_TABLE = HERE / "data" / "contact_solve_guess.csv"
+#: (run.initial_guess, run.local_solve_fraction) of the `guess` command; the first is the reference
+GUESS_RUNGS = (("previous", 0.0), ("linear", 0.0), ("quadratic", 0.0), ("quadratic", 0.02))
 
 
 def point_study(name: str, config: Path) -> dict:
@@ -72,10 +79,17 @@ def rung_dt(fraction: float, tau: float) -> float:
 
 
 def continue_shear(
-    checkpoint: Path, study: dict, solve: str, dt: float, strain: float, local_fraction: float = 0.0
+    checkpoint: Path,
+    study: dict,
+    solve: str,
+    dt: float,
+    strain: float,
+    local_fraction: float = 0.0,
+    initial_guess: str = "previous",
 ) -> dict:
     """Means over ``strain`` of shear continued from ``checkpoint``, and the wall time per strain."""
     run = {**study["run"], "contact_solve": solve, "local_solve_fraction": local_fraction}
+    run["initial_guess"] = initial_guess
     model = ForceModel.from_config({**study, "run": run})
     v = model.variables()
     lmp = new_lammps(load_plugin=False)
@@ -92,7 +106,7 @@ newton on on
 pair_style lubricate/sf {v["eta_f"]} {v["delta"]} {v["h_out"]} implicit
 pair_coeff * *
 fix integrate all hydro/implicit/sf tol {v["solver_tol"]} precond {v["preconditioner"]} &
-    contacts {v["kn"]} {v["kt"]} {v["mu"]} solve {solve} local {v["local_solve_fraction"]}
+    contacts {v["kn"]} {v["kt"]} {v["mu"]} solve {solve} local {v["local_solve_fraction"]} guess {v["initial_guess"]}
 neighbor 0.1 bin
 neigh_modify delay 0 every 1 check yes
 comm_modify mode single vel yes
@@ -157,19 +171,23 @@ def measure(point: str, states: list[Path], config: Path, strain: float) -> pd.D
     return pd.DataFrame(rows)
 
 
-def measure_local(point: str, states: list[Path], config: Path, strain: float) -> pd.DataFrame:
-    """The point's own engine (its solve and dt) from each state, with each of LOCAL_FRACTIONS in
-    turn, LOCAL_REPEATS rounds: the same trajectory to the solver's tolerance, so the wall times
-    compare the solves."""
+def measure_starts(
+    point: str, states: list[Path], config: Path, strain: float, rungs: tuple[tuple[str, float], ...]
+) -> pd.DataFrame:
+    """The point's own engine (its solve and dt) from each state, with each (initial_guess,
+    local_solve_fraction) of ``rungs`` in turn, LOCAL_REPEATS rounds: the same trajectory to the
+    solver's tolerance, so the wall times compare the solves."""
     study = point_study(point, config)
     rows = []
     for repeat in range(1, LOCAL_REPEATS + 1):
         for state in states:
-            for fraction in LOCAL_FRACTIONS:
-                row = continue_shear(state, study, study["run"]["contact_solve"], study["run"]["dt"], strain, fraction)
+            for guess, fraction in rungs:
+                row = continue_shear(
+                    state, study, study["run"]["contact_solve"], study["run"]["dt"], strain, fraction, guess
+                )
                 rows.append(
                     {"point": point, "state": str(state), "repeat": repeat, "local_solve_fraction": fraction}
-                    | {"dt": study["run"]["dt"], "strain": strain, **row}
+                    | {"initial_guess": guess, "dt": study["run"]["dt"], "strain": strain, **row}
                 )
                 print(
                     pd.DataFrame(rows[-1:]).drop(columns="state").to_string(index=False, header=len(rows) == 1),
@@ -178,32 +196,43 @@ def measure_local(point: str, states: list[Path], config: Path, strain: float) -
     return pd.DataFrame(rows)
 
 
-def report_local(table: pd.DataFrame, level: float = 0.95) -> str:
-    """Per point and local_solve_fraction: CG iterations and local work per step, the wall time per
-    strain (each state's median over the repeats) and its ratio to global iterations only, mean
-    and t-interval over the states; the contact quantities' largest relative difference from the
-    global-only run on the same state (the solves agree to the tolerance)."""
+def _cell(value) -> str:
+    return value if isinstance(value, str) else f"{value:g}"
+
+
+def report_starts(table: pd.DataFrame, rungs: tuple, level: float = 0.95) -> str:
+    """Per point and rung (``rungs``: local_solve_fraction values, or (initial_guess,
+    local_solve_fraction) pairs): CG iterations and local work per step, the wall time per strain
+    (each state's median over the repeats) and its ratio to the first rung on the same state,
+    mean and t-interval over the states; the contact quantities' largest relative difference from
+    the first rung's run on the same state (the solves agree to the tolerance)."""
+    keys = ["initial_guess", "local_solve_fraction"] if isinstance(rungs[0], tuple) else ["local_solve_fraction"]
+    reference = rungs[0] if len(keys) > 1 else (rungs[0],)
     lines = []
     for point, rows in table.groupby("point", sort=False):
-        per_state = rows.groupby(["local_solve_fraction", "state"]).median(numeric_only=True)
-        base = per_state.loc[LOCAL_FRACTIONS[0]]
+        per_state = rows.groupby([*keys, "state"]).median(numeric_only=True)
+        base = per_state.xs(reference, level=keys)
         states = len(base)
         lines.append(
             f"{point}: dt {rows['dt'].iloc[0]:g}, {states} states, {rows['strain'].iloc[0]:g} strain from each, "
-            f"{rows['repeat'].nunique()} rounds (median per state); ratio to local_solve_fraction 0 on the same state, "
-            f"mean [{level:.0%} t-interval over states]\n"
+            f"{rows['repeat'].nunique()} rounds (median per state); ratio to "
+            + ", ".join(f"{key} {_cell(value)}" for key, value in zip(keys, reference, strict=True))
+            + f" on the same state, mean [{level:.0%} t-interval over states]\n"
         )
-        header = ["local_solve_fraction", "CG iterations/step", "local work/step (sweeps)", "wall s/strain"]
-        header += ["wall / global only", "contact quantities: largest relative change"]
+        first = "wall / global only" if len(keys) == 1 else "wall / first row"
+        header = [*keys, "CG iterations/step", "local work/step (sweeps)", "wall s/strain"]
+        header += [first, "contact quantities: largest relative change"]
         lines.append("| " + " | ".join(header) + " |")
         lines.append("|" + "--:|" * len(header))
         t = stats.t.ppf(0.5 + level / 2, states - 1) if states > 1 else np.nan
-        for fraction, rung in per_state.groupby(level=0):
-            rung = rung.droplevel(0).loc[base.index]
+        for rung_key in rungs:
+            values = rung_key if isinstance(rung_key, tuple) else (rung_key,)
+            rung = per_state.xs(values, level=keys).loc[base.index]
             ratio = rung["wall_per_strain"] / base["wall_per_strain"]
             half = t * ratio.std(ddof=1) / np.sqrt(states)
             drift = max(float((rung[q] / base[q] - 1.0).abs().max()) for q in QUANTITIES)
-            cells = [f"{fraction:g}", f"{rung['iterations_per_step'].mean():.2f}"]
+            cells = [_cell(value) for value in values]
+            cells += [f"{rung['iterations_per_step'].mean():.2f}"]
             cells += [f"{rung['local_work_per_step'].mean():.3f}", f"{rung['wall_per_strain'].mean():.1f}"]
             cells += [f"{ratio.mean():.3f} [{ratio.mean() - half:.3f}, {ratio.mean() + half:.3f}]", f"{drift:.2e}"]
             lines.append("| " + " | ".join(cells) + " |")
@@ -258,25 +287,34 @@ def report(table: pd.DataFrame, level: float = 0.95) -> str:
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("command", choices=("run", "report", "local", "local-report"))
+    parser.add_argument("command", choices=("run", "report", "local", "local-report", "guess", "guess-report"))
     parser.add_argument("--point", help="the campaign point whose engine the states were made with (run)")
     parser.add_argument("--states", help="glob of the checkpoints to continue, one per seed (run)")
     parser.add_argument("--config", type=Path, default=REPO / "config" / "campaign.yaml")
     parser.add_argument("--strain", type=float, default=0.1)
     args = parser.parse_args(argv)
-    if args.command in ("run", "local"):
+    tables = {"run": TABLE, "local": LOCAL_TABLE, "guess": GUESS_TABLE}
+    if args.command in tables:
         states = [Path(p) for p in sorted(glob.glob(args.states or ""))]
         if not args.point or not states:
             parser.error(f"{args.command} needs --point and --states matching at least one checkpoint")
-        measured, path = (measure, TABLE) if args.command == "run" else (measure_local, LOCAL_TABLE)
-        table = measured(args.point, states, args.config, args.strain)
+        path = tables[args.command]
+        if args.command == "run":
+            table = measure(args.point, states, args.config, args.strain)
+        else:
+            rungs = GUESS_RUNGS if args.command == "guess" else tuple(("previous", f) for f in LOCAL_FRACTIONS)
+            table = measure_starts(args.point, states, args.config, args.strain, rungs)
         if path.is_file():  # keep the other points' rows
             old = pd.read_csv(path)
             table = pd.concat([old[old["point"] != args.point], table], ignore_index=True)
         path.parent.mkdir(parents=True, exist_ok=True)
         table.to_csv(path, index=False, float_format="%.6g")
-    local = args.command in ("local", "local-report")
-    print(report_local(pd.read_csv(LOCAL_TABLE)) if local else report(pd.read_csv(TABLE)))
+    if args.command in ("local", "local-report"):
+        print(report_starts(pd.read_csv(LOCAL_TABLE), LOCAL_FRACTIONS))
+    elif args.command in ("guess", "guess-report"):
+        print(report_starts(pd.read_csv(GUESS_TABLE), GUESS_RUNGS))
+    else:
+        print(report(pd.read_csv(TABLE)))
 
 
 if __name__ == "__main__":

@@ -6,7 +6,7 @@ import pytest
 
 from suspension_fabric.simulation.lammps import ForceModel, ShearSettings
 from suspension_fabric.simulation.scales import max_dt_explicit, max_dt_implicit
-from suspension_fabric.study.config import ConfigError, angle_label, load_config, validate_config
+from suspension_fabric.study.config import ConfigError, angle_label, load_config, simulation_settings, validate_config
 
 MINIMAL = {"study": "s", "seeds": [1], "angles_deg": [0, 90]}
 
@@ -40,6 +40,7 @@ def test_shipped_configs_are_valid(name):
         ({"run": {"integrator": "explicit", "dt": 1.0e-6}}, "run.dt"),
         ({"run": {"integrator": "verlet"}}, "run.integrator"),
         ({"run": {"mpi_ranks": 0}}, "run.mpi_ranks"),
+        ({"run": {"initial_guess": "cubic"}}, "run.initial_guess"),
     ],
 )
 def test_bad_values_name_their_key(change, key):
@@ -72,6 +73,16 @@ def test_a_default_config_runs_what_the_python_defaults_run():
     config = validate_config(dict(MINIMAL))
     assert ForceModel.from_config(config) == ForceModel()
     assert ShearSettings.from_config(config) == ShearSettings()
+
+
+def test_the_first_iterate_enters_a_simulations_settings_only_when_extrapolated():
+    """run.initial_guess came after finished simulations: at its default (the old velocities,
+    what those ran) it stays out of simulation_settings, the Snakemake param that reruns a
+    simulation when it changes; an extrapolated first iterate is a setting like any other."""
+    default = simulation_settings(validate_config(dict(MINIMAL)))
+    assert "initial_guess" not in default["run"] and "solver_tol" in default["run"]
+    quadratic = simulation_settings(validate_config({**MINIMAL, "run": {"initial_guess": "quadratic"}}))
+    assert quadratic["run"] == {**default["run"], "initial_guess": "quadratic"}
 
 
 def test_time_step_limit_follows_the_integrator():

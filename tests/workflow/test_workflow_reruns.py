@@ -36,6 +36,9 @@ CASES = {
     "run.dump_strain": (["run={dump_strain: 0.02}"], STARTUP, STARTUP | ROTATE),
     "run.table_strain": (["run={table_strain: 0.005}"], STARTUP, STARTUP | ROTATE),
     "run.integrator, run.solver_tol": (["run={solver_tol: 1.0e-6}"], STARTUP, STARTUP | ROTATE),
+    "run.initial_guess": (["run={initial_guess: linear}"], STARTUP, STARTUP | ROTATE),
+    # at its default the key stays out of the simulations' settings: runs made before it keep
+    "run.initial_guess at its default": (["run={initial_guess: previous}"], set(), set()),
     "forces.kn": (["forces={kn: 5.0e+5}"], STARTUP, STARTUP | ROTATE),
     "forces.eta_f": (["forces={eta_f: 1.1}"], STARTUP, STARTUP | ROTATE),
     "forces.mu": (["forces={mu: 0.4}"], STARTUP, STARTUP | ROTATE),

@@ -87,15 +87,27 @@ SIMULATION_RUN_KEYS = (
     "preconditioner",
     "solver_tol",
     "local_solve_fraction",
+    "initial_guess",
     "dt",
     "dump_strain",
     "table_strain",
 )
 
 
+#: ``run`` keys added after simulations were made with the value given (the old velocities as
+#: the solve's first iterate): at that value they stay out of a simulation's settings, so the
+#: simulations finished before them do not rerun.
+RUN_KEYS_ADDED_LATER = {"initial_guess": "previous"}
+
+
 def simulation_settings(config: dict) -> dict:
     """The settings of a validated config on which every startup and rotation result depends."""
-    return {"forces": dict(config["forces"]), "run": {key: config["run"][key] for key in SIMULATION_RUN_KEYS}}
+    run = {
+        key: config["run"][key]
+        for key in SIMULATION_RUN_KEYS
+        if key not in RUN_KEYS_ADDED_LATER or config["run"][key] != RUN_KEYS_ADDED_LATER[key]
+    }
+    return {"forces": dict(config["forces"]), "run": run}
 
 
 class ConfigError(ValueError):

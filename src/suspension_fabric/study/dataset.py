@@ -64,7 +64,7 @@ from suspension_fabric.models.fits_file import read_fits, upgrade_fits
 from suspension_fabric.simulation.lammps.plugin import plugin_sources
 
 from .campaign import study_configs
-from .config import angle_label, load_config, simulation_settings, study_run_tree
+from .config import SIMULATION_RUN_KEYS, angle_label, load_config, study_run_tree
 
 __all__ = [
     "DATASET_FILE",
@@ -294,7 +294,7 @@ DATASET_FORMAT = 2
 KEYS_BEFORE_RECORDED = {"contact_springs": "explicit", "preconditioner": "jacobi"}
 #: ``run`` keys added after datasets of the current format were exported, with the value those
 #: datasets were made with (the contacts' states lagged, the only solve there was; no local solves).
-KEYS_ADDED_SINCE = {"contact_solve": "lagged", "local_solve_fraction": 0.0}
+KEYS_ADDED_SINCE = {"contact_solve": "lagged", "local_solve_fraction": 0.0, "initial_guess": "previous"}
 
 
 def upgrade_dataset(record: dict, source: str | Path = "dataset record") -> dict:
@@ -321,15 +321,15 @@ def upgrade_dataset(record: dict, source: str | Path = "dataset record") -> dict
 
 
 def _what_was_simulated(config: dict) -> dict:
-    """The config keys that decide the runs and their fabric tables (config.simulation_settings,
-    the strains, the particles, seeds, angles and eps); steady window and models may differ."""
-    settings = simulation_settings(config)
+    """The config keys that decide the runs and their fabric tables (config.SIMULATION_RUN_KEYS,
+    each with its value, the strains, the particles, seeds, angles and eps); steady window and
+    models may differ."""
     return {
         "seeds": config["seeds"],
         "angles_deg": config["angles_deg"],
         "particles": config["particles"],
-        "forces": settings["forces"],
-        **{f"run.{key}": value for key, value in settings["run"].items()},
+        "forces": dict(config["forces"]),
+        **{f"run.{key}": config["run"][key] for key in SIMULATION_RUN_KEYS},
         "run.startup_strain": config["run"]["startup_strain"],
         "run.rotation_strain": config["run"]["rotation_strain"],
         "analysis.eps": config["analysis"]["eps"],

@@ -32,7 +32,7 @@ from suspension_fabric.io.dumpio import scan_dump
 from suspension_fabric.io.protocols import Segment
 from suspension_fabric.io.resources import LAMMPS_SCRIPTS_DIR
 from suspension_fabric.io.runinfo import RUN_RECORD_FORMAT, read_run_info
-from suspension_fabric.io.schema import schema_default
+from suspension_fabric.io.schema import load_schema, schema_default
 from suspension_fabric.io.stressio import UNRECORDED_COLUMNS, read_stress_table
 from suspension_fabric.simulation.scales import output_stride
 
@@ -64,6 +64,8 @@ CHECKPOINT_FILE = "checkpoint.rst"
 RESTART_FILES = ("restart.a.rst", "restart.b.rst")
 LOG_FILE = "log.lammps"
 #: The files of a finished shear run, by role (the workflow's rule outputs).
+#: run.initial_guess's values (config/schema.yaml), the fix's keyword guess
+INITIAL_GUESSES = tuple(load_schema()["properties"]["run"]["properties"]["initial_guess"]["enum"])
 RUN_FILES = {
     "trajectory": DUMP_FILE,
     "stress": TABLE_FILE,
@@ -97,7 +99,9 @@ class ForceModel:
     implicitly by Newton passes (config/schema.yaml ``run.contact_solve``); ``preconditioner``
     of the implicit solve, "jacobi" or "dilu"; ``local_solve_fraction`` the fraction of particles
     above ``solver_tol`` below which the solve finishes locally (0: off; config/schema.yaml
-    ``run.local_solve_fraction``); ``verify_solve`` (tests) stops the run if a solve's recomputed
+    ``run.local_solve_fraction``); ``initial_guess`` the solve's first iterate each step, "previous"
+    (the old velocities), "linear" or "quadratic" (their extrapolation over the last steps;
+    config/schema.yaml ``run.initial_guess``); ``verify_solve`` (tests) stops the run if a solve's recomputed
     residual misses ``solver_tol``.
     """
 
@@ -116,6 +120,7 @@ class ForceModel:
     preconditioner: str = schema_default("run", "preconditioner")
     solver_tol: float = schema_default("run", "solver_tol")
     local_solve_fraction: float = schema_default("run", "local_solve_fraction")
+    initial_guess: str = schema_default("run", "initial_guess")
     verify_solve: bool = False
 
     @classmethod
@@ -129,6 +134,7 @@ class ForceModel:
             preconditioner=config["run"]["preconditioner"],
             solver_tol=config["run"]["solver_tol"],
             local_solve_fraction=config["run"]["local_solve_fraction"],
+            initial_guess=config["run"]["initial_guess"],
             **config["forces"],
         )
 
@@ -156,6 +162,8 @@ class ForceModel:
             raise ValueError(f"preconditioner must be 'jacobi' or 'dilu', got {self.preconditioner!r}")
         if not 0.0 <= self.local_solve_fraction < 1.0:
             raise ValueError(f"local_solve_fraction must be in [0, 1), got {self.local_solve_fraction!r}")
+        if self.initial_guess not in INITIAL_GUESSES:
+            raise ValueError(f"initial_guess must be one of {', '.join(INITIAL_GUESSES)}, got {self.initial_guess!r}")
         kt = 2.0 / 7.0 * self.kn if self.kt is None else self.kt
         return {
             "lubrication": self.lubrication,
@@ -172,6 +180,7 @@ class ForceModel:
             "preconditioner": self.preconditioner,
             "solver_tol": _number(self.solver_tol),
             "local_solve_fraction": _number(self.local_solve_fraction),
+            "initial_guess": self.initial_guess,
             "verify_solve": "yes" if self.verify_solve else "no",
             "plugin": str(_plugin_library(self.plugin)),
         }

@@ -1,5 +1,5 @@
 /* fix <ID> all hydro/implicit/sf [tol <t>] [maxiter <n>] [precond dilu|jacobi] [local <f>] [verify yes|no]
-       [contacts <kn> <kt> <mu>] [solve lagged|newton]
+       [contacts <kn> <kt> <mu>] [solve lagged|newton] [guess previous|linear|quadratic]
 
    Time integration of spheres whose hydrodynamic forces, the one-body Stokes drag and the
    pairwise lubrication of pair_style lubricate/sf, are taken implicitly.  Replaces fix
@@ -57,6 +57,10 @@
    within `maxiter` (default 1000) stops the run with an error.  `local f` finishes a solve
    by CG on the few atoms still above tol once they are at most f N (local_solve, below);
    `verify yes` recomputes each solve's residual and stops the run if it misses tol.
+   `guess linear|quadratic` starts each step's solve from the old velocities extrapolated over
+   the last one or two steps instead of from the old velocities themselves (extrapolate_first_iterate);
+   the per-atom history is then the fix's per-atom array: u_n (1-6), u_{n-1} (7-12), the number of
+   them known (13), relative velocities in LAMMPS's order vx vy vz wx wy wz.
 
    Virial: the symmetrised lubrication virial sum (x_i - x_j) F_ij of the solved velocities,
    plus with `contacts` the contact virial in LAMMPS's convention (sum (x_i - x_j)_a F_b, as
@@ -82,6 +86,7 @@
 #include "domain.h"
 #include "error.h"
 #include "force.h"
+#include "memory.h"
 #include "modify.h"
 #include "neighbor.h"
 #include "neigh_list.h"
@@ -178,10 +183,12 @@ constexpr double LOCAL_TOLERANCE = 0.3;         // a local solve stops at this f
 constexpr double VERIFY_MARGIN = 1.01;    // verify: CG's carried residual may drift this much
 constexpr double LOCAL_GAIN = 2.0;    // solve locally only while the largest error exceeds this x tol
 constexpr char PATCH = 1, REACHED = 2, CORE = 3;    // in_patch: in the patch, only reached by its pairs, above tol
+constexpr int HISTORY_KNOWN = 12;    // velocity_history: two 6-vectors, then how many of them are known
+constexpr int HISTORY_COLUMNS = 13;
 }    // namespace
 
 FixHydroImplicitSF::FixHydroImplicitSF(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), tolerance(1.0e-5), local_fraction(0.0), verify(false), max_iterations(1000), own_contacts(false), newton_contacts(false), kn(0.0),
+    Fix(lmp, narg, arg), tolerance(1.0e-5), guess_order(0), velocity_history(nullptr), local_fraction(0.0), verify(false), max_iterations(1000), own_contacts(false), newton_contacts(false), kn(0.0),
     kt(0.0), mu(0.0), dtv(0.0), lubrication(nullptr), steps(0), total_iterations(0),
     total_passes(0), total_released(0), total_local_work(0.0), last_iterations(0), last_error(0.0), sliding_contacts(0),
     use_dilu(false), dilu_fallbacks(0), distributed(false), comm_values(nullptr), comm_stride(6)
@@ -214,6 +221,12 @@ FixHydroImplicitSF::FixHydroImplicitSF(LAMMPS *lmp, int narg, char **arg) :
       else if (strcmp(arg[iarg + 1], "lagged") == 0) newton_contacts = false;
       else error->all(FLERR, "fix hydro/implicit/sf: solve must be lagged or newton, got '{}'", arg[iarg + 1]);
       iarg += 2;
+    } else if (strcmp(arg[iarg], "guess") == 0 && iarg + 1 < narg) {
+      if (strcmp(arg[iarg + 1], "previous") == 0) guess_order = 0;
+      else if (strcmp(arg[iarg + 1], "linear") == 0) guess_order = 1;
+      else if (strcmp(arg[iarg + 1], "quadratic") == 0) guess_order = 2;
+      else error->all(FLERR, "fix hydro/implicit/sf: guess must be previous, linear or quadratic, got '{}'", arg[iarg + 1]);
+      iarg += 2;
     } else if (strcmp(arg[iarg], "contacts") == 0 && iarg + 3 < narg) {
       own_contacts = true;
       kn = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
@@ -224,7 +237,8 @@ FixHydroImplicitSF::FixHydroImplicitSF(LAMMPS *lmp, int narg, char **arg) :
       iarg += 4;
     } else {
       error->all(FLERR, "Illegal fix hydro/implicit/sf keyword '{}': expected tol <t>, maxiter <n>, "
-                        "precond dilu|jacobi, local <fraction>, verify yes|no, contacts <kn> <kt> <mu> or solve lagged|newton",
+                        "precond dilu|jacobi, local <fraction>, verify yes|no, contacts <kn> <kt> <mu>, solve lagged|newton "
+                        "or guess previous|linear|quadratic",
                  arg[iarg]);
     }
   }
@@ -244,6 +258,22 @@ FixHydroImplicitSF::FixHydroImplicitSF(LAMMPS *lmp, int narg, char **arg) :
   for (double &v : contact_torque) v = 0.0;
   for (double &v : lubrication_virial) v = 0.0;
   for (double &v : stresslet_virial) v = 0.0;
+  if (guess_order > 0) {    // the history moves with its atom (sorting, migration to another rank)
+    maxexchange = HISTORY_COLUMNS;
+    peratom_flag = 1;    // and is the fix's per-atom array, f_ID[1] to f_ID[13]
+    size_peratom_cols = HISTORY_COLUMNS;
+    peratom_freq = 1;
+    grow_arrays(atom->nmax);
+    atom->add_callback(Atom::GROW);
+    for (int i = 0; i < atom->nlocal; i++) std::fill(velocity_history[i], velocity_history[i] + HISTORY_COLUMNS, 0.0);
+  }
+}
+
+FixHydroImplicitSF::~FixHydroImplicitSF()
+{
+  if (velocity_history == nullptr) return;
+  atom->delete_callback(id, Atom::GROW);
+  memory->destroy(velocity_history);
 }
 
 int FixHydroImplicitSF::setmask()
@@ -1126,6 +1156,31 @@ void FixHydroImplicitSF::assemble_rhs(const double E[3][3])
   sum_ghosts(rhs, 6);
 }
 
+/* guess linear|quadratic: the first iterate of the step's solve, from each atom's old relative
+   velocities u_n (old_velocity) and those of the steps before, u_{n-1} and u_{n-2}:
+   u_n + (u_n - u_{n-1}) (linear) or 3 u_n - 3 u_{n-1} + u_{n-2} (quadratic), as far back as the
+   atom's history reaches (a fresh fix, or one continued from a restart file, starts from u_n);
+   then the history moves on by one step.  At a step short against the time over which the
+   velocities change (the stiff contacts' small dt) this starts CG much nearer the solution.
+   Only the start moves: the contact states are still classified from u_n, the right-hand side
+   keeps the inertia of u_n, and the solve stops at the same tol. */
+void FixHydroImplicitSF::extrapolate_first_iterate()
+{
+  for (int i = 0; i < atom->nlocal; i++) {
+    double *history = velocity_history[i];
+    const int known = std::min(guess_order, static_cast<int>(history[HISTORY_KNOWN]));
+    const double *now = &old_velocity[6 * i];
+    double *first = &solution[6 * i];
+    for (int k = 0; k < 6; k++) {
+      if (known == 2) first[k] = 3.0 * now[k] - 3.0 * history[k] + history[6 + k];
+      else if (known == 1) first[k] = now[k] + (now[k] - history[k]);
+      history[6 + k] = history[k];
+      history[k] = now[k];
+    }
+    history[HISTORY_KNOWN] = std::min(2.0, history[HISTORY_KNOWN] + 1.0);
+  }
+}
+
 /* Preconditioned conjugate gradients from the current `solution`; returns the iterations. */
 int FixHydroImplicitSF::conjugate_gradients()
 {
@@ -1208,6 +1263,7 @@ void FixHydroImplicitSF::final_integrate()
   old_velocity = solution;
   if (own_contacts) classify_contacts();
   assemble_rhs(E);
+  if (guess_order > 0) extrapolate_first_iterate();
 
   // the block-Jacobi preconditioner is rebuilt every PRECONDITIONER_AGE steps and whenever the
   // local atoms were reordered (sorting): it only steers the convergence, the solution is that
@@ -1431,6 +1487,35 @@ void FixHydroImplicitSF::unpack_reverse_comm(int n, int *list, double *buf)
   int m = 0;
   for (int q = 0; q < n; q++)
     for (int k = 0; k < comm_stride; k++) values[comm_stride * static_cast<size_t>(list[q]) + k] += buf[m++];
+}
+
+// guess linear|quadratic: the per-atom history (velocity_history), moved as LAMMPS moves the atoms
+void FixHydroImplicitSF::grow_arrays(int nmax)
+{
+  memory->grow(velocity_history, nmax, HISTORY_COLUMNS, "hydro/implicit/sf:velocity_history");
+  array_atom = velocity_history;
+}
+
+void FixHydroImplicitSF::copy_arrays(int i, int j, int /*delflag*/)
+{
+  std::copy(velocity_history[i], velocity_history[i] + HISTORY_COLUMNS, velocity_history[j]);
+}
+
+int FixHydroImplicitSF::pack_exchange(int i, double *buf)
+{
+  std::copy(velocity_history[i], velocity_history[i] + HISTORY_COLUMNS, buf);
+  return HISTORY_COLUMNS;
+}
+
+int FixHydroImplicitSF::unpack_exchange(int nlocal, double *buf)
+{
+  std::copy(buf, buf + HISTORY_COLUMNS, velocity_history[nlocal]);
+  return HISTORY_COLUMNS;
+}
+
+double FixHydroImplicitSF::memory_usage()
+{
+  return velocity_history ? static_cast<double>(atom->nmax) * HISTORY_COLUMNS * sizeof(double) : 0.0;
 }
 
 double FixHydroImplicitSF::global_sum(double local) const

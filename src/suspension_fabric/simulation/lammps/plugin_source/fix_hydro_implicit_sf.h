@@ -47,6 +47,7 @@ namespace HydroVector {
 class FixHydroImplicitSF : public Fix {
  public:
   FixHydroImplicitSF(class LAMMPS *, int, char **);
+  ~FixHydroImplicitSF() override;
 
   int setmask() override;
   void init() override;
@@ -61,6 +62,11 @@ class FixHydroImplicitSF : public Fix {
   void unpack_forward_comm(int, int, double *) override;
   int pack_reverse_comm(int, int, double *) override;
   void unpack_reverse_comm(int, int *, double *) override;
+  void grow_arrays(int) override;
+  void copy_arrays(int, int, int) override;
+  int pack_exchange(int, double *) override;
+  int unpack_exchange(int, double *) override;
+  double memory_usage() override;
 
  private:
   struct LubricatedPair {
@@ -75,6 +81,12 @@ class FixHydroImplicitSF : public Fix {
   };
 
   double tolerance;    // largest velocity error |D^-1 r| allowed, in gammadot d
+  // keyword guess: the solve's first iterate, the old velocities (0) or their extrapolation over
+  // the last 1 or 2 steps (1: linear, 2: quadratic)
+  int guess_order;
+  // per atom (moving with it): the old relative velocities of the last two steps, then how many
+  // of them are this atom's (0-2)
+  double **velocity_history;
   double local_fraction;    // keyword local: solve locally once fewer atoms than this fraction are above tol
   bool verify;              // keyword verify: stop if the recomputed residual of a solve misses tol
   int max_iterations;
@@ -164,6 +176,7 @@ class FixHydroImplicitSF : public Fix {
   double apply_preconditioner(const std::vector<double> &r, std::vector<double> &z, double &largest) const;
   void tally_virial(const double E[3][3]);
   void relative_velocities(const SuspensionFabric::ImposedFlow &flow);
+  void extrapolate_first_iterate();
 };
 
 }    // namespace LAMMPS_NS
