@@ -141,7 +141,7 @@ run 0 post no
     row = {q: means[q].mean() for q in QUANTITIES}
     # the fix's counters are means since it was defined: the last sample covers the whole run
     row.update(means.iloc[-1][["passes_per_step", "iterations_per_step", "local_work_per_step"]].to_dict())
-    return {**row, "wall_per_strain": wall / (chunks * steps * dt)}
+    return {**row, "n": atoms, "wall_per_strain": wall / (chunks * steps * dt)}
 
 
 def measure(point: str, states: list[Path], config: Path, strain: float) -> pd.DataFrame:
@@ -209,12 +209,14 @@ def report_starts(table: pd.DataFrame, rungs: tuple, level: float = 0.95) -> str
     keys = ["initial_guess", "local_solve_fraction"] if isinstance(rungs[0], tuple) else ["local_solve_fraction"]
     reference = rungs[0] if len(keys) > 1 else (rungs[0],)
     lines = []
-    for point, rows in table.groupby("point", sort=False):
+    sizes = "n" in table and table["n"].nunique() > 1  # one table per point and size
+    for group, rows in table.groupby(["point", "n"] if sizes else "point", sort=False):
         per_state = rows.groupby([*keys, "state"]).median(numeric_only=True)
         base = per_state.xs(reference, level=keys)
         states = len(base)
+        name = f"{group[0]}, N = {group[1]:g}" if sizes else group
         lines.append(
-            f"{point}: dt {rows['dt'].iloc[0]:g}, {states} states, {rows['strain'].iloc[0]:g} strain from each, "
+            f"{name}: dt {rows['dt'].iloc[0]:g}, {states} states, {rows['strain'].iloc[0]:g} strain from each, "
             f"{rows['repeat'].nunique()} rounds (median per state); ratio to "
             + ", ".join(f"{key} {_cell(value)}" for key, value in zip(keys, reference, strict=True))
             + f" on the same state, mean [{level:.0%} t-interval over states]\n"
