@@ -19,19 +19,14 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from trajectory_helpers import assert_same_run
+from trajectory_helpers import DT, STEPS, TIGHT_TOLERANCE, assert_same_run, dense_packing, newton_startup
 
 from suspension_fabric.io.schema import schema_default
-from suspension_fabric.simulation.lammps import ForceModel, ShearSettings, pack, run_startup
-from suspension_fabric.simulation.lammps.plugin import plugin_path
+from suspension_fabric.simulation.lammps import ForceModel
 from suspension_fabric.simulation.lammps.process import thermo_rows
 
 pytestmark = pytest.mark.lammps
 
-N = 500
-STEPS = 500
-DT = 1.0e-4
-TOLERANCE = 1.0e-7
 DEFAULT_TOLERANCE = schema_default("run", "solver_tol")
 FRACTION = 0.02
 
@@ -45,37 +40,17 @@ def mean_global_iterations(run) -> float:
 def runs(tmp_path_factory):
     """The same startup with global iterations only, and with local solves on 1 and 2 ranks."""
     root = tmp_path_factory.mktemp("local")
-    packing = pack(root / "packing", N, phi=0.5, seed=3, gap_margin=0.0)
+    packing = dense_packing(root / "packing")
     cases = {
-        "global": (0.0, 1, TOLERANCE),
-        "local": (FRACTION, 1, TOLERANCE),
-        "local_2_ranks": (FRACTION, 2, TOLERANCE),
+        "global": (0.0, 1, TIGHT_TOLERANCE),
+        "local": (FRACTION, 1, TIGHT_TOLERANCE),
+        "local_2_ranks": (FRACTION, 2, TIGHT_TOLERANCE),
         "global_default_tol": (0.0, 1, DEFAULT_TOLERANCE),
         "local_default_tol": (FRACTION, 1, DEFAULT_TOLERANCE),
     }
     return {
-        name: run_startup(
-            root / name,
-            packing.data_file,
-            STEPS * DT,
-            settings=ShearSettings(
-                dt=DT,
-                dump_strain=STEPS * DT / 2,
-                table_strain=STEPS * DT / 10,
-                thermo_strain=STEPS * DT / 100,
-                restart_strain=STEPS * DT,
-                max_stress_jitter=None,
-                ranks=ranks,
-            ),
-            force_model=ForceModel(
-                plugin=plugin_path(),
-                contact_solve="newton",
-                kn=1.25e8,
-                solver_tol=tolerance,
-                local_solve_fraction=fraction,
-                verify_solve=True,
-            ),
-            progress=None,
+        name: newton_startup(
+            root / name, packing, STEPS, DT, ranks=ranks, solver_tol=tolerance, local_solve_fraction=fraction
         )
         for name, (fraction, ranks, tolerance) in cases.items()
     }
