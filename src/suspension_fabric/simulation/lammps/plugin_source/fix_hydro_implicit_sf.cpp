@@ -67,6 +67,8 @@
    pair granular tallies it), is the fix's virial (compute pressure ... fix, and the total
    pressure); the drag adds none (see README.md).  The parts are in the fix's vector, with
    the pairs' lubrication stresslets (lubrication.h), which the virial does not include.
+   Both take a pass over the pairs, so they are made only on the steps LAMMPS tallies the virial
+   for (thermo, stress output) and when the vector is read, from that step's solution.
    The springs are written to restart files (global fix state) and read back when a fix with
    the same ID and style is defined after read_restart.
 
@@ -191,7 +193,7 @@ FixHydroImplicitSF::FixHydroImplicitSF(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), tolerance(1.0e-5), guess_order(0), velocity_history(nullptr), local_fraction(0.0), verify(false), max_iterations(1000), own_contacts(false), newton_contacts(false), kn(0.0),
     kt(0.0), mu(0.0), dtv(0.0), lubrication(nullptr), steps(0), total_iterations(0),
     total_passes(0), total_released(0), total_local_work(0.0), last_iterations(0), last_error(0.0), sliding_contacts(0),
-    use_dilu(false), dilu_fallbacks(0), distributed(false), comm_values(nullptr), comm_stride(6)
+    use_dilu(false), dilu_fallbacks(0), distributed(false), comm_values(nullptr), comm_stride(6), tallied_step(-1)
 {
   int iarg = 3;
   while (iarg < narg) {
@@ -334,8 +336,7 @@ void FixHydroImplicitSF::setup(int /*vflag*/)
     for (SuspensionFabric::Contact &c : contacts) c.sticking = true;
     finish_contacts(false);
   }
-  tally_virial(E);
-  report_vector();
+  tally_step(E);
 }
 
 // E = (L + L^T)/2 of the imposed flow
@@ -1299,12 +1300,24 @@ void FixHydroImplicitSF::final_integrate()
       omega[i][k] = solution[6 * i + 3 + k] + W[k];
     }
   }
-  tally_virial(E);
   steps++;
   total_iterations += iterations;
   total_passes += passes;
   last_iterations = iterations;
+  // the lubrication virial and the fix's vector take a pass over the pairs and a global sum: made
+  // on the steps LAMMPS tallies the virial for (output), else when the vector is read
+  for (int a = 0; a < 3; a++)
+    for (int b = 0; b < 3; b++) step_strain[a][b] = E[a][b];
+  tallied_step = -1;
+  if (update->vflag_global == update->ntimestep) tally_step(step_strain);
+}
+
+// the virial and the fix's vector of the step just solved (E: its imposed strain rate)
+void FixHydroImplicitSF::tally_step(const double E[3][3])
+{
+  tally_virial(E);
   report_vector();
+  tallied_step = update->ntimestep;
 }
 
 /* Virial of the lubrication forces at the velocities in `solution`: sum over pairs of
@@ -1348,6 +1361,7 @@ void FixHydroImplicitSF::tally_virial(const double E[3][3])
    iterations / N).  4-12 and 20-22 are zero without `contacts`. */
 double FixHydroImplicitSF::compute_vector(int n)
 {
+  if (tallied_step != update->ntimestep) tally_step(step_strain);
   return reported[n];
 }
 

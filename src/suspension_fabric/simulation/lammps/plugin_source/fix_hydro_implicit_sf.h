@@ -144,6 +144,9 @@ class FixHydroImplicitSF : public Fix {
   bool distributed;
   std::vector<double> *comm_values;    // the vector being communicated, comm_stride entries per atom
   int comm_stride;
+  // the last step's imposed strain rate, and the step whose virial and vector are tallied (-1: not yet)
+  double step_strain[3][3];
+  bigint tallied_step;
   int vector_atoms() const;
   void exchange_ghosts(std::vector<double> &values, int stride);
   void sum_ghosts(std::vector<double> &values, int stride);
@@ -175,6 +178,7 @@ class FixHydroImplicitSF : public Fix {
   bool factor_dilu();
   double apply_preconditioner(const std::vector<double> &r, std::vector<double> &z, double &largest) const;
   void tally_virial(const double E[3][3]);
+  void tally_step(const double E[3][3]);
   void relative_velocities(const SuspensionFabric::ImposedFlow &flow);
   void extrapolate_first_iterate();
 };
