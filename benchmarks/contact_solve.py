@@ -88,8 +88,12 @@ def continue_shear(
     initial_guess: str = "previous",
 ) -> dict:
     """Means over ``strain`` of shear continued from ``checkpoint``, and the wall time per strain."""
-    run = {**study["run"], "contact_solve": solve, "local_solve_fraction": local_fraction}
-    run["initial_guess"] = initial_guess
+    run = {
+        **study["run"],
+        "contact_solve": solve,
+        "local_solve_fraction": local_fraction,
+        "initial_guess": initial_guess,
+    }
     model = ForceModel.from_config({**study, "run": run})
     v = model.variables()
     lmp = new_lammps(load_plugin=False)

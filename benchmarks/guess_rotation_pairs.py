@@ -89,23 +89,32 @@ def run_all() -> None:
         list(pool.map(lambda job: rotate(*job), [(solve, seed) for seed in STATES for solve in SOLVES]))
 
 
+def bins() -> list[tuple[float, float]]:
+    """engine_ladder.BINS up to the rotations' strain."""
+    return [b for b in BINS if b[1] <= STRAIN + 1e-9]
+
+
+def state_differences(kind: str, column: str) -> np.ndarray:
+    """Per state (rows) and strain bin, the new solve's bin mean less the old one's."""
+    old, new = (TABLES / name for name in SOLVES)
+    with warnings.catch_warnings():  # the bins beyond the rotation's strain are empty
+        warnings.simplefilter("ignore", RuntimeWarning)
+        a = binned_seed_means(new, ANGLE, kind, column)[:, : len(bins())]
+        b = binned_seed_means(old, ANGLE, kind, column)[:, : len(bins())]
+    return a - b
+
+
 def report(level: float = 0.95) -> str:
-    bins = [b for b in BINS if b[1] <= STRAIN + 1e-9]
     lines = [
         f"{ANGLE}-degree rotation from the same {len(STATES)} states, {STRAIN:g} strain: "
         f"{' - '.join(reversed(SOLVES))} per state, mean [{level:.0%} t-interval over states]; "
         "dataset spread: the seed-to-seed standard deviation of the bin in data/campaign/phi0.55_mu1\n",
-        "| quantity | " + " | ".join(f"{a:g}-{b:g}" for a, b in bins) + " |",
-        "|---|" + "---|" * len(bins),
+        "| quantity | " + " | ".join(f"{a:g}-{b:g}" for a, b in bins()) + " |",
+        "|---|" + "---|" * len(bins()),
     ]
-    old, new = (TABLES / name for name in SOLVES)
     for kind, column, label in TRANSIENTS:
-        with warnings.catch_warnings():  # the bins beyond the rotation's strain are empty
-            warnings.simplefilter("ignore", RuntimeWarning)
-            a = binned_seed_means(new, ANGLE, kind, column)[:, : len(bins)]
-            b = binned_seed_means(old, ANGLE, kind, column)[:, : len(bins)]
-        spread = binned_seed_means(DATASET, ANGLE, kind, column)[:, : len(bins)].std(axis=0, ddof=1)
-        difference = a - b
+        difference = state_differences(kind, column)
+        spread = binned_seed_means(DATASET, ANGLE, kind, column)[:, : len(bins())].std(axis=0, ddof=1)
         mean = difference.mean(axis=0)
         t = stats.t.ppf(0.5 + level / 2, len(difference) - 1)
         half = t * difference.std(axis=0, ddof=1) / np.sqrt(len(difference))

@@ -22,7 +22,6 @@ import importlib.util
 import json
 import re
 import sys
-import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cache
@@ -883,13 +882,25 @@ QUOTES += MPI_PRECONDITIONER_QUOTES
 # -- BENCHMARKS.md's record of the test suite's CPU (benchmarks/suite_cpu.py) ---------------------
 
 
+@cache
+def benchmark_script(name: str):
+    """A script of benchmarks/ as a module (it may import its sibling scripts)."""
+    folder = str(REPO / "benchmarks")
+    spec = importlib.util.spec_from_file_location(name, REPO / "benchmarks" / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.path.insert(0, folder)
+    try:
+        spec.loader.exec_module(module)
+    finally:
+        sys.path.remove(folder)
+    return module
+
+
 def suite_cpu_figures(commit: str) -> list[float]:
     """benchmarks/suite_cpu.py's record of a commit: the processes and their CPU; those outside any
     test, their CPU, the CPU and count of the Snakemake job steps among them; the reference
     rebuild's and the map rebuild's CPU."""
-    spec = importlib.util.spec_from_file_location("suite_cpu", REPO / "benchmarks" / "suite_cpu.py")
-    suite_cpu = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(suite_cpu)
+    suite_cpu = benchmark_script("suite_cpu")
     table = suite_cpu.read_record(REPO / "benchmarks/data/suite_cpu" / f"{commit}.tsv")
     outside = suite_cpu.outside_summary(table)
 
@@ -1613,29 +1624,9 @@ def solve_pairs() -> pd.Series:
     return table["current"] / table["HEAD"]
 
 
-@cache
-def rotation_pair_differences(kind: str, column: str, bin_index: int) -> float:
+def rotation_pair_difference(kind: str, column: str, bin_index: int) -> float:
     """benchmarks/guess_rotation_pairs.py: the mean over the states of the new solve's bin mean less the old one's."""
-    spec = importlib.util.spec_from_file_location("engine_ladder", REPO / "benchmarks" / "engine_ladder.py")
-    ladder = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(ladder)
-    tables = REPO / "benchmarks/data/engine_validation/guess_rotation_pairs"
-    with warnings.catch_warnings():  # the bins beyond the rotations' 0.5 strain are empty
-        warnings.simplefilter("ignore", RuntimeWarning)
-        new = ladder.binned_seed_means(tables / "quadratic_local", 90, kind, column)[:, bin_index]
-        old = ladder.binned_seed_means(tables / "previous", 90, kind, column)[:, bin_index]
-    return float((new - old).mean())
-
-
-def welch_null_of(seeds_a: int, seeds_b: int, count: int) -> tuple[float, float]:
-    spec = importlib.util.spec_from_file_location("engine_validation", REPO / "benchmarks" / "engine_validation.py")
-    validation = importlib.util.module_from_spec(spec)
-    sys.path.insert(0, str(REPO / "benchmarks"))
-    try:
-        spec.loader.exec_module(validation)
-    finally:
-        sys.path.remove(str(REPO / "benchmarks"))
-    return validation.welch_null(seeds_a, seeds_b, count)
+    return float(benchmark_script("guess_rotation_pairs").state_differences(kind, column)[:, bin_index].mean())
 
 
 GUESS_FOLDERS = [REPO / GUESS_CORNER], [REPO / CORNER_DATASET]
@@ -1691,13 +1682,13 @@ QUOTES += [
     Quote(
         "BENCHMARKS.md",
         "expects {13.0} of the 140 bins beyond 2 and puts the largest beyond {7.12} in 5% of draws.",
-        lambda: list(welch_null_of(4, 4, 140)),
+        lambda: list(benchmark_script("engine_validation").welch_null(4, 4, 140)),
         None,
     ),
     Quote(
         "BENCHMARKS.md",
         "<nn>'_12 over 0.05-0.1 moves by {0.00009} and sigma'_12 over 0.2-0.3 by {-7.6}.",
-        lambda: [rotation_pair_differences("fabric", "n12", 1), rotation_pair_differences("stress", "total_12", 3)],
+        lambda: [rotation_pair_difference("fabric", "n12", 1), rotation_pair_difference("stress", "total_12", 3)],
         None,
     ),
 ]

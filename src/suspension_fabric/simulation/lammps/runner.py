@@ -63,9 +63,9 @@ TABLE_FILE = "stress.txt"
 CHECKPOINT_FILE = "checkpoint.rst"
 RESTART_FILES = ("restart.a.rst", "restart.b.rst")
 LOG_FILE = "log.lammps"
-#: The files of a finished shear run, by role (the workflow's rule outputs).
 #: run.initial_guess's values (config/schema.yaml), the fix's keyword guess
 INITIAL_GUESSES = tuple(load_schema()["properties"]["run"]["properties"]["initial_guess"]["enum"])
+#: The files of a finished shear run, by role (the workflow's rule outputs).
 RUN_FILES = {
     "trajectory": DUMP_FILE,
     "stress": TABLE_FILE,
