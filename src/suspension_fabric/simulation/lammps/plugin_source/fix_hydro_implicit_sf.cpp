@@ -607,8 +607,7 @@ void FixHydroImplicitSF::self_resistance(int i, double &translation, double &rot
 // out_i = the one-body terms times in_i (the start of row i of A in)
 void FixHydroImplicitSF::set_self_product(int i, const std::vector<double> &in, std::vector<double> &out) const
 {
-  double translation, rotation;
-  self_resistance(i, translation, rotation);
+  const double translation = self_resistances[2 * i], rotation = self_resistances[2 * i + 1];
   for (int k = 0; k < 3; k++) {
     out[6 * i + k] = translation * in[6 * i + k];
     out[6 * i + 3 + k] = rotation * in[6 * i + 3 + k];
@@ -633,12 +632,12 @@ void FixHydroImplicitSF::add_pair_products(const std::vector<double> &in, std::v
                                            const std::vector<int> *contact_subset) const
 {
   double fi[3], ti[3], tj[3];
-  const size_t pair_count = pair_subset ? pair_subset->size() : pairs.size();
+  const size_t pair_count = pair_subset ? pair_subset->size() : operator_pairs.size();
   for (size_t q = 0; q < pair_count; q++) {
-    const LubricatedPair &p = pairs[pair_subset ? (*pair_subset)[q] : q];
+    const OperatorPair &p = operator_pairs[pair_subset ? (*pair_subset)[q] : q];
     const double *ui = &in[6 * p.i], *uj = &in[6 * p.j];
     const double du[3] = {ui[0] - uj[0], ui[1] - uj[1], ui[2] - uj[2]};
-    SuspensionFabric::lubrication_forces(p.R, du, ui + 3, uj + 3, fi, ti, tj);
+    SuspensionFabric::lubrication_forces(p, du, ui + 3, uj + 3, fi, ti, tj);
     double *oi = &out[6 * p.i];
     for (int k = 0; k < 3; k++) {    // resistance = minus the force
       oi[k] -= fi[k];
@@ -652,15 +651,15 @@ void FixHydroImplicitSF::add_pair_products(const std::vector<double> &in, std::v
       }
     }
   }
-  // implicit springs: sticking ones kt dt B^T B, i.e. minus the force -kt dt s of the slip
-  // s, and pressed normal springs kn dt n n on the relative translation
+  // the contacts not folded into their pair: sliding ones with the consistent tangent, kt dt
+  // times the slip's part across the sliding direction, and those of pairs acting on i only;
+  // a sticking spring is minus the force -kt dt s of the slip s, a pressed normal one kn dt n n
   const double stiffness = kt * dtv;
   const double normal_stiffness = kn * dtv;
-  const size_t contact_count = contact_subset ? contact_subset->size() : contacts.size();
+  const size_t contact_count = contact_subset ? contact_subset->size() : separate_contacts.size();
   for (size_t q = 0; q < contact_count; q++) {
-    const SuspensionFabric::Contact &c = contacts[contact_subset ? (*contact_subset)[q] : q];
+    const SuspensionFabric::Contact &c = contacts[contact_subset ? (*contact_subset)[q] : separate_contacts[q]];
     const bool sliding_tangent = newton_contacts && !c.sticking;
-    if (!c.sticking && !c.pressed && !sliding_tangent) continue;
     const double *ui = &in[6 * c.i], *uj = &in[6 * c.j];
     const double du[3] = {ui[0] - uj[0], ui[1] - uj[1], ui[2] - uj[2]};
     double s[3] = {0.0, 0.0, 0.0};
@@ -683,6 +682,54 @@ void FixHydroImplicitSF::add_pair_products(const std::vector<double> &in, std::v
       oj[k] += fi[k];
       oj[3 + k] -= tj[k];
     }
+  }
+}
+
+/* The operator for the contacts' current states: each atom's self resistances, and each pair's
+   (OperatorPair) lubrication resistances plus the springs of its sticking or pressed contact when
+   the pair acts on both atoms; the other contacts in the operator go to separate_contacts. */
+void FixHydroImplicitSF::build_operator()
+{
+  const int nlocal = atom->nlocal;
+  self_resistances.resize(2 * static_cast<size_t>(nlocal));
+  for (int i = 0; i < nlocal; i++) self_resistance(i, self_resistances[2 * i], self_resistances[2 * i + 1]);
+  operator_pairs.resize(pairs.size());
+  for (size_t k = 0; k < pairs.size(); k++) {
+    const LubricatedPair &p = pairs[k];
+    OperatorPair &o = operator_pairs[k];
+    o.i = p.i;
+    o.j = p.j;
+    o.add_to_j = p.add_to_j;
+    for (int a = 0; a < 3; a++) o.n[a] = p.R.n[a];
+    o.X = p.R.X;
+    o.YA = p.R.YA;
+    o.YBi = p.R.YBi;
+    o.YBj = p.R.YBj;
+    o.YCi = p.R.YCi;
+    o.YCj = p.R.YCj;
+    o.YCx = p.R.YCx;
+  }
+  separate_contacts.clear();
+  const double stiffness = kt * dtv;
+  for (size_t q = 0; q < contacts.size(); q++) {
+    const SuspensionFabric::Contact &c = contacts[q];
+    const bool sliding_tangent = newton_contacts && !c.sticking;
+    if (!c.sticking && !c.pressed && !sliding_tangent) continue;
+    OperatorPair &o = operator_pairs[c.pair];
+    if (sliding_tangent || !o.add_to_j) {
+      separate_contacts.push_back(static_cast<int>(q));
+      continue;
+    }
+    // the contact's n is the pair's reversed (from j to i), which the coefficients absorb
+    if (c.sticking) {
+      o.YA += stiffness;
+      o.YBi -= stiffness * c.li;
+      o.YBj -= stiffness * c.lj;
+      o.YCi += stiffness * c.li * c.li;
+      o.YCj += stiffness * c.lj * c.lj;
+      o.YCx += stiffness * c.li * c.lj;
+    }
+    if (c.pressed) o.X += kn * dtv;
   }
 }
 
@@ -982,8 +1029,8 @@ void FixHydroImplicitSF::collect_patch()
       reach(pairs[q].j);
     }
   patch_contacts.clear();
-  for (size_t q = 0; q < contacts.size(); q++)
-    if (member(contacts[q].i) || member(contacts[q].j)) patch_contacts.push_back(static_cast<int>(q));
+  for (int q : separate_contacts)
+    if (member(contacts[q].i) || member(contacts[q].j)) patch_contacts.push_back(q);
 }
 
 // out = A in on the reached atoms, for `in` zero outside the patch (out elsewhere untouched)
@@ -1186,6 +1233,7 @@ void FixHydroImplicitSF::extrapolate_first_iterate()
 int FixHydroImplicitSF::conjugate_gradients()
 {
   const size_t size = 6 * static_cast<size_t>(atom->nlocal);
+  build_operator();
   apply_operator(solution, product);
   for (size_t k = 0; k < size; k++) residual[k] = rhs[k] - product[k];
   double error_now;

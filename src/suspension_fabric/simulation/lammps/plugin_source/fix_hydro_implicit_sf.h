@@ -80,6 +80,18 @@ class FixHydroImplicitSF : public Fix {
     double xi[3];
   };
 
+  /* A lubricated pair as the operator sees it within one solve: the lubrication resistances
+     plus those of the pair's implicit contact springs (a sticking spring c = kt dt adds
+     YA += c, YBi -= c l_i, YBj -= c l_j, YCi += c l_i^2, YCj += c l_j^2, YCx += c l_i l_j, a
+     pressed one X += kn dt; contact.h, lubrication.h), so the product takes one pass over the
+     pairs.  Sliding contacts (their tangent depends on the trial spring) stay separate. */
+  struct OperatorPair {
+    int i, j;
+    bool add_to_j;
+    double n[3];
+    double X, YA, YBi, YBj, YCi, YCj, YCx;
+  };
+
   double tolerance;    // largest velocity error |D^-1 r| allowed, in gammadot d
   // keyword guess: the solve's first iterate, the old velocities (0) or their extrapolation over
   // the last 1 or 2 steps (1: linear, 2: quadratic)
@@ -98,6 +110,9 @@ class FixHydroImplicitSF : public Fix {
 
   std::vector<LubricatedPair> pairs;
   std::vector<SuspensionFabric::Contact> contacts;
+  std::vector<OperatorPair> operator_pairs;    // per pair, rebuilt before each solve
+  std::vector<int> separate_contacts;          // contacts in the operator not folded into their pair
+  std::vector<double> self_resistances;        // per local atom, rebuilt with them: translation, rotation
   // tangential spring of each contact, by (smaller tag, larger tag): displacement of the atom
   // with the smaller tag relative to the other.  Each rank keeps the springs of the pairs it
   // lists; after a neighbour-list build, when a pair may move to another rank, all ranks
@@ -160,6 +175,7 @@ class FixHydroImplicitSF : public Fix {
   void classify_contacts();
   void assemble_rhs(const double E[3][3]);
   int conjugate_gradients();
+  void build_operator();
   int release_violated_springs();
   int relinearise_contacts();
   void finish_contacts(bool update_springs);

@@ -59,8 +59,10 @@ inline bool lubrication_resistance(const double del[3], double ai, double aj, do
 /* Force on i (fi; j gets -fi) and torques on i and j for the relative velocity du and the
    angular velocities wi, wj (all relative to the imposed flow, see pair_lubricate_sf.cpp):
      F_i = -X (n.du) n - YA P du - YBi n x w_i - YBj n x w_j
-     T_i = -YBi du x n - P (YCi w_i + YCx w_j),   T_j = -YBj du x n - P (YCx w_i + YCj w_j) */
-inline void lubrication_forces(const PairResistance &R, const double du[3], const double wi[3],
+     T_i = -YBi du x n - P (YCi w_i + YCx w_j),   T_j = -YBj du x n - P (YCx w_i + YCj w_j)
+   (R: a PairResistance, or any struct with n and these seven coefficients) */
+template <class Resistance>
+inline void lubrication_forces(const Resistance &R, const double du[3], const double wi[3],
                                const double wj[3], double fi[3], double ti[3], double tj[3])
 {
   const double *n = R.n;
