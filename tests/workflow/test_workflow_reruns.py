@@ -11,9 +11,12 @@ upstream one (models.fabric: fit_models, not predict or benchmark_models);
 test_params_of_downstream_rules checks the downstream rule on its own. The table is the rerun matrix of
 docs/workflow.md."""
 
+import re
+
 import pytest
 
-from workflow_helpers import RESULTS, TEST_CONFIG, dry_run_jobs, snakemake
+from suspension_fabric.study.config import SIMULATION_RUN_KEYS
+from workflow_helpers import REPO, RESULTS, TEST_CONFIG, dry_run_jobs, snakemake
 
 pytestmark = pytest.mark.workflow
 
@@ -199,3 +202,12 @@ def test_a_segment_after_another_has_the_changed_params_itself(study, override):
     for seed in (1, 2):
         for run in ("startup", "rotation_theta0", "rotation_theta90"):
             assert f"{RESULTS}/seed{seed}/{run}/trajectory.dump" in changed, (run, result.stdout[-2000:])
+
+
+def test_the_docs_rerun_table_names_every_run_key_a_simulation_depends_on():
+    """docs/workflow.md's rerun table names each run key in config.SIMULATION_RUN_KEYS (each reruns every
+    simulation; the cases above check some of them)."""
+    text = (REPO / "docs" / "workflow.md").read_text()
+    table = text[text.index("| key changed |") :].split("\n\n")[0]
+    named = set(re.findall(r"`run\.(\w+)`", table))
+    assert set(SIMULATION_RUN_KEYS) <= named, sorted(set(SIMULATION_RUN_KEYS) - named)
