@@ -14,8 +14,12 @@ sampling noise; the seeds' states are the independent units (mean and 95% t-inte
     .venv/bin/python benchmarks/contact_solve.py report
 
     .venv/bin/python benchmarks/contact_solve.py local --point phi0.55_mu1 \
-        --states 'results/corner_probe/seed*/startup/checkpoint.rst' --strain 0.05
+        --states 'results/corner_probe/seed*/startup/checkpoint.rst' --strain 0.05 \
+        --config benchmarks/configs/campaign_corner_point.yaml
     .venv/bin/python benchmarks/contact_solve.py guess --point phi0.55_mu1 \
+        --states 'results/corner_probe/seed*/startup/checkpoint.rst' --strain 0.05 \
+        --config benchmarks/configs/campaign_corner_point.yaml
+    .venv/bin/python benchmarks/contact_solve.py precond --point phi0.55_mu1 \
         --states 'results/corner_probe/seed*/startup/checkpoint.rst' --strain 0.05
 
 `local`: from each state, the point's own engine (its solve and dt) with each
@@ -23,7 +27,10 @@ run.local_solve_fraction of LOCAL_FRACTIONS in turn (the old velocities as the s
 iterate), LOCAL_REPEATS rounds (the same solve to the tolerance, so the wall times compare the
 local solves' cost; time it on an idle machine); `local-report` prints its table again.
 `guess`: the same with each (run.initial_guess, run.local_solve_fraction) of GUESS_RUNGS;
-`guess-report` prints its table again.
+`guess-report` prints its table again. `precond`: the same with each (run.preconditioner,
+run.initial_guess, run.local_solve_fraction) of PRECOND_RUNGS; `precond-report`. The `local` and
+`guess` tables were measured with the corner point's first engine (dilu, the old velocities as the
+first iterate), which benchmarks/configs/campaign_corner_point.yaml keeps.
 
 The reference rung is the lagged solve at 0.024 tau (the campaign's engine; tau = X(delta)/kn of
 two small spheres, suspension_fabric.simulation.scales.contact_relaxation_time). The wall times
@@ -60,6 +67,15 @@ LOCAL_REPEATS = 3
 GUESS_TABLE = HERE / "data" / "contact_solve_guess.csv"
 #: (run.initial_guess, run.local_solve_fraction) of the `guess` command; the first is the reference
 GUESS_RUNGS = (("previous", 0.0), ("linear", 0.0), ("quadratic", 0.0), ("quadratic", 0.02))
+PRECOND_TABLE = HERE / "data" / "contact_solve_precond.csv"
+#: (run.preconditioner, run.initial_guess, run.local_solve_fraction) of the `precond` command; the
+#: first (the engine the map's first datasets of (0.53, 1) and (0.55, 1) were made with) is the reference
+PRECOND_RUNGS = (
+    ("dilu", "previous", 0.0),
+    ("jacobi", "previous", 0.0),
+    ("dilu", "quadratic", 0.02),
+    ("jacobi", "quadratic", 0.02),
+)
 
 
 def point_study(name: str, config: Path) -> dict:
@@ -86,6 +102,7 @@ def continue_shear(
     strain: float,
     local_fraction: float = 0.0,
     initial_guess: str = "previous",
+    preconditioner: str | None = None,
 ) -> dict:
     """Means over ``strain`` of shear continued from ``checkpoint``, and the wall time per strain."""
     run = {
@@ -93,6 +110,7 @@ def continue_shear(
         "contact_solve": solve,
         "local_solve_fraction": local_fraction,
         "initial_guess": initial_guess,
+        "preconditioner": preconditioner or study["run"]["preconditioner"],
     }
     model = ForceModel.from_config({**study, "run": run})
     v = model.variables()
@@ -176,22 +194,32 @@ def measure(point: str, states: list[Path], config: Path, strain: float) -> pd.D
 
 
 def measure_starts(
-    point: str, states: list[Path], config: Path, strain: float, rungs: tuple[tuple[str, float], ...]
+    point: str, states: list[Path], config: Path, strain: float, rungs: tuple[tuple, ...]
 ) -> pd.DataFrame:
     """The point's own engine (its solve and dt) from each state, with each (initial_guess,
-    local_solve_fraction) of ``rungs`` in turn, LOCAL_REPEATS rounds: the same trajectory to the
-    solver's tolerance, so the wall times compare the solves."""
+    local_solve_fraction) or (preconditioner, initial_guess, local_solve_fraction) of ``rungs`` in
+    turn, LOCAL_REPEATS rounds: the same trajectory to the solver's tolerance, so the wall times
+    compare the solves."""
     study = point_study(point, config)
     rows = []
     for repeat in range(1, LOCAL_REPEATS + 1):
         for state in states:
-            for guess, fraction in rungs:
+            for rung in rungs:
+                preconditioner, guess, fraction = rung if len(rung) == 3 else (study["run"]["preconditioner"], *rung)
                 row = continue_shear(
-                    state, study, study["run"]["contact_solve"], study["run"]["dt"], strain, fraction, guess
+                    state,
+                    study,
+                    study["run"]["contact_solve"],
+                    study["run"]["dt"],
+                    strain,
+                    fraction,
+                    guess,
+                    preconditioner,
                 )
                 rows.append(
                     {"point": point, "state": str(state), "repeat": repeat, "local_solve_fraction": fraction}
-                    | {"initial_guess": guess, "dt": study["run"]["dt"], "strain": strain, **row}
+                    | {"initial_guess": guess, "preconditioner": preconditioner}
+                    | {"dt": study["run"]["dt"], "strain": strain, **row}
                 )
                 print(
                     pd.DataFrame(rows[-1:]).drop(columns="state").to_string(index=False, header=len(rows) == 1),
@@ -205,12 +233,17 @@ def _cell(value) -> str:
 
 
 def report_starts(table: pd.DataFrame, rungs: tuple, level: float = 0.95) -> str:
-    """Per point and rung (``rungs``: local_solve_fraction values, or (initial_guess,
-    local_solve_fraction) pairs): CG iterations and local work per step, the wall time per strain
-    (each state's median over the repeats) and its ratio to the first rung on the same state,
-    mean and t-interval over the states; the contact quantities' largest relative difference from
-    the first rung's run on the same state (the solves agree to the tolerance)."""
-    keys = ["initial_guess", "local_solve_fraction"] if isinstance(rungs[0], tuple) else ["local_solve_fraction"]
+    """Per point and rung (``rungs``: local_solve_fraction values, (initial_guess,
+    local_solve_fraction) pairs or (preconditioner, initial_guess, local_solve_fraction)): CG
+    iterations and local work per step, the wall time per strain (each state's median over the
+    repeats) and its ratio to the first rung on the same state, mean and t-interval over the
+    states; the contact quantities' largest relative difference from the first rung's run on the
+    same state (the solves agree to the tolerance)."""
+    keys = (
+        ["preconditioner", "initial_guess", "local_solve_fraction"][-len(rungs[0]) :]
+        if isinstance(rungs[0], tuple)
+        else ["local_solve_fraction"]
+    )
     reference = rungs[0] if len(keys) > 1 else (rungs[0],)
     lines = []
     sizes = "n" in table and table["n"].nunique() > 1  # one table per point and size
@@ -293,13 +326,21 @@ def report(table: pd.DataFrame, level: float = 0.95) -> str:
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("command", choices=("run", "report", "local", "local-report", "guess", "guess-report"))
+    parser.add_argument(
+        "command",
+        choices=("run", "report", "local", "local-report", "guess", "guess-report", "precond", "precond-report"),
+    )
     parser.add_argument("--point", help="the campaign point whose engine the states were made with (run)")
     parser.add_argument("--states", help="glob of the checkpoints to continue, one per seed (run)")
     parser.add_argument("--config", type=Path, default=REPO / "config" / "campaign.yaml")
     parser.add_argument("--strain", type=float, default=0.1)
     args = parser.parse_args(argv)
-    tables = {"run": TABLE, "local": LOCAL_TABLE, "guess": GUESS_TABLE}
+    tables = {"run": TABLE, "local": LOCAL_TABLE, "guess": GUESS_TABLE, "precond": PRECOND_TABLE}
+    start_rungs = {
+        "local": tuple(("previous", f) for f in LOCAL_FRACTIONS),
+        "guess": GUESS_RUNGS,
+        "precond": PRECOND_RUNGS,
+    }
     if args.command in tables:
         states = [Path(p) for p in sorted(glob.glob(args.states or ""))]
         if not args.point or not states:
@@ -308,8 +349,7 @@ def main(argv: list[str] | None = None) -> None:
         if args.command == "run":
             table = measure(args.point, states, args.config, args.strain)
         else:
-            rungs = GUESS_RUNGS if args.command == "guess" else tuple(("previous", f) for f in LOCAL_FRACTIONS)
-            table = measure_starts(args.point, states, args.config, args.strain, rungs)
+            table = measure_starts(args.point, states, args.config, args.strain, start_rungs[args.command])
         if path.is_file():  # keep the other points' rows
             old = pd.read_csv(path)
             table = pd.concat([old[old["point"] != args.point], table], ignore_index=True)
@@ -319,6 +359,8 @@ def main(argv: list[str] | None = None) -> None:
         print(report_starts(pd.read_csv(LOCAL_TABLE), LOCAL_FRACTIONS))
     elif args.command in ("guess", "guess-report"):
         print(report_starts(pd.read_csv(GUESS_TABLE), GUESS_RUNGS))
+    elif args.command in ("precond", "precond-report"):
+        print(report_starts(pd.read_csv(PRECOND_TABLE), PRECOND_RUNGS))
     else:
         print(report(pd.read_csv(TABLE)))
 
