@@ -5,6 +5,7 @@ simulation across MPI ranks").
     .venv/bin/python benchmarks/mpi_scaling.py prepare [--n 16000]   # steady state (any load)
     .venv/bin/python benchmarks/mpi_scaling.py startup [--n 16000]   # the prepared startup's figures
     .venv/bin/python benchmarks/mpi_scaling.py measure [--n 16000] [--local-solve-fraction 0.02]   # idle
+    .venv/bin/python benchmarks/mpi_scaling.py measure [--n 16000] --preconditioner jacobi        # idle
     .venv/bin/python benchmarks/mpi_scaling.py split [--n 16000]     # price of an iteration: idle
     .venv/bin/python benchmarks/mpi_scaling.py iterations [--n 16000] [--ranks 1 2 4 8]
     .venv/bin/python benchmarks/mpi_scaling.py latency [--n 16000]   # MPI's prices: idle machine
@@ -23,7 +24,8 @@ N = n, a startup to strain PREPARE_STRAIN on 2 ranks, into results/mpi_scaling/n
 fix) sections averaged over the ranks, the mean CG iterations per step and the ghost atoms per
 rank. Prints a Markdown table and the speed-up of 2 ranks over 1 (per pair and the median);
 writes measure.csv. With --local-solve-fraction f > 0 both run local solves
-(run.local_solve_fraction = f), into measure_local<f>.csv.
+(run.local_solve_fraction = f), into measure_local<f>.csv; with --preconditioner jacobi both use
+block Jacobi within the ranks too (run.preconditioner), into measure_jacobi.csv.
 
 `split`: the 1-rank continuation (MEASURE_STRAIN at N = 16000, longer for smaller N, at most
 1 strain) at the default solver_tol and at SPLIT_TOL, alternating, REPEATS times each: more CG iterations
@@ -73,6 +75,7 @@ from pathlib import Path
 
 from bench_engine import LOOP_TIME
 
+from suspension_fabric.io.schema import load_schema, schema_default
 from suspension_fabric.simulation.lammps import (
     PACK_FILES,
     RUN_FILES,
@@ -87,6 +90,8 @@ from suspension_fabric.simulation.lammps.plugin import mpi_include_dir
 from suspension_fabric.simulation.lammps.process import lammps_environment, mpi_launcher, thermo_rows
 
 ROOT = Path("results/mpi_scaling")
+PRECONDITIONERS = tuple(load_schema()["properties"]["run"]["properties"]["preconditioner"]["enum"])
+DEFAULT_PRECONDITIONER = schema_default("run", "preconditioner")
 TABLES = Path("benchmarks/data/mpi_scaling")
 PREPARE_STRAIN = 1.0
 MEASURE_STRAIN = 0.1
@@ -199,11 +204,15 @@ def write_rows(rows: list[dict], path: Path) -> None:
         writer.writerows(rows)
 
 
-def measure(n: int, local_fraction: float = 0.0) -> None:
+def measure(n: int, local_fraction: float = 0.0, preconditioner: str = DEFAULT_PRECONDITIONER) -> None:
     """1 and 2 ranks alternating; with local solves (run.local_solve_fraction = local_fraction > 0)
-    into their own run folders and table (measure_local<f>.csv)."""
+    or another preconditioner, into their own run folders and table (measure_local<f>.csv,
+    measure_<preconditioner>.csv)."""
     engine = "default engine" + (f", local solves {local_fraction:g}" if local_fraction else "")
     suffix = f"_local{local_fraction:g}" if local_fraction else ""
+    if preconditioner != DEFAULT_PRECONDITIONER:
+        engine += f", preconditioner {preconditioner}"
+        suffix += f"_{preconditioner}"
     print(
         f"# {platform.machine()}, {platform.python_version()}; N = {n}, the paper's point, {engine}; "
         f"{MEASURE_STRAIN:g} strain continued from strain {PREPARE_STRAIN:g}, 1 and 2 ranks alternating\n"
@@ -211,7 +220,7 @@ def measure(n: int, local_fraction: float = 0.0) -> None:
     print("| run | ranks | steps | loop s | Modify s (fix) | Comm s | mean CG iterations | ghosts per rank |")
     print("|---|--:|--:|--:|--:|--:|--:|--:|")
     rows = []
-    model = ForceModel(local_solve_fraction=local_fraction)
+    model = ForceModel(local_solve_fraction=local_fraction, preconditioner=preconditioner)
     for repeat in range(1, REPEATS + 1):
         for ranks in (1, 2):
             row = {"repeat": repeat, **continuation(n, ranks, MEASURE_STRAIN, f"measure{suffix}_ranks{ranks}", model)}
@@ -518,6 +527,9 @@ def main() -> None:
     parser.add_argument(
         "--local-solve-fraction", type=float, default=0.0, help="measure: run.local_solve_fraction (0: off)"
     )
+    parser.add_argument(
+        "--preconditioner", choices=PRECONDITIONERS, default=DEFAULT_PRECONDITIONER, help="measure: run.preconditioner"
+    )
     args = parser.parse_args()
     if args.command == "sizes":
         sizes(args.n)
@@ -533,7 +545,7 @@ def main() -> None:
     elif args.command == "startup":
         startup_report(args.n)
     elif args.command == "measure":
-        measure(args.n, args.local_solve_fraction)
+        measure(args.n, args.local_solve_fraction, args.preconditioner)
     elif args.command == "iterations":
         iterations(args.n, args.ranks)
     elif args.command == "split":
