@@ -1022,16 +1022,18 @@ DENSE_FRICTIONAL_LONG = [REPO / "data/campaign/phi0.55_mu1", VALIDATION / "engin
 def _seed_steady_means(folders: tuple[Path, ...], column: str) -> np.ndarray:
     means = []
     for folder in folders:
-        for table in sorted(Path(folder).glob("seed*/startup/stress.csv")):
-            stress = pd.read_csv(table)
-            steady = (stress["strain"] >= STEADY_STRAINS[0]) & (stress["strain"] <= STEADY_STRAINS[1])
-            means.append(stress[column][steady].mean())
+        for startup in sorted(Path(folder).glob("seed*/startup")):
+            table = pd.read_csv(startup / "stress.csv")
+            if column not in table:
+                table = pd.read_csv(startup / "fabric.csv")
+            steady = (table["strain"] >= STEADY_STRAINS[0]) & (table["strain"] <= STEADY_STRAINS[1])
+            means.append(table[column][steady].mean())
     return np.array(means)
 
 
 def steady_means(folders, column: str = "eta_r") -> np.ndarray:
-    """Each seed's mean of a stress column over the steady window of its startup, over the seed
-    folders of every folder given (benchmarks/engine_validation.py's steady state)."""
+    """Each seed's mean of a stress or fabric column over the steady window of its startup, over the
+    seed folders of every folder given (benchmarks/engine_validation.py's steady state)."""
     return _seed_steady_means(tuple(folders), column)
 
 
@@ -1618,10 +1620,16 @@ def iterations_saved(guess: str, fraction: float) -> float:
 
 
 @cache
+def pair_ratios(name: str, older: str) -> pd.Series:
+    """A benchmarks/plugin_pair.sh table (benchmarks/data/<name>): per round, the current build's loop
+    time over the older one's (the build column's `older`)."""
+    table = pd.read_csv(REPO / "benchmarks/data" / name, comment="#").pivot(index="round", columns="build")["loop_s"]
+    return table["current"] / table[older]
+
+
 def solve_pairs() -> pd.Series:
     """benchmarks/data/solve_pair_corner.csv: per round, the new solve's loop time over the old one's."""
-    table = pd.read_csv(REPO / "benchmarks/data/solve_pair_corner.csv").pivot(index="round", columns="build")["loop_s"]
-    return table["current"] / table["HEAD"]
+    return pair_ratios("solve_pair_corner.csv", "HEAD")
 
 
 def rotation_pair_difference(kind: str, column: str, bin_index: int) -> float:
@@ -1694,12 +1702,9 @@ QUOTES += [
 ]
 
 
-@cache
 def virial_pairs() -> pd.Series:
     """benchmarks/data/plugin_pair_virial.csv: per round, the lazy virial's loop time over the eager one's."""
-    table = pd.read_csv(REPO / "benchmarks/data/plugin_pair_virial.csv", comment="#")
-    table = table.pivot(index="round", columns="build")["loop_s"]
-    return table["current"] / table["ed2d28d"]
+    return pair_ratios("plugin_pair_virial.csv", "ed2d28d")
 
 
 QUOTES.append(
@@ -1710,3 +1715,57 @@ QUOTES.append(
         None,
     )
 )
+
+
+# -- the two dear points made again with block Jacobi (BENCHMARKS.md, "The two dear points made again")
+
+JACOBI_053 = [VALIDATION / "engine_iii_jacobi_phi0.53_mu1"], FRICTIONAL_LONG
+JACOBI_055 = [VALIDATION / "engine_iii_jacobi_phi0.55_mu1"], DENSE_FRICTIONAL_LONG
+
+
+def old_build_pair_seconds(name: str, build: str) -> list[float]:
+    """The older build's loop times in a benchmarks/plugin_pair.sh table, per round."""
+    table = pd.read_csv(REPO / "benchmarks/data" / name, comment="#")
+    return list(table[table["build"] == build]["loop_s"])
+
+
+QUOTES += [
+    Quote(
+        "BENCHMARKS.md",
+        "The new solve's loop time over the old one's: {0.68} and {0.65}.\n\n**The two points' protocol.**",
+        lambda: list(pair_ratios("solve_pair_engine_iii.csv", "1e7c74b")),
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "The corner cost {1.63} core-hours, over the 1.5 of engine III, although the same startup took\n{0.68} and "
+        "{0.65} of the old solve's time side by side: the old build's startup took {133} and {115} s here\nagainst "
+        "{110}-{129} s in the pairs of 2026-11-27,",
+        lambda: [
+            core_hours("benchmarks/data/engine_validation/engine_iii_jacobi_phi0.55_mu1"),
+            *pair_ratios("solve_pair_engine_iii.csv", "1e7c74b"),
+            *old_build_pair_seconds("solve_pair_engine_iii.csv", "1e7c74b"),
+            min(old_build_pair_seconds("plugin_pair_corner.csv", "1e7c74b")),
+            max(old_build_pair_seconds("plugin_pair_corner.csv", "1e7c74b")),
+        ],
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "eta_r {-11.5}%\n(z = {-3.78}) and Pi {-12.9}% at the corner, eta_r {+8.6}% (z = {2.58}) and Pi {+10.6}% at (0.53, "
+        "1), where Z\n({+0.7}%, z = {4.04}) and n12 ({3.0}% larger in magnitude) move too.",
+        lambda: [
+            change_percent(*JACOBI_055),
+            welch_z(*JACOBI_055),
+            change_percent(*JACOBI_055, column="Pi"),
+            change_percent(*JACOBI_053),
+            welch_z(*JACOBI_053),
+            change_percent(*JACOBI_053, column="Pi"),
+            change_percent(*JACOBI_053, column="Z"),
+            welch_z(*JACOBI_053, column="Z"),
+            change_percent(*JACOBI_053, column="n12"),
+        ],
+        None,
+    ),
+]
+
