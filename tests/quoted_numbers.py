@@ -1752,8 +1752,8 @@ QUOTES += [
     ),
     Quote(
         "BENCHMARKS.md",
-        "eta_r {-11.5}%\n(z = {-3.78}) and Pi {-12.9}% at the corner, eta_r {+8.6}% (z = {2.58}) and Pi {+10.6}% at (0.53, "
-        "1), where Z\n({+0.7}%, z = {4.04}) and n12 ({3.0}% larger in magnitude) move too.",
+        "eta_r {-11.5}%\n(z = {-3.78}) and Pi {-12.9}% at the corner, eta_r {+8.6}% (z = {2.58}) and Pi {+10.6}% "
+        "at (0.53, 1), where Z\n({+0.7}%, z = {4.04}) and n12 ({3.0}% larger in magnitude) move too.",
         lambda: [
             change_percent(*JACOBI_055),
             welch_z(*JACOBI_055),
