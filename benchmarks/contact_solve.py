@@ -94,6 +94,38 @@ def rung_dt(fraction: float, tau: float) -> float:
     return float(max(m * decade for m in (1, 2, 4, 5) if m * decade <= target * (1 + 1e-9)))
 
 
+def engine_from_checkpoint(checkpoint: Path, study: dict, dt: float):
+    """A LAMMPS instance holding ``checkpoint`` under the shear, with the study's engine (its forces and
+    run settings) and step ``dt``, set up by a zero-step run."""
+    v = ForceModel.from_config(study).variables()
+    lmp = new_lammps(load_plugin=False)
+    lmp.commands_string(
+        f"""
+units lj
+atom_style sphere
+atom_modify map array
+dimension 3
+boundary p p p
+plugin load {v["plugin"]}
+read_restart {checkpoint}
+newton on on
+pair_style lubricate/sf {v["eta_f"]} {v["delta"]} {v["h_out"]} implicit
+pair_coeff * *
+fix integrate all hydro/implicit/sf tol {v["solver_tol"]} precond {v["preconditioner"]} &
+    contacts {v["kn"]} {v["kt"]} {v["mu"]} solve {study["run"]["contact_solve"]} local {v["local_solve_fraction"]} &
+    guess {v["initial_guess"]}
+neighbor 0.1 bin
+neigh_modify delay 0 every 1 check yes
+comm_modify mode single vel yes
+fix shear all deform 1 xz erate 1.0 remap v flip yes
+timestep {dt!r}
+thermo_style custom step
+run 0 post no
+"""
+    )
+    return lmp
+
+
 def continue_shear(
     checkpoint: Path,
     study: dict,
@@ -112,32 +144,7 @@ def continue_shear(
         "initial_guess": initial_guess,
         "preconditioner": preconditioner or study["run"]["preconditioner"],
     }
-    model = ForceModel.from_config({**study, "run": run})
-    v = model.variables()
-    lmp = new_lammps(load_plugin=False)
-    lmp.commands_string(
-        f"""
-units lj
-atom_style sphere
-atom_modify map array
-dimension 3
-boundary p p p
-plugin load {v["plugin"]}
-read_restart {checkpoint}
-newton on on
-pair_style lubricate/sf {v["eta_f"]} {v["delta"]} {v["h_out"]} implicit
-pair_coeff * *
-fix integrate all hydro/implicit/sf tol {v["solver_tol"]} precond {v["preconditioner"]} &
-    contacts {v["kn"]} {v["kt"]} {v["mu"]} solve {solve} local {v["local_solve_fraction"]} guess {v["initial_guess"]}
-neighbor 0.1 bin
-neigh_modify delay 0 every 1 check yes
-comm_modify mode single vel yes
-fix shear all deform 1 xz erate 1.0 remap v flip yes
-timestep {dt!r}
-thermo_style custom step
-run 0 post no
-"""
-    )
+    lmp = engine_from_checkpoint(checkpoint, {**study, "run": run}, dt)
     scale = 1.0 / study["forces"]["eta_f"]
     samples, chunks = [], 20
     steps = max(1, round(strain / chunks / dt))

@@ -19,9 +19,8 @@ import glob
 from pathlib import Path
 
 import numpy as np
+from contact_solve import engine_from_checkpoint
 
-from suspension_fabric.simulation.lammps import ForceModel
-from suspension_fabric.simulation.lammps.plugin import new_lammps
 from suspension_fabric.study.campaign import campaign_points
 from suspension_fabric.study.config import load_config
 
@@ -33,30 +32,9 @@ PRECONDITIONERS = ("dilu", "jacobi")
 
 def solved_velocities(state: Path, study: dict, preconditioner: str, tol: float) -> np.ndarray:
     """The velocities and angular velocities after one step of the point's engine, by atom ID."""
-    v = ForceModel.from_config(study).variables()
-    lmp = new_lammps(load_plugin=False)
-    lmp.commands_string(
-        f"""
-units lj
-atom_style sphere
-atom_modify map array sort 0 0
-dimension 3
-boundary p p p
-plugin load {v["plugin"]}
-read_restart {state}
-newton on on
-pair_style lubricate/sf {v["eta_f"]} {v["delta"]} {v["h_out"]} implicit
-pair_coeff * *
-fix integrate all hydro/implicit/sf tol {tol!r} precond {preconditioner} maxiter 100000 &
-    contacts {v["kn"]} {v["kt"]} {v["mu"]} solve {study["run"]["contact_solve"]}
-neighbor 0.1 bin
-neigh_modify delay 0 every 1 check yes
-comm_modify mode single vel yes
-fix shear all deform 1 xz erate 1.0 remap v flip yes
-timestep {study["run"]["dt"]!r}
-run 1 post no
-"""
-    )
+    run = {**study["run"], "preconditioner": preconditioner, "solver_tol": tol}
+    lmp = engine_from_checkpoint(state, {**study, "run": run}, study["run"]["dt"])
+    lmp.command("run 1 post no")
     n = lmp.get_natoms()
     order = np.argsort(lmp.numpy.extract_atom("id")[:n])
     velocities = np.hstack([lmp.numpy.extract_atom("v")[:n], lmp.numpy.extract_atom("omega")[:n]])[order]
