@@ -685,6 +685,18 @@ void FixHydroImplicitSF::add_pair_products(const std::vector<double> &in, std::v
   }
 }
 
+namespace {
+// a sticking spring c = kt dt between i and j (lever arms li, lj) in a pair's coupling coefficients
+// (lubrication.h's form in the pair's n): YA += c, YBi -= c li, YBj -= c lj, YCx += c li lj
+inline void add_spring_coupling(double c, double li, double lj, double &YA, double &YBi, double &YBj, double &YCx)
+{
+  YA += c;
+  YBi -= c * li;
+  YBj -= c * lj;
+  YCx += c * li * lj;
+}
+}    // namespace
+
 /* The operator for the contacts' current states: each atom's self resistances, and each pair's
    (OperatorPair) lubrication resistances plus the springs of its sticking or pressed contact when
    the pair acts on both atoms; the other contacts in the operator go to separate_contacts. */
@@ -722,12 +734,9 @@ void FixHydroImplicitSF::build_operator()
     }
     // the contact's n is the pair's reversed (from j to i), which the coefficients absorb
     if (c.sticking) {
-      o.YA += stiffness;
-      o.YBi -= stiffness * c.li;
-      o.YBj -= stiffness * c.lj;
+      add_spring_coupling(stiffness, c.li, c.lj, o.YA, o.YBi, o.YBj, o.YCx);
       o.YCi += stiffness * c.li * c.li;
       o.YCj += stiffness * c.lj * c.lj;
-      o.YCx += stiffness * c.li * c.lj;
     }
     if (c.pressed) o.X += kn * dtv;
   }
@@ -870,12 +879,7 @@ void FixHydroImplicitSF::collect_couplings()
   for (const SuspensionFabric::Contact &contact : contacts) {
     if (pair_coupling[contact.pair] < 0) continue;
     Coupling &c = couplings[pair_coupling[contact.pair]];
-    if (contact.sticking) {
-      c.beta += stiffness;
-      c.gamma -= stiffness * contact.lj;
-      c.delta -= stiffness * contact.li;
-      c.epsilon += stiffness * contact.li * contact.lj;
-    }
+    if (contact.sticking) add_spring_coupling(stiffness, contact.li, contact.lj, c.beta, c.delta, c.gamma, c.epsilon);
     if (contact.pressed) c.alpha += kn * dtv;
   }
   for (Coupling &c : couplings)
