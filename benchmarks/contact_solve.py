@@ -76,6 +76,23 @@ PRECOND_RUNGS = (
     ("dilu", "quadratic", 0.02),
     ("jacobi", "quadratic", 0.02),
 )
+TOL_TABLE = HERE / "data" / "contact_solve_tol.csv"
+#: (run.preconditioner, run.initial_guess, run.local_solve_fraction, run.solver_tol) of the `tol`
+#: command; the first (the map's engine) is the reference
+TOL_RUNGS = (
+    ("dilu", "previous", 0.0, 1e-3),
+    ("dilu", "quadratic", 0.02, 1e-3),
+    ("dilu", "quadratic", 0.02, 3e-4),
+    ("jacobi", "quadratic", 0.02, 3e-4),
+    ("jacobi", "quadratic", 0.02, 1e-4),
+)
+#: the run settings a rung of the `local`, `guess`, `precond` or `tol` command sets, by its length
+RUNG_KEYS = {
+    1: ("local_solve_fraction",),
+    2: ("initial_guess", "local_solve_fraction"),
+    3: ("preconditioner", "initial_guess", "local_solve_fraction"),
+    4: ("preconditioner", "initial_guess", "local_solve_fraction", "solver_tol"),
+}
 
 
 def point_study(name: str, config: Path) -> dict:
@@ -135,6 +152,7 @@ def continue_shear(
     local_fraction: float = 0.0,
     initial_guess: str = "previous",
     preconditioner: str | None = None,
+    solver_tol: float | None = None,
 ) -> dict:
     """Means over ``strain`` of shear continued from ``checkpoint``, and the wall time per strain."""
     run = {
@@ -143,6 +161,7 @@ def continue_shear(
         "local_solve_fraction": local_fraction,
         "initial_guess": initial_guess,
         "preconditioner": preconditioner or study["run"]["preconditioner"],
+        "solver_tol": solver_tol or study["run"]["solver_tol"],
     }
     lmp = engine_from_checkpoint(checkpoint, {**study, "run": run}, dt)
     scale = 1.0 / study["forces"]["eta_f"]
@@ -203,29 +222,30 @@ def measure(point: str, states: list[Path], config: Path, strain: float) -> pd.D
 def measure_starts(
     point: str, states: list[Path], config: Path, strain: float, rungs: tuple[tuple, ...]
 ) -> pd.DataFrame:
-    """The point's own engine (its solve and dt) from each state, with each (initial_guess,
-    local_solve_fraction) or (preconditioner, initial_guess, local_solve_fraction) of ``rungs`` in
-    turn, LOCAL_REPEATS rounds: the same trajectory to the solver's tolerance, so the wall times
-    compare the solves."""
+    """The point's own engine (its solve and dt) from each state, with each rung of ``rungs`` (run
+    settings named by RUNG_KEYS; the point's own for the others) in turn, LOCAL_REPEATS rounds: the
+    same trajectory to the solver's tolerance, so the wall times compare the solves."""
     study = point_study(point, config)
     rows = []
     for repeat in range(1, LOCAL_REPEATS + 1):
         for state in states:
             for rung in rungs:
-                preconditioner, guess, fraction = rung if len(rung) == 3 else (study["run"]["preconditioner"], *rung)
+                keys = ("preconditioner", "initial_guess", "local_solve_fraction", "solver_tol")
+                settings = {key: study["run"][key] for key in keys} | dict(zip(RUNG_KEYS[len(rung)], rung, strict=True))
                 row = continue_shear(
                     state,
                     study,
                     study["run"]["contact_solve"],
                     study["run"]["dt"],
                     strain,
-                    fraction,
-                    guess,
-                    preconditioner,
+                    settings["local_solve_fraction"],
+                    settings["initial_guess"],
+                    settings["preconditioner"],
+                    settings["solver_tol"],
                 )
                 rows.append(
-                    {"point": point, "state": str(state), "repeat": repeat, "local_solve_fraction": fraction}
-                    | {"initial_guess": guess, "preconditioner": preconditioner}
+                    {"point": point, "state": str(state), "repeat": repeat}
+                    | settings
                     | {"dt": study["run"]["dt"], "strain": strain, **row}
                 )
                 print(
@@ -240,17 +260,13 @@ def _cell(value) -> str:
 
 
 def report_starts(table: pd.DataFrame, rungs: tuple, level: float = 0.95) -> str:
-    """Per point and rung (``rungs``: local_solve_fraction values, (initial_guess,
-    local_solve_fraction) pairs or (preconditioner, initial_guess, local_solve_fraction)): CG
+    """Per point and rung (``rungs``: local_solve_fraction values or tuples of the run settings
+    RUNG_KEYS names by their length): CG
     iterations and local work per step, the wall time per strain (each state's median over the
     repeats) and its ratio to the first rung on the same state, mean and t-interval over the
     states; the contact quantities' largest relative difference from the first rung's run on the
     same state (the solves agree to the tolerance)."""
-    keys = (
-        ["preconditioner", "initial_guess", "local_solve_fraction"][-len(rungs[0]) :]
-        if isinstance(rungs[0], tuple)
-        else ["local_solve_fraction"]
-    )
+    keys = list(RUNG_KEYS[len(rungs[0]) if isinstance(rungs[0], tuple) else 1])
     reference = rungs[0] if len(keys) > 1 else (rungs[0],)
     lines = []
     sizes = "n" in table and table["n"].nunique() > 1  # one table per point and size
@@ -335,18 +351,20 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument(
         "command",
-        choices=("run", "report", "local", "local-report", "guess", "guess-report", "precond", "precond-report"),
+        choices=("run", "report", "local", "local-report", "guess", "guess-report", "precond", "precond-report")
+        + ("tol", "tol-report"),
     )
     parser.add_argument("--point", help="the campaign point whose engine the states were made with (run)")
     parser.add_argument("--states", help="glob of the checkpoints to continue, one per seed (run)")
     parser.add_argument("--config", type=Path, default=REPO / "config" / "campaign.yaml")
     parser.add_argument("--strain", type=float, default=0.1)
     args = parser.parse_args(argv)
-    tables = {"run": TABLE, "local": LOCAL_TABLE, "guess": GUESS_TABLE, "precond": PRECOND_TABLE}
+    tables = {"run": TABLE, "local": LOCAL_TABLE, "guess": GUESS_TABLE, "precond": PRECOND_TABLE, "tol": TOL_TABLE}
     start_rungs = {
         "local": tuple(("previous", f) for f in LOCAL_FRACTIONS),
         "guess": GUESS_RUNGS,
         "precond": PRECOND_RUNGS,
+        "tol": TOL_RUNGS,
     }
     if args.command in tables:
         states = [Path(p) for p in sorted(glob.glob(args.states or ""))]
@@ -368,6 +386,8 @@ def main(argv: list[str] | None = None) -> None:
         print(report_starts(pd.read_csv(GUESS_TABLE), GUESS_RUNGS))
     elif args.command in ("precond", "precond-report"):
         print(report_starts(pd.read_csv(PRECOND_TABLE), PRECOND_RUNGS))
+    elif args.command in ("tol", "tol-report"):
+        print(report_starts(pd.read_csv(TOL_TABLE), TOL_RUNGS))
     else:
         print(report(pd.read_csv(TABLE)))
 
