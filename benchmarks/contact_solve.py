@@ -20,7 +20,11 @@ sampling noise; the seeds' states are the independent units (mean and 95% t-inte
         --states 'results/corner_probe/seed*/startup/checkpoint.rst' --strain 0.05 \
         --config benchmarks/configs/campaign_corner_point.yaml
     .venv/bin/python benchmarks/contact_solve.py precond --point phi0.55_mu1 \
-        --states 'results/corner_probe/seed*/startup/checkpoint.rst' --strain 0.05
+        --states 'results/corner_probe/seed*/startup/checkpoint.rst' --strain 0.05 \
+        --config benchmarks/configs/campaign_corner_point.yaml
+    .venv/bin/python benchmarks/contact_solve.py tol --point phi0.55_mu1 \
+        --states 'results/corner_probe/seed*/startup/checkpoint.rst' --strain 0.05 \
+        --config benchmarks/configs/campaign_corner_point.yaml
 
 `local`: from each state, the point's own engine (its solve and dt) with each
 run.local_solve_fraction of LOCAL_FRACTIONS in turn (the old velocities as the solve's first
@@ -28,9 +32,11 @@ iterate), LOCAL_REPEATS rounds (the same solve to the tolerance, so the wall tim
 local solves' cost; time it on an idle machine); `local-report` prints its table again.
 `guess`: the same with each (run.initial_guess, run.local_solve_fraction) of GUESS_RUNGS;
 `guess-report` prints its table again. `precond`: the same with each (run.preconditioner,
-run.initial_guess, run.local_solve_fraction) of PRECOND_RUNGS; `precond-report`. The `local` and
-`guess` tables were measured with the corner point's first engine (dilu, the old velocities as the
-first iterate), which benchmarks/configs/campaign_corner_point.yaml keeps.
+run.initial_guess, run.local_solve_fraction) of PRECOND_RUNGS; `precond-report`. `tol`: the same
+with each (run.preconditioner, run.initial_guess, run.local_solve_fraction, run.solver_tol) of
+TOL_RUNGS; `tol-report`. The tables were measured with the corner point's first engine (kn =
+1.5625e10, dt = 8e-6, dilu, the old velocities as the first iterate, solver_tol 1e-3), which
+benchmarks/configs/campaign_corner_point.yaml keeps.
 
 The reference rung is the lagged solve at 0.024 tau (the campaign's engine; tau = X(delta)/kn of
 two small spheres, suspension_fabric.simulation.scales.contact_relaxation_time). The wall times

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The same startup with two builds of the plugin side by side, one per core: the current checkout's and
-# that of an older commit (default 1e7c74b, the build data/campaign/phi0.55_mu1 was made with), at the map's
+# that of an older commit (default 1e7c74b, the build the corner's first dataset,
+# benchmarks/data/engine_validation/engine_newton_dt8e-6_phi0.55_mu1, was made with), at the map's
 # corner point (0.55, 1) with its engine (the Newton contact solve, dt = 8e-6), from seed 1's packing to
 # strain 1, twice; prints each run's LAMMPS loop time and whether the two stress tables are byte-identical.
 #   bash benchmarks/plugin_pair.sh [commit] [packing.data]
