@@ -109,7 +109,8 @@ def report(level: float = 0.95) -> str:
     lines = [
         f"{ANGLE}-degree rotation from the same {len(STATES)} states, {STRAIN:g} strain: "
         f"{' - '.join(reversed(SOLVES))} per state, mean [{level:.0%} t-interval over states]; "
-        "dataset spread: the seed-to-seed standard deviation of the bin in benchmarks/data/engine_validation/engine_newton_dt8e-6_phi0.55_mu1\n",
+        "dataset spread: the seed-to-seed standard deviation of the bin in "
+        f"{DATASET.relative_to(REPO)}\n",
         "| quantity | " + " | ".join(f"{a:g}-{b:g}" for a, b in bins()) + " |",
         "|---|" + "---|" * len(bins()),
     ]

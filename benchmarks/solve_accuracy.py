@@ -9,7 +9,8 @@ difference of the solved velocities (translational and angular, units of gammado
 the reference.
 
     .venv/bin/python benchmarks/solve_accuracy.py --point phi0.55_mu1 \
-        --states 'results/corner_probe/seed*/startup/checkpoint.rst' --config benchmarks/configs/campaign_corner_point.yaml
+        --states 'results/corner_probe/seed*/startup/checkpoint.rst' \
+        --config benchmarks/configs/campaign_corner_point.yaml
 
 (the --config holds the point's engine the states were made with: the map's first datasets of the two points)
 """
