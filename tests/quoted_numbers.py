@@ -1902,6 +1902,15 @@ def paired_difference(study, reference, column: str) -> list[float]:
     return [d.mean(), d.mean() - half, d.mean() + half]
 
 
+def changes_and_z(study, reference, *columns: str) -> list[float]:
+    """For each column, the study's change against the reference in % and its Welch z."""
+    return [
+        value
+        for column in columns
+        for value in (change_percent(study, reference, column), welch_z(study, reference, column))
+    ]
+
+
 def transient_counts(study, dataset) -> list[float]:
     """engine_validation.py's transient bins: how many lie beyond |z| = 2, and the largest |z|."""
     zs = np.abs(benchmark_script("engine_validation").transient_table(study, dataset)[1])
@@ -1951,12 +1960,7 @@ QUOTES += [
         "95% t-interval [{-0.005}, {+0.019}]); after the\nrotations {15} of 140 bins beyond |z| = 2, {13.0} expected "
         "by the Welch null, the largest {3.04}.",
         lambda: [
-            change_percent(NEW_053, FRICTIONAL_LONG),
-            welch_z(NEW_053, FRICTIONAL_LONG),
-            change_percent(NEW_053, FRICTIONAL_LONG, column="Z"),
-            welch_z(NEW_053, FRICTIONAL_LONG, column="Z"),
-            change_percent(NEW_053, FRICTIONAL_LONG, column="n33"),
-            welch_z(NEW_053, FRICTIONAL_LONG, column="n33"),
+            *changes_and_z(NEW_053, FRICTIONAL_LONG, "eta_r", "Z", "n33"),
             *paired_difference(NEW_053, FRICTIONAL_LONG, "n33"),
             *transient_counts(NEW_053, FRICTIONAL_LONG)[:1],
             benchmark_script("engine_validation").welch_null(4, 4, 140)[0],
@@ -1999,10 +2003,7 @@ QUOTES += [
         "and {12}\ntransient bins beyond 2 where the Welch null expects {13.0}. The stress is the least resolved: per "
         "packing\neta_r is higher in all four seeds ({+51}, 95% t-interval [{-12}, {+114}]),",
         lambda: [
-            change_percent(NEW_055, DENSE_FRICTIONAL_LONG),
-            welch_z(NEW_055, DENSE_FRICTIONAL_LONG),
-            change_percent(NEW_055, DENSE_FRICTIONAL_LONG, column="Z"),
-            welch_z(NEW_055, DENSE_FRICTIONAL_LONG, column="Z"),
+            *changes_and_z(NEW_055, DENSE_FRICTIONAL_LONG, "eta_r", "Z"),
             max(
                 abs(welch_z(NEW_055, DENSE_FRICTIONAL_LONG, column=c))
                 for c in ("n11", "n22", "n33", "n12", "n13", "n23", "Z", "eta_r", "N1", "N2", "Pi")
