@@ -236,8 +236,9 @@ def measure_starts(
     for repeat in range(1, LOCAL_REPEATS + 1):
         for state in states:
             for rung in rungs:
-                keys = ("preconditioner", "initial_guess", "local_solve_fraction", "solver_tol")
-                settings = {key: study["run"][key] for key in keys} | dict(zip(RUNG_KEYS[len(rung)], rung, strict=True))
+                settings = {key: study["run"][key] for key in RUNG_KEYS[4]} | dict(
+                    zip(RUNG_KEYS[len(rung)], rung, strict=True)
+                )
                 row = continue_shear(
                     state,
                     study,
