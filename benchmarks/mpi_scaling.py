@@ -4,7 +4,7 @@ simulation across MPI ranks").
 
     .venv/bin/python benchmarks/mpi_scaling.py prepare [--n 16000]   # steady state (any load)
     .venv/bin/python benchmarks/mpi_scaling.py startup [--n 16000]   # the prepared startup's figures
-    .venv/bin/python benchmarks/mpi_scaling.py measure [--n 16000] [--local-solve-fraction 0.02]   # idle
+    .venv/bin/python benchmarks/mpi_scaling.py measure [--n 16000] [--local-solve-fraction 0.02] [--label L]   # idle
     .venv/bin/python benchmarks/mpi_scaling.py measure [--n 16000] --preconditioner jacobi        # idle
     .venv/bin/python benchmarks/mpi_scaling.py split [--n 16000]     # price of an iteration: idle
     .venv/bin/python benchmarks/mpi_scaling.py iterations [--n 16000] [--ranks 1 2 4 8]
@@ -12,7 +12,7 @@ simulation across MPI ranks").
     .venv/bin/python benchmarks/mpi_scaling.py model [--n 16000]     # efficiency, 1-64 ranks
     .venv/bin/python benchmarks/mpi_scaling.py sizes --n 500 4000 16000   # cost per atom against N
     .venv/bin/python benchmarks/mpi_scaling.py local --n 500 4000 16000   # local solves: idle
-    .venv/bin/python benchmarks/mpi_scaling.py contention [--n 16000]   # two 1-rank runs at once: idle
+    .venv/bin/python benchmarks/mpi_scaling.py contention [--n 16000] [--label L]   # two 1-rank runs at once: idle
 
 `prepare`: the paper's point (phi = 0.45, packing seed 1, the default forces and engine) at
 N = n, a startup to strain PREPARE_STRAIN on 2 ranks, into results/mpi_scaling/n<N>/.
@@ -22,8 +22,10 @@ N = n, a startup to strain PREPARE_STRAIN on 2 ranks, into results/mpi_scaling/n
 `measure`: from that checkpoint, the same shear continued for MEASURE_STRAIN on 1 rank and on
 2 ranks, alternating, REPEATS times each; per run LAMMPS's loop time, its Comm and Modify (the
 fix) sections averaged over the ranks, the mean CG iterations per step and the ghost atoms per
-rank. Prints a Markdown table and the speed-up of 2 ranks over 1 (per pair and the median);
-writes measure.csv. With --local-solve-fraction f > 0 both run local solves
+rank, and the share of the CPUs' time the host of a virtual machine took for others while it ran
+(steal, from /proc/stat). Prints a Markdown table and the speed-up of 2 ranks over 1 (per pair and
+the median); writes measure.csv (with --label L, measure_L.csv: a later measurement beside the
+committed one). With --local-solve-fraction f > 0 both run local solves
 (run.local_solve_fraction = f), into measure_local<f>.csv; with --preconditioner jacobi both use
 block Jacobi within the ranks too (run.preconditioner), into measure_jacobi.csv.
 
@@ -46,7 +48,7 @@ smallest N (local_solves_n<N>_..., one table per command).
 `contention`: the 1-rank continuation (CONTENTION_STRAIN) alone, then two of it at once (one per
 core), alternating, REPEATS times: how much two runs on the two cores slow each other (memory and
 cache shared), which bounds what any split over 2 ranks can gain here: 2 / (1 + slowdown)
-(contention.csv).
+(contention.csv, or with --label L contention_L.csv).
 
 `model`: the time per step on P ranks of dedicated cores of one node,
     t(P) = N/P (a + b I(P)) + (5 + 2 I(P)) 6 g(P) c + (5 + 3 I(P)) s log2 P,
@@ -111,6 +113,9 @@ EXCHANGES_PER_ITERATION = 2
 SUMS_FIXED = 5
 SUMS_PER_ITERATION = 3
 LATENCY_SOURCE = Path(__file__).with_name("mpi_latency.c")
+JITTER_SOURCE = Path(__file__).with_name("mpi_sync_jitter.c")
+JITTER_GRAINS_US = (30, 100, 1000)
+JITTER_SECONDS = 2.0
 SECTION = re.compile(r"^(Comm|Modify)\s*\|\s*[0-9.eE+-]+\s*\|\s*([0-9.eE+-]+)\s*\|", re.MULTILINE)
 GHOSTS = re.compile(r"^Nghost:\s+([0-9.eE+-]+) ave", re.MULTILINE)
 BOX = re.compile(r"triclinic box = \(([^)]*)\) to \(([^)]*)\)")
@@ -157,6 +162,7 @@ def continuation(n: int, ranks: int, strain: float, name: str, force_model: Forc
         max_stress_jitter=None,
         ranks=ranks,
     )
+    before = cpu_times()
     run = run_rotation(
         folder(n) / name,
         checkpoint(n),
@@ -168,7 +174,26 @@ def continuation(n: int, ranks: int, strain: float, name: str, force_model: Forc
         resume=False,
         progress=None,
     )
-    return figures(run.log_file.read_text())
+    return {**figures(run.log_file.read_text()), "steal": stolen_share(before, cpu_times())}
+
+
+def cpu_times() -> list[int] | None:
+    """The machine's CPU time counters summed over its CPUs (the first line of /proc/stat: user,
+    nice, system, idle, iowait, irq, softirq, steal, ...), or None where there is no /proc/stat."""
+    stat = Path("/proc/stat")
+    if not stat.exists():
+        return None
+    return [int(field) for field in stat.read_text().split("\n", 1)[0].split()[1:9]]
+
+
+def stolen_share(before: list[int] | None, after: list[int] | None) -> float:
+    """The share of the CPUs' time between two readings that the host of this virtual machine
+    gave to others (steal): on a 2-core machine a step on 2 ranks waits whenever either core is
+    taken, so steal slows a 2-rank run more than a 1-rank one. NaN without /proc/stat."""
+    if before is None or after is None:
+        return math.nan
+    spent = [b - a for a, b in zip(before, after, strict=True)]
+    return spent[7] / sum(spent) if sum(spent) else math.nan
 
 
 def figures(log: str) -> dict:
@@ -196,6 +221,11 @@ def mean_iterations(log: str) -> float:
     return statistics.fmean(row["v_solver_iterations"] for row in thermo_rows(log)[1:])
 
 
+def labelled(label: str) -> str:
+    """A table name's suffix for a labelled measurement ("" without a label)."""
+    return f"_{label}" if label else ""
+
+
 def write_rows(rows: list[dict], path: Path) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     with path.open("w", newline="") as handle:
@@ -204,10 +234,11 @@ def write_rows(rows: list[dict], path: Path) -> None:
         writer.writerows(rows)
 
 
-def measure(n: int, local_fraction: float = 0.0, preconditioner: str = DEFAULT_PRECONDITIONER) -> None:
+def measure(n: int, local_fraction: float = 0.0, preconditioner: str = DEFAULT_PRECONDITIONER, label: str = "") -> None:
     """1 and 2 ranks alternating; with local solves (run.local_solve_fraction = local_fraction > 0)
     or another preconditioner, into their own run folders and table (measure_local<f>.csv,
-    measure_<preconditioner>.csv)."""
+    measure_<preconditioner>.csv); a label names a table of its own (measure_<label>.csv), so that
+    a later measurement of the same runs does not replace the committed one."""
     engine = "default engine" + (f", local solves {local_fraction:g}" if local_fraction else "")
     suffix = f"_local{local_fraction:g}" if local_fraction else ""
     if preconditioner != DEFAULT_PRECONDITIONER:
@@ -217,8 +248,11 @@ def measure(n: int, local_fraction: float = 0.0, preconditioner: str = DEFAULT_P
         f"# {platform.machine()}, {platform.python_version()}; N = {n}, the paper's point, {engine}; "
         f"{MEASURE_STRAIN:g} strain continued from strain {PREPARE_STRAIN:g}, 1 and 2 ranks alternating\n"
     )
-    print("| run | ranks | steps | loop s | Modify s (fix) | Comm s | mean CG iterations | ghosts per rank |")
-    print("|---|--:|--:|--:|--:|--:|--:|--:|")
+    print(
+        "| run | ranks | steps | loop s | Modify s (fix) | Comm s | mean CG iterations | ghosts per rank "
+        "| host steal % |"
+    )
+    print("|---|--:|--:|--:|--:|--:|--:|--:|--:|")
     rows = []
     model = ForceModel(local_solve_fraction=local_fraction, preconditioner=preconditioner)
     for repeat in range(1, REPEATS + 1):
@@ -227,10 +261,11 @@ def measure(n: int, local_fraction: float = 0.0, preconditioner: str = DEFAULT_P
             rows.append(row)
             print(
                 f"| {repeat} | {ranks} | {row['steps']} | {row['loop_s']:.1f} | {row['modify_s']:.1f} | "
-                f"{row['comm_s']:.2f} | {row['iterations']:.2f} | {row['ghosts_per_rank']:.0f} |",
+                f"{row['comm_s']:.2f} | {row['iterations']:.2f} | {row['ghosts_per_rank']:.0f} | "
+                f"{100 * row['steal']:.1f} |",
                 flush=True,
             )
-    write_rows(rows, tables(n) / f"measure{suffix}.csv")
+    write_rows(rows, tables(n) / f"measure{suffix}{labelled(label)}.csv")
     speedups = [one["loop_s"] / two["loop_s"] for one, two in zip(rows[0::2], rows[1::2], strict=True)]
     print(
         f"\nspeed-up of 2 ranks over 1 (loop time), per pair: {', '.join(f'{s:.2f}' for s in speedups)}; "
@@ -354,6 +389,44 @@ def latency(n: int) -> None:
         f"2 ranks: MPI_Allreduce of one double {allreduce_us:.3f} us; a message of {doubles} doubles "
         f"{message_ns:.3f} ns per double one way"
     )
+
+
+def syncs_per_step(iterations_per_step: float) -> float:
+    """The ghost exchanges and global sums of one step at that many CG iterations (the counts above)."""
+    fixed = EXCHANGES_FIXED + SUMS_FIXED
+    return fixed + (EXCHANGES_PER_ITERATION + SUMS_PER_ITERATION) * iterations_per_step
+
+
+def jitter(n: int, label: str = "") -> None:
+    """Compiles benchmarks/mpi_sync_jitter.c and runs it on 2 ranks at several grains of work
+    between synchronisations, one of them the committed 2-rank run's (its step over its
+    synchronisations per step): how much a synchronisation costs beyond its latency here."""
+    two = [row for row in read_rows(tables(n) / "measure.csv") if row["ranks"] == 2]
+    step_us = 1e6 * statistics.median(row["loop_s"] / row["steps"] for row in two)
+    step_grain = step_us / syncs_per_step(statistics.median(row["iterations"] for row in two))
+    binary = ROOT / "mpi_sync_jitter"
+    compile_command = ["gcc", "-O2", f"-I{mpi_include_dir()}", str(JITTER_SOURCE), "-o", str(binary)]
+    subprocess.run(compile_command + [f"-L{Path(sys.prefix) / 'lib'}", "-lmpi"], check=True)
+    print(
+        f"# 2 ranks; the committed 2-rank run: {step_us / 1000:.1f} ms per step, "
+        f"{step_grain:.0f} us of work per synchronisation\n"
+    )
+    print("| work between synchronisations, us | alone, us (slower rank) | synchronised, us | lost | host steal % |")
+    print("|--:|--:|--:|--:|--:|")
+    rows = []
+    for grain in sorted((*JITTER_GRAINS_US, round(step_grain))):
+        intervals = max(1000, round(JITTER_SECONDS * 1e6 / grain))
+        command = [str(mpi_launcher()), "-np", "2", str(binary), str(grain), str(intervals)]
+        before = cpu_times()
+        result = subprocess.run(command, env=lammps_environment(), capture_output=True, text=True, check=True)
+        steal = stolen_share(before, cpu_times())
+        work_us, alone_us, synchronised_us = (float(value) for value in result.stdout.split())
+        lost = synchronised_us / alone_us - 1.0
+        rows.append({"grain_us": work_us, "alone_us": alone_us, "synchronised_us": synchronised_us, "steal": steal})
+        print(
+            f"| {work_us:.0f} | {alone_us:.1f} | {synchronised_us:.1f} | {lost:+.1%} | {100 * steal:.1f} |", flush=True
+        )
+    write_rows(rows, tables(n) / f"jitter{labelled(label)}.csv")
 
 
 def processor_grid(ranks: int, lengths: tuple[float, float, float]) -> tuple[int, int, int]:
@@ -486,8 +559,9 @@ def sizes(ns: list[int]) -> None:
         )
 
 
-def contention(n: int) -> None:
-    """The 1-rank continuation alone and two of it at once, alternating (module docstring)."""
+def contention(n: int, label: str = "") -> None:
+    """The 1-rank continuation alone and two of it at once, alternating (module docstring); into
+    contention.csv, or contention_<label>.csv."""
     from concurrent.futures import ThreadPoolExecutor
 
     rows, slowdowns = [], []
@@ -500,7 +574,7 @@ def contention(n: int) -> None:
         slowdowns.append(statistics.fmean(together) / alone - 1.0)
         rows.append({"repeat": repeat, "alone_s": alone, "first_s": together[0], "second_s": together[1]})
         print(f"| {repeat} | {alone:.1f} | {together[0]:.1f}, {together[1]:.1f} | {slowdowns[-1]:+.1%} |", flush=True)
-    write_rows(rows, tables(n) / "contention.csv")
+    write_rows(rows, tables(n) / f"contention{labelled(label)}.csv")
     median = statistics.median(slowdowns)
     print(f"\nmedian slowdown {median:+.1%}: a 2-rank speed-up of at most {2 / (1 + median):.2f} on this machine")
 
@@ -520,6 +594,7 @@ def main() -> None:
             "sizes",
             "local",
             "contention",
+            "jitter",
         ),
     )
     parser.add_argument("--n", type=int, nargs="+", default=[16000])
@@ -529,6 +604,11 @@ def main() -> None:
     )
     parser.add_argument(
         "--preconditioner", choices=PRECONDITIONERS, default=DEFAULT_PRECONDITIONER, help="measure: run.preconditioner"
+    )
+    parser.add_argument(
+        "--label",
+        default="",
+        help="measure, contention, jitter: write the table as <name>_<label>.csv beside the committed one",
     )
     args = parser.parse_args()
     if args.command == "sizes":
@@ -545,7 +625,7 @@ def main() -> None:
     elif args.command == "startup":
         startup_report(args.n)
     elif args.command == "measure":
-        measure(args.n, args.local_solve_fraction, args.preconditioner)
+        measure(args.n, args.local_solve_fraction, args.preconditioner, args.label)
     elif args.command == "iterations":
         iterations(args.n, args.ranks)
     elif args.command == "split":
@@ -553,7 +633,9 @@ def main() -> None:
     elif args.command == "latency":
         latency(args.n)
     elif args.command == "contention":
-        contention(args.n)
+        contention(args.n, args.label)
+    elif args.command == "jitter":
+        jitter(args.n, args.label)
     else:
         model(args.n)
 
