@@ -966,6 +966,45 @@ HOST_PHASE_QUOTES = [
         None,
     ),
 ]
+
+
+def preconditioner_row(table: str) -> list[float]:
+    """A row of the host-phase preconditioner table: the 1-rank and the 2-rank loop-time ranges, the
+    iterations on 1 and 2 ranks, the speed-up per pair and its median."""
+    iterations = [scaling_median(f"n16000/{table}", "iterations", ranks=ranks) for ranks in (1, 2)]
+    return loop_ranges(table) + iterations + mpi_speedups(table)
+
+
+HOST_PHASE_QUOTES += [
+    Quote(
+        "BENCHMARKS.md",
+        "| jacobi | {74.8}-{82.5} | {47.2}-{50.5} | {23.45} / {23.45} | {1.66}, {1.50}, {1.63} | {1.63} |",
+        lambda: preconditioner_row("measure_jacobi_20261206.csv"),
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "| dilu (the default) | {60.8}-{69.9} | {44.3}-{53.0} | {9.90} / {15.35} | {1.26}, {1.15}, {1.58} | {1.26} |",
+        lambda: preconditioner_row("measure_20261206b.csv"),
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "With the same iterations on 1 and 2 ranks the split gave {1.50}-{1.66}x",
+        lambda: sorted(mpi_speedups("measure_jacobi_20261206.csv")[:-1])[::2],
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "(median loop {50.0} against {52.5} s), on 1 rank slower ({78.4} against {66.4} s)",
+        lambda: [
+            scaling_median(f"n16000/{table}", "loop_s", ranks=ranks)
+            for ranks in (2, 1)
+            for table in ("measure_jacobi_20261206.csv", "measure_20261206b.csv")
+        ],
+        None,
+    ),
+]
 QUOTES += HOST_PHASE_QUOTES
 
 
