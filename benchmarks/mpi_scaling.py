@@ -13,6 +13,8 @@ simulation across MPI ranks").
     .venv/bin/python benchmarks/mpi_scaling.py sizes --n 500 4000 16000   # cost per atom against N
     .venv/bin/python benchmarks/mpi_scaling.py local --n 500 4000 16000   # local solves: idle
     .venv/bin/python benchmarks/mpi_scaling.py contention [--n 16000] [--label L]   # two 1-rank runs at once: idle
+    .venv/bin/python benchmarks/mpi_scaling.py jitter [--n 16000] [--label L]   # a synchronisation's price: idle
+    .venv/bin/python benchmarks/mpi_scaling.py preconditioners [--n 16000] [--label L]   # each on 1, 2 ranks: idle
 
 `prepare`: the paper's point (phi = 0.45, packing seed 1, the default forces and engine) at
 N = n, a startup to strain PREPARE_STRAIN on 2 ranks, into results/mpi_scaling/n<N>/.
@@ -273,6 +275,54 @@ def measure(n: int, local_fraction: float = 0.0, preconditioner: str = DEFAULT_P
     )
 
 
+def preconditioners(n: int, label: str = "") -> None:
+    """Each preconditioner on 1 and on 2 ranks, the four runs of a round in an order that rotates from
+    round to round (REPEATS rounds): which is faster on each rank count, measured side by side
+    (preconditioners.csv)."""
+    runs = [(ranks, name) for ranks in (1, 2) for name in PRECONDITIONERS]
+    print("| round | ranks | preconditioner | loop s | mean CG iterations | host steal % |\n|--:|--:|---|--:|--:|--:|")
+    rows = []
+    for repeat in range(1, REPEATS + 1):
+        shift = (repeat - 1) % len(runs)
+        for ranks, name in runs[shift:] + runs[:shift]:
+            model = ForceModel(preconditioner=name)
+            row = {
+                "repeat": repeat,
+                "preconditioner": name,
+                **continuation(n, ranks, MEASURE_STRAIN, f"{name}_ranks{ranks}", model),
+            }
+            rows.append(row)
+            print(
+                f"| {repeat} | {ranks} | {name} | {row['loop_s']:.1f} | {row['iterations']:.2f} | "
+                f"{100 * row['steal']:.1f} |",
+                flush=True,
+            )
+    write_rows(rows, tables(n) / f"preconditioners{labelled(label)}.csv")
+    print()
+    for ranks in (1, 2):
+        by_round = {
+            name: [row["loop_s"] for row in rows if row["ranks"] == ranks and row["preconditioner"] == name]
+            for name in PRECONDITIONERS
+        }
+        ratios = [j / d for j, d in zip(by_round["jacobi"], by_round["dilu"], strict=True)]
+        print(
+            f"{ranks} rank(s): jacobi's loop time over dilu's per round {', '.join(f'{r:.2f}' for r in ratios)}; "
+            f"median {statistics.median(ratios):.2f}"
+        )
+    best = {
+        ranks: [
+            min(row["loop_s"] for row in rows if row["ranks"] == ranks and row["repeat"] == repeat)
+            for repeat in range(1, REPEATS + 1)
+        ]
+        for ranks in (1, 2)
+    }
+    speedups = [one / two for one, two in zip(best[1], best[2], strict=True)]
+    print(
+        f"the faster on 2 ranks over the faster on 1, per round: {', '.join(f'{x:.2f}' for x in speedups)}; "
+        f"median {statistics.median(speedups):.2f} (target >= 1.7)"
+    )
+
+
 def iterations(n: int, ranks_list: list[int]) -> None:
     print("| ranks | steps | mean CG iterations | ghosts per rank |\n|--:|--:|--:|--:|")
     rows = []
@@ -405,6 +455,7 @@ def jitter(n: int, label: str = "") -> None:
     step_us = 1e6 * statistics.median(row["loop_s"] / row["steps"] for row in two)
     step_grain = step_us / syncs_per_step(statistics.median(row["iterations"] for row in two))
     binary = ROOT / "mpi_sync_jitter"
+    binary.parent.mkdir(parents=True, exist_ok=True)
     compile_command = ["gcc", "-O2", f"-I{mpi_include_dir()}", str(JITTER_SOURCE), "-o", str(binary)]
     subprocess.run(compile_command + [f"-L{Path(sys.prefix) / 'lib'}", "-lmpi"], check=True)
     print(
@@ -595,6 +646,7 @@ def main() -> None:
             "local",
             "contention",
             "jitter",
+            "preconditioners",
         ),
     )
     parser.add_argument("--n", type=int, nargs="+", default=[16000])
@@ -608,7 +660,8 @@ def main() -> None:
     parser.add_argument(
         "--label",
         default="",
-        help="measure, contention, jitter: write the table as <name>_<label>.csv beside the committed one",
+        help="measure, contention, jitter, preconditioners: write the table as <name>_<label>.csv beside the "
+        "committed one",
     )
     args = parser.parse_args()
     if args.command == "sizes":
@@ -636,6 +689,8 @@ def main() -> None:
         contention(args.n, args.label)
     elif args.command == "jitter":
         jitter(args.n, args.label)
+    elif args.command == "preconditioners":
+        preconditioners(args.n, args.label)
     else:
         model(args.n)
 
