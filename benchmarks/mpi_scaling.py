@@ -52,6 +52,16 @@ core), alternating, REPEATS times: how much two runs on the two cores slow each 
 cache shared), which bounds what any split over 2 ranks can gain here: 2 / (1 + slowdown)
 (contention.csv, or with --label L contention_L.csv).
 
+`jitter`: benchmarks/mpi_sync_jitter.c on 2 ranks at JITTER_GRAINS_US and at the committed 2-rank
+run's grain (its step over its synchronisations per step): how much longer a fixed piece of
+register arithmetic takes with an MPI_Allreduce after each piece than without, the price of a
+synchronisation beyond its latency on this machine (jitter.csv, or jitter_L.csv).
+
+`preconditioners`: each preconditioner of run.preconditioner on 1 and on 2 ranks, the four runs of
+a round in an order that rotates, REPEATS rounds: per round each one's loop time over the default's
+on each rank count, and the faster 2-rank run over the faster 1-rank run (preconditioners.csv, or
+preconditioners_L.csv).
+
 `model`: the time per step on P ranks of dedicated cores of one node,
     t(P) = N/P (a + b I(P)) + (5 + 2 I(P)) 6 g(P) c + (5 + 3 I(P)) s log2 P,
 with a and b the 1-rank costs per atom outside and per CG iteration (measure and split), I(P)
@@ -304,11 +314,13 @@ def preconditioners(n: int, label: str = "") -> None:
             name: [row["loop_s"] for row in rows if row["ranks"] == ranks and row["preconditioner"] == name]
             for name in PRECONDITIONERS
         }
-        ratios = [j / d for j, d in zip(by_round["jacobi"], by_round["dilu"], strict=True)]
-        print(
-            f"{ranks} rank(s): jacobi's loop time over dilu's per round {', '.join(f'{r:.2f}' for r in ratios)}; "
-            f"median {statistics.median(ratios):.2f}"
-        )
+        default = by_round[DEFAULT_PRECONDITIONER]
+        for name in (name for name in PRECONDITIONERS if name != DEFAULT_PRECONDITIONER):
+            ratios = [other / base for other, base in zip(by_round[name], default, strict=True)]
+            print(
+                f"{ranks} rank(s): {name}'s loop time over {DEFAULT_PRECONDITIONER}'s per round "
+                f"{', '.join(f'{r:.2f}' for r in ratios)}; median {statistics.median(ratios):.2f}"
+            )
     best = {
         ranks: [
             min(row["loop_s"] for row in rows if row["ranks"] == ranks and row["repeat"] == repeat)
