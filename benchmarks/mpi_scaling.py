@@ -7,7 +7,7 @@ simulation across MPI ranks").
     .venv/bin/python benchmarks/mpi_scaling.py measure [--n 16000] [--local-solve-fraction 0.02] [--label L]   # idle
     .venv/bin/python benchmarks/mpi_scaling.py measure [--n 16000] --preconditioner jacobi        # idle
     .venv/bin/python benchmarks/mpi_scaling.py split [--n 16000]     # price of an iteration: idle
-    .venv/bin/python benchmarks/mpi_scaling.py iterations [--n 16000] [--ranks 1 2 4 8]
+    .venv/bin/python benchmarks/mpi_scaling.py iterations [--n 16000] [--ranks 1 2 4 8] [--preconditioner jacobi]
     .venv/bin/python benchmarks/mpi_scaling.py latency [--n 16000]   # MPI's prices: idle machine
     .venv/bin/python benchmarks/mpi_scaling.py model [--n 16000]     # efficiency, 1-64 ranks
     .venv/bin/python benchmarks/mpi_scaling.py sizes --n 500 4000 16000   # cost per atom against N
@@ -37,7 +37,7 @@ for the same other work, so the difference prices one iteration per atom (split.
 
 `iterations`: the continuation, ITERATION_STRAIN long, on each rank count given; on this 2-core
 machine more than 2 ranks share cores, so only the iteration and ghost counts are kept, not the
-times (iterations.csv).
+times (iterations.csv; with --preconditioner jacobi, iterations_jacobi.csv).
 
 `sizes`: from each N's split.csv, the 1-rank cost per atom per step split into the part outside
 the CG iterations and the iterations' part: what the growth of the cost with N comes from.
@@ -335,15 +335,19 @@ def preconditioners(n: int, label: str = "") -> None:
     )
 
 
-def iterations(n: int, ranks_list: list[int]) -> None:
+def iterations(n: int, ranks_list: list[int], preconditioner: str = DEFAULT_PRECONDITIONER) -> None:
+    """The CG iterations and ghosts on each rank count (iterations.csv; another preconditioner than
+    the default into iterations_<preconditioner>.csv)."""
+    suffix = "" if preconditioner == DEFAULT_PRECONDITIONER else f"_{preconditioner}"
+    model = ForceModel(preconditioner=preconditioner)
     print("| ranks | steps | mean CG iterations | ghosts per rank |\n|--:|--:|--:|--:|")
     rows = []
     for ranks in ranks_list:
-        row = continuation(n, ranks, ITERATION_STRAIN, f"iterations_ranks{ranks}")
+        row = continuation(n, ranks, ITERATION_STRAIN, f"iterations{suffix}_ranks{ranks}", model)
         keep = ("n", "ranks", "steps", "iterations", "ghosts_per_rank", "box_x", "box_y", "box_z", "ghost_cutoff")
         rows.append({key: row[key] for key in keep})
         print(f"| {ranks} | {row['steps']} | {row['iterations']:.2f} | {row['ghosts_per_rank']:.0f} |", flush=True)
-    write_rows(rows, tables(n) / "iterations.csv")
+    write_rows(rows, tables(n) / f"iterations{suffix}.csv")
 
 
 def split_strain(n: int) -> float:
@@ -667,7 +671,10 @@ def main() -> None:
         "--local-solve-fraction", type=float, default=0.0, help="measure: run.local_solve_fraction (0: off)"
     )
     parser.add_argument(
-        "--preconditioner", choices=PRECONDITIONERS, default=DEFAULT_PRECONDITIONER, help="measure: run.preconditioner"
+        "--preconditioner",
+        choices=PRECONDITIONERS,
+        default=DEFAULT_PRECONDITIONER,
+        help="measure, iterations: run.preconditioner",
     )
     parser.add_argument(
         "--label",
@@ -692,7 +699,7 @@ def main() -> None:
     elif args.command == "measure":
         measure(args.n, args.local_solve_fraction, args.preconditioner, args.label)
     elif args.command == "iterations":
-        iterations(args.n, args.ranks)
+        iterations(args.n, args.ranks, args.preconditioner)
     elif args.command == "split":
         split(args.n)
     elif args.command == "latency":

@@ -1068,6 +1068,17 @@ HOST_PHASE_QUOTES += [
         None,
     ),
 ]
+HOST_PHASE_QUOTES.append(
+    Quote(
+        "BENCHMARKS.md",
+        "the same 200 steps took {24.25} CG iterations per step on {1}, {2}, {4} and {8} ranks alike",
+        lambda: (
+            [float(scaling_table("n16000/iterations_jacobi.csv")["iterations"].unique().item())]
+            + list(scaling_table("n16000/iterations_jacobi.csv")["ranks"])
+        ),
+        None,
+    )
+)
 QUOTES += HOST_PHASE_QUOTES
 
 
