@@ -866,17 +866,21 @@ def loop_ranges(table: str) -> list[float]:
     return [float(f(rows[rows["ranks"] == ranks]["loop_s"])) for ranks in (1, 2) for f in (np.min, np.max)]
 
 
+def jitter_loss_at(table: str, grain_us: float) -> float:
+    """benchmarks/mpi_scaling.py jitter: the share lost to synchronising (%) at the grain nearest grain_us."""
+    rows = scaling_table(f"n16000/{table}")
+    row = rows.iloc[(rows["grain_us"] - grain_us).abs().argmin()]
+    return 100 * (row["synchronised_us"] / row["alone_us"] - 1)
+
+
 def jitter_at_the_step_grain() -> list[float]:
     """benchmarks/mpi_scaling.py jitter: the committed 2-rank step (ms), its synchronisations per step, the
     work between two of them (us), and the share lost to synchronising at that grain (%)."""
     two = scaling_table("n16000/measure.csv").query("ranks == 2")
     step_ms = 1000 * float((two["loop_s"] / two["steps"]).median())
-    iterations = float(two["iterations"].median())
-    meetings = 10 + 5 * iterations  # (5 + 2 I) ghost exchanges and (5 + 3 I) global sums
+    meetings = benchmark_script("mpi_scaling").syncs_per_step(float(two["iterations"].median()))
     grain = 1000 * step_ms / meetings
-    table = scaling_table("n16000/jitter_20261206.csv")
-    row = table.iloc[(table["grain_us"] - grain).abs().argmin()]
-    return [step_ms, meetings, grain, 100 * (row["synchronised_us"] / row["alone_us"] - 1)]
+    return [step_ms, meetings, grain, jitter_loss_at("jitter_20261206.csv", grain)]
 
 
 def profile_shares() -> list[float]:
@@ -1005,13 +1009,6 @@ HOST_PHASE_QUOTES += [
         None,
     ),
 ]
-
-
-def jitter_loss_at(table: str, grain_us: float) -> float:
-    """benchmarks/mpi_scaling.py jitter: the share lost to synchronising (%) at the grain nearest grain_us."""
-    rows = scaling_table(f"n16000/{table}")
-    row = rows.iloc[(rows["grain_us"] - grain_us).abs().argmin()]
-    return 100 * (row["synchronised_us"] / row["alone_us"] - 1)
 
 
 def preconditioner_ratios() -> list[float]:
