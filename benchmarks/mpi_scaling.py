@@ -437,14 +437,21 @@ def read_rows(path: Path) -> list[dict]:
         return [{key: float(value) for key, value in row.items()} for row in csv.DictReader(handle)]
 
 
+def compile_mpi_program(source: Path) -> Path:
+    """A C benchmark of this folder compiled against the venv's mpich, into results/mpi_scaling/."""
+    binary = ROOT / source.stem
+    binary.parent.mkdir(parents=True, exist_ok=True)
+    command = ["gcc", "-O2", f"-I{mpi_include_dir()}", str(source), "-o", str(binary)]
+    subprocess.run([*command, f"-L{Path(sys.prefix) / 'lib'}", "-lmpi"], check=True)
+    return binary
+
+
 def latency(n: int) -> None:
     """Compiles benchmarks/mpi_latency.c against the venv's mpich and runs it on 2 ranks, with
     messages of the size of one ghost exchange of the measured 2-rank run (6 doubles per ghost)."""
     two = [row for row in read_rows(tables(n) / "measure.csv") if row["ranks"] == 2]
     doubles = round(6 * statistics.median(row["ghosts_per_rank"] for row in two))
-    binary = ROOT / "mpi_latency"
-    compile_command = ["gcc", "-O2", f"-I{mpi_include_dir()}", str(LATENCY_SOURCE), "-o", str(binary)]
-    subprocess.run(compile_command + [f"-L{Path(sys.prefix) / 'lib'}", "-lmpi"], check=True)
+    binary = compile_mpi_program(LATENCY_SOURCE)
     command = [str(mpi_launcher()), "-np", "2", str(binary), str(doubles)]
     output = subprocess.run(command, env=lammps_environment(), capture_output=True, text=True, check=True).stdout
     allreduce_us, message_ns = (float(value) for value in output.split())
@@ -470,10 +477,7 @@ def jitter(n: int, label: str = "") -> None:
     two = [row for row in read_rows(tables(n) / "measure.csv") if row["ranks"] == 2]
     step_us = 1e6 * statistics.median(row["loop_s"] / row["steps"] for row in two)
     step_grain = step_us / syncs_per_step(statistics.median(row["iterations"] for row in two))
-    binary = ROOT / "mpi_sync_jitter"
-    binary.parent.mkdir(parents=True, exist_ok=True)
-    compile_command = ["gcc", "-O2", f"-I{mpi_include_dir()}", str(JITTER_SOURCE), "-o", str(binary)]
-    subprocess.run(compile_command + [f"-L{Path(sys.prefix) / 'lib'}", "-lmpi"], check=True)
+    binary = compile_mpi_program(JITTER_SOURCE)
     print(
         f"# 2 ranks; the committed 2-rank run: {step_us / 1000:.1f} ms per step, "
         f"{step_grain:.0f} us of work per synchronisation\n"

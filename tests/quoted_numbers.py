@@ -813,9 +813,7 @@ def scaling_median(name: str, column: str, **where) -> float:
 def mpi_speedup(n: int, table: str = "measure.csv") -> float:
     """Median over the alternating pairs of benchmarks/mpi_scaling.py measure: 1-rank loop time
     over 2-rank loop time."""
-    rows = scaling_table(f"n{n}/{table}")
-    one, two = rows[rows["ranks"] == 1]["loop_s"].to_numpy(), rows[rows["ranks"] == 2]["loop_s"].to_numpy()
-    return float(np.median(one / two))
+    return mpi_speedups(table, n)[-1]
 
 
 OTHER_PAGES = [
@@ -852,9 +850,9 @@ def contention_figures(table: str = "contention.csv", repeats: bool = False) -> 
     return (list(slowdowns) if repeats else []) + figures
 
 
-def mpi_speedups(table: str) -> list[float]:
+def mpi_speedups(table: str, n: int = 16000) -> list[float]:
     """benchmarks/mpi_scaling.py measure: 1-rank over 2-rank loop time per alternating pair, then their median."""
-    rows = scaling_table(f"n16000/{table}")
+    rows = scaling_table(f"n{n}/{table}")
     ratios = list(rows[rows["ranks"] == 1]["loop_s"].to_numpy() / rows[rows["ranks"] == 2]["loop_s"].to_numpy())
     return ratios + [float(np.median(ratios))]
 
