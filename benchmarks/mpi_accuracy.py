@@ -1,0 +1,318 @@
+"""What run.solver_tol means on several ranks: one step of the default engine from a steady state,
+solved on each rank count with each preconditioner at each tolerance, against the same step solved
+on 1 rank with the default preconditioner at REFERENCE_TOL (BENCHMARKS.md, "One simulation across
+MPI ranks").
+
+The solve stops when |z|_max <= solver_tol, z = M^-1 r (M the preconditioner, r the residual).
+With dilu, z is close to the error A^-1 r on one rank, but on several ranks M drops the couplings
+of the pairs that cross a rank boundary, so the same tol may be a looser solve there. Block Jacobi
+(each particle's own 6x6 block) is the same preconditioner on any number of ranks. Needs the states
+of `mpi_scaling.py prepare --n N`:
+
+    .venv/bin/python benchmarks/mpi_scaling.py prepare --n 16000
+    .venv/bin/python benchmarks/mpi_accuracy.py errors --n 16000       # the errors and iterations
+    .venv/bin/python benchmarks/mpi_accuracy.py report --n 16000 [--label L]   # print the tables again
+    .venv/bin/python benchmarks/mpi_accuracy.py timing --n 16000 [--label L]   # idle machine
+
+States: the prepared state (strain PREPARE_STRAIN) and STATE_COUNT - 1 more, each STATE_SPACING strain
+after the one before on 1 rank (made once, into results/mpi_scaling/n<N>/accuracy_states/). From each
+state benchmarks/one_step_velocities.lmp runs one step with each setting; the largest and the rms
+difference of the solved velocities (translational and angular, units gammadot d and gammadot) from
+the reference. Where the solve stops between two iterations moves a single step's error by a factor
+of about two, so a setting is judged by its error over the default engine's (1 rank, the default
+preconditioner and solver_tol) on the same state: the geometric mean of that ratio over the states,
+with its 95% t-interval (the states the units). The matched tol of a (ranks, preconditioner) is the
+loosest of TOLERANCES whose mean ratios, largest and rms, are both at most 1. Then for each setting
+the mean CG iterations per step over ITERATION_STRAIN from the prepared state (counts only: they do
+not depend on the host's load). Writes benchmarks/data/mpi_scaling/n<N>/accuracy.csv and
+accuracy_iterations.csv; `report` prints them again.
+
+`timing`: the default engine on 1 rank and each preconditioner on 2 ranks at its matched tol, MEASURE_STRAIN
+from the prepared state, the runs of a round in an order that rotates, REPEATS rounds: the speed-up of 2 ranks
+at the 1-rank default's accuracy, and each preconditioner's loop time over the default's on 2 ranks
+(accuracy_timing.csv, or accuracy_timing_<label>.csv beside it).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import statistics
+import subprocess
+from pathlib import Path
+
+import numpy as np
+from mpi_scaling import (
+    DEFAULT_PRECONDITIONER,
+    ITERATION_STRAIN,
+    MEASURE_STRAIN,
+    PRECONDITIONERS,
+    PREPARE_STRAIN,
+    REPEATS,
+    checkpoint,
+    continuation,
+    folder,
+    labelled,
+    tables,
+    write_rows,
+)
+from scipy import stats
+
+from suspension_fabric.io.resources import LAMMPS_SCRIPTS_DIR
+from suspension_fabric.io.schema import schema_default
+from suspension_fabric.simulation.lammps import RUN_FILES, ForceModel, ShearSettings, is_complete, run_rotation
+from suspension_fabric.simulation.lammps.process import lammps_command, lammps_environment, thermo_rows
+
+SCRIPT = Path(__file__).with_name("one_step_velocities.lmp")
+STATE_COUNT = 8
+STATE_SPACING = 0.02
+RANKS = (1, 2)
+TOLERANCES = (1e-3, 5e-4, 3e-4, 1e-4)
+REFERENCE_TOL = 1e-8
+DEFAULT_TOL = schema_default("run", "solver_tol")
+VELOCITY_FILE = "velocities.dump"
+DUMP_HEADER_LINES = 9
+
+
+def states(n: int) -> dict[str, Path]:
+    """The prepared checkpoint and STATE_COUNT - 1 more, each STATE_SPACING strain after the one before on 1
+    rank (made here once, into results/mpi_scaling/n<N>/accuracy_states/)."""
+    if not is_complete(folder(n) / "startup"):
+        raise SystemExit(f"no prepared state for N = {n}: run benchmarks/mpi_scaling.py prepare --n {n} first")
+    found = {f"{PREPARE_STRAIN:g}": checkpoint(n)}
+    settings = ShearSettings(
+        dump_strain=STATE_SPACING,
+        table_strain=STATE_SPACING / 10,
+        thermo_strain=STATE_SPACING / 10,
+        restart_strain=STATE_SPACING,
+        max_stress_jitter=None,
+    )
+    for k in range(1, STATE_COUNT):
+        strain = f"{PREPARE_STRAIN + k * STATE_SPACING:g}"
+        run = folder(n) / "accuracy_states" / f"strain{strain}"
+        if not is_complete(run):
+            run_rotation(
+                run, list(found.values())[-1], 0.0, STATE_SPACING, settings=settings, overwrite=True, progress=None
+            )
+        found[strain] = run / RUN_FILES["checkpoint"]
+    return found
+
+
+def one_step(state: Path, ranks: int, preconditioner: str, tol: float, run_dir: Path) -> tuple[np.ndarray, float]:
+    """The velocities after one step from `state` (rows by atom ID: id, v, omega) and its CG iterations."""
+    settings = ShearSettings(ranks=ranks)
+    step = settings.dt * settings.rate
+    settings = ShearSettings(dump_strain=step, table_strain=step, thermo_strain=step, restart_strain=step, ranks=ranks)
+    variables = {
+        "lammps_dir": str(LAMMPS_SCRIPTS_DIR),
+        "start_from": "checkpoint",
+        "start_file": str(state.resolve()),
+        "segment_index": "1",
+        "flow_angle_deg": "0.0",
+        "turning_deg_per_strain": "0.0",
+        **ForceModel(preconditioner=preconditioner, solver_tol=tol).variables(),
+        **settings.variables(),
+        "strain_total": repr(step),
+        "dump_file": RUN_FILES["trajectory"],
+        "table_file": RUN_FILES["stress"],
+        "checkpoint_file": RUN_FILES["checkpoint"],
+        "restart_file_a": "restart.a.rst",
+        "restart_file_b": "restart.b.rst",
+        "velocity_file": VELOCITY_FILE,
+    }
+    run_dir.mkdir(parents=True, exist_ok=True)
+    command = lammps_command(SCRIPT, variables, ranks)
+    done = subprocess.run(command, cwd=run_dir, env=lammps_environment(), capture_output=True, text=True)
+    if done.returncode != 0:
+        raise SystemExit(f"{' '.join(command)} failed in {run_dir}:\n{done.stdout[-2000:]}{done.stderr[-2000:]}")
+    iterations = thermo_rows((run_dir / "log.lammps").read_text())[-1]["v_solver_iterations"]
+    return np.loadtxt(run_dir / VELOCITY_FILE, skiprows=DUMP_HEADER_LINES), iterations
+
+
+def settings_grid() -> list[tuple[int, str, float]]:
+    return [(ranks, p, tol) for ranks in RANKS for p in PRECONDITIONERS for tol in TOLERANCES]
+
+
+def measure(n: int) -> None:
+    rows = []
+    for name, state in states(n).items():
+        scratch = folder(n) / "accuracy" / f"strain{name}"
+        reference, _ = one_step(state, 1, DEFAULT_PRECONDITIONER, REFERENCE_TOL, scratch / "reference")
+        for ranks, preconditioner, tol in settings_grid():
+            velocities, iterations = one_step(
+                state, ranks, preconditioner, tol, scratch / f"ranks{ranks}_{preconditioner}_{tol:g}"
+            )
+            if not np.array_equal(velocities[:, 0], reference[:, 0]):
+                raise SystemExit(f"{state}: the dumps of {ranks} ranks and of the reference list other atoms")
+            difference = velocities[:, 1:] - reference[:, 1:]
+            rows.append(
+                {
+                    "state": name,
+                    "ranks": ranks,
+                    "preconditioner": preconditioner,
+                    "tol": tol,
+                    "step_iterations": iterations,
+                    "largest": float(np.abs(difference).max()),
+                    "rms": float(np.sqrt(np.mean(difference**2))),
+                }
+            )
+            print(rows[-1], flush=True)
+    write_rows(rows, tables(n) / "accuracy.csv")
+    counts = []
+    for ranks, preconditioner, tol in settings_grid():
+        model = ForceModel(preconditioner=preconditioner, solver_tol=tol)
+        row = continuation(
+            n, ranks, ITERATION_STRAIN, f"accuracy_iterations_ranks{ranks}_{preconditioner}_{tol:g}", model
+        )
+        counts.append({"ranks": ranks, "preconditioner": preconditioner, "tol": tol, "iterations": row["iterations"]})
+        print(counts[-1], flush=True)
+    write_rows(counts, tables(n) / "accuracy_iterations.csv")
+
+
+def read_table(path: Path) -> list[dict]:
+    """A committed table's rows, numbers as floats and names as strings."""
+    with path.open() as handle:
+        rows = list(csv.DictReader(handle))
+    for row in rows:
+        for key in ("ranks", "tol", "step_iterations", "largest", "rms", "iterations", "repeat", "loop_s"):
+            if key in row:
+                row[key] = float(row[key])
+    return rows
+
+
+def is_default(row: dict) -> bool:
+    return (int(row["ranks"]), row["preconditioner"], float(row["tol"])) == (1, DEFAULT_PRECONDITIONER, DEFAULT_TOL)
+
+
+def error_ratios(errors: list[dict]) -> dict[tuple[int, str, float], dict[str, tuple[float, float, float]]]:
+    """Per setting, the geometric mean over the states of its largest and rms difference over the default
+    engine's on the same state, with the 95% t-interval: {setting: {"largest": (mean, low, high), "rms": ...}}."""
+    default = {row["state"]: row for row in errors if is_default(row)}
+    grouped: dict[tuple[int, str, float], list[dict]] = {}
+    for row in errors:
+        grouped.setdefault((int(row["ranks"]), row["preconditioner"], row["tol"]), []).append(row)
+    ratios = {}
+    for setting, rows in grouped.items():
+        ratios[setting] = {}
+        for key in ("largest", "rms"):
+            logs = np.log([row[key] / default[row["state"]][key] for row in rows])
+            half = stats.t.ppf(0.975, len(logs) - 1) * logs.std(ddof=1) / np.sqrt(len(logs))
+            ratios[setting][key] = tuple(
+                float(np.exp(v)) for v in (logs.mean(), logs.mean() - half, logs.mean() + half)
+            )
+    return ratios
+
+
+def matched_tolerances(ratios: dict) -> dict[tuple[int, str], float | None]:
+    """Per (ranks, preconditioner), the loosest tol whose mean ratios, largest and rms, are both at most 1
+    (None: no tol of the grid)."""
+    matched = {}
+    for ranks, preconditioner in sorted({(ranks, p) for ranks, p, _ in ratios}):
+        within = [
+            tol
+            for (r, p, tol), ratio in sorted(ratios.items(), key=lambda item: -item[0][2])
+            if (r, p) == (ranks, preconditioner) and ratio["largest"][0] <= 1 and ratio["rms"][0] <= 1
+        ]
+        matched[(ranks, preconditioner)] = within[0] if within else None
+    return matched
+
+
+def report(n: int) -> None:
+    errors = read_table(tables(n) / "accuracy.csv")
+    counts = read_table(tables(n) / "accuracy_iterations.csv")
+    iterations = {(int(r["ranks"]), r["preconditioner"], r["tol"]): r["iterations"] for r in counts}
+    ratios = error_ratios(errors)
+    states_count = len({row["state"] for row in errors})
+    print(
+        f"N = {n}: one step from each of {states_count} states; difference from 1 rank, {DEFAULT_PRECONDITIONER} "
+        f"at tol {REFERENCE_TOL:g}, over that of 1 rank, {DEFAULT_PRECONDITIONER} at tol {DEFAULT_TOL:g} on the "
+        f"same state: geometric mean [95% t-interval over the states]; mean CG iterations per step over "
+        f"{ITERATION_STRAIN:g} strain\n"
+    )
+    print("| ranks | preconditioner | tol | largest / default's | rms / default's | CG iterations per step |")
+    print("|--:|---|--:|--:|--:|--:|")
+    for (ranks, preconditioner, tol), ratio in sorted(
+        ratios.items(), key=lambda item: (item[0][0], item[0][1], -item[0][2])
+    ):
+        cells = [f"{m:.2f} [{lo:.2f}, {hi:.2f}]" for m, lo, hi in (ratio["largest"], ratio["rms"])]
+        print(
+            f"| {ranks} | {preconditioner} | {tol:g} | {cells[0]} | {cells[1]} | "
+            f"{iterations[(ranks, preconditioner, tol)]:.2f} |"
+        )
+    print("\nmatched tol (the loosest whose mean ratios are both <= 1) and its iterations per step:")
+    for (ranks, preconditioner), tol in matched_tolerances(ratios).items():
+        found = f"{tol:g}, {iterations[(ranks, preconditioner, tol)]:.2f} iterations" if tol else "none of the grid"
+        print(f"- {ranks} rank(s), {preconditioner}: {found}")
+
+
+def timing(n: int, label: str = "") -> None:
+    """The default engine on 1 rank and each preconditioner on 2 ranks at its matched tol (accuracy.csv), the
+    runs of a round in an order that rotates from round to round, REPEATS rounds of MEASURE_STRAIN from the
+    prepared state: the speed-up of 2 ranks at the 1-rank default's accuracy (accuracy_timing.csv, or
+    accuracy_timing_<label>.csv)."""
+    matched = matched_tolerances(error_ratios(read_table(tables(n) / "accuracy.csv")))
+    runs = [(1, DEFAULT_PRECONDITIONER, DEFAULT_TOL)] + [
+        (2, name, matched[(2, name)]) for name in PRECONDITIONERS if matched[(2, name)] is not None
+    ]
+    print("| round | ranks | preconditioner | tol | loop s | mean CG iterations | host steal % |")
+    print("|--:|--:|---|--:|--:|--:|--:|")
+    rows = []
+    for repeat in range(1, REPEATS + 1):
+        shift = (repeat - 1) % len(runs)
+        for ranks, name, tol in runs[shift:] + runs[:shift]:
+            model = ForceModel(preconditioner=name, solver_tol=tol)
+            figures = continuation(n, ranks, MEASURE_STRAIN, f"accuracy_timing_ranks{ranks}_{name}", model)
+            rows.append({"repeat": repeat, "preconditioner": name, "tol": tol, **figures})
+            print(
+                f"| {repeat} | {ranks} | {name} | {tol:g} | {figures['loop_s']:.1f} | {figures['iterations']:.2f} | "
+                f"{100 * figures['steal']:.1f} |",
+                flush=True,
+            )
+    write_rows(rows, tables(n) / f"accuracy_timing{labelled(label)}.csv")
+    print()
+    print_timing(rows)
+
+
+def print_timing(rows: list[dict]) -> None:
+    """Per 2-rank setting, the 1-rank default's loop time over its own in each round, and the median."""
+    one_rank = {row["repeat"]: row["loop_s"] for row in rows if int(row["ranks"]) == 1}
+    for name in dict.fromkeys(row["preconditioner"] for row in rows if int(row["ranks"]) == 2):
+        mine = [row for row in rows if int(row["ranks"]) == 2 and row["preconditioner"] == name]
+        speedups = [one_rank[row["repeat"]] / row["loop_s"] for row in mine]
+        print(
+            f"2 ranks, {name} at tol {float(mine[0]['tol']):g}: speed-up over 1 rank, {DEFAULT_PRECONDITIONER} at "
+            f"{DEFAULT_TOL:g}, per round {', '.join(f'{x:.2f}' for x in speedups)}; "
+            f"median {statistics.median(speedups):.2f}"
+        )
+    two_ranks = {(row["repeat"], row["preconditioner"]): row["loop_s"] for row in rows if int(row["ranks"]) == 2}
+    for name in (name for name in PRECONDITIONERS if name != DEFAULT_PRECONDITIONER):
+        if (1.0, name) in two_ranks and (1.0, DEFAULT_PRECONDITIONER) in two_ranks:
+            ratios = [two_ranks[(r, name)] / two_ranks[(r, DEFAULT_PRECONDITIONER)] for r, p in two_ranks if p == name]
+            print(
+                f"2 ranks: {name}'s loop time over {DEFAULT_PRECONDITIONER}'s per round "
+                f"{', '.join(f'{x:.2f}' for x in ratios)}; median {statistics.median(ratios):.2f}"
+            )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("command", choices=("errors", "report", "timing"))
+    parser.add_argument("--n", type=int, default=16000)
+    parser.add_argument(
+        "--label", default="", help="timing: write the table as accuracy_timing_<label>.csv; report: print that table"
+    )
+    args = parser.parse_args()
+    if args.command == "errors":
+        measure(args.n)
+    if args.command in ("errors", "report"):
+        report(args.n)
+        timings = tables(args.n) / f"accuracy_timing{labelled(args.label)}.csv"
+        if args.command == "report" and timings.exists():
+            print()
+            print_timing(read_table(timings))
+    if args.command == "timing":
+        timing(args.n, args.label)
+
+
+if __name__ == "__main__":
+    main()
