@@ -10,7 +10,7 @@ of the pairs that cross a rank boundary, so the same tol may be a looser solve t
 of `mpi_scaling.py prepare --n N`:
 
     .venv/bin/python benchmarks/mpi_scaling.py prepare --n 16000
-    .venv/bin/python benchmarks/mpi_accuracy.py errors --n 16000       # the errors and iterations
+    .venv/bin/python benchmarks/mpi_accuracy.py errors --n 16000 [--ranks 1 2 4 8]   # errors, iterations
     .venv/bin/python benchmarks/mpi_accuracy.py report --n 16000 [--label L]   # print the tables again
     .venv/bin/python benchmarks/mpi_accuracy.py timing --n 16000 [--label L]   # idle machine
 
@@ -129,16 +129,16 @@ def one_step(state: Path, ranks: int, preconditioner: str, tol: float, run_dir: 
     return np.loadtxt(run_dir / VELOCITY_FILE, skiprows=DUMP_HEADER_LINES), iterations
 
 
-def settings_grid() -> list[tuple[int, str, float]]:
-    return [(ranks, p, tol) for ranks in RANKS for p in PRECONDITIONERS for tol in TOLERANCES]
+def settings_grid(ranks_list: tuple[int, ...]) -> list[tuple[int, str, float]]:
+    return [(ranks, p, tol) for ranks in ranks_list for p in PRECONDITIONERS for tol in TOLERANCES]
 
 
-def measure(n: int) -> None:
+def measure(n: int, ranks_list: tuple[int, ...] = RANKS) -> None:
     rows = []
     for name, state in states(n).items():
         scratch = folder(n) / "accuracy" / f"strain{name}"
         reference, _ = one_step(state, 1, DEFAULT_PRECONDITIONER, REFERENCE_TOL, scratch / "reference")
-        for ranks, preconditioner, tol in settings_grid():
+        for ranks, preconditioner, tol in settings_grid(ranks_list):
             velocities, iterations = one_step(
                 state, ranks, preconditioner, tol, scratch / f"ranks{ranks}_{preconditioner}_{tol:g}"
             )
@@ -159,7 +159,7 @@ def measure(n: int) -> None:
             print(rows[-1], flush=True)
     write_rows(rows, tables(n) / "accuracy.csv")
     counts = []
-    for ranks, preconditioner, tol in settings_grid():
+    for ranks, preconditioner, tol in settings_grid(ranks_list):
         model = ForceModel(preconditioner=preconditioner, solver_tol=tol)
         row = continuation(
             n, ranks, ITERATION_STRAIN, f"accuracy_iterations_ranks{ranks}_{preconditioner}_{tol:g}", model
@@ -299,11 +299,21 @@ def main() -> None:
     parser.add_argument("command", choices=("errors", "report", "timing"))
     parser.add_argument("--n", type=int, default=16000)
     parser.add_argument(
+        "--ranks",
+        type=int,
+        nargs="+",
+        default=list(RANKS),
+        help="errors: the rank counts (1 first; more than 2 share this machine's cores, which the counts "
+        "and errors do not mind)",
+    )
+    parser.add_argument(
         "--label", default="", help="timing: write the table as accuracy_timing_<label>.csv; report: print that table"
     )
     args = parser.parse_args()
+    if 1 not in args.ranks:
+        parser.error("--ranks must include 1: the errors are compared with the 1-rank default engine's")
     if args.command == "errors":
-        measure(args.n)
+        measure(args.n, tuple(args.ranks))
     if args.command in ("errors", "report"):
         report(args.n)
         timings = tables(args.n) / f"accuracy_timing{labelled(args.label)}.csv"

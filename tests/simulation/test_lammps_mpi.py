@@ -15,8 +15,9 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+import numpy as np
 import pytest
-from trajectory_helpers import assert_same_run
+from trajectory_helpers import assert_same_run, last_positions
 
 from suspension_fabric.simulation.lammps import (
     RUN_FILES,
@@ -100,3 +101,38 @@ def test_a_restart_written_on_two_ranks_continues_on_one(startups, tmp_path):
         for ranks in (1, 2)
     }
     assert_same_run(continued[1], continued[2])
+
+
+LOOSE_TOLERANCE = 1.0e-3  # the default run.solver_tol
+LOOSE_STEPS = 20
+
+
+def test_block_jacobi_solves_alike_on_any_rank_count_and_dilu_does_not(startups, tmp_path):
+    """At the default tol the solve stops well short of the exact solution, and where it stops is set by
+    the preconditioner M (the stopping test is |M^-1 r|_max <= tol). Block Jacobi's M, each atom's own
+    6x6 block, is the same on 1 and 2 ranks, so the two iterate alike up to the order of the global sums:
+    20 steps from the 1-rank startup's checkpoint end at positions within 1e-10 d of each other. dilu's M
+    drops the couplings of the pairs across the rank boundary on 2 ranks, so its solve stops elsewhere:
+    the positions differ by more than one step's worth of a velocity error of tol, tol dt = 1e-7 d (measured:
+    1e-13 d with block Jacobi, 4e-6 d with dilu)."""
+    strain = LOOSE_STEPS * DT
+    apart = {}
+    for preconditioner in ("jacobi", "dilu"):
+        model = ForceModel(
+            plugin=plugin_path(), **{**MODEL, "solver_tol": LOOSE_TOLERANCE}, preconditioner=preconditioner
+        )
+        runs = [
+            run_rotation(
+                tmp_path / f"{preconditioner}_ranks{ranks}",
+                startups[1].output_dir / RUN_FILES["checkpoint"],
+                0.0,
+                strain,
+                settings=replace(settings(ranks), dump_strain=strain, table_strain=strain, thermo_strain=strain),
+                force_model=model,
+                progress=None,
+            )
+            for ranks in (1, 2)
+        ]
+        apart[preconditioner] = np.abs(last_positions(runs[0].dump_file) - last_positions(runs[1].dump_file)).max()
+    assert apart["jacobi"] < 1e-10, apart
+    assert apart["dilu"] > LOOSE_TOLERANCE * DT, apart
