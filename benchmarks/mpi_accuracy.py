@@ -45,14 +45,13 @@ import numpy as np
 from mpi_scaling import (
     DEFAULT_PRECONDITIONER,
     ITERATION_STRAIN,
-    MEASURE_STRAIN,
     PRECONDITIONERS,
     PREPARE_STRAIN,
-    REPEATS,
     checkpoint,
     continuation,
     folder,
     labelled,
+    rotating_rounds,
     tables,
     write_rows,
 )
@@ -256,18 +255,18 @@ def timing(n: int, label: str = "") -> None:
     ]
     print("| round | ranks | preconditioner | tol | loop s | mean CG iterations | host steal % |")
     print("|--:|--:|---|--:|--:|--:|--:|")
-    rows = []
-    for repeat in range(1, REPEATS + 1):
-        shift = (repeat - 1) % len(runs)
-        for ranks, name, tol in runs[shift:] + runs[:shift]:
-            model = ForceModel(preconditioner=name, solver_tol=tol)
-            figures = continuation(n, ranks, MEASURE_STRAIN, f"accuracy_timing_ranks{ranks}_{name}", model)
-            rows.append({"repeat": repeat, "preconditioner": name, "tol": tol, **figures})
-            print(
-                f"| {repeat} | {ranks} | {name} | {tol:g} | {figures['loop_s']:.1f} | {figures['iterations']:.2f} | "
-                f"{100 * figures['steal']:.1f} |",
-                flush=True,
+    rows = rotating_rounds(
+        n,
+        [
+            (
+                ranks,
+                f"accuracy_timing_ranks{ranks}_{name}",
+                ForceModel(preconditioner=name, solver_tol=tol),
+                {"preconditioner": name, "tol": tol},
             )
+            for ranks, name, tol in runs
+        ],
+    )
     write_rows(rows, tables(n) / f"accuracy_timing{labelled(label)}.csv")
     print()
     print_timing(rows)

@@ -285,28 +285,41 @@ def measure(n: int, local_fraction: float = 0.0, preconditioner: str = DEFAULT_P
     )
 
 
+def rotating_rounds(n: int, runs: list[tuple[int, str, ForceModel, dict]]) -> list[dict]:
+    """Each run (ranks, run folder, engine, the columns naming it in the table) continued MEASURE_STRAIN from
+    the prepared state, the runs of a round in an order that rotates from round to round, REPEATS rounds, so
+    that a drift of the machine's speed falls on every run alike. Prints a Markdown row per run: round,
+    ranks, the naming columns, loop s, mean CG iterations, host steal %."""
+    rows = []
+    for repeat in range(1, REPEATS + 1):
+        shift = (repeat - 1) % len(runs)
+        for ranks, name, model, columns in runs[shift:] + runs[:shift]:
+            row = {"repeat": repeat, **columns, **continuation(n, ranks, MEASURE_STRAIN, name, model)}
+            rows.append(row)
+            cells = "".join(
+                f" {value:g} |" if isinstance(value, float) else f" {value} |" for value in columns.values()
+            )
+            print(
+                f"| {repeat} | {ranks} |{cells} {row['loop_s']:.1f} | {row['iterations']:.2f} | "
+                f"{100 * row['steal']:.1f} |",
+                flush=True,
+            )
+    return rows
+
+
 def preconditioners(n: int, label: str = "") -> None:
     """Each preconditioner on 1 and on 2 ranks, the four runs of a round in an order that rotates from
     round to round (REPEATS rounds): which is faster on each rank count, measured side by side
     (preconditioners.csv)."""
     runs = [(ranks, name) for ranks in (1, 2) for name in PRECONDITIONERS]
     print("| round | ranks | preconditioner | loop s | mean CG iterations | host steal % |\n|--:|--:|---|--:|--:|--:|")
-    rows = []
-    for repeat in range(1, REPEATS + 1):
-        shift = (repeat - 1) % len(runs)
-        for ranks, name in runs[shift:] + runs[:shift]:
-            model = ForceModel(preconditioner=name)
-            row = {
-                "repeat": repeat,
-                "preconditioner": name,
-                **continuation(n, ranks, MEASURE_STRAIN, f"{name}_ranks{ranks}", model),
-            }
-            rows.append(row)
-            print(
-                f"| {repeat} | {ranks} | {name} | {row['loop_s']:.1f} | {row['iterations']:.2f} | "
-                f"{100 * row['steal']:.1f} |",
-                flush=True,
-            )
+    rows = rotating_rounds(
+        n,
+        [
+            (ranks, f"{name}_ranks{ranks}", ForceModel(preconditioner=name), {"preconditioner": name})
+            for ranks, name in runs
+        ],
+    )
     write_rows(rows, tables(n) / f"preconditioners{labelled(label)}.csv")
     print()
     for ranks in (1, 2):
