@@ -49,6 +49,7 @@ from mpi_scaling import (
     PREPARE_STRAIN,
     checkpoint,
     continuation,
+    continuation_settings,
     folder,
     labelled,
     rotating_rounds,
@@ -79,13 +80,7 @@ def states(n: int) -> dict[str, Path]:
     if not is_complete(folder(n) / "startup"):
         raise SystemExit(f"no prepared state for N = {n}: run benchmarks/mpi_scaling.py prepare --n {n} first")
     found = {f"{PREPARE_STRAIN:g}": checkpoint(n)}
-    settings = ShearSettings(
-        dump_strain=STATE_SPACING,
-        table_strain=STATE_SPACING / 10,
-        thermo_strain=STATE_SPACING / 10,
-        restart_strain=STATE_SPACING,
-        max_stress_jitter=None,
-    )
+    settings = continuation_settings(STATE_SPACING)
     for k in range(1, STATE_COUNT):
         strain = f"{PREPARE_STRAIN + k * STATE_SPACING:g}"
         run = folder(n) / "accuracy_states" / f"strain{strain}"

@@ -163,10 +163,10 @@ def prepare(n: int) -> None:
         )
 
 
-def continuation(n: int, ranks: int, strain: float, name: str, force_model: ForceModel | None = None) -> dict:
-    """The prepared shear continued for `strain` on `ranks` ranks (the default engine unless
-    `force_model` is given); LAMMPS's figures of the run."""
-    settings = ShearSettings(
+def continuation_settings(strain: float, ranks: int = 1) -> ShearSettings:
+    """The outputs of a benchmark's continuation of `strain`: one frame and checkpoint at its end, the
+    stress table 10 times and thermo 20 times over it, no jitter check."""
+    return ShearSettings(
         dump_strain=strain,
         table_strain=strain / 10,
         thermo_strain=strain / 20,
@@ -174,6 +174,12 @@ def continuation(n: int, ranks: int, strain: float, name: str, force_model: Forc
         max_stress_jitter=None,
         ranks=ranks,
     )
+
+
+def continuation(n: int, ranks: int, strain: float, name: str, force_model: ForceModel | None = None) -> dict:
+    """The prepared shear continued for `strain` on `ranks` ranks (the default engine unless
+    `force_model` is given); LAMMPS's figures of the run."""
+    settings = continuation_settings(strain, ranks)
     before = cpu_times()
     run = run_rotation(
         folder(n) / name,
