@@ -25,8 +25,8 @@ with its 95% t-interval (the states the units). The matched tol of a (ranks, pre
 loosest of TOLERANCES whose mean ratios, largest and rms, are both at most 1. Then for each setting
 on at most as many ranks as the machine has cores, the mean CG iterations per step over ITERATION_STRAIN
 from the prepared state (counts only: they do not depend on the host's load; on more ranks than cores
-the waiting ranks spin on the shared cores and 200 steps take many minutes). Writes benchmarks/data/mpi_scaling/n<N>/accuracy.csv and
-accuracy_iterations.csv; `report` prints them again.
+the waiting ranks spin on the shared cores and 200 steps take many minutes). Writes
+benchmarks/data/mpi_scaling/n<N>/accuracy.csv and accuracy_iterations.csv; `report` prints them again.
 
 `timing`: the default engine on 1 rank and each preconditioner on 2 ranks at its matched tol, MEASURE_STRAIN
 from the prepared state, the runs of a round in an order that rotates, REPEATS rounds: the speed-up of 2 ranks
