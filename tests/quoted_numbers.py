@@ -2362,6 +2362,12 @@ def timing_ratios(label: str) -> list[float]:
     return list(by_name["jacobi"] / by_name["dilu"])
 
 
+def timing_output(label: str) -> list[float]:
+    """benchmarks/mpi_accuracy.py timing's speed-up lines: block Jacobi's per round and median, then dilu's."""
+    speedups = timing_speedups(label)
+    return [*speedups[:3], float(np.median(speedups[:3])), *speedups[3:6], float(np.median(speedups[3:6]))]
+
+
 def timing_speedups(label: str) -> list[float]:
     """benchmarks/mpi_accuracy.py timing: per round, the 1-rank default's loop time over each 2-rank
     preconditioner's (block Jacobi's rounds, then dilu's), then jacobi's 2-rank loop time over dilu's, median."""
@@ -2379,12 +2385,7 @@ MPI_ACCURACY_QUOTES += [
         "Output: 2 ranks, jacobi at tol 0.0005: speed-up over 1 rank, dilu at 0.001, per round {1.34}, {1.26}, "
         "{1.39}; median {1.34}; 2 ranks, dilu at tol 0.0005: speed-up over 1 rank, dilu at 0.001, per round {1.12}, "
         "{1.06}, {1.16}; median {1.12}",
-        lambda: [
-            *(speedups := timing_speedups("20261206"))[:3],
-            float(np.median(speedups[:3])),
-            *speedups[3:6],
-            float(np.median(speedups[3:6])),
-        ],
+        lambda: timing_output("20261206"),
         None,
     ),
     Quote(
@@ -2443,14 +2444,7 @@ MPI_ACCURACY_QUOTES += [
         "{1.34}; median {1.34}; 2 ranks, dilu at tol 0.0005: speed-up over 1 rank, dilu at 0.001, per round {1.35}, "
         "{1.31}, {1.24}; median {1.31}; 2 ranks: jacobi's loop time over dilu's per round {1.06}, {0.82}, {0.93}; "
         "median {0.93}",
-        lambda: [
-            *(speedups := timing_speedups("20261206e"))[:3],
-            float(np.median(speedups[:3])),
-            *speedups[3:6],
-            float(np.median(speedups[3:6])),
-            *timing_ratios("20261206e"),
-            speedups[-1],
-        ],
+        lambda: timing_output("20261206e") + [*timing_ratios("20261206e"), timing_speedups("20261206e")[-1]],
         None,
     ),
     Quote(
