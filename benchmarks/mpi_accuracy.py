@@ -60,11 +60,10 @@ from mpi_scaling import (
 )
 from scipy import stats
 
-from suspension_fabric.io.resources import LAMMPS_SCRIPTS_DIR
 from suspension_fabric.io.schema import schema_default
 from suspension_fabric.simulation.lammps import RUN_FILES, ForceModel, ShearSettings, is_complete, run_rotation
 from suspension_fabric.simulation.lammps.process import lammps_command, lammps_environment, thermo_rows
-from suspension_fabric.simulation.lammps.runner import RESTART_FILES
+from suspension_fabric.simulation.lammps.runner import shear_run_variables
 
 SCRIPT = Path(__file__).with_name("one_step_velocities.lmp")
 STATE_COUNT = 8
@@ -100,23 +99,15 @@ def one_step(state: Path, ranks: int, preconditioner: str, tol: float, run_dir: 
     defaults = ShearSettings()
     step = defaults.dt * defaults.rate
     settings = ShearSettings(dump_strain=step, table_strain=step, thermo_strain=step, restart_strain=step, ranks=ranks)
-    variables = {
-        "lammps_dir": str(LAMMPS_SCRIPTS_DIR),
+    source = {
         "start_from": "checkpoint",
         "start_file": str(state.resolve()),
         "segment_index": "1",
         "flow_angle_deg": "0.0",
         "turning_deg_per_strain": "0.0",
         **ForceModel(preconditioner=preconditioner, solver_tol=tol).variables(),
-        **settings.variables(),
-        "strain_total": repr(step),
-        "dump_file": RUN_FILES["trajectory"],
-        "table_file": RUN_FILES["stress"],
-        "checkpoint_file": RUN_FILES["checkpoint"],
-        "restart_file_a": RESTART_FILES[0],
-        "restart_file_b": RESTART_FILES[1],
-        "velocity_file": VELOCITY_FILE,
     }
+    variables = {**shear_run_variables(source, settings, step), "velocity_file": VELOCITY_FILE}
     run_dir.mkdir(parents=True, exist_ok=True)
     command = lammps_command(SCRIPT, variables, ranks)
     done = subprocess.run(command, cwd=run_dir, env=lammps_environment(), capture_output=True, text=True)

@@ -427,6 +427,22 @@ def _probe_restart(plugin: str, scratch: Path):
     return probe
 
 
+def shear_run_variables(variables: Mapping[str, str], settings: ShearSettings, strain_total: float) -> dict[str, str]:
+    """Every LAMMPS variable of a shear run (shear_run.lmp, through segment.lmp): ``variables`` (where it starts,
+    the segment, the forces), the settings' integration and outputs, ``strain_total`` and the output files."""
+    return {
+        "lammps_dir": str(LAMMPS_SCRIPTS_DIR),
+        **variables,
+        **settings.variables(),
+        "strain_total": _number(strain_total),
+        "dump_file": DUMP_FILE,
+        "table_file": TABLE_FILE,
+        "checkpoint_file": CHECKPOINT_FILE,
+        "restart_file_a": RESTART_FILES[0],
+        "restart_file_b": RESTART_FILES[1],
+    }
+
+
 def _shear_run(
     script: str,
     label: str,
@@ -445,17 +461,7 @@ def _shear_run(
         raise FileExistsError(f"{output_dir} exists; pass overwrite=True to replace it")
     if strain_total <= 0:
         raise ValueError(f"strain_total must be positive, got {strain_total}")
-    run_variables = {
-        "lammps_dir": str(LAMMPS_SCRIPTS_DIR),
-        **variables,
-        **settings.variables(),
-        "strain_total": _number(strain_total),
-        "dump_file": DUMP_FILE,
-        "table_file": TABLE_FILE,
-        "checkpoint_file": CHECKPOINT_FILE,
-        "restart_file_a": RESTART_FILES[0],
-        "restart_file_b": RESTART_FILES[1],
-    }
+    run_variables = shear_run_variables(variables, settings, strain_total)
     _parent(output_dir)
     partial = PartialRun(
         output_dir, {"script": script, "variables": run_variables}, restart_names=RESTART_FILES, table_name=TABLE_FILE
