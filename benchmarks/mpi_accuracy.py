@@ -13,6 +13,8 @@ of `mpi_scaling.py prepare --n N`:
     .venv/bin/python benchmarks/mpi_accuracy.py errors --n 16000 [--ranks 1 2 4 8]   # errors, iterations
     .venv/bin/python benchmarks/mpi_accuracy.py report --n 16000 [--label L]   # print the tables again
     .venv/bin/python benchmarks/mpi_accuracy.py timing --n 16000 [--label L]   # idle machine
+    .venv/bin/python benchmarks/mpi_accuracy.py counts --n 16000 --ranks 4 8   # iterations at the matched tols
+    .venv/bin/python benchmarks/mpi_accuracy.py model --n 16000 --labels L1 L2   # 1-64 ranks, equal accuracy
 
 States: the prepared state (strain PREPARE_STRAIN) and STATE_COUNT - 1 more, each STATE_SPACING strain
 after the one before on 1 rank (made once, into results/mpi_scaling/n<N>/accuracy_states/). From each
@@ -28,10 +30,17 @@ from the prepared state (counts only: they do not depend on the host's load; on 
 the waiting ranks spin on the shared cores and 200 steps take many minutes). Writes
 benchmarks/data/mpi_scaling/n<N>/accuracy.csv and accuracy_iterations.csv; `report` prints them again.
 
-`timing`: the default engine on 1 rank and each preconditioner on 2 ranks at its matched tol, MEASURE_STRAIN
-from the prepared state, the runs of a round in an order that rotates, REPEATS rounds: the speed-up of 2 ranks
-at the 1-rank default's accuracy, and each preconditioner's loop time over the default's on 2 ranks
-(accuracy_timing.csv, or accuracy_timing_<label>.csv beside it).
+`timing`: the default engine on 1 rank, each other preconditioner on 1 rank and each preconditioner on 2 ranks
+at its matched tol, MEASURE_STRAIN from the prepared state, the runs of a round in an order that rotates,
+REPEATS rounds: the speed-up of 2 ranks at the 1-rank default's accuracy, each preconditioner's loop time over
+the default's on 2 ranks, and another preconditioner's 1-rank loop time over the default's (what `model`
+needs of it) and its own 2-rank speed-up (accuracy_timing.csv, or accuracy_timing_<label>.csv beside it).
+
+`counts`: each preconditioner's mean CG iterations at its matched tol on the given rank counts, added to
+accuracy_iterations.csv (the runs may share the cores: only the counts are kept).
+
+`model`: mpi_scaling.py's model of the step on P ranks (1-64), with each preconditioner at its matched tol,
+against the 1-rank default engine: the parallel efficiency at equal accuracy (the function's docstring).
 """
 
 from __future__ import annotations
@@ -47,13 +56,19 @@ import numpy as np
 from mpi_scaling import (
     DEFAULT_PRECONDITIONER,
     ITERATION_STRAIN,
+    MODEL_RANKS,
     PRECONDITIONERS,
     PREPARE_STRAIN,
     checkpoint,
+    communication,
     continuation,
     continuation_settings,
     folder,
+    iteration_growth,
+    iterations_on,
     labelled,
+    model_inputs,
+    processor_grid,
     rotating_rounds,
     tables,
     write_rows,
@@ -148,16 +163,35 @@ def measure(n: int, ranks_list: tuple[int, ...] = RANKS) -> None:
             )
             print(rows[-1], flush=True)
     write_rows(rows, tables(n) / "accuracy.csv")
-    counts = []
     # more ranks than cores: the waiting ranks spin on the shared cores and 200 steps take many minutes
-    for ranks, preconditioner, tol in settings_grid(tuple(r for r in ranks_list if r <= os.cpu_count())):
-        model = ForceModel(preconditioner=preconditioner, solver_tol=tol)
-        row = continuation(
-            n, ranks, ITERATION_STRAIN, f"accuracy_iterations_ranks{ranks}_{preconditioner}_{tol:g}", model
-        )
-        counts.append({"ranks": ranks, "preconditioner": preconditioner, "tol": tol, "iterations": row["iterations"]})
-        print(counts[-1], flush=True)
-    write_rows(counts, tables(n) / "accuracy_iterations.csv")
+    counted = settings_grid(tuple(r for r in ranks_list if r <= os.cpu_count()))
+    write_rows([iteration_count(n, *setting) for setting in counted], tables(n) / "accuracy_iterations.csv")
+
+
+def iteration_count(n: int, ranks: int, preconditioner: str, tol: float) -> dict:
+    """The mean CG iterations per step of a setting over ITERATION_STRAIN from the prepared state."""
+    model = ForceModel(preconditioner=preconditioner, solver_tol=tol)
+    run = continuation(n, ranks, ITERATION_STRAIN, f"accuracy_iterations_ranks{ranks}_{preconditioner}_{tol:g}", model)
+    row = {"ranks": ranks, "preconditioner": preconditioner, "tol": tol, "iterations": run["iterations"]}
+    print(row, flush=True)
+    return row
+
+
+def matched_counts(n: int, ranks_list: tuple[int, ...]) -> None:
+    """Each preconditioner's mean CG iterations at its matched tol on each of `ranks_list`, added to
+    accuracy_iterations.csv (a row of the same setting replaced): the counts `model` needs on more ranks
+    than the machine has cores, where the runs take minutes but the counts do not mind."""
+    path = tables(n) / "accuracy_iterations.csv"
+    matched = matched_tolerances(error_ratios(read_table(tables(n) / "accuracy.csv")))
+    missing = [(ranks, name) for ranks in ranks_list for name in PRECONDITIONERS if matched.get((ranks, name)) is None]
+    if missing:
+        raise SystemExit(f"{tables(n) / 'accuracy.csv'} has no matched tol for (ranks, preconditioner) {missing}")
+    rows = {(int(r["ranks"]), r["preconditioner"], r["tol"]): r for r in read_table(path)}
+    for ranks in ranks_list:
+        for name in PRECONDITIONERS:
+            row = iteration_count(n, ranks, name, matched[(ranks, name)])
+            rows[(ranks, name, row["tol"])] = row
+    write_rows([{**row, "ranks": int(row["ranks"])} for row in rows.values()], path)
 
 
 def read_table(path: Path) -> list[dict]:
@@ -247,9 +281,9 @@ def timing(n: int, label: str = "") -> None:
     prepared state: the speed-up of 2 ranks at the 1-rank default's accuracy (accuracy_timing.csv, or
     accuracy_timing_<label>.csv)."""
     matched = matched_tolerances(error_ratios(read_table(tables(n) / "accuracy.csv")))
-    runs = [(1, DEFAULT_PRECONDITIONER, DEFAULT_TOL)] + [
-        (2, name, matched[(2, name)]) for name in PRECONDITIONERS if matched[(2, name)] is not None
-    ]
+    runs = [(1, DEFAULT_PRECONDITIONER, DEFAULT_TOL)]
+    runs += [(1, name, matched[(1, name)]) for name in PRECONDITIONERS if name != DEFAULT_PRECONDITIONER]
+    runs += [(2, name, matched[(2, name)]) for name in PRECONDITIONERS if matched[(2, name)] is not None]
     print("| round | ranks | preconditioner | tol | loop s | mean CG iterations | host steal % |")
     print("|--:|--:|---|--:|--:|--:|--:|")
     rows = rotating_rounds(
@@ -270,8 +304,10 @@ def timing(n: int, label: str = "") -> None:
 
 
 def print_timing(rows: list[dict]) -> None:
-    """Per 2-rank setting, the 1-rank default's loop time over its own in each round, and the median."""
-    one_rank = {row["repeat"]: row["loop_s"] for row in rows if int(row["ranks"]) == 1}
+    """Per 2-rank setting, the 1-rank default's loop time over its own in each round, and the median; where
+    another preconditioner also ran on 1 rank at its matched tol (tables from 2026-12-07 on), its 1-rank loop
+    time over the default's and its own 2-rank speed-up."""
+    one_rank = {row["repeat"]: row["loop_s"] for row in rows if int(row["ranks"]) == 1 and is_default(row)}
     for name in dict.fromkeys(row["preconditioner"] for row in rows if int(row["ranks"]) == 2):
         mine = [row for row in rows if int(row["ranks"]) == 2 and row["preconditioner"] == name]
         speedups = [one_rank[row["repeat"]] / row["loop_s"] for row in mine]
@@ -288,25 +324,177 @@ def print_timing(rows: list[dict]) -> None:
                 f"2 ranks: {name}'s loop time over {DEFAULT_PRECONDITIONER}'s per round "
                 f"{', '.join(f'{x:.2f}' for x in ratios)}; median {statistics.median(ratios):.2f}"
             )
+    for name in (name for name in PRECONDITIONERS if name != DEFAULT_PRECONDITIONER):
+        alone = {row["repeat"]: row for row in rows if int(row["ranks"]) == 1 and row["preconditioner"] == name}
+        if not alone:
+            continue
+        tol = float(next(iter(alone.values()))["tol"])
+        over_default = [alone[r]["loop_s"] / one_rank[r] for r in alone]
+        split = [alone[r]["loop_s"] / two_ranks[(r, name)] for r in alone if (r, name) in two_ranks]
+        print(
+            f"1 rank, {name} at tol {tol:g}: loop time over 1 rank, {DEFAULT_PRECONDITIONER} at {DEFAULT_TOL:g}, "
+            "per round "
+            f"{', '.join(f'{x:.2f}' for x in over_default)}; median {statistics.median(over_default):.2f}"
+        )
+        if split:
+            print(
+                f"{name} at tol {tol:g}: speed-up of 2 ranks over its 1 rank, per round "
+                f"{', '.join(f'{x:.2f}' for x in split)}; "
+                f"median {statistics.median(split):.2f}"
+            )
+
+
+def equal_accuracy_model(n: int, labels: list[str]) -> dict:
+    """mpi_scaling.py's model of the step on P ranks (its docstring), at the 1-rank default's accuracy: each
+    preconditioner at its matched tol on each P (beyond the most ranks counted, at theirs and with the
+    iterations growing as from 2 ranks to them), against the 1-rank default. dilu's compute is a + b I(P) per
+    atom with the default's a and b (only the tol differs). A preconditioner whose iterations are the same on
+    every rank count (block Jacobi) has its compute on P ranks as its 1-rank step over P; that step is its
+    loop time over the default's in the same round of the timing tables (`labels`, their rounds pooled; median),
+    times measure's 1-rank step. The 2-rank speed-ups are checked against the tables' medians.
+    Returns {"inputs", "matched", "steps_one", "most", "growth", "check": {name: (modelled, measured)}, "rows"}."""
+    inputs = model_inputs(n)
+    matched = matched_tolerances(error_ratios(read_table(tables(n) / "accuracy.csv")))
+    counted = {
+        (int(r["ranks"]), r["preconditioner"], r["tol"]): r["iterations"]
+        for r in read_table(tables(n) / "accuracy_iterations.csv")
+    }
+    rounds = [
+        [row for row in read_table(tables(n) / f"accuracy_timing{labelled(label)}.csv") if row["repeat"] == repeat]
+        for label in labels
+        for repeat in (1.0, 2.0, 3.0)
+    ]
+
+    # the seconds from the timing rounds themselves (the host's speed drifts between sessions), the
+    # iterations' share of the 1-rank step from split.csv
+    defaults = [row for runs in rounds for row in runs if is_default(row)]
+    step_one = statistics.median(row["loop_s"] / float(row["steps"]) for row in defaults)
+    iterations_one = statistics.median(row["iterations"] for row in defaults)
+    fixed = (1.0 - inputs["share"]) * step_one / n
+    per_iteration = inputs["share"] * step_one / (n * iterations_one)
+
+    def per_round(ranks: int, name: str) -> list[float]:
+        """The default's 1-rank loop time over the setting's, per round that ran it."""
+        found = []
+        for runs in rounds:
+            default = next(row["loop_s"] for row in runs if is_default(row))
+            found += [default / r["loop_s"] for r in runs if int(r["ranks"]) == ranks and r["preconditioner"] == name]
+        return found
+
+    def matched_counts(name: str) -> dict[int, float]:
+        """{P: iterations at the matched tol on P ranks}."""
+        settings = [(ranks, p, tol) for (ranks, p), tol in matched.items() if p == name]
+        counts = {setting[0]: counted[setting] for setting in settings if setting in counted}
+        if name != DEFAULT_PRECONDITIONER and len(set(counts.values())) > 1:
+            raise SystemExit(f"{name}'s iterations at its matched tols differ with the ranks ({counts}): no model")
+        return counts
+
+    counts = {name: matched_counts(name) for name in PRECONDITIONERS}
+    steps_one = {DEFAULT_PRECONDITIONER: step_one}
+    for name in PRECONDITIONERS:
+        if name != DEFAULT_PRECONDITIONER:
+            alone = per_round(1, name)
+            if not alone:
+                raise SystemExit(f"the timing tables {labels} have no 1-rank {name} run: run `timing` again")
+            steps_one[name] = step_one / statistics.median(alone)
+
+    # the counts' window is shorter than the timing runs': their ratios to the 1-rank default carry over
+    window = iterations_one / counts[DEFAULT_PRECONDITIONER][1]
+
+    def step_at(name: str, ranks: int) -> tuple[float, float, float]:
+        iterations = window * iterations_on(counts[name], ranks)
+        seconds = communication(n, ranks, iterations, inputs)[1]
+        if name == DEFAULT_PRECONDITIONER:
+            compute = n / ranks * (fixed + per_iteration * iterations)
+        else:
+            compute = steps_one[name] / ranks
+        return iterations, compute + seconds, seconds
+
+    most = {name: max(counts[name]) for name in PRECONDITIONERS}
+    rows = []
+    for ranks in sorted({r for c in counts.values() for r in c} | set(MODEL_RANKS)):
+        for name in PRECONDITIONERS:
+            iterations, step, seconds = step_at(name, ranks)
+            rows.append(
+                {
+                    "ranks": ranks,
+                    "grid": "x".join(map(str, processor_grid(ranks, inputs["lengths"]))),
+                    "preconditioner": name,
+                    "tol": matched.get((ranks, name), matched[(most[name], name)]),
+                    "iterations": iterations,
+                    "step": step,
+                    "communication": seconds / step,
+                    "speedup": step_one / step,
+                    "efficiency": step_one / step / ranks,
+                }
+            )
+    return {
+        "inputs": {**inputs, "step_one": step_one, "fixed": fixed, "per_iteration": per_iteration},
+        "matched": matched,
+        "steps_one": steps_one,
+        "most": most,
+        "growth": {name: iteration_growth(counts[name]) for name in PRECONDITIONERS},
+        "check": {name: (step_one / step_at(name, 2)[1], statistics.median(per_round(2, name))) for name in counts},
+        "rounds": len(rounds),
+        "rows": rows,
+    }
+
+
+def model(n: int, labels: list[str]) -> None:
+    """Prints equal_accuracy_model: its inputs, the check at 2 ranks, and a Markdown row per (P, preconditioner)."""
+    found = equal_accuracy_model(n, labels)
+    inputs, matched, most = found["inputs"], found["matched"], found["most"]
+    print(
+        f"N = {n}, at the accuracy of 1 rank, {DEFAULT_PRECONDITIONER} at {DEFAULT_TOL:g}. 1 rank (timing): "
+        f"{inputs['step_one'] * 1e3:.1f} ms per step, a = {inputs['fixed'] * 1e6:.3f} and "
+        f"b = {inputs['per_iteration'] * 1e6:.3f} us per atom; "
+        + "; ".join(
+            f"{name}: 1-rank step {found['steps_one'][name] * 1e3:.1f} ms at tol {matched[(1, name)]:g}, beyond "
+            f"{most[name]} ranks tol {matched[(most[name], name)]:g} and I(P) growing by "
+            f"{found['growth'][name]:.2f} per doubling"
+            for name in PRECONDITIONERS
+        )
+        + f". Check at P = 2, speed-up modelled against measured (timing {', '.join(labels)}, median of "
+        f"{found['rounds']} rounds): "
+        + ", ".join(
+            f"{name} {modelled:.2f} against {measured:.2f}" for name, (modelled, measured) in found["check"].items()
+        )
+        + "\n"
+    )
+    print(
+        "| ranks P | grid | preconditioner | tol | CG iterations I(P) | ms per step | of it communication "
+        "| speed-up | efficiency |"
+    )
+    print("|--:|:-:|---|--:|--:|--:|--:|--:|--:|")
+    for row in found["rows"]:
+        print(
+            f"| {row['ranks']} | {row['grid']} | {row['preconditioner']} | {row['tol']:g} | {row['iterations']:.2f} | "
+            f"{row['step'] * 1e3:.2f} | {row['communication']:.2f} | {row['speedup']:.2f} | {row['efficiency']:.2f} |"
+        )
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("command", choices=("errors", "report", "timing"))
+    parser.add_argument("command", choices=("errors", "report", "timing", "counts", "model"))
     parser.add_argument("--n", type=int, default=16000)
     parser.add_argument(
         "--ranks",
         type=int,
         nargs="+",
         default=list(RANKS),
-        help="errors: the rank counts (1 first; more than 2 share this machine's cores, which the counts "
-        "and errors do not mind)",
+        help="errors: the rank counts (1 first), counts: the rank counts to add (more than 2 share this "
+        "machine's cores, which the counts and errors do not mind)",
     )
     parser.add_argument(
-        "--label", default="", help="timing: write the table as accuracy_timing_<label>.csv; report: print that table"
+        "--label",
+        default="",
+        help="timing: write the table as accuracy_timing_<label>.csv; report: read that table",
+    )
+    parser.add_argument(
+        "--labels", nargs="+", default=[""], help="model: the timing tables (accuracy_timing_<label>.csv) to pool"
     )
     args = parser.parse_args()
-    if 1 not in args.ranks:
+    if args.command == "errors" and 1 not in args.ranks:
         parser.error("--ranks must include 1: the errors are compared with the 1-rank default engine's")
     if args.command == "errors":
         measure(args.n, tuple(args.ranks))
@@ -318,6 +506,10 @@ def main() -> None:
             print_timing(read_table(timings))
     if args.command == "timing":
         timing(args.n, args.label)
+    if args.command == "counts":
+        matched_counts(args.n, tuple(args.ranks))
+    if args.command == "model":
+        model(args.n, args.labels)
 
 
 if __name__ == "__main__":

@@ -541,14 +541,14 @@ def modelled_ghosts(n: int, lengths, cutoff: float, grid) -> float:
     return density * (math.prod(a + 2 * cutoff for a in sub) - math.prod(sub))
 
 
-def model(n: int) -> None:
-    """Parallel efficiency on P ranks of dedicated cores (the module's docstring gives the model)."""
+def model_inputs(n: int) -> dict:
+    """What `model` takes from the committed tables: the 1-rank step and its CG iterations (medians of
+    measure.csv), the costs per atom outside the iterations (a, "fixed") and per iteration (b), the
+    iterations' share of the step from split.csv, the counts of iterations.csv, the box, the ghost
+    cutoff, MPI's prices (latency.csv) and the measured 2-rank step."""
     measured = read_rows(tables(n) / "measure.csv")
     split_row = split_costs(n)
     counts = {int(row["ranks"]): row for row in read_rows(tables(n) / "iterations.csv")}
-    prices = read_rows(tables(n) / "latency.csv")[0]
-    lengths = tuple(counts[1][f"box_{axis}"] for axis in "xyz")
-    cutoff = counts[1]["ghost_cutoff"]
 
     def median_of(ranks: int, key: str) -> float:
         return statistics.median(
@@ -559,39 +559,72 @@ def model(n: int) -> None:
     # the iteration's share of the 1-rank step from the split (its runs need not see the machine
     # at measure's speed: the share, not the seconds, is carried over)
     share = split_row["iterations"] * split_row["per_iteration"] * n / split_row["step"]
-    per_iteration = share * step_one / (n * iterations_one)  # s per atom per CG iteration
-    fixed = (1.0 - share) * step_one / n  # s per atom per step outside the iterations
-    largest = max(counts)
-    growth = (counts[largest]["iterations"] - counts[2]["iterations"]) / math.log2(largest / 2)
+    return {
+        "step_one": step_one,
+        "iterations_one": iterations_one,
+        "share": share,
+        "per_iteration": share * step_one / (n * iterations_one),  # s per atom per CG iteration
+        "fixed": (1.0 - share) * step_one / n,  # s per atom per step outside the iterations
+        "split_repeats": split_row["repeats"],
+        "counts": {ranks: row["iterations"] for ranks, row in counts.items()},
+        "ghosts": {ranks: row["ghosts_per_rank"] for ranks, row in counts.items()},
+        "lengths": tuple(counts[1][f"box_{axis}"] for axis in "xyz"),
+        "cutoff": counts[1]["ghost_cutoff"],
+        "prices": read_rows(tables(n) / "latency.csv")[0],
+        "step_two": median_of(2, "loop_s"),
+    }
 
-    def iterations_at(ranks: int) -> float:
-        # the iterations windows are shorter than measure's: their ratios to 1 rank carry over
-        if ranks in counts:
-            return iterations_one * counts[ranks]["iterations"] / counts[1]["iterations"]
-        extra = growth * math.log2(ranks / largest)
-        return iterations_one * (counts[largest]["iterations"] + extra) / counts[1]["iterations"]
+
+def iteration_growth(counts: dict[int, float]) -> float:
+    """The mean growth of the CG iterations per doubling of the ranks, from 2 ranks to the most counted."""
+    largest = max(counts)
+    return (counts[largest] - counts[2]) / math.log2(largest / 2)
+
+
+def iterations_on(counts: dict[int, float], ranks: int) -> float:
+    """The CG iterations on `ranks` ranks from counts {ranks: iterations} of one window: the count where
+    measured, beyond the most ranks counted growing by iteration_growth per doubling."""
+    largest = max(counts)
+    return counts.get(ranks, counts[largest] + iteration_growth(counts) * math.log2(ranks / largest))
+
+
+def communication(n: int, ranks: int, iterations_p: float, inputs: dict) -> tuple[float, float]:
+    """The modelled ghosts per rank and the seconds per step of the ghost exchanges and global sums on
+    `ranks` ranks with `iterations_p` CG iterations per step."""
+    lengths = inputs["lengths"]
+    ghosts = modelled_ghosts(n, lengths, inputs["cutoff"], processor_grid(ranks, lengths))
+    if ranks == 1:
+        return ghosts, 0.0
+    prices = inputs["prices"]
+    exchanges = EXCHANGES_FIXED + EXCHANGES_PER_ITERATION * iterations_p
+    sums = SUMS_FIXED + SUMS_PER_ITERATION * iterations_p
+    seconds = exchanges * 6 * ghosts * prices["ns_per_double"] * 1e-9
+    return ghosts, seconds + sums * prices["allreduce_us"] * 1e-6 * math.log2(ranks)
+
+
+def model(n: int) -> None:
+    """Parallel efficiency on P ranks of dedicated cores (the module's docstring gives the model)."""
+    inputs = model_inputs(n)
+    counts, step_one, iterations_one = inputs["counts"], inputs["step_one"], inputs["iterations_one"]
+    fixed, per_iteration, lengths = inputs["fixed"], inputs["per_iteration"], inputs["lengths"]
 
     def step_at(ranks: int) -> tuple[float, float, float, float]:
-        iterations_p = iterations_at(ranks)
-        ghosts = modelled_ghosts(n, lengths, cutoff, processor_grid(ranks, lengths))
-        compute = n / ranks * (fixed + per_iteration * iterations_p)
-        communication = 0.0
-        if ranks > 1:
-            exchanges = EXCHANGES_FIXED + EXCHANGES_PER_ITERATION * iterations_p
-            communication = exchanges * 6 * ghosts * prices["ns_per_double"] * 1e-9
-            sums = SUMS_FIXED + SUMS_PER_ITERATION * iterations_p
-            communication += sums * prices["allreduce_us"] * 1e-6 * math.log2(ranks)
-        return iterations_p, ghosts, compute + communication, communication
+        # the iterations windows are shorter than measure's: their ratios to 1 rank carry over
+        iterations_p = iterations_one * iterations_on(counts, ranks) / counts[1]
+        ghosts, seconds = communication(n, ranks, iterations_p, inputs)
+        return iterations_p, ghosts, n / ranks * (fixed + per_iteration * iterations_p) + seconds, seconds
 
+    prices = inputs["prices"]
     print(
-        f"# N = {n}, box {' x '.join(f'{x:.2f}' for x in lengths)}, ghost cutoff {cutoff:g}. 1 rank "
+        f"# N = {n}, box {' x '.join(f'{x:.2f}' for x in lengths)}, ghost cutoff {inputs['cutoff']:g}. 1 rank "
         f"(measure): {step_one * 1e3:.1f} ms per step at {iterations_one:.2f} CG iterations; the iterations' "
-        f"share {share:.2f} (split: solver_tol {ForceModel().solver_tol:g} against {SPLIT_TOL:g}, "
-        f"medians of {split_row['repeats']}), so a = {fixed * 1e6:.3f} us per atom per step and "
+        f"share {inputs['share']:.2f} (split: solver_tol {ForceModel().solver_tol:g} against {SPLIT_TOL:g}, "
+        f"medians of {inputs['split_repeats']}), so a = {fixed * 1e6:.3f} us per atom per step and "
         f"b = {per_iteration * 1e6:.3f} us per atom per iteration. Prices on 2 ranks (latency): a global "
         f"sum {prices['allreduce_us']:.3f} us, {prices['ns_per_double']:.3f} ns per exchanged double. "
-        f"Beyond P = {largest}, I(P) grows by {growth:.2f} per doubling (its mean from 2 to {largest} ranks). "
-        f"Check at P = 2: modelled {step_at(2)[2] * 1e3:.1f} ms per step, measured {median_of(2, 'loop_s') * 1e3:.1f}\n"
+        f"Beyond P = {max(counts)}, I(P) grows by {iteration_growth(counts):.2f} per doubling (its mean from 2 to "
+        f"{max(counts)} ranks). Check at P = 2: modelled {step_at(2)[2] * 1e3:.1f} ms per step, measured "
+        f"{inputs['step_two'] * 1e3:.1f}\n"
     )
     print(
         "| ranks P | grid | atoms per rank | CG iterations I(P) | ghosts per rank (measured) "
@@ -599,13 +632,13 @@ def model(n: int) -> None:
     )
     print("|--:|:-:|--:|--:|--:|--:|--:|--:|--:|--:|")
     for ranks in sorted(set(counts) | set(MODEL_RANKS)):
-        iterations_p, ghosts, step, communication = step_at(ranks)
-        measured_ghosts = f"{counts[ranks]['ghosts_per_rank']:.0f}" if ranks in counts else ""
+        iterations_p, ghosts, step, seconds = step_at(ranks)
+        measured_ghosts = f"{inputs['ghosts'][ranks]:.0f}" if ranks in counts else ""
         speedup = step_one / step
         print(
             f"| {ranks} | {'x'.join(map(str, processor_grid(ranks, lengths)))} | {n // ranks} | "
             f"{iterations_p:.2f} | {measured_ghosts} | {ghosts:.0f} | {step * 1e3:.2f} | "
-            f"{communication / step:.2f} | {speedup:.2f} | "
+            f"{seconds / step:.2f} | {speedup:.2f} | "
             f"{speedup / ranks:.2f} |"
         )
 
