@@ -602,44 +602,65 @@ def communication(n: int, ranks: int, iterations_p: float, inputs: dict) -> tupl
     return ghosts, seconds + sums * prices["allreduce_us"] * 1e-6 * math.log2(ranks)
 
 
-def model(n: int) -> None:
-    """Parallel efficiency on P ranks of dedicated cores (the module's docstring gives the model)."""
+def same_tol_model(n: int) -> dict:
+    """The model (the module's docstring) at the default solver_tol on every rank count: {"inputs", "growth",
+    "check_ms": (modelled, measured) 2-rank step, "rows": per P its grid, iterations, ghosts (model), step,
+    communication share, speed-up and efficiency}."""
     inputs = model_inputs(n)
     counts, step_one, iterations_one = inputs["counts"], inputs["step_one"], inputs["iterations_one"]
-    fixed, per_iteration, lengths = inputs["fixed"], inputs["per_iteration"], inputs["lengths"]
 
-    def step_at(ranks: int) -> tuple[float, float, float, float]:
+    def step_at(ranks: int) -> dict:
         # the iterations windows are shorter than measure's: their ratios to 1 rank carry over
-        iterations_p = iterations_one * iterations_on(counts, ranks) / counts[1]
-        ghosts, seconds = communication(n, ranks, iterations_p, inputs)
-        return iterations_p, ghosts, n / ranks * (fixed + per_iteration * iterations_p) + seconds, seconds
+        iterations = iterations_one * iterations_on(counts, ranks) / counts[1]
+        ghosts, seconds = communication(n, ranks, iterations, inputs)
+        step = n / ranks * (inputs["fixed"] + inputs["per_iteration"] * iterations) + seconds
+        return {
+            "ranks": ranks,
+            "grid": "x".join(map(str, processor_grid(ranks, inputs["lengths"]))),
+            "iterations": iterations,
+            "ghosts": ghosts,
+            "step": step,
+            "communication": seconds / step,
+            "speedup": step_one / step,
+            "efficiency": step_one / step / ranks,
+        }
 
+    return {
+        "inputs": inputs,
+        "growth": iteration_growth(counts),
+        "check_ms": (1e3 * step_at(2)["step"], 1e3 * inputs["step_two"]),
+        "rows": [step_at(ranks) for ranks in sorted(set(counts) | set(MODEL_RANKS))],
+    }
+
+
+def model(n: int) -> None:
+    """Prints same_tol_model: its inputs, the check at 2 ranks, and a Markdown row per P."""
+    found = same_tol_model(n)
+    inputs, counts = found["inputs"], found["inputs"]["counts"]
     prices = inputs["prices"]
     print(
-        f"# N = {n}, box {' x '.join(f'{x:.2f}' for x in lengths)}, ghost cutoff {inputs['cutoff']:g}. 1 rank "
-        f"(measure): {step_one * 1e3:.1f} ms per step at {iterations_one:.2f} CG iterations; the iterations' "
-        f"share {inputs['share']:.2f} (split: solver_tol {ForceModel().solver_tol:g} against {SPLIT_TOL:g}, "
-        f"medians of {inputs['split_repeats']}), so a = {fixed * 1e6:.3f} us per atom per step and "
-        f"b = {per_iteration * 1e6:.3f} us per atom per iteration. Prices on 2 ranks (latency): a global "
-        f"sum {prices['allreduce_us']:.3f} us, {prices['ns_per_double']:.3f} ns per exchanged double. "
-        f"Beyond P = {max(counts)}, I(P) grows by {iteration_growth(counts):.2f} per doubling (its mean from 2 to "
-        f"{max(counts)} ranks). Check at P = 2: modelled {step_at(2)[2] * 1e3:.1f} ms per step, measured "
-        f"{inputs['step_two'] * 1e3:.1f}\n"
+        f"# N = {n}, box {' x '.join(f'{x:.2f}' for x in inputs['lengths'])}, ghost cutoff {inputs['cutoff']:g}. "
+        f"1 rank (measure): {inputs['step_one'] * 1e3:.1f} ms per step at {inputs['iterations_one']:.2f} CG "
+        f"iterations; the iterations' share {inputs['share']:.2f} (split: solver_tol {ForceModel().solver_tol:g} "
+        f"against {SPLIT_TOL:g}, medians of {inputs['split_repeats']}), so a = {inputs['fixed'] * 1e6:.3f} us per "
+        f"atom per step and b = {inputs['per_iteration'] * 1e6:.3f} us per atom per iteration. Prices on 2 ranks "
+        f"(latency): a global sum {prices['allreduce_us']:.3f} us, {prices['ns_per_double']:.3f} ns per exchanged "
+        f"double. Beyond P = {max(counts)}, I(P) grows by {found['growth']:.2f} per doubling (its mean from 2 to "
+        f"{max(counts)} ranks). Check at P = 2: modelled {found['check_ms'][0]:.1f} ms per step, measured "
+        f"{found['check_ms'][1]:.1f}\n"
     )
     print(
         "| ranks P | grid | atoms per rank | CG iterations I(P) | ghosts per rank (measured) "
         "| ghosts per rank (model) | ms per step | of it communication | speed-up | efficiency |"
     )
     print("|--:|:-:|--:|--:|--:|--:|--:|--:|--:|--:|")
-    for ranks in sorted(set(counts) | set(MODEL_RANKS)):
-        iterations_p, ghosts, step, seconds = step_at(ranks)
+    for row in found["rows"]:
+        ranks = row["ranks"]
         measured_ghosts = f"{inputs['ghosts'][ranks]:.0f}" if ranks in counts else ""
-        speedup = step_one / step
         print(
-            f"| {ranks} | {'x'.join(map(str, processor_grid(ranks, lengths)))} | {n // ranks} | "
-            f"{iterations_p:.2f} | {measured_ghosts} | {ghosts:.0f} | {step * 1e3:.2f} | "
-            f"{seconds / step:.2f} | {speedup:.2f} | "
-            f"{speedup / ranks:.2f} |"
+            f"| {ranks} | {row['grid']} | {n // ranks} | {row['iterations']:.2f} | {measured_ghosts} | "
+            f"{row['ghosts']:.0f} | {row['step'] * 1e3:.2f} | {row['communication']:.2f} | {row['speedup']:.2f} | "
+            f"{row['efficiency']:.2f} |"
         )
 
 

@@ -2471,12 +2471,6 @@ MPI_ACCURACY_QUOTES += [
         ],
         None,
     ),
-    Quote(
-        "docs/workflow.md",
-        "on 2 ranks was faster than dilu at the same accuracy in {5} rounds of {6}",
-        jacobi_wins_over_both_timings,
-        None,
-    ),
 ]
 MPI_ACCURACY_QUOTES += [
     Quote(
@@ -2486,9 +2480,11 @@ MPI_ACCURACY_QUOTES += [
         None,
     )
     for page, passage in (
-        ("docs/workflow.md", "At equal accuracy 2 ranks ran about {1.3} times as fast as 1."),
-        ("BENCHMARKS.md", "At equal accuracy the two preconditioners gave 2 ranks about the same speed-up, {1.3}x,"),
-        ("BENCHMARKS.md", "at equal accuracy 2 ranks gave about {1.3}x"),
+        (
+            "BENCHMARKS.md",
+            "In these two phases, at equal accuracy, the two preconditioners gave 2 ranks about the same speed-up, "
+            "{1.3}x,",
+        ),
     )
 ]
 QUOTES += MPI_ACCURACY_QUOTES[3:]
@@ -2642,3 +2638,96 @@ CALM_TIMING_QUOTES.append(
     )
 )
 QUOTES += CALM_TIMING_QUOTES
+
+
+def command_medians() -> list[float]:
+    """Per timing command and 2-rank preconditioner, the median speed-up over the 1-rank default."""
+    return [
+        float(np.median(speedups[i : i + 3]))
+        for label in ALL_TIMINGS
+        for speedups in [timing_speedups(label)]
+        for i in (0, 3)
+    ]
+
+
+def same_tol_efficiency(ranks: int) -> float:
+    """benchmarks/mpi_scaling.py model --n 16000 (every rank count at the default tol): the efficiency on `ranks`."""
+    with contextlib.chdir(REPO):
+        rows = benchmark_script("mpi_scaling").same_tol_model(16000)["rows"]
+    return next(row["efficiency"] for row in rows if row["ranks"] == ranks)
+
+
+def model_gap() -> list[float]:
+    """The measured 2-rank steps of the calm timing rounds (ms) less the model's, least and largest, then the
+    least and largest measured step."""
+    steps = {name: [1000 * loop / 1000 for loop in calm_loops(2, name)] for name in ("jacobi", "dilu")}
+    gaps = [step - 1000 * modelled(2, name, "step") for name, found in steps.items() for step in found]
+    measured = [step for found in steps.values() for step in found]
+    return [min(gaps), max(gaps), min(measured), max(measured)]
+
+
+EQUAL_ACCURACY_MODEL_QUOTES = [
+    Quote(
+        "BENCHMARKS.md",
+        "at equal accuracy 2 ranks gave {1.1}-{1.5}x by the host's phase and the preconditioner, at best {1.46}x "
+        "with block Jacobi",
+        lambda: [min(command_medians()), max(command_medians()), calm_rounds((1, "dilu"), (2, "jacobi")).median()],
+        None,
+    ),
+    Quote(
+        "docs/workflow.md",
+        "on 2 ranks was faster than dilu at the same accuracy in {11} rounds of {12}",
+        lambda: jacobi_wins(ALL_TIMINGS),
+        None,
+    ),
+    Quote(
+        "docs/workflow.md",
+        "At equal accuracy 2 ranks ran {1.1} to {1.5} times as fast as 1, by the host's phase; block Jacobi at "
+        "5.0e-4 ran {1.46} times as fast in the calmest phase measured, and a model of 8-64 ranks keeps {0.54} of "
+        "the ideal speed-up on 64 ranks with it, against {0.37} with dilu",
+        lambda: [
+            min(command_medians()),
+            max(command_medians()),
+            calm_rounds((1, "dilu"), (2, "jacobi")).median(),
+            modelled(64, "jacobi", "efficiency"),
+            modelled(64, "dilu", "efficiency"),
+        ],
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "At 2 ranks the model is optimistic: {1.58}x for block Jacobi against the {1.46}x measured, {1.41}x for "
+        "dilu against {1.23}x. What it leaves out of the measured 2-rank steps ({1.1} to {4.4} ms of {25.4} to "
+        "{31.8})",
+        lambda: [
+            *equal_accuracy_model()["check"]["jacobi"],
+            *equal_accuracy_model()["check"]["dilu"],
+            *model_gap(),
+        ],
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "at equal accuracy block Jacobi keeps {0.74} of the ideal speed-up on 8 ranks and {0.54} on 64, dilu {0.57} "
+        "and {0.37}. dilu's matched iterations grow by {2.67} per doubling of the ranks ({18.30} on 2 ranks, "
+        "{23.65} on 8), and from {32} ranks on they exceed block Jacobi's, which do not grow at all. The model at "
+        "the default tol (above) gave dilu {0.43} on 64 ranks",
+        lambda: [
+            modelled(8, "jacobi", "efficiency"),
+            modelled(64, "jacobi", "efficiency"),
+            modelled(8, "dilu", "efficiency"),
+            modelled(64, "dilu", "efficiency"),
+            equal_accuracy_model()["growth"]["dilu"],
+            accuracy_iterations(16000, 2, "dilu", 5e-4),
+            accuracy_iterations(16000, 8, "dilu", 5e-4),
+            min(
+                r["ranks"]
+                for r in equal_accuracy_model()["rows"]
+                if r["preconditioner"] == "dilu" and r["iterations"] > modelled(r["ranks"], "jacobi", "iterations")
+            ),
+            same_tol_efficiency(64),
+        ],
+        None,
+    ),
+]
+QUOTES += EQUAL_ACCURACY_MODEL_QUOTES
