@@ -826,7 +826,7 @@ OTHER_PAGES = [
     ),
     Quote(
         "docs/workflow.md",
-        "(N = 16000: {1.53}x faster on 2 ranks than on 1 at the same `run.solver_tol`;",
+        "N = 16000: {1.53}x faster on 2 ranks than on 1 at the same `run.solver_tol`",
         lambda: [mpi_speedup(16000)],
         None,
     ),
