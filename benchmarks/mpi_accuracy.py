@@ -68,7 +68,7 @@ from mpi_scaling import (
     iterations_on,
     labelled,
     model_inputs,
-    processor_grid,
+    model_row,
     rotating_rounds,
     tables,
     write_rows,
@@ -417,15 +417,9 @@ def equal_accuracy_model(n: int, labels: list[str]) -> dict:
             iterations, step, seconds = step_at(name, ranks)
             rows.append(
                 {
-                    "ranks": ranks,
-                    "grid": "x".join(map(str, processor_grid(ranks, inputs["lengths"]))),
+                    **model_row(ranks, inputs["lengths"], iterations, step, seconds, step_one),
                     "preconditioner": name,
                     "tol": matched.get((ranks, name), matched[(most[name], name)]),
-                    "iterations": iterations,
-                    "step": step,
-                    "communication": seconds / step,
-                    "speedup": step_one / step,
-                    "efficiency": step_one / step / ranks,
                 }
             )
     return {

@@ -602,6 +602,20 @@ def communication(n: int, ranks: int, iterations_p: float, inputs: dict) -> tupl
     return ghosts, seconds + sums * prices["allreduce_us"] * 1e-6 * math.log2(ranks)
 
 
+def model_row(ranks: int, lengths, iterations: float, step: float, seconds: float, step_one: float) -> dict:
+    """A rank count's row of a model's table: its grid, CG iterations, step (s), the communication's share of
+    it (`seconds` of it), and the speed-up over `step_one` and the efficiency."""
+    return {
+        "ranks": ranks,
+        "grid": "x".join(map(str, processor_grid(ranks, lengths))),
+        "iterations": iterations,
+        "step": step,
+        "communication": seconds / step,
+        "speedup": step_one / step,
+        "efficiency": step_one / step / ranks,
+    }
+
+
 def same_tol_model(n: int) -> dict:
     """The model (the module's docstring) at the default solver_tol on every rank count: {"inputs", "growth",
     "check_ms": (modelled, measured) 2-rank step, "rows": per P its grid, iterations, ghosts (model), step,
@@ -614,16 +628,7 @@ def same_tol_model(n: int) -> dict:
         iterations = iterations_one * iterations_on(counts, ranks) / counts[1]
         ghosts, seconds = communication(n, ranks, iterations, inputs)
         step = n / ranks * (inputs["fixed"] + inputs["per_iteration"] * iterations) + seconds
-        return {
-            "ranks": ranks,
-            "grid": "x".join(map(str, processor_grid(ranks, inputs["lengths"]))),
-            "iterations": iterations,
-            "ghosts": ghosts,
-            "step": step,
-            "communication": seconds / step,
-            "speedup": step_one / step,
-            "efficiency": step_one / step / ranks,
-        }
+        return {**model_row(ranks, inputs["lengths"], iterations, step, seconds, step_one), "ghosts": ghosts}
 
     return {
         "inputs": inputs,
