@@ -276,13 +276,14 @@ def report(n: int) -> None:
 
 
 def timing(n: int, label: str = "") -> None:
-    """The default engine on 1 rank and each preconditioner on 2 ranks at its matched tol (accuracy.csv), the
-    runs of a round in an order that rotates from round to round, REPEATS rounds of MEASURE_STRAIN from the
-    prepared state: the speed-up of 2 ranks at the 1-rank default's accuracy (accuracy_timing.csv, or
-    accuracy_timing_<label>.csv)."""
+    """The default engine on 1 rank, each other preconditioner on 1 rank and each preconditioner on 2 ranks at
+    its matched tol (accuracy.csv), the runs of a round in an order that rotates from round to round, REPEATS
+    rounds of MEASURE_STRAIN from the prepared state: the speed-up of 2 ranks at the 1-rank default's accuracy
+    (accuracy_timing.csv, or accuracy_timing_<label>.csv)."""
     matched = matched_tolerances(error_ratios(read_table(tables(n) / "accuracy.csv")))
     runs = [(1, DEFAULT_PRECONDITIONER, DEFAULT_TOL)]
-    runs += [(1, name, matched[(1, name)]) for name in PRECONDITIONERS if name != DEFAULT_PRECONDITIONER]
+    others = [name for name in PRECONDITIONERS if name != DEFAULT_PRECONDITIONER]
+    runs += [(1, name, matched[(1, name)]) for name in others if matched[(1, name)] is not None]
     runs += [(2, name, matched[(2, name)]) for name in PRECONDITIONERS if matched[(2, name)] is not None]
     print("| round | ranks | preconditioner | tol | loop s | mean CG iterations | host steal % |")
     print("|--:|--:|---|--:|--:|--:|--:|")
@@ -305,7 +306,7 @@ def timing(n: int, label: str = "") -> None:
 
 def print_timing(rows: list[dict]) -> None:
     """Per 2-rank setting, the 1-rank default's loop time over its own in each round, and the median; where
-    another preconditioner also ran on 1 rank at its matched tol (tables from 2026-12-07 on), its 1-rank loop
+    another preconditioner also ran on 1 rank at its matched tol (the tables since `timing` runs it), its 1-rank loop
     time over the default's and its own 2-rank speed-up."""
     one_rank = {row["repeat"]: row["loop_s"] for row in rows if int(row["ranks"]) == 1 and is_default(row)}
     for name in dict.fromkeys(row["preconditioner"] for row in rows if int(row["ranks"]) == 2):
@@ -351,7 +352,7 @@ def equal_accuracy_model(n: int, labels: list[str]) -> dict:
     atom with the default's a and b (only the tol differs). A preconditioner whose iterations are the same on
     every rank count (block Jacobi) has its compute on P ranks as its 1-rank step over P; that step is its
     loop time over the default's in the same round of the timing tables (`labels`, their rounds pooled; median),
-    times measure's 1-rank step. The 2-rank speed-ups are checked against the tables' medians.
+    times the default's 1-rank step there (median). The 2-rank speed-ups are checked against the tables' medians.
     Returns {"inputs", "matched", "steps_one", "most", "growth", "check": {name: (modelled, measured)}, "rows"}."""
     inputs = model_inputs(n)
     matched = matched_tolerances(error_ratios(read_table(tables(n) / "accuracy.csv")))
@@ -359,11 +360,10 @@ def equal_accuracy_model(n: int, labels: list[str]) -> dict:
         (int(r["ranks"]), r["preconditioner"], r["tol"]): r["iterations"]
         for r in read_table(tables(n) / "accuracy_iterations.csv")
     }
-    rounds = [
-        [row for row in read_table(tables(n) / f"accuracy_timing{labelled(label)}.csv") if row["repeat"] == repeat]
-        for label in labels
-        for repeat in (1.0, 2.0, 3.0)
-    ]
+    rounds = []
+    for label in labels:
+        table = read_table(tables(n) / f"accuracy_timing{labelled(label)}.csv")
+        rounds += [[row for row in table if row["repeat"] == repeat] for repeat in sorted({r["repeat"] for r in table})]
 
     # the seconds from the timing rounds themselves (the host's speed drifts between sessions), the
     # iterations' share of the 1-rank step from split.csv
@@ -381,7 +381,7 @@ def equal_accuracy_model(n: int, labels: list[str]) -> dict:
             found += [default / r["loop_s"] for r in runs if int(r["ranks"]) == ranks and r["preconditioner"] == name]
         return found
 
-    def matched_counts(name: str) -> dict[int, float]:
+    def counts_at_matched_tol(name: str) -> dict[int, float]:
         """{P: iterations at the matched tol on P ranks}."""
         settings = [(ranks, p, tol) for (ranks, p), tol in matched.items() if p == name]
         counts = {setting[0]: counted[setting] for setting in settings if setting in counted}
@@ -389,7 +389,7 @@ def equal_accuracy_model(n: int, labels: list[str]) -> dict:
             raise SystemExit(f"{name}'s iterations at its matched tols differ with the ranks ({counts}): no model")
         return counts
 
-    counts = {name: matched_counts(name) for name in PRECONDITIONERS}
+    counts = {name: counts_at_matched_tol(name) for name in PRECONDITIONERS}
     steps_one = {DEFAULT_PRECONDITIONER: step_one}
     for name in PRECONDITIONERS:
         if name != DEFAULT_PRECONDITIONER:
