@@ -2355,12 +2355,22 @@ MPI_ACCURACY_QUOTES = [
 QUOTES += MPI_ACCURACY_QUOTES
 
 
+def timing_loops(label: str, ranks: int, preconditioner: str) -> pd.Series:
+    """benchmarks/mpi_accuracy.py timing: one setting's loop time per round."""
+    table = scaling_table(f"n16000/accuracy_timing_{label}.csv")
+    chosen = (table["ranks"] == ranks) & (table["preconditioner"] == preconditioner)
+    return table[chosen].set_index("repeat")["loop_s"]
+
+
+def jacobi_wins(labels: tuple[str, ...]) -> list[int]:
+    """Over the given timing commands: the rounds block Jacobi was the faster on 2 ranks, and all rounds."""
+    ratios = [r for label in labels for r in timing_ratios(label)]
+    return [sum(r < 1 for r in ratios), len(ratios)]
+
+
 def timing_ratios(label: str) -> list[float]:
     """benchmarks/mpi_accuracy.py timing: block Jacobi's 2-rank loop time over dilu's, per round."""
-    table = scaling_table(f"n16000/accuracy_timing_{label}.csv")
-    two = table[table["ranks"] == 2]
-    by_name = {name: two[two["preconditioner"] == name].set_index("repeat")["loop_s"] for name in ("jacobi", "dilu")}
-    return list(by_name["jacobi"] / by_name["dilu"])
+    return list(timing_loops(label, 2, "jacobi") / timing_loops(label, 2, "dilu"))
 
 
 def multi_rank_counts_matched_at(n: int, tol: float) -> list[int]:
@@ -2368,12 +2378,6 @@ def multi_rank_counts_matched_at(n: int, tol: float) -> list[int]:
     matched = benchmark_script("mpi_accuracy").matched_tolerances(accuracy_ratios(n))
     counts = sorted({ranks for ranks, _ in matched if ranks > 1})
     return [ranks for ranks in counts if all(np.isclose(matched[(ranks, p)], tol) for p in ("dilu", "jacobi"))]
-
-
-def jacobi_wins_over_both_timings() -> list[int]:
-    """Over both mpi_accuracy timing commands: the rounds block Jacobi was the faster on 2 ranks, and all rounds."""
-    ratios = [r for label in ("20261206", "20261206e") for r in timing_ratios(label)]
-    return [sum(r < 1 for r in ratios), len(ratios)]
 
 
 def timing_output(label: str) -> list[float]:
@@ -2385,10 +2389,8 @@ def timing_output(label: str) -> list[float]:
 def timing_speedups(label: str) -> list[float]:
     """benchmarks/mpi_accuracy.py timing: per round, the 1-rank default's loop time over each 2-rank
     preconditioner's (block Jacobi's rounds, then dilu's), then jacobi's 2-rank loop time over dilu's, median."""
-    table = scaling_table(f"n16000/accuracy_timing_{label}.csv")
-    one = table[(table["ranks"] == 1) & (table["preconditioner"] == "dilu")].set_index("repeat")["loop_s"]
-    two = table[table["ranks"] == 2]
-    by_name = {name: two[two["preconditioner"] == name].set_index("repeat")["loop_s"] for name in ("jacobi", "dilu")}
+    one = timing_loops(label, 1, "dilu")
+    by_name = {name: timing_loops(label, 2, name) for name in ("jacobi", "dilu")}
     speedups = [list(one / by_name[name]) for name in ("jacobi", "dilu")]
     return speedups[0] + speedups[1] + [float((by_name["jacobi"] / by_name["dilu"]).median())]
 
@@ -2467,7 +2469,7 @@ MPI_ACCURACY_QUOTES += [
             *scaling_table("n16000/accuracy_timing_20261206e.csv").query("ranks == 1")["loop_s"],
             sum(r < 1 for r in timing_ratios("20261206e")),
             len(timing_ratios("20261206e")),
-            *jacobi_wins_over_both_timings(),
+            *jacobi_wins(("20261206", "20261206e")),
         ],
         None,
     ),
@@ -2492,13 +2494,6 @@ QUOTES += MPI_ACCURACY_QUOTES[3:]
 
 # -- BENCHMARKS.md's calm-phase timing with block Jacobi on 1 rank too, and the model at equal accuracy -------
 CALM_TIMINGS = ("20261206f", "20261206g")
-
-
-def timing_loops(label: str, ranks: int, preconditioner: str) -> pd.Series:
-    """benchmarks/mpi_accuracy.py timing: one setting's loop time per round."""
-    table = scaling_table(f"n16000/accuracy_timing_{label}.csv")
-    chosen = (table["ranks"] == ranks) & (table["preconditioner"] == preconditioner)
-    return table[chosen].set_index("repeat")["loop_s"]
 
 
 def one_rank_jacobi_output(label: str) -> list[float]:
@@ -2582,12 +2577,6 @@ CALM_TIMING_QUOTES = [
         None,
     ),
 ]
-
-
-def jacobi_wins(labels: tuple[str, ...]) -> list[int]:
-    """Over the given timing commands: the rounds block Jacobi was the faster on 2 ranks, and all rounds."""
-    ratios = [r for label in labels for r in timing_ratios(label)]
-    return [sum(r < 1 for r in ratios), len(ratios)]
 
 
 ALL_TIMINGS = ("20261206", "20261206e", *CALM_TIMINGS)
