@@ -23,13 +23,16 @@ Run tree
     named by its parent's name and its own segment's label, ``<parent>_<label>``, or by the label alone from a packing:
     ``rotation_theta180_theta0for2`` reverses the shear back after a reversal,
     ``startup_theta0turn45for5`` is rotary shear turning at 45 degrees per unit strain after the
-    startup. A run's tables hold the
+    startup. A name that would pass `RUN_NAME_MAX` characters (a long oscillation) is shortened to
+    ``<first run>_seg<index>_<digest>_<label>``, the digest a hash of the whole history, so that
+    it still names the history and nothing else. A run's tables hold the
     strain since its segment started and tensors in the frame of the current flow (e1 the flow
     direction at that strain, e2 the gradient, e3 = e1 x e2).
 """
 
 from __future__ import annotations
 
+import hashlib
 import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
@@ -48,6 +51,7 @@ __all__ = [
     "paper_protocols",
     "run_tree",
     "PAPER_STARTUP",
+    "RUN_NAME_MAX",
     "paper_rotation_name",
 ]
 
@@ -55,6 +59,9 @@ __all__ = [
 SEGMENT_KEYS = ("strain", "flow_angle_deg", "turning_deg_per_strain")
 #: Name of the paper's startup protocol.
 PAPER_STARTUP = "startup"
+#: Longest run name made by joining labels; longer ones are shortened (the module docstring), so
+#: that the file names the workflow makes from a run name stay within 255 characters.
+RUN_NAME_MAX = 160
 
 
 class ProtocolError(ValueError):
@@ -224,12 +231,20 @@ def run_tree(protocols: Iterable[Protocol], fixed_names=lambda history: None) ->
             if name is None:
                 segment = history[-1]
                 name = fixed_names(history) or (f"{parent}_{segment.label}" if parent else segment.label)
+                if len(name) > RUN_NAME_MAX:
+                    name = _short_run_name(by_history[history[:1]], history)
                 if name in nodes:  # two histories, one name: only a naming that ignores content does this
                     raise ProtocolError(f"protocol {protocol.name}: run name {name} given to two flow histories")
                 nodes[name] = RunNode(name, parent, segment, index, history)
                 by_history[history] = name
             parent = name
     return nodes
+
+
+def _short_run_name(first_run: str, history: tuple[Segment, ...]) -> str:
+    """``<first run>_seg<index>_<digest>_<label>`` for a history whose joined labels are too long."""
+    digest = hashlib.sha256("_".join(segment.label for segment in history).encode()).hexdigest()[:10]
+    return f"{first_run}_seg{len(history) - 1}_{digest}_{history[-1].label}"
 
 
 def protocol_runs(protocol: Protocol, tree: Mapping[str, RunNode]) -> tuple[str, ...]:
