@@ -15,6 +15,23 @@ TEST_CONFIG = ["--configfile", "config/test.yaml"]
 RESULTS = "results/test"
 
 
+def second_float_config() -> dict[str, str]:
+    """The environment of a second floating-point configuration on this machine: OpenBLAS's oldest
+    x86_64 kernels (Prescott: SSE3, no FMA) in place of those it picks for the processor, and
+    NumPy's dispatched SIMD loops off (baseline only), so that sums and products round as on
+    another processor. The rebuilds run under it must print every fragment's digits as committed."""
+    from numpy._core._multiarray_umath import __cpu_dispatch__
+
+    env = dict(os.environ, OPENBLAS_CORETYPE="Prescott")
+    if __cpu_dispatch__:
+        env["NPY_DISABLE_CPU_FEATURES"] = " ".join(__cpu_dispatch__)
+    return env
+
+
+#: The floating-point configurations the rebuild tests run under: the machine's own, and a second.
+FLOAT_CONFIGS = {"native": lambda: None, "second": second_float_config}
+
+
 def session_folder(tmp_path_factory) -> Path:
     """The test session's temporary folder: pytest's base folder, or under pytest-xdist the one that
     holds each worker's base folder, where what one worker makes for the whole session is found by

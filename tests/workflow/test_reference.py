@@ -13,6 +13,7 @@ from __future__ import annotations
 import json
 import re
 import shutil
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -23,7 +24,7 @@ from suspension_fabric.analysis.stress import OPTIONAL_COLUMNS, read_stress_csv
 from suspension_fabric.reporting.figures import polar_cell_errors
 from suspension_fabric.study.config import load_config
 from suspension_fabric.study.dataset import check_config_matches, has_run_tables, read_dataset, run_names
-from workflow_helpers import REPO, copy_workflow, dry_run_jobs, snakemake
+from workflow_helpers import FLOAT_CONFIGS, REPO, copy_workflow, dry_run_jobs, snakemake
 
 pytestmark = pytest.mark.workflow
 
@@ -78,10 +79,18 @@ def test_the_stresslets_dataset_recorded_the_pair_stresslets():
     assert load_config(REPO / "config" / "stresslets.yaml")["analysis"]["lubrication_stress"] == "stresslet"
 
 
-def test_the_reference_study_rebuilds_the_fits_without_simulating(tmp_path):
+def assert_fragment_as_committed(made: Path, name: str) -> None:
+    """The rebuild's fragment prints what the committed one does (to a unit of the last digit)."""
+    problems = quoted_numbers.fragment_problems(made.read_text(), (REPO / "docs" / "generated" / name).read_text())
+    assert not problems, (name, problems)
+
+
+@pytest.mark.parametrize("float_config", sorted(FLOAT_CONFIGS))
+def test_the_reference_study_rebuilds_the_fits_without_simulating(tmp_path, float_config):
+    env = FLOAT_CONFIGS[float_config]()
     workdir = copy_workflow(tmp_path)
     shutil.copytree(REPO / "data", workdir / "data")  # the reference and the datasets it is compared with
-    plan = snakemake(workdir, "--configfile", "config/reference.yaml", "-n")
+    plan = snakemake(workdir, "--configfile", "config/reference.yaml", "-n", env=env)
     assert plan.returncode == 0, (plan.stdout + plan.stderr)[-3000:]
     rules = {job["rule"] for job in dry_run_jobs(plan.stdout + plan.stderr)}
     assert not rules & {"pack", "shear_segment", "fabric_table", "stress_table"}, rules
@@ -91,7 +100,7 @@ def test_the_reference_study_rebuilds_the_fits_without_simulating(tmp_path):
         "figure_stress_rotation",
         "benchmark_stress_relations",
     } <= rules, rules
-    result = snakemake(workdir, "--configfile", "config/reference.yaml", timeout=600)
+    result = snakemake(workdir, "--configfile", "config/reference.yaml", timeout=600, env=env)
     assert result.returncode == 0, result.stderr[-3000:]
     fits = json.loads((workdir / "results/reference/fits.json").read_text())
     recorded = read_dataset(DATASET)["fits"]  # written in fits format 1, read as format 2
@@ -126,8 +135,7 @@ def test_the_reference_study_rebuilds_the_fits_without_simulating(tmp_path):
     # the refined-model targets: the docs quote the workflow's fragment; of the models, only the sparse
     # one meets every target, and the modified model overshoots near 90 degrees where the simulations
     # do not (claim C6 for it)
-    summary = (workdir / "results/reference/tables/model_targets.md").read_text()
-    assert summary == (REPO / "docs" / "generated" / "model_targets.md").read_text()
+    assert_fragment_as_committed(workdir / "results/reference/tables/model_targets.md", "model_targets.md")
     targets = pd.read_csv(workdir / "results/reference/tables/model_targets.csv").set_index(["model", "mode"])
     assert set(targets.index[targets["all_met"]]) == {("sparse", "steady")}, targets["all_met"]
     assert not targets.loc[("modified", "steady"), "overshoot_met"]
@@ -139,30 +147,30 @@ def test_the_reference_study_rebuilds_the_fits_without_simulating(tmp_path):
         "reference",
         *load_config(REPO / "config" / "reference.yaml")["verdicts"]["comparisons"],
     }
-    # the error decomposition (docs/fabric_models.md): the docs quote the fragment the workflow wrote,
-    # and on the reference data removing the closure's error makes G-W's <nn>_12 worse (the closure's
-    # error offsets the dynamics'), while the separate rates balance the measured steady state far
-    # better than G-W's one rate
-    summary = (workdir / "results/reference/tables/error_decomposition.md").read_text()
-    assert summary == (REPO / "docs" / "generated" / "error_decomposition.md").read_text()
+    # the error decomposition (docs/fabric_models.md): the docs quote the fragment the workflow wrote;
+    # on the reference data, under either fitting criterion, removing the closure's error lowers
+    # G-W's <nn>_23 error after a rotation net of the theta = 0 control (Holm-adjusted over the
+    # table), the steady E_e:<nn> is far from the phi/6 every single-rate steady state must have,
+    # and the separate rates balance the measured steady state far better than G-W's one rate
+    assert_fragment_as_committed(workdir / "results/reference/tables/error_decomposition.md", "error_decomposition.md")
     decomposition = pd.read_csv(workdir / "results/reference/tables/error_decomposition.csv")
     corrected = decomposition[
         (decomposition["angles"] == "all")
         & (decomposition["variant"] == "closure_corrected")
-        & (decomposition["component"] == "n12")
-    ].iloc[0]
-    assert corrected["difference_low"] > 0.0
+        & (decomposition["component"] == "n23")
+    ]
+    assert set(corrected["criterion"]) == {"fixed_point", "balance"}
+    assert (corrected["difference_high"] < 0.0).all() and (corrected["difference_p_holm"] < 0.05).all()
     residual = pd.read_csv(workdir / "results/reference/tables/error_decomposition_per_seed.csv")
+    assert residual["steady_extension"].min() > 2.0 * residual["phi"].iloc[0] / 6.0
     largest = residual.groupby("variant")["steady_residual"].mean()
     assert largest["measured_rates"] < 0.2 * largest["measured"]
     # the results the docs and the README quote: the fragments the workflow writes, never typed
     for fragment in SUMMARY_FRAGMENTS:
-        made = (workdir / "results/reference/tables" / fragment).read_text()
-        assert made == (REPO / "docs" / "generated" / fragment).read_text(), fragment
+        assert_fragment_as_committed(workdir / "results/reference/tables" / fragment, fragment)
     # the sparse model (docs/fabric_models.md): the docs quote the workflow's fragment, the committed
     # model file is the one the reference makes, and the target holds on both shear components
-    summary = (workdir / "results/reference/tables/sparse_model.md").read_text()
-    assert summary == (REPO / "docs" / "generated" / "sparse_model.md").read_text()
+    assert_fragment_as_committed(workdir / "results/reference/tables/sparse_model.md", "sparse_model.md")
     made = json.loads((workdir / "results/reference/sparse_model.json").read_text())
     committed = json.loads((REPO / "data" / "models" / "sparse_reference.json").read_text())
     assert made["coefficients"].keys() == committed["coefficients"].keys()
@@ -173,7 +181,7 @@ def test_the_reference_study_rebuilds_the_fits_without_simulating(tmp_path):
     # the numbers the docs' prose quotes (tests/quoted_numbers.py), against the rebuilt tables: the
     # reference's and the N = 500 study's stress tables (data/default, config/default_reference.yaml)
     stress = "results/default_reference/tables/stress_viscosity_transients.csv"
-    rebuilt = snakemake(workdir, stress, "--configfile", "config/default_reference.yaml", timeout=300)
+    rebuilt = snakemake(workdir, stress, "--configfile", "config/default_reference.yaml", timeout=300, env=env)
     assert rebuilt.returncode == 0, rebuilt.stderr[-3000:]
     assert not rules_run(rebuilt) & {"pack", "shear_segment", "fabric_table", "stress_table"}
     studies = {name: quoted_numbers.Results(workdir / "results" / name) for name in ("reference", "default_reference")}

@@ -70,8 +70,13 @@ def test_leaderboards_have_a_protocol_column(with_protocols):
     assert set(board["mode"]) == {"steady", "global"} and set(board["model"]) == {"gw", "modified", "separate_rates"}
     reference = board[(board["model"] == "gw") & (board["mode"] == "steady")]
     assert (reference["difference_vs_gw"] == 0.0).all()
+    # the study's own fits saw every seed it scores: no score may be called held out
+    assert not board["held_out"].any() and (board["seeds_seen"] == board["n_seeds"]).all()
+    parameters = pd.read_csv(copy / RESULTS / "tables/model_parameters.csv")
+    assert set(parameters["fitted_seeds"]) == {"1 2"} and set(parameters["fitted_on"]) == {"test"}
     stress = pd.read_csv(copy / RESULTS / "tables/protocol_stress_leaderboard.csv")
     assert set(stress["protocol"]) == {"back_from_90", "rotary"} and set(stress["quantity"]) == {"eta_r", "N1", "N2"}
+    assert not stress["held_out"].any()
     for name in ("back_from_90", "rotary"):
         assert (copy / RESULTS / f"figures/protocol_{name}.png").stat().st_size > 10_000
 

@@ -159,12 +159,13 @@ rule benchmark_stress_relations:
 
 
 rule benchmark_protocols:
-    """Every fabric model (both fitting modes of benchmark_models) and stress relation predicting each
-    of the study's own protocols, none fitted to them: per-seed errors with t-intervals and the paired
-    difference from G-W."""
+    """Every fabric model (both fitting modes of benchmark_models, or of models.parameters_from) and stress
+    relation predicting each of the study's own protocols: per-seed errors with t-intervals, the paired
+    difference from G-W, and whether any fit saw the scored seeds (held_out)."""
     input:
         fits=rules.fit_models.output[0],
-        model_parameters=rules.benchmark_models.output.parameters,
+        model_parameters=lambda wildcards: STUDIES[wildcards.study]["models"]["parameters_from"]
+        or rules.benchmark_models.output.parameters.format(study=wildcards.study),
         relation_parameters=rules.benchmark_stress_relations.output.parameters,
         startup_runs=rules.aggregate_startup.output.runs,
         rotation_runs=rules.aggregate_rotation.output.runs,

@@ -28,6 +28,7 @@ with logged(sm.log[0]):
         sm.params.folds,
         reference=sm.params.reference,
         level=sm.params.level,
+        study=sm.wildcards.study,
     )
     board.to_csv(sm.output.leaderboard, index=False)
     parameters.to_csv(sm.output.parameters, index=False)

@@ -5,8 +5,10 @@ import pandas as pd
 
 from suspension_fabric.analysis.protocol_tables import read_protocol_table
 from suspension_fabric.evaluation import protocol_benchmark, stress_benchmark
+from suspension_fabric.evaluation.provenance import check_provenance, seen_seeds
 from suspension_fabric.io.protocols import protocols_from_params
-from suspension_fabric.models.fabric_models import resolve_models
+from suspension_fabric.models.fabric_models import load_model, resolve_models
+from suspension_fabric.models.sparse_fabric import model_file_source
 from suspension_fabric.models.fits_file import read_fits
 from suspension_fabric.models.stress_relations import resolve_relations
 from suspension_fabric.workflow_io import logged
@@ -29,6 +31,8 @@ with logged(sm.log[0]):
     curves = {name: protocol_benchmark.protocol_curves(p, runs, stress_runs) for name, p in protocols.items()}
     models = resolve_models(sm.params.models)
     fitted = pd.read_csv(sm.input.model_parameters)
+    check_provenance(fitted, sm.input.model_parameters)
+    sources = {load_model(spec).key: model_file_source(spec) for spec in sm.params.models if spec.endswith(".json")}
     mode_parameters = {
         mode: {
             key: rows.set_index("parameter")["value"].to_dict()
@@ -42,9 +46,12 @@ with logged(sm.log[0]):
         curves,
         fits["phi"],
         float(steady_fabric[0, 1]),
+        seen=seen_seeds(fitted, sources),
         reference=sm.params.reference,
         level=sm.params.level,
     )
+    fitted_on = fitted.groupby(["model", "mode"])["fitted_on"].first()
+    board.insert(3, "fitted_on", [fitted_on[key] for key in zip(board["model"], board["mode"])])
     board.to_csv(sm.output.leaderboard, index=False)
     predictions.to_csv(sm.output.predictions, index=False)
     relations = resolve_relations(sm.params.relations)
@@ -55,6 +62,7 @@ with logged(sm.log[0]):
         steady.steady[["lubrication_12", "contact_12", "eta_r"]].mean().to_dict(),
         curves,
         steady.phi,
+        seen=set(pd.read_csv(sm.input.startup_runs)["seed"]),  # the relations are fitted on this study's steady state
         reference=next(iter(relations)),
         level=sm.params.level,
     )

@@ -30,6 +30,8 @@ __all__ = [
     "seed_bootstrap",
     "bootstrap_means",
     "seed_bootstrap_of_mean",
+    "t_test_p",
+    "adjusted_p",
 ]
 
 #: Default confidence level of every interval (two-sided); config key ``verdicts.level``.
@@ -224,3 +226,30 @@ def welch_interval(first, second, level: float = LEVEL) -> Interval:
     dof = (va + vb) ** 2 / (va**2 / (a.size - 1) + vb**2 / (b.size - 1))
     half = _student_quantile(level, dof) * se
     return Interval(difference, se, difference - half, difference + half, min(a.size, b.size), level)
+
+
+def t_test_p(values) -> float:
+    """Two-sided p-value of Student's t-test that the per-seed values have mean zero (the test the
+    t-interval inverts: p < 1 - level exactly when the interval excludes 0); 1 for values all zero."""
+    values = np.asarray(values, dtype=float).ravel()
+    if values.size < 2:
+        return 1.0
+    se = float(values.std(ddof=1) / np.sqrt(values.size))
+    if se == 0.0:
+        return 1.0 if values.mean() == 0.0 else 0.0
+    from scipy import stats
+
+    return float(2.0 * stats.t.sf(abs(values.mean()) / se, values.size - 1))
+
+
+def adjusted_p(p_values, method: str = "holm") -> np.ndarray:
+    """p-values adjusted for the number of cells read at once (statsmodels' multipletests: "holm",
+    family-wise error; "fdr_bh", Benjamini-Hochberg false discovery rate); NaN stays NaN."""
+    from statsmodels.stats.multitest import multipletests
+
+    p_values = np.asarray(p_values, dtype=float)
+    adjusted = np.full(p_values.shape, np.nan)
+    finite = np.isfinite(p_values)
+    if finite.any():
+        adjusted[finite] = multipletests(p_values[finite], method=method)[1]
+    return adjusted

@@ -35,7 +35,10 @@ import pandas as pd
 from suspension_fabric.analysis.components import COMPONENTS
 from suspension_fabric.analysis.seed_statistics import LEVEL, jackknife, t_interval
 from suspension_fabric.analysis.tables import fabric_tensors
+from suspension_fabric.io.protocols import PAPER_STARTUP, paper_rotation_name
 from suspension_fabric.models import fabric_models
+
+from .provenance import seeds_text
 
 __all__ = [
     "by_seed",
@@ -311,13 +314,16 @@ def leaderboard(
     *,
     reference: str,
     level: float = LEVEL,
+    study: str = "",
 ) -> Leaderboard:
     """The leaderboard (one row per model, fitting mode and component: in-sample and held-out
     mean square errors with t-intervals over seeds, the paired difference from ``reference`` on
     the held-out errors, the number of parameters, chi^2 and AIC of the in-sample fit) and the
     fitted parameters per model and mode with their errors.
 
-    ``steady_fits`` is fits.json's ``models`` section (parameters of the steady fits)."""
+    ``steady_fits`` is fits.json's ``models`` section (parameters of the steady fits). Each parameter
+    row records what its fit saw (suspension_fabric.evaluation.provenance): ``study``, the seeds
+    and the runs (the startup; and every rotation for the global fit)."""
     rows, parameters, held_by_model = [], [], {}
     for key, fabric_model in models.items():
         steady = steady_fits[key]["parameters"]
@@ -327,6 +333,7 @@ def leaderboard(
             "global": (fitted["parameters"], fitted["errors"], fitted),
         }
         for mode, (params, errors, fit) in modes.items():
+            rotations = [paper_rotation_name(theta) for theta in curves.thetas] if mode == "global" else []
             for name, value in params.items():
                 parameters.append(
                     {
@@ -336,6 +343,9 @@ def leaderboard(
                         "parameter": name,
                         "value": value,
                         "error": errors[name],
+                        "fitted_on": study,
+                        "fitted_seeds": seeds_text(curves.seeds),
+                        "fitted_runs": " ".join([PAPER_STARTUP, *rotations]),
                     }
                 )
             _, rotation = model_curves(fabric_model, params, phi, curves, startup_strain)

@@ -1,5 +1,6 @@
 """Every fabric model and stress relation on every protocol: predicted from the same flow history,
-scored per seed on flows none of them was fitted to.
+scored per seed, each score labelled held out only if no fit behind it saw its seed
+([`suspension_fabric.evaluation.provenance`][suspension_fabric.evaluation.provenance]).
 
 Fabric models. Each model keeps the parameters of its two fitting modes in the rotation benchmark
 ([`suspension_fabric.evaluation.model_benchmark`][suspension_fabric.evaluation.model_benchmark]): ``steady``, fitted on
@@ -18,8 +19,9 @@ same frames: per seed the mean of (relation - seed)^2 / (eta_r^ss)^2.
 
 The seeds are the independent units: every score has its t-interval over seeds at the verdicts'
 level, and the named effect is the paired per-seed difference of a model's (relation's) score
-from G-W's (the G-W relation's) in the steady mode, with its t-interval; a difference whose
-interval lies below zero means the model beats G-W on that protocol.
+from G-W's (the G-W relation's) in the steady mode, with its t-interval and its p-value adjusted
+by Holm's method over every difference of the table, since all are read at once; a difference
+below zero whose adjusted p-value is under 1 - level means the model beats G-W on that protocol.
 """
 
 from __future__ import annotations
@@ -31,7 +33,7 @@ import numpy as np
 import pandas as pd
 
 from suspension_fabric.analysis.components import COMPONENTS
-from suspension_fabric.analysis.seed_statistics import LEVEL, t_interval
+from suspension_fabric.analysis.seed_statistics import LEVEL, adjusted_p, t_interval, t_test_p
 from suspension_fabric.io.protocols import Protocol
 from suspension_fabric.models import fabric_models
 from suspension_fabric.models.stress_relations import coefficients, relation_stress
@@ -129,14 +131,18 @@ def fabric_protocol_scores(predicted: list, curves: ProtocolCurves, n12_ss: floa
 
 def _paired(table: pd.DataFrame, scores: Mapping, own_key, reference_key, reference: str, level: float):
     """Adds to every row the paired per-seed difference of its scores (``scores[own_key(row)]``) from
-    the reference's (``scores[reference_key(row)]``), with its t-interval (NaN without a reference)."""
-    names = [f"difference{suffix}_vs_{reference}" for suffix in ("", "_low", "_high")]
+    the reference's (``scores[reference_key(row)]``), with its t-interval, its t-test p-value and
+    that p-value adjusted by Holm's method over every row of the table (NaN without a reference)."""
+    names = [f"difference{suffix}_vs_{reference}" for suffix in ("", "_low", "_high", "_p")]
     table[names] = np.nan
     for index, row in table.iterrows():
         base = scores.get(reference_key(row))
         if base is not None:
-            paired = t_interval(scores[own_key(row)] - base, level)
-            table.loc[index, names] = (paired.mean, paired.low, paired.high)
+            shift = scores[own_key(row)] - base
+            paired = t_interval(shift, level)
+            table.loc[index, names] = (paired.mean, paired.low, paired.high, t_test_p(shift))
+    # every difference of the table is read at once: Holm's adjustment over all of them
+    table[f"difference_p_holm_vs_{reference}"] = adjusted_p(table[names[-1]], "holm")
     return table
 
 
@@ -147,13 +153,16 @@ def fabric_protocol_leaderboard(
     phi: float,
     n12_ss: float,
     *,
+    seen: Mapping[tuple[str, str], set],
     reference: str,
     level: float = LEVEL,
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
     """(leaderboard, predictions): one row per model, mode, protocol and component (the six and
     ``all``) with the mean square error's t-interval over seeds and the paired difference from
     ``reference`` in the steady mode; and the seed-mean predictions on every frame.
-    ``mode_parameters[mode][model]`` are each model's parameters in each mode."""
+    ``mode_parameters[mode][model]`` are each model's parameters in each mode; ``seen[(model, mode)]``
+    the seeds its fit saw (suspension_fabric.evaluation.provenance.seen_seeds): a row is ``held_out``
+    only if none of its seeds is among them, and ``seeds_seen`` counts those that are."""
     rows, predictions, scores = [], [], {}
     for mode, by_model in mode_parameters.items():
         for key, fabric_model in models.items():
@@ -161,6 +170,7 @@ def fabric_protocol_leaderboard(
                 continue
             for name, one in curves.items():
                 predicted = model_protocol_predictions(fabric_model, by_model[key], phi, one)
+                overlap = len(set(one.seeds.tolist()) & seen[(key, mode)])
                 per_seed = fabric_protocol_scores(predicted, one, n12_ss)
                 columns = {**{c: per_seed[:, k] for k, c in enumerate(COMPONENTS)}, ALL_COMPONENTS: per_seed.mean(1)}
                 for component, values in columns.items():
@@ -174,6 +184,8 @@ def fabric_protocol_leaderboard(
                             "protocol": name,
                             "component": component,
                             "n_seeds": len(values),
+                            "seeds_seen": overlap,
+                            "held_out": overlap == 0,
                             "mse": interval.mean,
                             "mse_low": interval.low,
                             "mse_high": interval.high,
@@ -212,6 +224,7 @@ def stress_protocol_leaderboard(
     curves: Mapping[str, ProtocolCurves],
     phi: float,
     *,
+    seen: set,
     reference: str,
     level: float = LEVEL,
 ) -> pd.DataFrame:
@@ -220,7 +233,8 @@ def stress_protocol_leaderboard(
     and the paired difference from ``reference``. ``parameters`` is the stress benchmark's fitted
     values (stress_relation_parameters.csv: the shape parameters of each relation's mode),
     ``steady_fabric`` the seed-mean steady fabric and ``steady`` the seed-mean steady
-    lubrication_12, contact_12 and eta_r."""
+    lubrication_12, contact_12 and eta_r; ``seen`` the seeds the relations' parameters were fitted on
+    (a row is ``held_out`` only if none of its seeds is among them)."""
     rows, scores = [], {}
     for key, relation in relations.items():
         mine = parameters[parameters["relation"] == key]
@@ -250,6 +264,8 @@ def stress_protocol_leaderboard(
                         "protocol": name,
                         "quantity": q,
                         "n_seeds": len(values),
+                        "seeds_seen": len(set(one.seeds.tolist()) & set(seen)),
+                        "held_out": not set(one.seeds.tolist()) & set(seen),
                         "mse": interval.mean,
                         "mse_low": interval.low,
                         "mse_high": interval.high,

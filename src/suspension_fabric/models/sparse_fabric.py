@@ -218,6 +218,11 @@ def write_model_file(
     return path
 
 
+def model_file_source(path) -> dict:
+    """Where a model file's terms were chosen and fitted (its ``source``: study, seeds, ...)."""
+    return json.loads(Path(path).read_text()).get("source") or {}
+
+
 def read_model_file(path) -> FabricModel:
     """The model of a file of [`write_model_file`][suspension_fabric.models.sparse_fabric.write_model_file]; errors name
     the file."""

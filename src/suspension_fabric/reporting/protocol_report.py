@@ -2,7 +2,8 @@
 each protocol, which fabric model predicts it best and by how much, against G-W, and how the
 stress relations do on the simulated fabric.
 
-Rows per protocol: every fabric model in both fitting modes with its mean square error (in units
+Rows per protocol: every fabric model in both fitting modes, whether its scored seeds are held out
+(no fit behind it saw them) or in-sample, with its mean square error (in units
 of (<nn>_12^ss)^2, mean over seeds and t-interval) over the six components and on the shear
 components <nn>_12 and <nn>_23 (the diagonal components, which G-W fitted on the steady state
 misses by construction, dominate the six-component mean), each with the paired per-seed
@@ -24,18 +25,22 @@ from __future__ import annotations
 import pandas as pd
 
 from suspension_fabric.evaluation.protocol_benchmark import ALL_COMPONENTS
+from suspension_fabric.evaluation.provenance import held_out_label
 
-__all__ = ["summary_markdown", "states_markdown", "comparison", "SHOWN", "STATE_QUANTITIES"]
+__all__ = ["summary_markdown", "states_markdown", "comparison", "symmetry_zero", "SHOWN", "STATE_QUANTITIES"]
 
 #: Shown as 0: values this small are round-off (a component every model keeps at 0 by symmetry).
 ROUND_OFF = 1e-12
 
 
-def comparison(low: float, high: float) -> str:
+def comparison(low: float, high: float, p_adjusted: float = 0.0, level: float = 0.95) -> str:
     """The reading of a difference's interval: better (below 0), worse (above), identical (both
-    bounds round-off: the same prediction, e.g. a component both models keep at 0), not decided."""
+    bounds round-off: the same prediction, e.g. a component both models keep at 0), not decided;
+    better or worse only where the p-value adjusted for the cells read at once is under 1 - level."""
     if max(abs(low), abs(high)) <= ROUND_OFF:
         return "identical"
+    if p_adjusted >= 1.0 - level:
+        return "not decided"
     if high < 0.0:
         return "better"
     if low > 0.0:
@@ -108,13 +113,24 @@ def _difference(row, reference: str) -> tuple[float, float, float]:
     return tuple(row[f"difference{suffix}_vs_{reference}"] for suffix in ("", "_low", "_high"))
 
 
-def _cell(row, reference: str, is_reference: bool) -> str:
-    """Error [interval]; and, but for the reference, the difference from it [interval] and its reading."""
+def _cell(row, reference: str, is_reference: bool, level: float) -> str:
+    """Error [interval]; and, but for the reference, the difference from it [interval] and its
+    reading (Holm-adjusted over the table's differences)."""
     error = _interval(row["mse"], row["mse_low"], row["mse_high"])
     if is_reference:
         return f"{error}; reference"
     shift = _difference(row, reference)
-    return f"{error}; {_interval(*shift)} {comparison(*shift[1:])}"
+    reading = comparison(*shift[1:], row[f"difference_p_holm_vs_{reference}"], level)
+    return f"{error}; {_interval(*shift)} {reading}"
+
+
+def symmetry_zero(board: pd.DataFrame, protocol: str, component: str) -> bool:
+    """Whether every model's prediction of ``component`` along ``protocol`` is that of the reference
+    to round-off (a component every model keeps at 0 by the flow's symmetry, e.g. <nn>_23 under
+    reversals): such a column says nothing about the models."""
+    rows = board[(board["protocol"] == protocol) & (board["component"] == component)]
+    bounds = rows.filter(regex=r"^difference_(low|high)_vs_").abs().to_numpy()
+    return bool(bounds.size) and bool((bounds <= ROUND_OFF).all())
 
 
 def summary_markdown(
@@ -134,30 +150,36 @@ def summary_markdown(
     eta = stress_board[stress_board["quantity"] == "eta_r"]
     label = board.loc[board["model"] == reference, "label"].iloc[0]
     relation = stress_board.loc[stress_board["relation"] == reference_relation, "label"].iloc[0]
+    cells = int(board.filter(regex=r"^difference_p_vs_").notna().to_numpy().sum())
     lines = [
         f"Each cell: error [{percent} interval]; minus {label} fitted on the steady state (stress: minus the "
-        f"{relation}) [{percent} interval] and its reading. Fabric errors in units of (⟨nn⟩₁₂ˢˢ)², η_r's in "
-        "(η_rˢˢ)².",
+        f"{relation}) [{percent} interval] and its reading, better or worse only where the p-value adjusted by "
+        f"Holm's method over the fabric table's {cells} differences is under {1 - level:.2g}. Fabric errors in units "
+        "of (⟨nn⟩₁₂ˢˢ)², η_r's in (η_rˢˢ)². Scored seeds: held out only if no fit behind the row saw any of "
+        "them. A component every model keeps at 0 by the flow's symmetry is left out.",
         "",
     ]
     for protocol in dict.fromkeys(board["protocol"]):
         mine = board[board["protocol"] == protocol]
         names = {ALL_COMPONENTS: "six components", "n12": "⟨nn⟩₁₂", "n23": "⟨nn⟩₂₃"}
+        shown = [c for c in SHOWN if c == ALL_COMPONENTS or not symmetry_zero(board, protocol, c)]
         lines += [
             f"**{protocol}**",
             "",
-            "| model | fitted on | " + " | ".join(names[c] for c in SHOWN) + " |",
-            "|---|---|" + "---|" * len(SHOWN),
+            "| model | fitted on | scored seeds | " + " | ".join(names[c] for c in shown) + " |",
+            "|---|---|---|" + "---|" * len(shown),
         ]
         for (model, mode), rows in mine.groupby(["model", "mode"], sort=False):
             by_component = rows.set_index("component")
             fitted = "startup steady state" if mode == "steady" else "startup + rotations"
+            fitted = f"{rows['fitted_on'].iloc[0]}: {fitted}"
             is_reference = model == reference and mode == "steady"
-            cells = [_cell(by_component.loc[c], reference, is_reference) for c in SHOWN]
-            lines.append(f"| {rows['label'].iloc[0]} | {fitted} | " + " | ".join(cells) + " |")
-        lines += ["", "| stress relation | η_r |", "|---|---|"]
+            cells = [_cell(by_component.loc[c], reference, is_reference, level) for c in shown]
+            seeds = held_out_label(bool(rows["held_out"].all()))
+            lines.append(f"| {rows['label'].iloc[0]} | {fitted} | {seeds} | " + " | ".join(cells) + " |")
+        lines += ["", "| stress relation | scored seeds | η_r |", "|---|---|---|"]
         for _, row in eta[eta["protocol"] == protocol].iterrows():
-            cell = _cell(row, reference_relation, row["relation"] == reference_relation)
-            lines.append(f"| {row['label']} | {cell} |")
+            cell = _cell(row, reference_relation, row["relation"] == reference_relation, level)
+            lines.append(f"| {row['label']} | {held_out_label(bool(row['held_out']))} | {cell} |")
         lines.append("")
     return "\n".join(lines + states_markdown(states, level))

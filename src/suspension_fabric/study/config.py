@@ -535,6 +535,7 @@ def _cross_check(config: dict) -> None:
         resolve_relations(config["models"]["stress"])
     except RelationError as error:
         raise ConfigError(f"config key 'models.stress': {error}") from None
+    _check_parameters_from(config["models"].get("parameters_from"), models)
     labels = [angle_label(a) for a in config["angles_deg"]]
     if len(set(labels)) != len(labels):
         raise ConfigError(f"config key 'angles_deg': angles collide after formatting: {labels}")
@@ -672,6 +673,27 @@ def _check_protocols(config: dict) -> None:
                 "protocol tables compare the later segments: make it reach the window"
             )
     _check_run_names(config, protocols, study_run_tree(config))
+
+
+def _check_parameters_from(path, models: dict) -> None:
+    """models.parameters_from: a parameters table that records what its fits saw and fits every model."""
+    if path is None:
+        return
+    import pandas as pd
+
+    from suspension_fabric.evaluation.provenance import check_provenance
+
+    where = f"config key 'models.parameters_from' ({path})"
+    if not Path(path).is_file():
+        raise ConfigError(f"{where}: file not found (relative paths are from the working directory {Path.cwd()})")
+    try:
+        table = pd.read_csv(path)
+        check_provenance(table, where)
+    except (ValueError, pd.errors.ParserError) as error:
+        raise ConfigError(str(error) if str(error).startswith(where) else f"{where}: {error}") from None
+    missing = sorted(set(models) - set(table["model"]) if "model" in table.columns else set(models))
+    if missing:
+        raise ConfigError(f"{where}: no fits of the models {missing} of models.fabric")
 
 
 def _check_run_names(config: dict, protocols: dict, tree: dict) -> None:
