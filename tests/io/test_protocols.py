@@ -29,6 +29,7 @@ from suspension_fabric.analysis.protocol_tables import (
 from suspension_fabric.analysis.tables import TABLE_COLUMNS, VALUE_COLUMNS
 from suspension_fabric.io.protocols import (
     PAPER_STARTUP,
+    RUN_NAME_MAX,
     PaperRunNames,
     Protocol,
     ProtocolError,
@@ -213,6 +214,26 @@ def test_run_tree_refuses_one_name_for_two_histories():
     protocols = [Protocol("a", (Segment(1.0000001),)), Protocol("b", (Segment(1.0000002),))]
     with pytest.raises(ProtocolError, match="theta0for1 given to two flow histories"):
         run_tree(protocols)
+
+
+def test_a_long_history_gets_a_short_name_that_still_names_it_alone():
+    """Twenty reversals of 2 strain after a startup: a name that would pass RUN_NAME_MAX characters
+    becomes <first run>_seg<index>_<digest>_<label> (the digest of the whole history), its children
+    append their labels to it, and the short prefixes keep their joined labels."""
+    strokes = tuple(Segment(2.0, 180.0 * ((k + 1) % 2)) for k in range(20))
+    oscillation = Protocol("oscillation", (Segment(5.0), *strokes))
+    longer = Protocol("longer", (Segment(5.0), *strokes[:12], Segment(3.0, 180.0)))
+    tree = run_tree([oscillation, longer])
+    names = protocol_runs(oscillation, tree)
+    assert max(len(name) for name in names) <= RUN_NAME_MAX
+    assert names[1] == "theta0for5_theta180for2" and names[2] == "theta0for5_theta180for2_theta0for2"
+    shortened = [name for name in names if name.startswith("theta0for5_seg")]
+    assert shortened and shortened[0].endswith("_theta180for2") and names[-1].endswith("_theta0for2")
+    other = protocol_runs(longer, tree)
+    assert other[:12] == names[:12] and other[13] not in names
+    assert len(tree) == len(set(tree)) == 21 + 1
+    again = run_tree([longer, oscillation])  # the names depend on the history, not on the order
+    assert protocol_runs(oscillation, again) == names
 
 
 @pytest.mark.parametrize(

@@ -241,6 +241,28 @@ def test_one_angle_is_refused_for_the_full_study_only(tmp_path):
     )
 
 
+@pytest.mark.fault("refused")
+@pytest.mark.parametrize(
+    ("table", "message"),
+    [
+        (None, "file not found"),
+        ("model,mode,parameter,value\ngw,steady,beta,11\n", "no column ['fitted_on', 'fitted_seeds', 'fitted_runs']"),
+        (
+            "model,mode,parameter,value,fitted_on,fitted_seeds,fitted_runs\ngw,steady,beta,11,ref,1 2,startup\n",
+            "no fits of the models ['modified', 'separate_rates']",
+        ),
+    ],
+)
+def test_parameters_from_must_say_what_its_fits_saw_and_fit_every_model(tmp_path, table, message):
+    """models.parameters_from: another study's fits are taken only with their provenance (else no
+    score could be called held out) and for every model the study scores."""
+    if table is not None:
+        (tmp_path / "fits.csv").write_text(table)
+    text = with_keys(TEST_STUDY, models={"parameters_from": "fits.csv"})
+    found = refused([study_file(tmp_path, text)])
+    assert "config key 'models.parameters_from' (fits.csv)" in found and message in found, found
+
+
 @pytest.mark.fault("adapted")
 def test_more_folds_than_angles_adapt(tmp_path):
     """models.held_out_folds above the number of angles is capped (model_benchmark.angle_folds)."""

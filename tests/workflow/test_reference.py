@@ -171,6 +171,13 @@ def test_the_reference_study_rebuilds_the_fits_without_simulating(tmp_path, floa
     # the sparse model (docs/fabric_models.md): the docs quote the workflow's fragment, the committed
     # model file is the one the reference makes, and the target holds on both shear components
     assert_fragment_as_committed(workdir / "results/reference/tables/sparse_model.md", "sparse_model.md")
+    # the nested cross-validation (seeds and angles held out, terms found and chosen inside each
+    # outer fold): on the reference, the second-order search halves G-W's error on both shear
+    # components under the same protocol, the order-1 search only on <nn>_12
+    assert_fragment_as_committed(workdir / "results/reference/tables/sparse_model_nested.md", "sparse_model_nested.md")
+    nested = pd.read_csv(workdir / "results/reference/tables/sparse_model_nested.csv").set_index(["model", "component"])
+    assert nested.loc[("sparse_order2", "n12"), "target_met"] and nested.loc[("sparse_order2", "n23"), "target_met"]
+    assert nested.loc[("sparse_order1", "n12"), "target_met"] and not nested.loc[("sparse_order1", "n23"), "target_met"]
     made = json.loads((workdir / "results/reference/sparse_model.json").read_text())
     committed = json.loads((REPO / "data" / "models" / "sparse_reference.json").read_text())
     assert made["coefficients"].keys() == committed["coefficients"].keys()

@@ -134,6 +134,7 @@ def study_targets(study):
         *rules.benchmark_models.output,
         *rules.closure_tests.output,
         *rules.discover_model.output,
+        *rules.nested_selection.output,
         *rules.report_tables.output,
         *rules.verdicts.output,
         *rules.figure_claims.output,

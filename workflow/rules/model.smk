@@ -284,3 +284,30 @@ rule discover_model:
         f"{RESULTS}/logs/discover_model.log",
     script:
         "../scripts/discover_model.py"
+
+
+rule nested_selection:
+    """The sparse model's held-out error by nested cross-validation: seeds held out as well as angles,
+    its terms found and chosen inside each outer fold, G-W and the order-1 search under the same
+    protocol (suspension_fabric.evaluation.nested_selection)."""
+    input:
+        startup_runs=rules.aggregate_startup.output.runs,
+        rotation_runs=rules.aggregate_rotation.output.runs,
+    output:
+        comparison=f"{RESULTS}/tables/sparse_model_nested.csv",
+        folds=f"{RESULTS}/tables/sparse_model_nested_folds.csv",
+        summary=f"{RESULTS}/tables/sparse_model_nested.md",
+    params:
+        phi=setting("particles", "phi"),
+        folds=setting("models", "held_out_folds"),
+        startup_strain=setting("run", "startup_strain"),
+        steady_window=setting("analysis", "steady_window"),
+        window=setting("verdicts", "window"),
+        level=setting("verdicts", "level"),
+        code=code_version("../scripts/nested_selection.py"),
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/nested_selection.log",
+    script:
+        "../scripts/nested_selection.py"

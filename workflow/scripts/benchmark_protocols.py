@@ -8,8 +8,8 @@ from suspension_fabric.evaluation import protocol_benchmark, stress_benchmark
 from suspension_fabric.evaluation.provenance import check_provenance, seen_seeds
 from suspension_fabric.io.protocols import protocols_from_params
 from suspension_fabric.models.fabric_models import load_model, resolve_models
-from suspension_fabric.models.sparse_fabric import model_file_source
 from suspension_fabric.models.fits_file import read_fits
+from suspension_fabric.models.sparse_fabric import model_file_source
 from suspension_fabric.models.stress_relations import resolve_relations
 from suspension_fabric.workflow_io import logged
 
