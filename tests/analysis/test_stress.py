@@ -11,6 +11,7 @@ e1 = (c, s, 0), e2 = (0, 0, 1), e3 = (s, -c, 0), c = cos t, s = sin t.
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 import pandas as pd
@@ -543,3 +544,15 @@ def test_recorded_value_columns_leave_out_what_no_run_recorded():
         r"\(missing for seeds \[2\]\)",
     ):
         stress.recorded_value_columns(mixed, "runs/x")
+
+
+def test_a_stress_table_cut_mid_line_is_refused_as_truncated_naming_the_file(tmp_path):
+    """A finished run's stress.txt whose last row lacks its newline (cut by a kill or a full disk)
+    is refused, naming the file and saying truncated, not read with a row fewer."""
+    table = windowing_table()
+    stress_txt, marker = write_run(tmp_path, table, first_step=100, dt=2e-3, rate=RATE, theta=30.0)
+    text = stress_txt.read_text()
+    stress_txt.write_text(text[: text.rstrip("\n").rfind(" ")])  # the last row cut inside a number
+    fabric = write_fabric(tmp_path, [120, 140], theta=30.0, phi=PHI, first_step=100, dt=2e-3, rate=RATE)
+    with pytest.raises(ValueError, match=rf"{re.escape(str(stress_txt))}: truncated"):
+        run_stress_table(stress_txt, marker, fabric)

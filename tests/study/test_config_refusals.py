@@ -22,6 +22,7 @@ from suspension_fabric.study.config import (
     main,
     read_config_file,
     read_config_sources,
+    study_run_tree,
     validate_config,
 )
 from workflow_helpers import REPO, copy_workflow, snakemake
@@ -263,6 +264,21 @@ def test_parameters_from_must_say_what_its_fits_saw_and_fit_every_model(tmp_path
     assert "config key 'models.parameters_from' (fits.csv)" in found and message in found, found
 
 
+@pytest.mark.fault("refused")
+@pytest.mark.parametrize(
+    ("sections", "message"),
+    [
+        ({"seeds": [1.0, 2.0]}, "config key 'seeds': whole numbers without a decimal point expected, got [1.0, 2.0]"),
+        ({"analysis": {"eps": 0}}, "analysis.eps"),
+    ],
+)
+def test_seeds_written_as_decimals_and_a_zero_near_contact_gap_are_refused(tmp_path, sections, message):
+    """seeds: [1.0, 2.0] named a run folder seed1.0 (a MissingInputException after validation);
+    analysis.eps: 0 simulated everything and failed in the claims fit."""
+    found = refused([study_file(tmp_path, with_keys(TEST_STUDY, **sections))])
+    assert message in found, found
+
+
 @pytest.mark.fault("adapted")
 def test_more_folds_than_angles_adapt(tmp_path):
     """models.held_out_folds above the number of angles is capped (model_benchmark.angle_folds)."""
@@ -347,12 +363,15 @@ def test_protocols_the_analysis_cannot_score_are_refused(tmp_path):
     )
 
 
-@pytest.mark.fault("refused")
-def test_a_protocol_whose_run_names_are_too_long_is_refused(tmp_path):
-    """A run is named by its flow history; 40 segments make a folder name above 255 characters."""
+@pytest.mark.fault("adapted")
+def test_a_protocol_of_many_segments_gets_run_names_that_fit_a_file_name(tmp_path):
+    """A run is named by its flow history; 40 segments would make a folder name above 255
+    characters (refused before), so a long name is shortened to a digest of the history
+    (io.protocols.RUN_NAME_MAX) and the protocol runs."""
     segments = [{"strain": 0.3}] + [{"strain": 0.01, "flow_angle_deg": 90 * (k % 2)} for k in range(1, 40)]
-    message = refused([study_file(tmp_path, with_keys(TEST_STUDY, protocols={"zigzag": segments}))])
-    assert message.startswith("study.yaml: config key 'protocols.zigzag': its run ") and "use fewer segments" in message
+    config, _ = workflow_config([study_file(tmp_path, with_keys(TEST_STUDY, protocols={"zigzag": segments}))])
+    names = study_run_tree(config)
+    assert len(names) > 40 and max(len(name) for name in names) <= 200
 
 
 @pytest.mark.fault("refused")

@@ -30,7 +30,6 @@ from suspension_fabric.io.protocols import (
     RunNode,
     paper_protocols,
     parse_protocols,
-    protocol_runs,
     run_tree,
 )
 from suspension_fabric.io.resources import SCHEMA_PATH
@@ -75,7 +74,6 @@ LAMMPS_MAX_STEPS = 2**31 - 1
 SHEARED_WIDTH = 1.0 / math.sqrt(1.25)
 
 #: Longest file or folder name (ext4 and most file systems).
-NAME_MAX = 255
 
 
 #: The ``run`` keys that change a simulation's outputs besides its strain (and all of
@@ -457,6 +455,9 @@ def _validate(config: dict, schema_path) -> dict:
 def _cross_check(config: dict) -> None:
     """The checks across keys that the schema cannot state."""
     run, analysis, particles = config["run"], config["analysis"], config["particles"]
+    written = [seed for seed in config["seeds"] if not isinstance(seed, int) or isinstance(seed, bool)]
+    if written:  # JSON Schema's integer admits 1.0, which would name a run folder seed1.0
+        raise ConfigError(f"config key 'seeds': whole numbers without a decimal point expected, got {written}")
     lo, hi = analysis["steady_window"]
     if not 0 <= lo < hi <= run["startup_strain"]:
         raise ConfigError(
@@ -672,7 +673,6 @@ def _check_protocols(config: dict) -> None:
                 f"frame in analysis.steady_window ([{low:g}, {high:g}]), its steady state to which the "
                 "protocol tables compare the later segments: make it reach the window"
             )
-    _check_run_names(config, protocols, study_run_tree(config))
 
 
 def _check_parameters_from(path, models: dict) -> None:
@@ -694,21 +694,6 @@ def _check_parameters_from(path, models: dict) -> None:
     missing = sorted(set(models) - set(table["model"]) if "model" in table.columns else set(models))
     if missing:
         raise ConfigError(f"{where}: no fits of the models {missing} of models.fabric")
-
-
-def _check_run_names(config: dict, protocols: dict, tree: dict) -> None:
-    """Every run's name (its segments' labels joined, io.protocols.run_tree) short enough for the
-    file names made from it: '.<run>.publishing-XXXXXXXX' next to its folder
-    (simulation.lammps.rundir) and the logs 'fabric_seed<seed>_<run>.log'."""
-    longest = NAME_MAX - max(21, len(f"fabric_seed{max(config['seeds'])}_.log"))
-    for name in config.get("protocols") or {}:
-        for run_name in protocol_runs(protocols[name], tree):
-            if len(run_name) > longest:
-                raise ConfigError(
-                    f"config key 'protocols.{name}': its run {run_name[:40]}... is named by its flow history, "
-                    f"{len(run_name)} characters, more than the {longest} that file names of {NAME_MAX} "
-                    "characters leave with the workflow's prefixes and suffixes: use fewer segments"
-                )
 
 
 def _off_grid(strain: float, run: dict) -> tuple[str, int] | None:
