@@ -207,6 +207,27 @@ def test_a_changed_dataset_file_is_refused(dataset, tmp_path):
         import_run_table(copy, "seed1/startup", "fabric.csv", tmp_path / "out.csv")
 
 
+def test_a_record_that_disagrees_with_its_tables_is_refused_by_the_workflow(dataset, tmp_path):
+    """The record says phi = 0.46 for tables made at 0.45 (their SHA-256 unchanged, so the checksum
+    passes): a study describing the record is refused at the import, before any analysis, naming
+    the table and the value."""
+    copy = tmp_path / "data" / "tampered"
+    shutil.copytree(dataset, copy)
+    record = json.loads((copy / "dataset.json").read_text())
+    record["config"]["particles"]["phi"] = 0.46
+    (copy / "dataset.json").write_text(json.dumps(record, indent=1))
+    workdir = copy_workflow(tmp_path)
+    config = yaml.safe_load((workdir / "config/test.yaml").read_text())
+    config.update(study="tampered", dataset="data/tampered")
+    config.setdefault("particles", {})["phi"] = 0.46
+    (workdir / "config/tampered.yaml").write_text(yaml.safe_dump(config))
+    result = snakemake(workdir, "results/tampered/tables/startup_runs.csv", "--configfile", "config/tampered.yaml")
+    output = result.stdout + result.stderr
+    log = (workdir / "results/tampered/logs/import_run_tables.log").read_text()
+    assert result.returncode != 0 and "its values disagree with the dataset's record: phi 0.45" in log, output[-3000:]
+    assert "fabric.csv" in log and not (workdir / "results/tampered/tables/startup_runs.csv").exists()
+
+
 def test_load_reads_a_dataset_and_a_results_folder_alike(study, dataset, tmp_path, monkeypatch):
     """dataset.load: the exported dataset and the study's results folder give the same per-frame
     tables and steady states; the results folder adds its verdicts, the dataset its config and

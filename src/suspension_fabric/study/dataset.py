@@ -76,6 +76,7 @@ __all__ = [
     "refresh_fabric_tables",
     "read_dataset",
     "check_config_matches",
+    "check_table_values",
     "import_run_table",
     "has_run_tables",
     "read_dataset_stress",
@@ -370,13 +371,53 @@ def has_run_tables(record: dict, table: str, config: dict | None = None) -> bool
     return bool(runs) and all(f"{name}/{table}" in record["files"] for name in runs)
 
 
-def import_run_table(folder: Path, name: str, table: str, target: Path) -> Path:
+def import_run_table(folder: Path, name: str, table: str, target: Path, record: dict | None = None) -> Path:
     """Copy a run's analysed table (``fabric.csv`` or ``stress.csv``) out of a dataset after
-    checking its recorded SHA-256."""
+    checking its recorded SHA-256 and that its values are those of the record's config
+    ([`check_table_values`][suspension_fabric.study.dataset.check_table_values])."""
     if table not in RUN_TABLES:
         raise ValueError(f"unknown run table {table!r}; expected one of {RUN_TABLES}")
-    shutil.copy(_checked_file(folder, read_dataset(folder), f"{name}/{table}"), target)
+    record = read_dataset(folder) if record is None else record
+    source = _checked_file(folder, record, f"{name}/{table}")
+    check_table_values(source, record["config"], name)
+    shutil.copy(source, target)
     return Path(target)
+
+
+#: The columns of a run table that carry what its record says was simulated.
+RECORDED_COLUMNS = ("seed", "N", "phi", "strain")
+
+
+def check_table_values(path: Path, config: dict, name: str) -> None:
+    """A dataset's run table ``seed<k>/<run>`` must carry the values its record says: the seed k, N,
+    phi (to the packing's 1e-6) and strains from 0 to its segment's strain (one table stride);
+    a record that disagrees with its tables is refused, naming the file and the value."""
+    seed_text, run = name.split("/", 1)
+    frame = pd.read_csv(path, usecols=list(RECORDED_COLUMNS))
+    tree = study_run_tree({**config, "protocols": config.get("protocols") or {}})
+    expected = {
+        "seed": int(seed_text.removeprefix("seed")),
+        "N": config["particles"]["n"],
+        "phi": config["particles"]["phi"],
+        "strain": tree[run].segment.strain if run in tree else None,
+    }
+    problems = []
+    for column in ("seed", "N"):
+        found = sorted(set(frame[column].astype(int)))
+        if found != [expected[column]]:
+            problems.append(f"{column} {found} (the record: {expected[column]})")
+    if not np.allclose(frame["phi"], expected["phi"], rtol=1e-6, atol=0.0):
+        problems.append(f"phi {frame['phi'].iloc[0]:.9g} (the record: {expected['phi']})")
+    strains = frame["strain"].to_numpy(dtype=float)
+    stride = config["run"]["dump_strain"] if path.name == "fabric.csv" else config["run"]["table_strain"]
+    if expected["strain"] is not None and (
+        abs(strains.min()) > 1e-9 or abs(strains.max() - expected["strain"]) > stride + 1e-9
+    ):
+        problems.append(
+            f"strains {strains.min():g} to {strains.max():g} (the record's segment: {expected['strain']:g})"
+        )
+    if problems:
+        raise ValueError(f"{path}: its values disagree with the dataset's record: {'; '.join(problems)}")
 
 
 def _checked_file(folder: Path, record: dict, key: str) -> Path:
