@@ -270,11 +270,13 @@ def test_parameters_from_must_say_what_its_fits_saw_and_fit_every_model(tmp_path
     [
         ({"seeds": [1.0, 2.0]}, "config key 'seeds': whole numbers without a decimal point expected, got [1.0, 2.0]"),
         ({"analysis": {"eps": 0}}, "analysis.eps"),
+        ({"particles": {"n": 40, "phi": 0.63}}, "config key 'particles.phi' (0.63): above 0.62"),
     ],
 )
-def test_seeds_written_as_decimals_and_a_zero_near_contact_gap_are_refused(tmp_path, sections, message):
+def test_decimal_seeds_a_zero_near_contact_gap_and_an_unpackable_phi_are_refused(tmp_path, sections, message):
     """seeds: [1.0, 2.0] named a run folder seed1.0 (a MissingInputException after validation);
-    analysis.eps: 0 simulated everything and failed in the claims fit."""
+    analysis.eps: 0 simulated everything and failed in the claims fit; particles.phi: 0.63 failed in
+    the packing with an overlap message naming no key."""
     found = refused([study_file(tmp_path, with_keys(TEST_STUDY, **sections))])
     assert message in found, found
 

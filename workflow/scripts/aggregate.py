@@ -8,6 +8,7 @@ from functools import partial
 import pandas as pd
 
 from suspension_fabric.analysis import stress, tables
+from suspension_fabric.io.table_provenance import checked_tables
 from suspension_fabric.workflow_io import logged
 
 READERS = {
@@ -16,7 +17,7 @@ READERS = {
 }
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
-with logged(sm.log[0]):
+with logged(sm.log[0]), checked_tables(sm):
     if sm.params.kind not in ("startup", "rotation"):
         raise ValueError(f"params.kind must be 'startup' or 'rotation', got {sm.params.kind!r}")
     if sm.params.quantity not in READERS:

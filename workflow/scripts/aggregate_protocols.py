@@ -7,10 +7,11 @@ from pathlib import Path
 from suspension_fabric.analysis import stress, tables
 from suspension_fabric.analysis.protocol_tables import protocol_tables, segment_states
 from suspension_fabric.io.protocols import protocols_from_params
+from suspension_fabric.io.table_provenance import checked_tables
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
-with logged(sm.log[0]):
+with logged(sm.log[0]), checked_tables(sm):
     root = Path(sm.output.runs).parent.parent
     if sm.params.quantity == "fabric":
         columns = tables.VALUE_COLUMNS

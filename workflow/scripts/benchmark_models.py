@@ -4,13 +4,14 @@ from pathlib import Path
 
 from suspension_fabric.analysis import tables
 from suspension_fabric.evaluation import model_benchmark, model_targets
+from suspension_fabric.io.table_provenance import checked_tables
 from suspension_fabric.models.fabric_models import resolve_models
 from suspension_fabric.models.fits_file import read_fits
 from suspension_fabric.reporting.leaderboard_pages import write_leaderboard_page
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
-with logged(sm.log[0]):
+with logged(sm.log[0]), checked_tables(sm):
     fits = read_fits(sm.input.fits)
     curves = model_benchmark.seed_curves(
         tables.read_fabric_table(sm.input.startup_runs),

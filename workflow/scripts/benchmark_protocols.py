@@ -7,6 +7,7 @@ from suspension_fabric.analysis.protocol_tables import read_protocol_table
 from suspension_fabric.evaluation import protocol_benchmark, stress_benchmark
 from suspension_fabric.evaluation.provenance import check_provenance, seen_seeds
 from suspension_fabric.io.protocols import protocols_from_params
+from suspension_fabric.io.table_provenance import checked_tables
 from suspension_fabric.models.fabric_models import load_model, resolve_models
 from suspension_fabric.models.fits_file import read_fits
 from suspension_fabric.models.sparse_fabric import model_file_source
@@ -14,7 +15,7 @@ from suspension_fabric.models.stress_relations import resolve_relations
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
-with logged(sm.log[0]):
+with logged(sm.log[0]), checked_tables(sm):
     fits = read_fits(sm.input.fits)
     steady = stress_benchmark.read_stress_curves(
         sm.input.startup_runs,

@@ -2,12 +2,13 @@
 (rule benchmark_stress_relations)."""
 
 from suspension_fabric.evaluation import stress_benchmark
+from suspension_fabric.io.table_provenance import checked_tables
 from suspension_fabric.models.stress_relations import resolve_relations
 from suspension_fabric.reporting.leaderboard_pages import write_stress_leaderboard_page
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
-with logged(sm.log[0]):
+with logged(sm.log[0]), checked_tables(sm):
     curves = stress_benchmark.read_stress_curves(
         sm.input.startup_runs,
         sm.input.rotation_runs,

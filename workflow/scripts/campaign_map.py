@@ -5,6 +5,7 @@ import pandas as pd
 
 from suspension_fabric.evaluation import state_map
 from suspension_fabric.evaluation.claims import ROLES
+from suspension_fabric.io.table_provenance import checked_tables
 from suspension_fabric.models.fits_file import read_fits
 from suspension_fabric.reporting.map_fragments import map_summary
 from suspension_fabric.reporting.map_page import write_map_page
@@ -12,7 +13,7 @@ from suspension_fabric.study.campaign import study_configs
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
-with logged(sm.log[0]):
+with logged(sm.log[0]), checked_tables(sm):
     studies = study_configs(sm.config)
     rows = []
     for k, (point, study) in enumerate(sm.params.points.items()):

@@ -3,10 +3,11 @@
 import pandas as pd
 
 from suspension_fabric.evaluation import claims
+from suspension_fabric.io.table_provenance import checked_tables
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
-with logged(sm.log[0]):
+with logged(sm.log[0]), checked_tables(sm):
     results = claims.evaluate_study(
         pd.read_csv(sm.input.startup),
         pd.read_csv(sm.input.rotation),

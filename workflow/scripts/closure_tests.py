@@ -9,12 +9,13 @@ import pandas as pd
 
 from suspension_fabric.analysis import tables
 from suspension_fabric.evaluation import closure_tests
+from suspension_fabric.io.table_provenance import checked_tables
 from suspension_fabric.reporting.closure_figures import figure_closures
 from suspension_fabric.reporting.figures import save_figure
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
-with logged(sm.log[0]):
+with logged(sm.log[0]), checked_tables(sm):
     startup = pd.concat([tables.read_fabric_table(p, moments=True) for p in sm.input.startup], ignore_index=True)
     rotation = pd.concat([tables.read_fabric_table(p, moments=True) for p in sm.input.rotation], ignore_index=True)
     steady = closure_tests.seed_window_errors(closure_tests.frame_errors(startup), sm.params.steady_window)

@@ -3,11 +3,12 @@
 import pandas as pd
 
 from suspension_fabric.evaluation.dataset_comparison import comparison_table, per_seed_statistics
+from suspension_fabric.io.table_provenance import checked_tables
 from suspension_fabric.study.dataset import read_fabric_runs, read_stress_runs
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
-with logged(sm.log[0]):
+with logged(sm.log[0]), checked_tables(sm):
     window, steady_window = sm.params.window, sm.params.steady_window
     study = sm.wildcards.study
     per_seed = {

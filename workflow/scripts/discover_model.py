@@ -7,13 +7,14 @@ import pandas as pd
 
 from suspension_fabric.analysis import tables
 from suspension_fabric.evaluation import model_benchmark, model_discovery, model_targets
+from suspension_fabric.io.table_provenance import checked_tables
 from suspension_fabric.models.fabric_models import resolve_models
 from suspension_fabric.models.fits_file import read_fits
 from suspension_fabric.models.sparse_fabric import sparse_model, write_model_file
 from suspension_fabric.workflow_io import job_study_config, logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
-with logged(sm.log[0]):
+with logged(sm.log[0]), checked_tables(sm):
     fits = read_fits(sm.input.fits)
     startup_runs = tables.read_fabric_table(sm.input.startup_runs)
     rotation_runs = tables.read_fabric_table(sm.input.rotation_runs)

@@ -9,10 +9,11 @@ import pandas as pd
 from suspension_fabric.analysis import tables
 from suspension_fabric.analysis.stress import read_stress_csv
 from suspension_fabric.evaluation import error_decomposition as decomposition
+from suspension_fabric.io.table_provenance import checked_tables
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
-with logged(sm.log[0]):
+with logged(sm.log[0]), checked_tables(sm):
     startup = pd.concat([tables.read_fabric_table(p, moments=True) for p in sm.input.startup], ignore_index=True)
     rotation = pd.concat([tables.read_fabric_table(p, moments=True) for p in sm.input.rotation], ignore_index=True)
     if decomposition.has_fourth_moment(startup) and decomposition.has_fourth_moment(rotation):

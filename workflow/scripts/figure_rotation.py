@@ -4,12 +4,13 @@ from pathlib import Path
 
 import pandas as pd
 
+from suspension_fabric.io.table_provenance import checked_tables
 from suspension_fabric.models.fits_file import read_fits
 from suspension_fabric.reporting import figures
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
-with logged(sm.log[0]):
+with logged(sm.log[0]), checked_tables(sm):
     fig = figures.figure_rotation(
         pd.read_csv(sm.input.rotation), pd.read_csv(sm.input.predictions), read_fits(sm.input.fits)
     )

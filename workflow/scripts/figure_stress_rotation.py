@@ -5,11 +5,12 @@ from pathlib import Path
 import pandas as pd
 
 from suspension_fabric.evaluation.stress_model import steady_value
+from suspension_fabric.io.table_provenance import checked_tables
 from suspension_fabric.reporting import figures
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
-with logged(sm.log[0]):
+with logged(sm.log[0]), checked_tables(sm):
     sigma12_ss = steady_value(pd.read_csv(sm.input.steady), "eta_r")[0]
     fig = figures.figure_stress_rotation(
         pd.read_csv(sm.input.stress), pd.read_csv(sm.input.predictions), pd.read_csv(sm.input.transients), sigma12_ss

@@ -5,12 +5,13 @@ import pandas as pd
 
 from suspension_fabric.analysis import tables
 from suspension_fabric.evaluation import model_vs_simulation
+from suspension_fabric.io.table_provenance import checked_tables
 from suspension_fabric.models.fabric_models import resolve_models
 from suspension_fabric.models.fits_file import write_fits
 from suspension_fabric.workflow_io import job_study_config, logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
-with logged(sm.log[0]):
+with logged(sm.log[0]), checked_tables(sm):
     fits = model_vs_simulation.fit_steady_state(
         pd.read_csv(sm.input.steady),
         sm.params.phi,

@@ -3,11 +3,12 @@
 
 from pathlib import Path
 
+from suspension_fabric.io.table_provenance import checked_tables
 from suspension_fabric.study.dataset import import_run_table, read_dataset
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
-with logged(sm.log[0]):
+with logged(sm.log[0]), checked_tables(sm):
     folder = Path(sm.input[0]).parent
     record = read_dataset(folder)
     for (run, table), target in zip(sm.params.runs, sm.output):

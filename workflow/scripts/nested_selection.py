@@ -7,10 +7,11 @@ import pandas as pd
 
 from suspension_fabric.analysis import tables
 from suspension_fabric.evaluation import model_benchmark, nested_selection
+from suspension_fabric.io.table_provenance import checked_tables
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
-with logged(sm.log[0]):
+with logged(sm.log[0]), checked_tables(sm):
     startup_runs = tables.read_fabric_table(sm.input.startup_runs)
     rotation_runs = tables.read_fabric_table(sm.input.rotation_runs)
     curves = model_benchmark.seed_curves(startup_runs, rotation_runs, sm.params.window, sm.params.steady_window)

@@ -4,12 +4,13 @@ from pathlib import Path
 
 import pandas as pd
 
+from suspension_fabric.io.table_provenance import checked_tables
 from suspension_fabric.models.stress_relations import resolve_relations
 from suspension_fabric.reporting.protocol_report import summary_markdown
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
-with logged(sm.log[0]):
+with logged(sm.log[0]), checked_tables(sm):
     text = summary_markdown(
         pd.read_csv(sm.input.leaderboard),
         pd.read_csv(sm.input.stress_leaderboard),

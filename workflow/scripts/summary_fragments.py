@@ -5,6 +5,7 @@ from pathlib import Path
 
 import pandas as pd
 
+from suspension_fabric.io.table_provenance import checked_tables
 from suspension_fabric.reporting import leaderboard_fragments, rotation_fragments
 from suspension_fabric.reporting.summary_fragments import (
     choices_table,
@@ -15,7 +16,7 @@ from suspension_fabric.reporting.summary_fragments import (
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
-with logged(sm.log[0]):
+with logged(sm.log[0]), checked_tables(sm):
     fits = json.loads(Path(sm.input.fits).read_text())
     steady = pd.read_csv(sm.input.steady)
     stress_steady = pd.read_csv(sm.input.stress_steady)

@@ -4,12 +4,13 @@ choice and comparison dataset, and the descriptive tables (rule verdicts)."""
 import pandas as pd
 
 from suspension_fabric.evaluation import claims, verdicts
+from suspension_fabric.io.table_provenance import checked_tables
 from suspension_fabric.models.fits_file import read_fits
 from suspension_fabric.reporting.verdicts_page import write_verdicts_page
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
-with logged(sm.log[0]):
+with logged(sm.log[0]), checked_tables(sm):
     level = sm.params.level
     fits = read_fits(sm.input.fits)
     compared = claims.Compared.from_specs(sm.params.compared)

@@ -275,6 +275,10 @@ def run_stress_table(
             f"those of the run record's segment ({segment.flow_angle_deg} at its start) ({marker})"
         )
     phi = float(fabric["phi"].mean())
+    if not Path(stress_table).read_bytes().endswith(b"\n"):  # a finished run's table is whole
+        raise ValueError(
+            f"{stress_table}: truncated: its last row ends without a newline (cut by a kill or a full disk)"
+        )
     table = read_stress_table(stress_table)
     frames = stress_on_frames(
         table,

@@ -34,9 +34,8 @@ UNRECORDED_COLUMNS = (
 
 
 def read_stress_table(path: str | os.PathLike) -> dict[str, np.ndarray]:
-    """The stress/tilt table of a finished shear run as {column: array}; errors name the file, and a
-    last row without its newline (a table cut by a kill or a full disk) is refused as truncated (a
-    killed run's rows are read with `iter_table_rows`, which leaves that row out)."""
+    """The stress/tilt table of a shear run as {column: array}; a last row without its newline (a
+    killed run) is left out; errors name the file."""
     path = Path(path)
     try:
         text = path.read_text()
@@ -49,8 +48,8 @@ def read_stress_table(path: str | os.PathLike) -> dict[str, np.ndarray]:
         raise ValueError(f"{path}: the file ends inside its header line")
     names = lines[0][1:].split()
     rows = [line for line in lines[1:] if line.strip() and not line.startswith("#")]
-    if rows and not rows[-1].endswith("\n"):
-        raise ValueError(f"{path}: truncated: its last row ends without a newline ({rows[-1][:40]!r}...)")
+    if rows and not rows[-1].endswith("\n"):  # a row cut by a killed run, as iter_table_rows
+        rows = rows[:-1]
     try:
         data = np.loadtxt(rows, ndmin=2) if rows else np.empty((0, len(names)))
     except ValueError as err:

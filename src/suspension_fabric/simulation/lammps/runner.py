@@ -370,10 +370,7 @@ def pack(
             if abs(report["phi"] - phi) > phi_tolerance * phi:
                 reason = f"reached phi = {report['phi']} instead of {phi}"
             elif report["max_overlap"] > max_overlap:
-                reason = (
-                    f"largest overlap {report['max_overlap']} exceeds the bound {max_overlap}: the packing cannot "
-                    f"reach phi = {phi} without overlaps (config key 'particles.phi'; lower it)"
-                )
+                reason = f"largest overlap {report['max_overlap']} exceeds the bound {max_overlap}"
         if reason is not None:
             raise _failure("pack", reason, command, f"its files: {work}", result.watcher.tail())
 
