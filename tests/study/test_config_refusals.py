@@ -281,6 +281,23 @@ def test_decimal_seeds_a_zero_near_contact_gap_and_an_unpackable_phi_are_refused
     assert message in found, found
 
 
+@pytest.mark.fault("refused")
+@pytest.mark.parametrize(
+    ("turning", "run", "message"),
+    [
+        (600.0, {"dump_strain": 0.02}, "turns 12 degrees per fabric frame (run.dump_strain = 0.02), more than the 10"),
+        (2e4, {}, "turns 2 degrees per time step (run.dt = 0.0001), more than the 0.1"),
+    ],
+)
+def test_a_rotary_segment_the_step_or_the_frames_cannot_follow_is_refused(tmp_path, turning, run, message):
+    """The flow direction of a rotary segment must turn by at most 0.1 degree per step and 10 per
+    fabric frame; beyond that the run was accepted and its fabric could not follow the flow."""
+    rotary = [{"strain": 0.3}, {"strain": 0.1, "turning_deg_per_strain": turning}]
+    text = with_keys(TEST_STUDY, protocols={"rotary": rotary}, run=run)
+    found = refused([study_file(tmp_path, text)])
+    assert "config key 'protocols.rotary.1.turning_deg_per_strain'" in found and message in found, found
+
+
 @pytest.mark.fault("adapted")
 def test_more_folds_than_angles_adapt(tmp_path):
     """models.held_out_folds above the number of angles is capped (model_benchmark.angle_folds)."""

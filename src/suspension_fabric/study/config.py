@@ -670,6 +670,7 @@ def _check_protocols(config: dict) -> None:
         segments = protocols[name].segments
         for index, segment in enumerate(segments):
             _check_steps(segment.strain, run, f"protocols.{name}.{index}.strain", f"the segment ({segment.strain:g})")
+            _check_turning(segment.turning_deg_per_strain, run, f"protocols.{name}.{index}.turning_deg_per_strain")
         # the protocol tables compare each later segment with the first's steady state
         # (analysis.protocol_tables.segment_states) and the benchmarks score the later ones only
         if len(segments) < 2:
@@ -683,6 +684,26 @@ def _check_protocols(config: dict) -> None:
                 f"config key 'protocols.{name}.0.strain' ({segments[0].strain:g}): the first segment holds no "
                 f"frame in analysis.steady_window ([{low:g}, {high:g}]), its steady state to which the "
                 "protocol tables compare the later segments: make it reach the window"
+            )
+
+
+#: The most a rotary segment's flow direction may turn per time step and per fabric frame (degrees):
+#: the box's tilt is updated once per step, and the fabric, read every run.dump_strain, must
+#: follow the turning with at least 36 frames per turn.
+MAX_TURN_PER_STEP_DEG = 0.1
+MAX_TURN_PER_FRAME_DEG = 10.0
+
+
+def _check_turning(rate: float, run: dict, key: str) -> None:
+    """A rotary segment's turning resolved by the step and by the fabric frames, the limits stated."""
+    for per, stride, limit in (
+        ("time step (run.dt", run["dt"], MAX_TURN_PER_STEP_DEG),
+        ("fabric frame (run.dump_strain", run["dump_strain"], MAX_TURN_PER_FRAME_DEG),
+    ):
+        if abs(rate) * stride > limit:
+            raise ConfigError(
+                f"config key '{key}' ({rate:g}): the flow turns {abs(rate) * stride:.3g} degrees per {per} = "
+                f"{stride:g}), more than the {limit:g} that resolve it; turn slower or make the stride smaller"
             )
 
 
