@@ -89,7 +89,7 @@ def test_the_stress_table_quotes_fits_errors_and_biases():
         }
     )
     lines = stress_table(pd.DataFrame(rows), parameters).splitlines()
-    assert lines[0].startswith("| relation | fit | fitted | η_r after a rotation, held out | minus G-W |")
+    assert lines[0].startswith("| relation | fit | fitted | η_r after a rotation, held-out angles | minus G-W |")
     assert lines[2].startswith(
         "| G-W | steady | a_H = 25.44, a_C = 131.8 | 0.0142 [0.0133, 0.0151] |  | 0.048 [0.041, 0.055] |"
     )

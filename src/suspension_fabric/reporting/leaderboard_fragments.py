@@ -103,7 +103,7 @@ def stress_table(board: pd.DataFrame, parameters: pd.DataFrame) -> str:
     the steady normal stresses. Every error and bias in the units of the leaderboard."""
     suffix = _reference_suffix(board)
     first = board["relation"].iloc[0]
-    header = ["relation", "fit", "fitted", "η_r after a rotation, held out"]
+    header = ["relation", "fit", "fitted", "η_r after a rotation, held-out angles"]
     header += [f"minus {board['label'].iloc[0]}"] if suffix else []
     header += [
         "bias of η_r after a rotation",

@@ -119,7 +119,7 @@ def stress_leaderboard_tables(board: pd.DataFrame, parameters: pd.DataFrame) -> 
         mine = parameters[(parameters["relation"] == key) & (parameters["mode"] == mode)]
         row = {
             **head,
-            "η_r after rotation, held out": format_interval(
+            "η_r after rotation, held-out angles": format_interval(
                 rotation.held_out_mse, rotation.held_out_low, rotation.held_out_high
             ),
         }

@@ -157,8 +157,9 @@ def headline_paragraph(fits: dict, verdicts: pd.DataFrame, stress_board: pd.Data
         if best["relation"] != "gw":
             gain = 1.0 - best["held_out_mse"] / reference
             parts.append(
-                f"The best stress relation held out, {best['label']} ({best['mode']} fit), predicts the viscosity "
-                f"after a rotation with a {gain:.0%} smaller mean square error than G-W's."
+                f"The best stress relation on rotation angles its fit did not see (the same seeds), {best['label']} "
+                f"({best['mode']} fit), predicts the viscosity after a rotation with a {gain:.0%} smaller mean square "
+                "error than G-W's."
             )
     parts.append("Details, numbers and their intervals: the docs.")
     return " ".join(parts) + "\n"
