@@ -77,3 +77,20 @@ def test_on_g_w_itself_the_nested_scores_are_the_noise():
     assert sorted(set(tested)) == [1, 2, 3, 4]
     summary = nested_selection.summary_markdown(nested_selection.nested_comparison(errors, curves), folds)
     assert "order <= 1" in summary and "⟨nn⟩₁₂" in summary
+
+
+def test_a_model_that_diverges_on_a_held_out_seed_misses_the_target():
+    """A searched model whose prediction diverges from one held-out seed's start is scored on the
+    other seeds, counts that seed and misses the target, however small its other errors."""
+    rng = np.random.default_rng(2)
+    seeds, angles, strains = 4, 2, np.linspace(0.0, 2.0, 11)
+    rotation = rng.normal(size=(seeds, angles, len(strains), 3, 3)) * 1e-3 - 0.1
+    curves = model_benchmark.SeedCurves(
+        np.arange(1, seeds + 1), strains, rotation[:, 0], np.array([0.0, 90.0]), strains, rotation, np.eye(3), -0.1
+    )
+    gw = np.full((seeds, 6), 0.1)
+    found = np.full((seeds, 6), 1e-4)
+    found[2] = np.inf
+    table = nested_selection.nested_comparison({"gw": gw, "sparse_order2": found}, curves)
+    assert (table["diverged_seeds"] == 1).all() and not table["target_met"].any()
+    assert np.isfinite(table["candidate_net"]).all()
