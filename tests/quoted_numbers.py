@@ -502,8 +502,8 @@ QUOTES: list[Quote] = [
     # the stress-relation leaderboard
     Quote(
         RESULTS,
-        "cuts the error of the viscosity after a rotation on held-out angles by {60}% and removes G-W's bias ({+0.048} to "
-        "{+0.002}): as the coordination drops after a reversal ({3.5} to {2.8})",
+        "cuts the error of the viscosity after a rotation on held-out angles by {60}% and removes G-W's bias "
+        "({+0.048} to {+0.002}): as the coordination drops after a reversal ({3.5} to {2.8})",
         lambda r: [
             100 * (1 - _stress(r, "gw_jamming")["held_out_mse"] / _stress(r, "gw")["held_out_mse"]),
             _stress(r, "gw")["bias"],
