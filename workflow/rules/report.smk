@@ -51,11 +51,15 @@ rule report_protocols:
         stress_leaderboard=rules.benchmark_protocols.output.stress_leaderboard,
         states=rules.aggregate_protocols.output.states,
         stress_states=rules.aggregate_stress_protocols.output.states,
+        runs=rules.aggregate_protocols.output.runs,
+        stress_runs=rules.aggregate_stress_protocols.output.runs,
     output:
-        f"{RESULTS}/tables/protocol_summary.md",
+        summary=f"{RESULTS}/tables/protocol_summary.md",
+        drift=f"{RESULTS}/tables/protocol_drift.csv",
     params:
         reference=setting("verdicts", "models", "reference"),
         relations=setting("models", "stress"),
+        protocols=protocol_segments,
         level=setting("verdicts", "level"),
         code=code_version("../scripts/report_protocols.py"),
     conda:

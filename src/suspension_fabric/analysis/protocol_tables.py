@@ -35,6 +35,14 @@ Late states ([`segment_states`][suspension_fabric.analysis.protocol_tables.segme
     difference from the seed's steady state of the protocol's first segment (the startup; mean
     over the steady window), with its t-interval. An interval of the difference that excludes 0
     says the segment settles elsewhere than simple shear, or has not settled yet.
+
+Drift over repeated segments ([`segment_drift`][suspension_fabric.analysis.protocol_tables.segment_drift])
+    For a protocol of at least `DRIFT_MIN_SEGMENTS` segments after the first (repeated reversals,
+    successive rotations, an oscillation): per seed, the least-squares slope of the late state
+    against the segment's index (per segment), with its t-interval and t-test p-value over seeds,
+    and the paired difference of the last segment's late state from the first's. A recovery to the
+    same state after each change of direction has no slope; a slow organisation over the cycles
+    (random organisation towards fewer contacts, say) shows as one.
 """
 
 from __future__ import annotations
@@ -59,6 +67,8 @@ __all__ = [
     "protocol_tables",
     "read_protocol_table",
     "segment_states",
+    "DRIFT_MIN_SEGMENTS",
+    "segment_drift",
 ]
 
 #: The ``frame`` of every protocol-table row: tensors in the frame of the current flow.
@@ -197,4 +207,51 @@ def segment_states(
                         "difference_high": shift.high,
                     }
                 )
+    return pd.DataFrame(rows)
+
+
+#: Segments after the first that a protocol needs for its drift to be measured.
+DRIFT_MIN_SEGMENTS = 3
+
+
+def segment_drift(protocols: Mapping[str, Protocol], table: pd.DataFrame, value_columns, level: float = LEVEL):
+    """The drift of the late states over the segments after the first (module docstring), per
+    protocol with at least `DRIFT_MIN_SEGMENTS` of them and per value column, from a protocol
+    table (per seed)."""
+    from .seed_statistics import t_test_p
+
+    rows = []
+    for name, protocol in protocols.items():
+        later = protocol.segments[1:]
+        if len(later) < DRIFT_MIN_SEGMENTS:
+            continue
+        mine = table[table["protocol"] == name]
+        states = []
+        for index, segment in enumerate(later, start=1):
+            half = mine[(mine["segment"] == index) & (mine["segment_strain"] >= segment.strain / 2.0 - 1e-9)]
+            states.append(half.groupby("seed")[list(value_columns)].mean())
+        index = np.arange(1, len(later) + 1, dtype=float)
+        centred = index - index.mean()
+        for column in value_columns:
+            values = np.stack([state[column].to_numpy() for state in states], axis=1)  # (seeds, segments)
+            slopes = values @ centred / (centred @ centred)
+            slope = t_interval(slopes, level)
+            change = t_interval(values[:, -1] - values[:, 0], level)
+            rows.append(
+                {
+                    "protocol": name,
+                    "quantity": column,
+                    "segments": len(later),
+                    "n_seeds": slope.n,
+                    "first": float(values[:, 0].mean()),
+                    "last": float(values[:, -1].mean()),
+                    "slope": slope.mean,
+                    "slope_low": slope.low,
+                    "slope_high": slope.high,
+                    "slope_p": t_test_p(slopes),
+                    "change": change.mean,
+                    "change_low": change.low,
+                    "change_high": change.high,
+                }
+            )
     return pd.DataFrame(rows)

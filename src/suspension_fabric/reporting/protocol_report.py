@@ -27,7 +27,15 @@ import pandas as pd
 from suspension_fabric.evaluation.protocol_benchmark import ALL_COMPONENTS
 from suspension_fabric.evaluation.provenance import held_out_label
 
-__all__ = ["summary_markdown", "states_markdown", "comparison", "symmetry_zero", "SHOWN", "STATE_QUANTITIES"]
+__all__ = [
+    "summary_markdown",
+    "states_markdown",
+    "drift_markdown",
+    "comparison",
+    "symmetry_zero",
+    "SHOWN",
+    "STATE_QUANTITIES",
+]
 
 #: Shown as 0: values this small are round-off (a component every model keeps at 0 by symmetry).
 ROUND_OFF = 1e-12
@@ -109,6 +117,34 @@ def states_markdown(states: pd.DataFrame, level: float) -> list[str]:
     return lines
 
 
+def drift_markdown(drift: pd.DataFrame, level: float) -> list[str]:
+    """The drift of the late states over the repeated segments of each protocol that has them
+    (analysis.protocol_tables.segment_drift, with ``slope_p_holm`` over every slope read at once)."""
+    shown = drift[drift["quantity"].isin(list(STATE_QUANTITIES))]
+    if shown.empty:
+        return []
+    percent = f"{100 * level:g}%"
+    lines = [
+        "Drift over the repeated segments: per seed the least-squares slope of the late state against the "
+        f"segment's index (per segment), seed mean [{percent} t-interval]; a drift is read only where its p-value, "
+        f"adjusted by Holm's method over the {len(shown)} slopes of this table, is under {1 - level:.2g}; and the "
+        "last segment's late state minus the first's.",
+        "",
+        "| protocol | segments | quantity | first | last | slope per segment | reading | last − first |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for _, row in shown.iterrows():
+        slope = _interval(row["slope"], row["slope_low"], row["slope_high"])
+        reading = comparison(row["slope_low"], row["slope_high"], row["slope_p_holm"], level)
+        reading = {"better": "falls", "worse": "rises"}.get(reading, reading)
+        change = _interval(row["change"], row["change_low"], row["change_high"])
+        lines.append(
+            f"| {row['protocol']} | {int(row['segments'])} | {STATE_QUANTITIES[row['quantity']]} | "
+            f"{_number(row['first'])} | {_number(row['last'])} | {slope} | {reading} | {change} |"
+        )
+    return lines + [""]
+
+
 def _difference(row, reference: str) -> tuple[float, float, float]:
     return tuple(row[f"difference{suffix}_vs_{reference}"] for suffix in ("", "_low", "_high"))
 
@@ -141,11 +177,14 @@ def summary_markdown(
     *,
     reference: str,
     reference_relation: str,
+    drift: pd.DataFrame | None = None,
 ) -> str:
     """The page fragment (module docstring) from protocol_leaderboard.csv,
     protocol_stress_leaderboard.csv and the late states (protocol_states.csv and
     stress_protocol_states.csv, concatenated); differences from the fabric model ``reference``
-    fitted on the steady state and from the stress relation ``reference_relation`` (keys)."""
+    fitted on the steady state and from the stress relation ``reference_relation`` (keys); and
+    the drift over repeated segments (``drift``, fabric and stress rows), if given."""
+    drift = pd.DataFrame(columns=["quantity"]) if drift is None else drift
     percent = f"{100 * level:g}%"
     eta = stress_board[stress_board["quantity"] == "eta_r"]
     label = board.loc[board["model"] == reference, "label"].iloc[0]
@@ -182,4 +221,4 @@ def summary_markdown(
             cell = _cell(row, reference_relation, row["relation"] == reference_relation, level)
             lines.append(f"| {row['label']} | {held_out_label(bool(row['held_out']))} | {cell} |")
         lines.append("")
-    return "\n".join(lines + states_markdown(states, level))
+    return "\n".join(lines + states_markdown(states, level) + drift_markdown(drift, level))
