@@ -37,7 +37,7 @@ def test_its_seeds_are_in_no_other_dataset_and_it_serves_the_rebuild():
         seeds = set(json.loads(path.read_text())["config"]["seeds"])
         assert not seeds & set(record["config"]["seeds"]), path
     size = sum(p.stat().st_size for p in DATASET.rglob("*") if p.is_file())
-    assert size < 40e6, f"{size / 1e6:.1f} MB"
+    assert size < 60e6, f"{size / 1e6:.1f} MB"
 
 
 def test_the_rebuild_scores_every_protocol_held_out_as_the_docs_show_it(tmp_path):
