@@ -37,12 +37,14 @@ Late states ([`segment_states`][suspension_fabric.analysis.protocol_tables.segme
     says the segment settles elsewhere than simple shear, or has not settled yet.
 
 Drift over repeated segments ([`segment_drift`][suspension_fabric.analysis.protocol_tables.segment_drift])
-    For a protocol of at least `DRIFT_MIN_SEGMENTS` segments after the first (repeated reversals,
-    successive rotations, an oscillation): per seed, the least-squares slope of the late state
-    against the segment's index (per segment), with its t-interval and t-test p-value over seeds,
-    and the paired difference of the last segment's late state from the first's. A recovery to the
-    same state after each change of direction has no slope; a slow organisation over the cycles
-    (random organisation towards fewer contacts, say) shows as one.
+    For a protocol of many repeated segments (an oscillation): the first change of direction
+    leaves the steady state of simple shear, so the drift is measured from the second segment after
+    the startup on, over at least `DRIFT_MIN_SEGMENTS` segments: per seed, the least-squares slope
+    of the late state against the segment's index (per segment), with its t-interval, t-test
+    p-value and the slope a test at the same level would detect with 80% power over these seeds
+    (``detectable_slope``), and the paired difference of the last segment's late state from the
+    second's. A state repeated from segment to segment has no slope; a slow organisation over the
+    cycles (random organisation towards fewer contacts, say) has one.
 """
 
 from __future__ import annotations
@@ -68,6 +70,7 @@ __all__ = [
     "read_protocol_table",
     "segment_states",
     "DRIFT_MIN_SEGMENTS",
+    "DRIFT_POWER",
     "segment_drift",
 ]
 
@@ -210,45 +213,52 @@ def segment_states(
     return pd.DataFrame(rows)
 
 
-#: Segments after the first that a protocol needs for its drift to be measured.
+#: Segments, from the second after the startup on, that a protocol needs for its drift to be measured.
 DRIFT_MIN_SEGMENTS = 3
+#: The power at which ``detectable_slope`` is stated.
+DRIFT_POWER = 0.8
 
 
 def segment_drift(protocols: Mapping[str, Protocol], table: pd.DataFrame, value_columns, level: float = LEVEL):
-    """The drift of the late states over the segments after the first (module docstring), per
-    protocol with at least `DRIFT_MIN_SEGMENTS` of them and per value column, from a protocol
-    table (per seed)."""
+    """The drift of the late states over the repeated segments (module docstring), per protocol
+    with enough of them and per value column, from a protocol table (per seed)."""
+    from scipy import stats
+
     from .seed_statistics import t_test_p
 
     rows = []
     for name, protocol in protocols.items():
         later = protocol.segments[1:]
-        if len(later) < DRIFT_MIN_SEGMENTS:
+        if len(later) - 1 < DRIFT_MIN_SEGMENTS:
             continue
         mine = table[table["protocol"] == name]
         states = []
         for index, segment in enumerate(later, start=1):
             half = mine[(mine["segment"] == index) & (mine["segment_strain"] >= segment.strain / 2.0 - 1e-9)]
             states.append(half.groupby("seed")[list(value_columns)].mean())
-        index = np.arange(1, len(later) + 1, dtype=float)
+        index = np.arange(2, len(later) + 1, dtype=float)
         centred = index - index.mean()
         for column in value_columns:
             values = np.stack([state[column].to_numpy() for state in states], axis=1)  # (seeds, segments)
-            slopes = values @ centred / (centred @ centred)
+            slopes = values[:, 1:] @ centred / (centred @ centred)
             slope = t_interval(slopes, level)
-            change = t_interval(values[:, -1] - values[:, 0], level)
+            change = t_interval(values[:, -1] - values[:, 1], level)
+            dof = slope.n - 1
+            detectable = (stats.t.ppf(0.5 + level / 2.0, dof) + stats.t.ppf(DRIFT_POWER, dof)) * slope.se
             rows.append(
                 {
                     "protocol": name,
                     "quantity": column,
-                    "segments": len(later),
+                    "segments": len(later) - 1,
                     "n_seeds": slope.n,
                     "first": float(values[:, 0].mean()),
+                    "second": float(values[:, 1].mean()),
                     "last": float(values[:, -1].mean()),
                     "slope": slope.mean,
                     "slope_low": slope.low,
                     "slope_high": slope.high,
                     "slope_p": t_test_p(slopes),
+                    "detectable_slope": float(detectable),
                     "change": change.mean,
                     "change_low": change.low,
                     "change_high": change.high,

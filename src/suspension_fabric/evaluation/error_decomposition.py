@@ -153,7 +153,8 @@ ANGLE_GROUPS = {
     CONTROL: (0.0, 1e-6),
     "all": (1e-6, 180.0),
     "below 90": (1e-6, 89.999),
-    "90 and above": (90.0, 180.0),
+    "90 to 135": (90.0, 135.0),
+    "150 to 180": (149.999, 180.0),
 }
 #: The rates of (1), (b_e, b_c, a), as table columns.
 RATE_NAMES = ("beta_e", "beta_c", "A")
@@ -746,14 +747,16 @@ def _reading(fabric: pd.DataFrame, stress: pd.DataFrame, scores: pd.DataFrame | 
     for criterion in CRITERIA:
         name = criterion.replace("_", " ")
         for component, label in (("n12", "⟨nn⟩₁₂"), ("n23", "⟨nn⟩₂₃")):
+            groups = [g for g in ANGLE_GROUPS if g not in (CONTROL, "all") and (fabric["angles"] == g).any()]
+            readings = []
+            for group in groups:
+                row = _row(fabric, group, "closure_corrected", component, criterion)
+                readings.append(f"{group} degrees {_difference_text(row, level, cells)}")
             full = _row(fabric, "all", "closure", component, criterion)
-            corrected = _row(fabric, "all", "closure_corrected", component, criterion)
-            control = _row(fabric, CONTROL, "closure_corrected", component, criterion)
             parts.append(
-                f"With rates fitted by the {name} criterion, G-W's {label} error after a rotation, beyond its "
-                f"error without one, is {full['minus_control']:.3g}; with the closure's error removed along each run "
-                f"it is {_difference_text(corrected, level, cells)} (the corrected closure misses by "
-                f"{control['net_mse']:.3g} without a rotation, net of the noise)."
+                f"With rates fitted by the {name} criterion, G-W's {label} error after a rotation, beyond its error "
+                f"without one, is {full['minus_control']:.3g}; with the closure's error removed along each run it is, "
+                "per group of angles: " + "; ".join(readings) + "."
             )
     if scores is not None and not scores.empty:
         extension = t_interval(scores.groupby("seed")["steady_extension"].first().to_numpy(), LEVEL)

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import pandas as pd
 
+from suspension_fabric.analysis.protocol_tables import DRIFT_POWER
 from suspension_fabric.evaluation.protocol_benchmark import ALL_COMPONENTS
 from suspension_fabric.evaluation.provenance import held_out_label
 
@@ -118,20 +119,23 @@ def states_markdown(states: pd.DataFrame, level: float) -> list[str]:
 
 
 def drift_markdown(drift: pd.DataFrame, level: float) -> list[str]:
-    """The drift of the late states over the repeated segments of each protocol that has them
+    """The drift of the late states over the repeated segments of each protocol that has enough
     (analysis.protocol_tables.segment_drift, with ``slope_p_holm`` over every slope read at once)."""
     shown = drift[drift["quantity"].isin(list(STATE_QUANTITIES))]
     if shown.empty:
         return []
     percent = f"{100 * level:g}%"
     lines = [
-        "Drift over the repeated segments: per seed the least-squares slope of the late state against the "
-        f"segment's index (per segment), seed mean [{percent} t-interval]; a drift is read only where its p-value, "
-        f"adjusted by Holm's method over the {len(shown)} slopes of this table, is under {1 - level:.2g}; and the "
-        "last segment's late state minus the first's.",
+        "Drift over the repeated segments, from the second after the startup on (the first leaves the steady "
+        "state of simple shear): per seed the least-squares slope of the late state against the segment's index "
+        f"(per segment), seed mean [{percent} t-interval]; a drift is read only where its p-value, adjusted by "
+        f"Holm's method over the {len(shown)} slopes of this table, is under {1 - level:.2g}; the slope such a "
+        f"test would detect with {100 * DRIFT_POWER:.0f}% power over these seeds; and the last segment's late "
+        "state minus the second's.",
         "",
-        "| protocol | segments | quantity | first | last | slope per segment | reading | last − first |",
-        "|---|---|---|---|---|---|---|---|",
+        "| protocol | segments | quantity | first | second | last | slope per segment | reading | detectable slope "
+        "| last − second |",
+        "|---|---|---|---|---|---|---|---|---|---|",
     ]
     for _, row in shown.iterrows():
         slope = _interval(row["slope"], row["slope_low"], row["slope_high"])
@@ -140,7 +144,8 @@ def drift_markdown(drift: pd.DataFrame, level: float) -> list[str]:
         change = _interval(row["change"], row["change_low"], row["change_high"])
         lines.append(
             f"| {row['protocol']} | {int(row['segments'])} | {STATE_QUANTITIES[row['quantity']]} | "
-            f"{_number(row['first'])} | {_number(row['last'])} | {slope} | {reading} | {change} |"
+            f"{_number(row['first'])} | {_number(row['second'])} | {_number(row['last'])} | {slope} | {reading} | "
+            f"±{_number(row['detectable_slope'])} | {change} |"
         )
     return lines + [""]
 
