@@ -1,4 +1,4 @@
-"""Held out means no fit saw the seed (suspension_fabric.evaluation.provenance): the protocol
+"""Held out means no fit saw the seed (suspension_fabric.io.fit_provenance): the protocol
 leaderboard labels a score held out only when none of its seeds is among those the model's fit
 (or the search behind a model file) saw, and a parameters table that does not say what its fits
 saw is refused."""
@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 
 from suspension_fabric.evaluation import protocol_benchmark
-from suspension_fabric.evaluation.provenance import held_out_label, seeds_of, seeds_text, seen_seeds
+from suspension_fabric.io.fit_provenance import held_out_label, seeds_of, seeds_text, seen_seeds
 from suspension_fabric.io.protocols import Protocol, Segment
 from suspension_fabric.models.fabric_models import protocol_fabric, resolve_models
 

@@ -5,7 +5,7 @@ import pandas as pd
 
 from suspension_fabric.analysis.protocol_tables import read_protocol_table
 from suspension_fabric.evaluation import protocol_benchmark, stress_benchmark
-from suspension_fabric.evaluation.provenance import check_provenance, seen_seeds
+from suspension_fabric.io.fit_provenance import check_provenance, seen_seeds
 from suspension_fabric.io.protocols import protocols_from_params
 from suspension_fabric.io.table_provenance import checked_tables
 from suspension_fabric.models.fabric_models import load_model, resolve_models

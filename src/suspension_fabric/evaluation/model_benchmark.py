@@ -35,10 +35,9 @@ import pandas as pd
 from suspension_fabric.analysis.components import COMPONENTS
 from suspension_fabric.analysis.seed_statistics import LEVEL, jackknife, t_interval
 from suspension_fabric.analysis.tables import fabric_tensors
+from suspension_fabric.io.fit_provenance import seeds_text
 from suspension_fabric.io.protocols import PAPER_STARTUP, paper_rotation_name
 from suspension_fabric.models import fabric_models
-
-from .provenance import seeds_text
 
 __all__ = [
     "by_seed",
@@ -322,7 +321,7 @@ def leaderboard(
     fitted parameters per model and mode with their errors.
 
     ``steady_fits`` is fits.json's ``models`` section (parameters of the steady fits). Each parameter
-    row records what its fit saw (suspension_fabric.evaluation.provenance): ``study``, the seeds
+    row records what its fit saw (suspension_fabric.io.fit_provenance): ``study``, the seeds
     and the runs (the startup; and every rotation for the global fit)."""
     rows, parameters, held_by_model = [], [], {}
     for key, fabric_model in models.items():

@@ -1,6 +1,6 @@
 """Every fabric model and stress relation on every protocol: predicted from the same flow history,
 scored per seed, each score labelled held out only if no fit behind it saw its seed
-([`suspension_fabric.evaluation.provenance`][suspension_fabric.evaluation.provenance]).
+([`suspension_fabric.io.fit_provenance`][suspension_fabric.io.fit_provenance]).
 
 Fabric models. Each model keeps the parameters of its two fitting modes in the rotation benchmark
 ([`suspension_fabric.evaluation.model_benchmark`][suspension_fabric.evaluation.model_benchmark]): ``steady``, fitted on
@@ -161,7 +161,7 @@ def fabric_protocol_leaderboard(
     ``all``) with the mean square error's t-interval over seeds and the paired difference from
     ``reference`` in the steady mode; and the seed-mean predictions on every frame.
     ``mode_parameters[mode][model]`` are each model's parameters in each mode; ``seen[(model, mode)]``
-    the seeds its fit saw (suspension_fabric.evaluation.provenance.seen_seeds): a row is ``held_out``
+    the seeds its fit saw (suspension_fabric.io.fit_provenance.seen_seeds): a row is ``held_out``
     only if none of its seeds is among them, and ``seeds_seen`` counts those that are."""
     rows, predictions, scores = [], [], {}
     for mode, by_model in mode_parameters.items():

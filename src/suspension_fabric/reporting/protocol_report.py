@@ -26,7 +26,7 @@ import pandas as pd
 
 from suspension_fabric.analysis.protocol_tables import DRIFT_POWER
 from suspension_fabric.evaluation.protocol_benchmark import ALL_COMPONENTS
-from suspension_fabric.evaluation.provenance import held_out_label
+from suspension_fabric.io.fit_provenance import held_out_label
 
 __all__ = [
     "summary_markdown",
@@ -121,6 +121,8 @@ def states_markdown(states: pd.DataFrame, level: float) -> list[str]:
 def drift_markdown(drift: pd.DataFrame, level: float) -> list[str]:
     """The drift of the late states over the repeated segments of each protocol that has enough
     (analysis.protocol_tables.segment_drift, with ``slope_p_holm`` over every slope read at once)."""
+    if drift.empty or "quantity" not in drift:
+        return []
     shown = drift[drift["quantity"].isin(list(STATE_QUANTITIES))]
     if shown.empty:
         return []

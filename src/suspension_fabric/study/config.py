@@ -713,7 +713,7 @@ def _check_parameters_from(path, models: dict) -> None:
         return
     import pandas as pd
 
-    from suspension_fabric.evaluation.provenance import check_provenance
+    from suspension_fabric.io.fit_provenance import check_provenance
 
     where = f"config key 'models.parameters_from' ({path})"
     if not Path(path).is_file():
