@@ -19,7 +19,10 @@ MAP_CONFIG = ["--configfile", "config/campaign.yaml", "config/map.yaml"]
 SUMMARY = "results/map/tables/map_summary.md"
 
 
-@pytest.mark.parametrize("float_config", sorted(FLOAT_CONFIGS))
+# The map's fragment under the second floating-point configuration (tests/workflow_helpers.py) printed
+# its digits as committed (the full suite of 2026-12-07, BENCHMARKS.md); it is left out of CI for
+# time (two minutes a configuration): the reference and the protocols rebuilds run under both.
+@pytest.mark.parametrize("float_config", ["native"])
 def test_the_map_rebuilds_from_the_committed_datasets_as_the_docs_show_it(tmp_path, float_config):
     env = FLOAT_CONFIGS[float_config]()
     workdir = copy_workflow(tmp_path)
