@@ -202,16 +202,17 @@ def _training_system(startup, rotation, seeds, thetas, names, steady_window, blo
     return A, y, (*steady_constraint(steady, names), steady)
 
 
-def _predicted(model, curves: SeedCurves, phi, startup_strain, thetas) -> tuple[np.ndarray, np.ndarray]:
+def _predicted(model, curves: SeedCurves, phi, startup_strain, thetas, params=None) -> tuple[np.ndarray, np.ndarray]:
     """Per seed and component the model's errors at ``thetas`` and its predictions there (seeds,
     angles, R, 3, 3), each seed predicted from its own fabric at strain 0 of its startup (a model
-    that diverges from any seed's start scores inf)."""
+    that diverges from any seed's start scores inf); ``params`` default the found model's rate 1."""
+    params = {"rate": 1.0} if params is None else params
     errors = np.empty((len(curves.seeds), 6))
     predicted = np.full((len(curves.seeds), len(thetas), len(curves.rotation_strains), 3, 3), np.nan)
     for i in range(len(curves.seeds)):
         own = curves._replace(fabric0=curves.startup[i, 0])
         try:
-            _, rotation = model_curves(model, {"rate": 1.0}, phi, own, startup_strain, thetas)
+            _, rotation = model_curves(model, params, phi, own, startup_strain, thetas)
         except (fabric_models.ModelError, ValueError, np.linalg.LinAlgError, FloatingPointError):
             return np.full((len(curves.seeds), 6), np.inf), predicted
         if not np.all(np.isfinite(rotation)):

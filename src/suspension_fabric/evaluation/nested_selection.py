@@ -38,8 +38,15 @@ from suspension_fabric.models import fabric_models
 from suspension_fabric.models.gillissen_wilson import fit_gw
 from suspension_fabric.models.sparse_fabric import LIBRARY, ORDER, sparse_model
 
-from .model_benchmark import SeedCurves, angle_folds, model_curves, seed_errors
-from .model_discovery import _fitted, _one_standard_error_choice, _training_system, candidate_supports, run_curves
+from .model_benchmark import SeedCurves, angle_folds
+from .model_discovery import (
+    _fitted,
+    _one_standard_error_choice,
+    _predicted,
+    _training_system,
+    candidate_supports,
+    run_curves,
+)
 
 __all__ = [
     "SEED_GROUPS",
@@ -97,19 +104,8 @@ def _curves_of(curves: SeedCurves, seeds) -> SeedCurves:
 
 
 def _errors(model, params, curves: SeedCurves, phi, startup_strain, thetas) -> np.ndarray:
-    """(seeds, 6) errors at ``thetas``, each seed predicted from its own fabric at rest; a model that
-    diverges from any seed's start scores inf."""
-    errors = np.empty((len(curves.seeds), 6))
-    for i in range(len(curves.seeds)):
-        own = curves._replace(fabric0=curves.startup[i, 0])
-        try:
-            _, rotation = model_curves(model, params, phi, own, startup_strain, thetas)
-        except (fabric_models.ModelError, ValueError, np.linalg.LinAlgError, FloatingPointError):
-            return np.full((len(curves.seeds), 6), np.inf)
-        if not np.all(np.isfinite(rotation)):
-            return np.full((len(curves.seeds), 6), np.inf)
-        errors[i] = seed_errors(rotation, own, thetas)[i]
-    return errors
+    """(seeds, 6) errors at ``thetas``, each seed from its own start (model_discovery's predictions)."""
+    return _predicted(model, curves, phi, startup_strain, thetas, params)[0]
 
 
 def _steady_n12(curves: SeedCurves, seeds, steady_window) -> float:
