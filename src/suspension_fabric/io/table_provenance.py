@@ -74,25 +74,28 @@ def _tables(paths: Iterable) -> list[Path]:
     return found
 
 
-def check_inputs(inputs: Iterable) -> None:
-    """Every input table with a provenance record must be the table its rule wrote."""
+def check_inputs(inputs: Iterable) -> dict[str, str]:
+    """Every input table with a provenance record must be the table its rule wrote; returns the
+    SHA-256 of every input table, for the records of the job's outputs."""
+    read = {}
     for path in _tables(inputs):
+        now = read[str(path)] = _sha256(path)
         record_file = record_path(path)
         if not record_file.is_file():
             continue
         record = json.loads(record_file.read_text())
-        now = _sha256(path)
         if now != record["sha256"]:
             raise ProvenanceError(
                 f"{path}: changed since rule {record['rule']} wrote it (SHA-256 {record['sha256'][:12]}... "
                 f"recorded, {now[:12]}... now); keep a deliberate edit with `python -m "
                 f"suspension_fabric.io.table_provenance accept {path}`, or delete it to have the workflow make it again"
             )
+    return read
 
 
-def record_outputs(rule: str, inputs: Iterable, outputs: Iterable) -> None:
-    """Record, beside every output table, the rule, its SHA-256 and those of the input tables."""
-    read = {str(path): _sha256(path) for path in _tables(inputs)}
+def record_outputs(rule: str, read: dict[str, str], outputs: Iterable) -> None:
+    """Record, beside every output table, the rule, its SHA-256 and those of the input tables it
+    read (``read``, from `check_inputs`)."""
     for path in _tables(outputs):
         record = {"rule": rule, "sha256": _sha256(path), "inputs": read}
         record_path(path).write_text(json.dumps(record, indent=1) + "\n")
@@ -102,9 +105,9 @@ def record_outputs(rule: str, inputs: Iterable, outputs: Iterable) -> None:
 def checked_tables(job):
     """Around a workflow script (``job`` its Snakemake object): its input tables checked against
     their records before the block, its output tables recorded after it."""
-    check_inputs(job.input)
+    read = check_inputs(job.input)
     yield
-    record_outputs(job.rule, job.input, job.output)
+    record_outputs(job.rule, read, job.output)
 
 
 def accept(path: str | Path) -> Path:
