@@ -245,6 +245,7 @@ def stress_protocol_leaderboard(
         params = {name: float(chosen[name]) for name in relation.names}
         coefficient = coefficients(relation, steady_fabric, steady["lubrication_12"], steady["contact_12"], params)
         for name, one in curves.items():
+            overlap = len(set(one.seeds.tolist()) & set(seen))
             if one.stress is None:
                 raise ValueError(f"protocol {name}: no stress tables to score the relations on")
             errors = {q: [] for q in STRESS_SCORED}
@@ -264,8 +265,8 @@ def stress_protocol_leaderboard(
                         "protocol": name,
                         "quantity": q,
                         "n_seeds": len(values),
-                        "seeds_seen": len(set(one.seeds.tolist()) & set(seen)),
-                        "held_out": not set(one.seeds.tolist()) & set(seen),
+                        "seeds_seen": overlap,
+                        "held_out": overlap == 0,
                         "mse": interval.mean,
                         "mse_low": interval.low,
                         "mse_high": interval.high,
