@@ -20,7 +20,7 @@ import pandas as pd
 import pytest
 
 import quoted_numbers
-from suspension_fabric.analysis.stress import OPTIONAL_COLUMNS, read_stress_csv
+from suspension_fabric.analysis.stress import STRESSLET_COLUMNS, read_stress_csv
 from suspension_fabric.reporting.figures import polar_cell_errors
 from suspension_fabric.study.config import load_config
 from suspension_fabric.study.dataset import check_config_matches, has_run_tables, read_dataset, run_names
@@ -75,7 +75,7 @@ def test_the_stresslets_dataset_recorded_the_pair_stresslets():
     stresslets: every per-frame stress table has them, finite, and its study uses them."""
     for table in sorted((REPO / "data" / "stresslets").rglob("stress.csv")):
         frame = read_stress_csv(table)
-        assert np.isfinite(frame[list(OPTIONAL_COLUMNS)].to_numpy()).all(), table
+        assert np.isfinite(frame[list(STRESSLET_COLUMNS)].to_numpy()).all(), table
     assert load_config(REPO / "config" / "stresslets.yaml")["analysis"]["lubrication_stress"] == "stresslet"
 
 

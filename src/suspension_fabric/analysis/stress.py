@@ -92,6 +92,8 @@ __all__ = [
     "ALTERNATIVE_PARTS",
     "PAPER_COMPONENTS",
     "DERIVED_COLUMNS",
+    "CONTACT_COLUMNS",
+    "STRESSLET_COLUMNS",
     "STRESS_VALUE_COLUMNS",
     "STRESS_TABLE_COLUMNS",
     "OPTIONAL_COLUMNS",
@@ -114,22 +116,32 @@ PARTICLE_PARTS: tuple[str, ...] = ("contact", "lubrication", "kinetic")
 ALTERNATIVE_PARTS: tuple[str, ...] = ("stresslet",)
 PAPER_COMPONENTS: tuple[str, ...] = VECTOR_ORDER
 DERIVED_COLUMNS: tuple[str, ...] = ("eta_r", "N1", "N2", "Pi")
+#: The contacts (overlapping pairs) beside the stress: ``Z_touching`` = 2 contacts / N, their mean
+#: number per particle (not the near-contact Z of the fabric, which counts gaps below eps too), and
+#: ``frictional_fraction`` the share of them that can carry friction (below the critical load a contact
+#: is frictionless; 1 with rate-independent friction mu > 0, 0 with mu = 0), window means of the
+#: counts the simulation records at every table row.
+CONTACT_COLUMNS: tuple[str, ...] = ("Z_touching", "frictional_fraction")
 STRESS_VALUE_COLUMNS: tuple[str, ...] = (
     *DERIVED_COLUMNS,
     *(f"{part}_{c}" for part in (*PARTS, *ALTERNATIVE_PARTS) for c in PAPER_COMPONENTS),
+    *CONTACT_COLUMNS,
 )
 #: The values of the config key analysis.lubrication_stress
 #: ([`with_lubrication_stress`][suspension_fabric.analysis.stress.with_lubrication_stress]).
 LUBRICATION_STRESSES: tuple[str, ...] = ("dipole", "stresslet")
 #: Columns that older per-run CSVs lack; [`read_stress_csv`][suspension_fabric.analysis.stress.read_stress_csv] gives
 #: them as NaN.
-OPTIONAL_COLUMNS: tuple[str, ...] = tuple(f"{part}_{c}" for part in ALTERNATIVE_PARTS for c in PAPER_COMPONENTS)
+STRESSLET_COLUMNS: tuple[str, ...] = tuple(f"{part}_{c}" for part in ALTERNATIVE_PARTS for c in PAPER_COMPONENTS)
+OPTIONAL_COLUMNS: tuple[str, ...] = (*STRESSLET_COLUMNS, *CONTACT_COLUMNS)
 STRESS_TABLE_COLUMNS: tuple[str, ...] = ("seed", "theta", "N", "phi", "step", "strain", "n_rows", *STRESS_VALUE_COLUMNS)
 EINSTEIN_COEFFICIENT = 2.5
 #: Significant digits of the per-run stress CSV: far below the stress's frame-to-frame noise
 #: (~1e-2 relative), and half the size of full round-trip precision.
 STRESS_FLOAT_FORMAT = "%.9g"
 _LAMMPS_ORDER = ("pxx", "pyy", "pzz", "pxy", "pxz", "pyz")
+#: The stress table's counts per row (io.stressio), absent from tables written before them.
+COUNT_COLUMNS: tuple[str, ...] = ("contacts", "frictional_contacts")
 
 
 def pressure_tensors(table: dict[str, np.ndarray], prefix: str = "") -> np.ndarray:
@@ -216,11 +228,14 @@ def stress_on_frames(
     rate: float,
     phi: float,
     theta_deg: float,
+    n_particles: int | None = None,
 ) -> pd.DataFrame:
     """Window means of every part's paper-frame components at each frame step (module docstring).
 
     Columns: step, n_rows (table rows averaged), ``<part>_<ij>`` for every part and component,
-    and the derived quantities. Raises ``ValueError`` for a frame with no table row near it.
+    the derived quantities and ``CONTACT_COLUMNS`` (from the counts of a table that has them, with
+    ``n_particles`` the number of particles; else NaN). Raises ``ValueError`` for a frame with no
+    table row near it.
     """
     steps = np.asarray(table["step"], dtype=np.int64)
     frame_steps = np.asarray(frame_steps, dtype=np.int64)
@@ -236,6 +251,11 @@ def stress_on_frames(
     columns = {"step": frame_steps, "n_rows": np.zeros(len(frame_steps), dtype=int)}
     shown = (*PARTS, *ALTERNATIVE_PARTS)
     values = {f"{part}_{c}": np.empty(len(frame_steps)) for part in shown for c in PAPER_COMPONENTS}
+    # tables from before the contacts were counted give NaN
+    counts = {name: np.asarray(table[name], dtype=float) for name in COUNT_COLUMNS if name in table}
+    if counts and n_particles is None:
+        raise ValueError("the stress table counts contacts: give n_particles for Z_touching")
+    count_means = {name: np.full(len(frame_steps), np.nan) for name in COUNT_COLUMNS}
     for k, step in enumerate(frame_steps):
         # the frame at the set-up step takes the rows just after it, at least the first one
         reach = max(half, row_spacing) if step == first_step else half
@@ -246,6 +266,12 @@ def stress_on_frames(
         for part in shown:
             for c, value in zip(PAPER_COMPONENTS, sym_to_vec(parts[part][inside].mean(axis=0))):
                 values[f"{part}_{c}"][k] = value
+        for name, count in counts.items():
+            count_means[name][k] = count[inside].mean()
+    contacts = count_means["contacts"]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        values["Z_touching"] = 2.0 * contacts / (n_particles or 1)
+        values["frictional_fraction"] = np.where(contacts > 0, count_means["frictional_contacts"] / contacts, np.nan)
     return derived_quantities(pd.DataFrame({**columns, **values}))
 
 
@@ -288,6 +314,7 @@ def run_stress_table(
         rate=info.rate,
         phi=phi,
         theta_deg=segment.flow_angle_at((np.asarray(table["step"]) - info.first_step) * info.dt * info.rate),
+        n_particles=int(fabric["N"].iloc[0]),
     )
     meta = fabric[["seed", "theta", "N", "phi", "step", "strain"]].reset_index(drop=True)
     out = pd.concat([meta, frames.drop(columns="step")], axis=1)
@@ -305,7 +332,7 @@ def with_lubrication_stress(frame: pd.DataFrame, choice: str, source: str = "str
         raise ValueError(f"analysis.lubrication_stress must be one of {list(LUBRICATION_STRESSES)}, got {choice!r}")
     if choice == "dipole":
         return frame
-    values = frame[list(OPTIONAL_COLUMNS)]
+    values = frame[list(STRESSLET_COLUMNS)]
     if values.isna().any().any():
         raise ValueError(
             f"{source}: analysis.lubrication_stress = stresslet, but {int(values.isna().any(axis=1).sum())} "

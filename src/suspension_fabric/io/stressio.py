@@ -8,7 +8,9 @@ lubrication parts (``kinetic_pxx`` ... ``lubrication_pyz``), the summed contact 
 ``contact_torque_x/y/z`` (for the symmetric contact stress,
 [`suspension_fabric.analysis.stress`][suspension_fabric.analysis.stress]), ``stresslet_pxx ... stresslet_pyz`` (minus
 the pair lubrication stresslets over the volume, beside the dipoles; absent from tables written before they were
-recorded, NaN from the stock stand-in), the box volume ``vol``, tilts xz, yz and height lz. The first row is printed at
+recorded, NaN from the stock stand-in), the box volume ``vol``, tilts xz, yz and height lz, and the counts
+``contacts`` (overlapping pairs) and ``frictional_contacts`` (of them those that can carry friction; both
+absent from tables written before they were recorded). The first row is printed at
 set-up, before the first step. Tables written before the parts were recorded in full hold only the
 contact and lubrication pxz, pyz and press; [`suspension_fabric.analysis.stress`][suspension_fabric.analysis.stress]
 refuses them.

@@ -83,6 +83,17 @@ def max_dt_implicit(d: float, eta_f: float, delta: float, kt: float, density: fl
     return (damping + math.sqrt(damping**2 + 4.0 * kt * mass)) / kt
 
 
+def critical_load_force(rate_ratio: float, eta_f: float, d_small: float, shear_rate: float = 1.0) -> float:
+    """The critical load F_CL that puts a shear rate at ``rate_ratio`` = gammadot / gammadot_0, with
+    gammadot_0 = F_CL / (6 pi eta_f a^2) the rate at which the Stokes force on a small sphere
+    (radius a = d_small / 2) moving at a gammadot reaches F_CL (Mari et al. 2014): F_CL =
+    6 pi eta_f a^2 gammadot / rate_ratio. 1051 at eta_f = 223, d_small = 1, gammadot = 1 and
+    rate_ratio = 1."""
+    if min(rate_ratio, eta_f, d_small, shear_rate) <= 0:
+        raise ValueError("rate_ratio, eta_f, d_small and shear_rate must be positive")
+    return 6.0 * math.pi * eta_f * (0.5 * d_small) ** 2 * shear_rate / rate_ratio
+
+
 def output_stride(strain: float, dt: float, rate: float = 1.0) -> int:
     """Steps between outputs every ``strain``, as shear_run.lmp computes them (at least 1;
     LAMMPS's round() takes halves away from zero, Python's to even)."""

@@ -1,8 +1,10 @@
 """A campaign: one study per state point (volume fraction phi, friction mu), run by the same rules.
 
 A config with a ``campaign`` section is a grid of studies: every key outside ``campaign`` is the
-base study; each point of the grid ``campaign.phi`` x ``campaign.mu`` is the base with
-``particles.phi`` and ``forces.mu`` set, plus that point's ``campaign.overrides`` (nested study
+base study; each point of the grid ``campaign.phi`` x ``campaign.mu`` (x ``campaign.critical_load_rate``
+if given: a flow curve per (phi, mu) under critical-load friction) is the base with
+``particles.phi`` and ``forces.mu`` (and ``forces.critical_load_rate``) set, plus that point's
+``campaign.overrides`` (nested study
 keys, e.g. a longer startup near jamming). A point's outputs go to ``results/<study>/<point>``
 (``point_name``: ``phi0.45_mu0.5``); the map over the points goes to ``results/<study>``.
 ``campaign.points`` runs a subset (``--config campaign='{points: [phi0.45_mu0.5]}'``);
@@ -25,9 +27,11 @@ __all__ = ["point_name", "campaign_points", "study_configs"]
 FIXED_BY_THE_CAMPAIGN = ("study", "campaign", "particles.phi", "forces.mu")
 
 
-def point_name(phi: float, mu: float) -> str:
-    """Folder name of a state point: (0.45, 0.5) -> 'phi0.45_mu0.5', (0.4, 0) -> 'phi0.40_mu0'."""
-    return f"phi{phi:.2f}_mu{mu:g}"
+def point_name(phi: float, mu: float, critical_load_rate: float | None = None) -> str:
+    """Folder name of a state point: (0.45, 0.5) -> 'phi0.45_mu0.5', (0.4, 0) -> 'phi0.40_mu0',
+    (0.54, 1, 0.03) -> 'phi0.54_mu1_rate0.03'."""
+    name = f"phi{phi:.2f}_mu{mu:g}"
+    return name if critical_load_rate is None else f"{name}_rate{critical_load_rate:g}"
 
 
 def _merged(base: dict, override: dict) -> dict:
@@ -46,8 +50,9 @@ def campaign_points(config: dict) -> dict[str, dict]:
     point name, in grid order (phi, then mu). Errors name the point and the key."""
     campaign = config["campaign"]
     base = {key: value for key, value in config.items() if key != "campaign"}
-    grid = {point_name(phi, mu): (phi, mu) for phi, mu in product(campaign["phi"], campaign["mu"])}
-    if len(grid) != len(campaign["phi"]) * len(campaign["mu"]):
+    rates = campaign["critical_load_rate"] or [None]
+    grid = {point_name(*point): point for point in product(campaign["phi"], campaign["mu"], rates)}
+    if len(grid) != len(campaign["phi"]) * len(campaign["mu"]) * len(rates):
         raise ConfigError(f"config key 'campaign': state points collide after naming: {sorted(grid)}")
     for key in ("points", "overrides", "not_run"):
         unknown = [name for name in campaign[key] if name not in grid]
@@ -57,6 +62,7 @@ def campaign_points(config: dict) -> dict[str, dict]:
                 f"campaign.phi x campaign.mu (points: {', '.join(grid)})"
             )
     fixed = FIXED_BY_THE_CAMPAIGN + (("dataset",) if campaign["datasets"] else ())
+    fixed += ("forces.critical_load_rate",) if campaign["critical_load_rate"] else ()
     for name, override in campaign["overrides"].items():
         for key in fixed:
             section, _, inner = key.partition(".")
@@ -65,7 +71,8 @@ def campaign_points(config: dict) -> dict[str, dict]:
             ):
                 raise ConfigError(
                     f"config key 'campaign.overrides.{name}.{key}': the campaign sets {key} of each point "
-                    f"(from campaign.phi, campaign.mu, campaign.datasets and its name {name}); an override "
+                    f"(from campaign.phi, campaign.mu, campaign.critical_load_rate, campaign.datasets and its "
+                    f"name {name}); an override "
                     "would be dropped or belie the point's name"
                 )
     selected = [name for name in (campaign["points"] or grid) if name not in campaign["not_run"]]
@@ -73,8 +80,9 @@ def campaign_points(config: dict) -> dict[str, dict]:
         raise ConfigError("config key 'campaign.points': no point left to run (all are in campaign.not_run)")
     points = {}
     for name in (name for name in grid if name in selected):
-        phi, mu = grid[name]
-        point = _merged(base, {"study": name, "particles": {"phi": phi}, "forces": {"mu": mu}})
+        phi, mu, rate = grid[name]
+        forces = {"mu": mu} if rate is None else {"mu": mu, "critical_load_rate": rate}
+        point = _merged(base, {"study": name, "particles": {"phi": phi}, "forces": forces})
         point = _merged(point, campaign["overrides"].get(name, {}))
         if campaign["datasets"]:
             point["dataset"] = f"{campaign['datasets']}/{name}"

@@ -517,6 +517,17 @@ def _cross_check(config: dict) -> None:
             "config key 'run.contact_solve' (newton) needs run.contact_springs = implicit: it solves the "
             "contacts that fix hydro/implicit/sf owns"
         )
+    if forces["critical_load_rate"] is not None:
+        if forces["mu"] == 0:
+            raise ConfigError(
+                "config key 'forces.critical_load_rate' needs forces.mu > 0: with mu = 0 every contact is "
+                "frictionless whatever its load; drop the key or set mu"
+            )
+        if run["contact_springs"] != "implicit":
+            raise ConfigError(
+                f"config key 'forces.critical_load_rate' needs run.contact_springs = implicit (got "
+                f"{run['contact_springs']}): only fix hydro/implicit/sf's own contacts have a critical load"
+            )
     if run["local_solve_fraction"] > 0 and run["mpi_ranks"] > 1:
         raise ConfigError(
             f"config key 'run.local_solve_fraction' ({run['local_solve_fraction']:g}) needs run.mpi_ranks = 1: "

@@ -293,9 +293,17 @@ DATASET_FORMAT = 2
 #: ``run`` keys added after format-1 datasets were exported, with the value those datasets were
 #: made with (the contact springs taken explicitly by pair granular, the block-Jacobi solve).
 KEYS_BEFORE_RECORDED = {"contact_springs": "explicit", "preconditioner": "jacobi"}
-#: ``run`` keys added after datasets of the current format were exported, with the value those
-#: datasets were made with (the contacts' states lagged, the only solve there was; no local solves).
-KEYS_ADDED_SINCE = {"contact_solve": "lagged", "local_solve_fraction": 0.0, "initial_guess": "previous"}
+#: Keys of config sections added after datasets of the current format were exported, with the value
+#: those datasets were made with (the contacts' states lagged, the only solve there was; no local
+#: solves; rate-independent friction).
+KEYS_ADDED_SINCE = {
+    "run": {"contact_solve": "lagged", "local_solve_fraction": 0.0, "initial_guess": "previous"},
+    "forces": {"critical_load_rate": None},
+}
+
+
+def _with_added_keys(config: dict) -> dict:
+    return {**config, **{section: {**keys, **config[section]} for section, keys in KEYS_ADDED_SINCE.items()}}
 
 
 def upgrade_dataset(record: dict, source: str | Path = "dataset record") -> dict:
@@ -307,11 +315,10 @@ def upgrade_dataset(record: dict, source: str | Path = "dataset record") -> dict
     this package does not know is an error naming ``source``."""
     version = record.get("format", 1)
     if version == DATASET_FORMAT:
-        return {**record, "config": {**record["config"], "run": {**KEYS_ADDED_SINCE, **record["config"]["run"]}}}
+        return {**record, "config": _with_added_keys(record["config"])}
     if version != 1:
         raise ValueError(f"{source}: dataset format {version!r} is not one this package reads (1 or {DATASET_FORMAT})")
-    run = {**KEYS_ADDED_SINCE, **KEYS_BEFORE_RECORDED, **record["config"]["run"]}
-    config = {**record["config"], "run": run}
+    config = _with_added_keys({**record["config"], "run": {**KEYS_BEFORE_RECORDED, **record["config"]["run"]}})
     fits = record.get("fits")
     return {
         **record,

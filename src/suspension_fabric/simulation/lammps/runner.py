@@ -34,7 +34,7 @@ from suspension_fabric.io.resources import LAMMPS_SCRIPTS_DIR
 from suspension_fabric.io.runinfo import RUN_RECORD_FORMAT, read_run_info
 from suspension_fabric.io.schema import load_schema, schema_default
 from suspension_fabric.io.stressio import UNRECORDED_COLUMNS, read_stress_table
-from suspension_fabric.simulation.scales import output_stride
+from suspension_fabric.simulation.scales import critical_load_force, output_stride
 
 from .checks import max_overlap_in_dump, stress_jitter
 from .process import ProgressCallback, failure_reason, lammps_command, launch, print_progress
@@ -84,7 +84,9 @@ class ForceModel:
     """Force-model parameters, passed to the scripts as LAMMPS variables.
 
     Defaults are the study defaults of config/schema.yaml. ``eta_f`` fluid viscosity
-    (Stokes number 1/eta_f), ``kn`` normal stiffness, ``mu`` friction (paper); ``kt``
+    (Stokes number 1/eta_f), ``kn`` normal stiffness, ``mu`` friction (paper), frictional only above
+    the normal force ``critical_load`` F_CL if it is > 0 (config/schema.yaml
+    ``forces.critical_load_rate``); ``kt``
     tangential stiffness (None: 2/7 kn), ``delta`` lubrication gap regularisation,
     ``h_out`` outer lubrication gap cutoff (in d), ``newton_pair`` the newton setting the
     plugin styles need. ``lubrication`` "sf" = project plugin, "stock" = stand-in model of
@@ -108,6 +110,7 @@ class ForceModel:
     eta_f: float = schema_default("forces", "eta_f")
     kn: float = schema_default("forces", "kn")
     mu: float = schema_default("forces", "mu")
+    critical_load: float = 0.0
     kt: float | None = schema_default("forces", "kt")
     delta: float = schema_default("forces", "delta")
     h_out: float = schema_default("forces", "h_out")
@@ -125,7 +128,14 @@ class ForceModel:
 
     @classmethod
     def from_config(cls, config: Mapping, plugin: str | os.PathLike | None = None) -> ForceModel:
-        """The force model of a validated study config (sections ``forces`` and ``run``)."""
+        """The force model of a validated study config (sections ``forces``, ``run`` and the small
+        diameter of ``particles``)."""
+        forces = dict(config["forces"])
+        rate_ratio = forces.pop("critical_load_rate", None)
+        if rate_ratio is not None:
+            forces["critical_load"] = critical_load_force(
+                rate_ratio, forces["eta_f"], config["particles"]["d_small"], ShearSettings.rate
+            )
         return cls(
             plugin=plugin,
             integrator=config["run"]["integrator"],
@@ -135,7 +145,7 @@ class ForceModel:
             solver_tol=config["run"]["solver_tol"],
             local_solve_fraction=config["run"]["local_solve_fraction"],
             initial_guess=config["run"]["initial_guess"],
-            **config["forces"],
+            **forces,
         )
 
     def variables(self) -> dict[str, str]:
@@ -158,6 +168,13 @@ class ForceModel:
             raise ValueError(
                 "contact_solve='newton' needs contact_springs='implicit' (it solves the fix's own contacts)"
             )
+        if not self.critical_load >= 0.0:
+            raise ValueError(f"critical_load must be >= 0, got {self.critical_load!r}")
+        if self.critical_load > 0.0 and self.contact_springs != "implicit":
+            raise ValueError(
+                "a critical load needs contact_springs='implicit' (fix hydro/implicit/sf's own contacts; "
+                "pair granular has none)"
+            )
         if self.preconditioner not in ("jacobi", "dilu"):
             raise ValueError(f"preconditioner must be 'jacobi' or 'dilu', got {self.preconditioner!r}")
         if not 0.0 <= self.local_solve_fraction < 1.0:
@@ -170,6 +187,7 @@ class ForceModel:
             "eta_f": _number(self.eta_f),
             "kn": _number(self.kn),
             "mu": _number(self.mu),
+            "critical_load": _number(self.critical_load),
             "kt": _number(kt),
             "delta": _number(self.delta),
             "h_out": _number(self.h_out),

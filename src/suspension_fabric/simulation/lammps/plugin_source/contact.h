@@ -5,6 +5,10 @@
      normal      F_n = kn o n,                 o = a_i + a_j - r (overlap), n = (x_i - x_j)/r
      tangential  F_t = -kt xi, |F_t| <= mu F_n  (Coulomb; a capped contact slides and its
                  spring is reset to xi = -F_t/kt, as LAMMPS does)
+                 with a critical load F_CL > 0 (keyword critical_load; Mari, Seto, Morris and
+                 Denn, J. Rheol. 58, 1693, 2014): |F_t| <= mu (F_n - F_CL) while F_n > F_CL, and
+                 F_t = 0 with the spring reset to xi = 0 while F_n <= F_CL, so a contact that
+                 turns frictionless forgets its spring (as LF_DEM's critical-load law does)
      torques     T_i = -l_i n x F_t,  T_j = -l_j n x F_t,   l = a - o/2 (lever arm to the contact)
 
    where xi is the accumulated tangential displacement of i relative to j at the contact,
@@ -32,7 +36,8 @@ struct Contact {
   double del[3];         // x_i - x_j
   double li, lj;         // lever arms a - o/2
   double overlap;        // o at the start of the step (> 0)
-  double normal_force;   // kn o: the Coulomb bound is mu kn o
+  double normal_force;   // kn o
+  double friction_bound; // the Coulomb bound mu max(kn o - F_CL, 0); 0: frictionless this step
   double flow_approach;  // n . E (x_i - x_j): separation rate of the imposed flow
   double solved_normal;  // normal force of the solved step
   double spring[3];      // xi of the last step, projected onto the current tangent plane

@@ -1,5 +1,6 @@
 /* fix <ID> all hydro/implicit/sf [tol <t>] [maxiter <n>] [precond dilu|jacobi] [local <f>] [verify yes|no]
-       [contacts <kn> <kt> <mu>] [solve lagged|newton] [guess previous|linear|quadratic]
+       [contacts <kn> <kt> <mu>] [critical_load <F_CL>] [solve lagged|newton]
+       [guess previous|linear|quadratic]
 
    Time integration of spheres whose hydrodynamic forces, the one-body Stokes drag and the
    pairwise lubrication of pair_style lubricate/sf, are taken implicitly.  Replaces fix
@@ -20,7 +21,8 @@
    symplectic Euler for the contact springs, whose stiffness then limits dt (for
    m x'' = -k x - c x' the scheme is stable iff k dt^2 < 4 m + 2 c dt).  With `contacts kn kt
    mu` the fix owns the contacts (contact.h: Hooke normal, linear-history tangential spring,
-   Coulomb friction; no other contact pair style allowed) and takes their springs implicitly
+   Coulomb friction, with `critical_load F_CL` only above the critical load; no other contact
+   pair style allowed) and takes their springs implicitly
    (backward Euler, stable for any k dt): the tangential spring of every sticking contact
    pushes with -kt (xi_n + dt s_{n+1}), stretched by the slip s of the solved velocities
    (K = kt B^T B), and the normal spring of every pressed contact with kn (o - dt s_n), the
@@ -191,8 +193,8 @@ constexpr int HISTORY_COLUMNS = 13;
 
 FixHydroImplicitSF::FixHydroImplicitSF(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), tolerance(1.0e-5), guess_order(0), velocity_history(nullptr), local_fraction(0.0), verify(false), max_iterations(1000), own_contacts(false), newton_contacts(false), kn(0.0),
-    kt(0.0), mu(0.0), dtv(0.0), lubrication(nullptr), steps(0), total_iterations(0),
-    total_passes(0), total_released(0), total_local_work(0.0), last_iterations(0), last_error(0.0), sliding_contacts(0),
+    kt(0.0), mu(0.0), critical_load(0.0), dtv(0.0), lubrication(nullptr), steps(0), total_iterations(0),
+    total_passes(0), total_released(0), total_local_work(0.0), last_iterations(0), last_error(0.0), sliding_contacts(0), frictional_contacts(0),
     use_dilu(false), dilu_fallbacks(0), distributed(false), comm_values(nullptr), comm_stride(6), tallied_step(-1)
 {
   int iarg = 3;
@@ -237,10 +239,15 @@ FixHydroImplicitSF::FixHydroImplicitSF(LAMMPS *lmp, int narg, char **arg) :
       if (!(kn > 0.0) || !(kt > 0.0) || !(mu >= 0.0))
         error->all(FLERR, "fix hydro/implicit/sf: contacts needs kn > 0, kt > 0, mu >= 0");
       iarg += 4;
+    } else if (strcmp(arg[iarg], "critical_load") == 0 && iarg + 1 < narg) {
+      critical_load = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      if (!(critical_load >= 0.0))
+        error->all(FLERR, "fix hydro/implicit/sf: critical_load must be >= 0, got {}", critical_load);
+      iarg += 2;
     } else {
       error->all(FLERR, "Illegal fix hydro/implicit/sf keyword '{}': expected tol <t>, maxiter <n>, "
-                        "precond dilu|jacobi, local <fraction>, verify yes|no, contacts <kn> <kt> <mu>, solve lagged|newton "
-                        "or guess previous|linear|quadratic",
+                        "precond dilu|jacobi, local <fraction>, verify yes|no, contacts <kn> <kt> <mu>, critical_load <F_CL>, "
+                        "solve lagged|newton or guess previous|linear|quadratic",
                  arg[iarg]);
     }
   }
@@ -302,6 +309,8 @@ void FixHydroImplicitSF::init()
     error->all(FLERR, "fix hydro/implicit/sf already includes the Stokes drag; remove fix stokes/sf");
   if (newton_contacts && !own_contacts)
     error->all(FLERR, "fix hydro/implicit/sf: solve newton needs the keyword contacts (the fix's own contacts)");
+  if (critical_load > 0.0 && !own_contacts)
+    error->all(FLERR, "fix hydro/implicit/sf: critical_load needs the keyword contacts (the fix's own contacts)");
   if (own_contacts) {
     if (force->pair_match("granular", 0, 0) != nullptr || force->pair_match("gran", 0, 0) != nullptr)
       error->all(FLERR, "fix hydro/implicit/sf ... contacts computes the contacts itself; remove the "
@@ -416,6 +425,7 @@ void FixHydroImplicitSF::collect_pairs(const double E[3][3])
       c.lj = radius[j] - 0.5 * overlap;
       c.overlap = overlap;
       c.normal_force = kn * overlap;
+      c.friction_bound = mu * std::max(c.normal_force - critical_load, 0.0);
       const tagint low = std::min(tag[i], tag[j]), high = std::max(tag[i], tag[j]);
       c.key = (static_cast<unsigned long long>(low) << 32) | static_cast<unsigned long long>(high);
       c.history_sign = tag[i] < tag[j] ? 1.0 : -1.0;
@@ -484,8 +494,8 @@ void FixHydroImplicitSF::classify_contacts()
   for (SuspensionFabric::Contact &c : contacts) {
     c.pressed = predicted_overlap(c, solution, dtv) > 0.0;
     trial_spring(c, solution, dtv, trial);
-    const double bound = mu * c.normal_force;
-    c.sticking = kt * std::sqrt(SuspensionFabric::dot3(trial, trial)) <= bound;
+    const double bound = c.friction_bound;
+    c.sticking = bound > 0.0 && kt * std::sqrt(SuspensionFabric::dot3(trial, trial)) <= bound;
     if (!c.sticking) set_sliding(c, trial, bound);
     c.changes = 0;
   }
@@ -501,12 +511,13 @@ int FixHydroImplicitSF::relinearise_contacts()
     const bool may_change = c.changes < MAX_CONTACT_CHANGES;
     const bool pressed = predicted_overlap(c, solution, dtv) > 0.0;
     trial_spring(c, solution, dtv, trial);
-    const double bound = mu * c.normal_force;
+    const double bound = c.friction_bound;
     const double stretch = kt * std::sqrt(SuspensionFabric::dot3(trial, trial));
-    bool sticking = stretch <= bound * (1.0 + 1.0e-9);
+    bool sticking = bound > 0.0 && stretch <= bound * (1.0 + 1.0e-9);
     // the linearised sliding law has no stiffness along the sliding direction: a slip that
     // reversed within the step is taken by the spring
-    if (!c.sticking && SuspensionFabric::dot3(trial, c.sliding_direction) < 0.0) sticking = true;
+    // (a frictionless contact has no spring to take it)
+    if (!c.sticking && bound > 0.0 && SuspensionFabric::dot3(trial, c.sliding_direction) < 0.0) sticking = true;
     if (may_change && (pressed != c.pressed || sticking != c.sticking)) {
       c.pressed = pressed;
       c.sticking = sticking;
@@ -532,7 +543,7 @@ int FixHydroImplicitSF::release_violated_springs()
     }
     if (!c.sticking) continue;
     trial_spring(c, solution, dtv, trial);
-    const double bound = mu * c.normal_force;
+    const double bound = c.friction_bound;
     if (kt * std::sqrt(SuspensionFabric::dot3(trial, trial)) > bound * (1.0 + 1.0e-9)) {
       c.sticking = false;
       coulomb_force(trial, bound, c.sliding_force);
@@ -550,9 +561,11 @@ void FixHydroImplicitSF::finish_contacts(bool update_springs)
   for (double &v : contact_torque) v = 0.0;
   if (update_springs) next_springs.clear();
   sliding_contacts = 0;
+  frictional_contacts = 0;
   double trial[3], ti[3], tj[3];
   for (SuspensionFabric::Contact &c : contacts) {
-    const double bound = mu * c.normal_force;
+    const double bound = c.friction_bound;
+    if (bound > 0.0) frictional_contacts++;
     if (update_springs) {
       trial_spring(c, solution, dtv, trial);
     } else {
@@ -1430,6 +1443,7 @@ void FixHydroImplicitSF::report_vector()
   for (int k = 0; k < 3; k++) local[CONTACT_TORQUE - 1 + k] = contact_torque[k];
   local[CONTACTS - 1] = static_cast<double>(contacts.size());
   local[SLIDING_CONTACTS - 1] = sliding_contacts;
+  local[FRICTIONAL_CONTACTS - 1] = frictional_contacts;
   local[DILU_FALLBACKS - 1] = static_cast<double>(dilu_fallbacks);
   local[MEAN_LOCAL_WORK - 1] = steps > 0 ? total_local_work / (static_cast<double>(atom->natoms) * steps) : 0.0;
   MPI_Allreduce(local, reported, SIZE, MPI_DOUBLE, MPI_SUM, world);

@@ -40,7 +40,8 @@ namespace HydroVector {
     DILU_FALLBACKS = 23,       // dilu factorisations that fell back to Jacobi
     STRESSLET_VIRIAL = 24,     // 6: pair lubrication stresslets
     MEAN_LOCAL_WORK = 30,      // mean local-solve work per step, in sweeps over all atoms
-    SIZE = 30
+    FRICTIONAL_CONTACTS = 31,  // contacts of the last step above the critical load (all with none)
+    SIZE = 31
   };
 }    // namespace HydroVector
 
@@ -105,6 +106,7 @@ class FixHydroImplicitSF : public Fix {
   bool own_contacts;   // keyword contacts: the fix computes the contacts, springs implicit
   bool newton_contacts;    // solve newton: the contact law re-linearised about each pass's solution
   double kn, kt, mu;
+  double critical_load;    // keyword critical_load: F_CL, contacts with kn o <= F_CL are frictionless
   double dtv;
   PairLubricateSF *lubrication;
 
@@ -152,6 +154,7 @@ class FixHydroImplicitSF : public Fix {
   int last_iterations;
   double last_error;
   int sliding_contacts;
+  int frictional_contacts;
   double reported[HydroVector::SIZE];    // the global vector of the last step, summed over the ranks
 
   // more than one MPI rank: partners owned by other ranks enter as ghosts, whose vector entries
