@@ -21,8 +21,13 @@ def vector_entries() -> dict[str, int]:
 
 def expected_index(variable: str, entries: dict[str, int]) -> int:
     """The entry an input-script variable of forces_sf.lmp stands for."""
-    if variable == "solver_iterations":
-        return entries["LAST_ITERATIONS"]
+    counts = {
+        "solver_iterations": "LAST_ITERATIONS",
+        "contact_count": "CONTACTS",
+        "frictional_count": "FRICTIONAL_CONTACTS",
+    }
+    if variable in counts:
+        return entries[counts[variable]]
     part, _, component = variable.rpartition("_")
     if part == "contact_torque":
         return entries["CONTACT_TORQUE"] + AXES[component]
@@ -50,6 +55,8 @@ def test_the_fix_reports_the_enum_size():
     "variable",
     [
         "solver_iterations",
+        "contact_count",
+        "frictional_count",
         *(f"{part}_p{k}" for part in ("contact", "lubrication", "stresslet") for k in range(1, 7)),
         *(f"contact_torque_{axis}" for axis in AXES),
     ],
@@ -64,4 +71,4 @@ def test_every_index_the_input_reads(variable):
 def test_no_other_index_is_read():
     """Every f_integrate[i] of the input is one of the checked variables."""
     read = re.findall(r'"variable (\w+) equal f_integrate\[\d+\]', FORCES.read_text())
-    assert len(read) == 1 + 3 * 6 + 3
+    assert len(read) == 3 + 3 * 6 + 3

@@ -57,4 +57,48 @@ rule campaign_figures:
         "../scripts/campaign_figures.py"
 
 
-CAMPAIGN_TARGETS = [*rules.campaign_map.output, *rules.campaign_figures.output]
+rule flow_curve:
+    """Flow curves of a campaign over critical-load rates (campaign.critical_load_rate): per point and
+    seed the steady stress, contacts and frictional fraction against sigma / sigma_0, their t-intervals,
+    each curve's Wyart-Cates onset stress and the figure."""
+    input:
+        stress_runs=per_point(rules.aggregate_stress_startup.output.runs),
+    output:
+        table=f"{CAMPAIGN_RESULTS}/tables/flow_curve.csv",
+        seeds=f"{CAMPAIGN_RESULTS}/tables/flow_curve_seeds.csv",
+        onsets=f"{CAMPAIGN_RESULTS}/tables/flow_curve_onsets.csv",
+        figure_pdf=f"{CAMPAIGN_RESULTS}/figures/flow_curve.pdf",
+        figure_png=report(
+            f"{CAMPAIGN_RESULTS}/figures/flow_curve.png", caption="../report/flow_curve.rst", category="Flow curves"
+        ),
+    params:
+        points={
+            name: {
+                "phi": STUDIES[study]["particles"]["phi"],
+                "mu": STUDIES[study]["forces"]["mu"],
+                "rate_ratio": STUDIES[study]["forces"]["critical_load_rate"],
+            }
+            for name, study in POINTS.items()
+        },
+        steady_window=config["analysis"]["steady_window"],
+        level=config["verdicts"]["level"],
+        code=code_version("../scripts/flow_curve.py"),
+    conda:
+        CONDA_ENV
+    log:
+        f"{CAMPAIGN_RESULTS}/logs/flow_curve.log",
+    script:
+        "../scripts/flow_curve.py"
+
+
+if config["campaign"]["critical_load_rate"]:
+    # flow curves: every point's startup and continuation tables and the curves (no map: the points
+    # share their (phi, mu))
+    CAMPAIGN_TARGETS = [
+        *rules.flow_curve.output,
+        *per_point(rules.aggregate_rotation.output.runs),
+        *per_point(rules.aggregate_stress_rotation.output.runs),
+        *per_point(rules.aggregate_startup.output.steady),
+    ]
+else:
+    CAMPAIGN_TARGETS = [*rules.campaign_map.output, *rules.campaign_figures.output]

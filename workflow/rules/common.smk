@@ -170,6 +170,8 @@ def study_targets(study):
 def all_targets(wildcards):
     """The input function of the default target, every output of every study. What only the full set
     needs (two seeds, two angles) is checked here, still before any job, so one seed runs single targets."""
+    if config["campaign"] and config["campaign"]["critical_load_rate"]:
+        return CAMPAIGN_TARGETS  # flow curves: each point a steady state, not a rotation study
     for study in STUDIES.values():
         check_complete_study(study, CONFIG_SOURCES)
     targets = [path for name in STUDIES for path in study_targets(name)]

@@ -1,0 +1,127 @@
+r"""Flow curves under critical-load friction: one row per campaign point (phi, mu, rate ratio) with its
+steady stress, contacts and frictional fraction, and the onset stress of the Wyart-Cates form.
+
+The critical load F_CL sets a rate and a stress scale (Mari, Seto, Morris and Denn, J. Rheol. 58,
+1693, 2014): $\dot\gamma_0 = F_{CL} / (6\pi\eta_f a^2)$ and $\sigma_0 = F_{CL} / a^2$, $a$ the small
+radius. A point runs at $\Gamma = \dot\gamma / \dot\gamma_0$ (config key
+``forces.critical_load_rate``), so its shear stress in units of $\sigma_0$ is
+
+$$
+\frac{\sigma}{\sigma_0} = \frac{\eta_r \eta_f \dot\gamma\, a^2}{F_{CL}} = \frac{\eta_r \Gamma}{6\pi},
+$$
+
+with $\eta_r$ the relative viscosity (solvent and Einstein parts included, as everywhere in the
+project).
+
+Per seed, every quantity is the mean over the startup frames in the steady window; the table gives
+the mean over seeds with its t-interval (``level``), the seeds the independent units.
+
+Onset stress. Wyart and Cates (Phys. Rev. Lett. 112, 098302, 2014) take the fraction of frictional
+contacts as $f(\sigma) = \exp(-\sigma^*/\sigma)$. The simulation counts that fraction, so the form is
+tested directly: $-\ln f = \sigma^*/\sigma$ is linear in $1/\sigma$ through the origin. Per seed,
+$\sigma^*$ is the least-squares slope of $-\ln f$ against $\sigma_0/\sigma$ over that seed's points with
+$0 < f < 1$ (``onset_stress``), and its t-interval over seeds is reported with the spread of the
+per-point estimates $-\ln f \cdot \sigma/\sigma_0$ (equal for every point if the form holds).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+
+from suspension_fabric.analysis.seed_statistics import LEVEL, t_interval
+
+__all__ = [
+    "FLOW_CURVE_QUANTITIES",
+    "stress_over_sigma0",
+    "seed_steady_means",
+    "per_seed_table",
+    "flow_curve_table",
+    "onset_stress",
+]
+
+#: Steady quantities of the flow curve (stress table columns), plus sigma/sigma_0
+FLOW_CURVE_QUANTITIES = ("eta_r", "N1", "N2", "Pi", "Z_touching", "frictional_fraction")
+
+
+def stress_over_sigma0(eta_r, rate_ratio: float):
+    """sigma / sigma_0 = eta_r Gamma / (6 pi) (module docstring)."""
+    if not rate_ratio > 0:
+        raise ValueError(f"the rate ratio gammadot / gammadot_0 must be > 0, got {rate_ratio}")
+    return np.asarray(eta_r, dtype=float) * rate_ratio / (6.0 * math.pi)
+
+
+def seed_steady_means(runs: pd.DataFrame, window, quantities=FLOW_CURVE_QUANTITIES) -> pd.DataFrame:
+    """Per seed (index) the mean of each quantity over the frames with strain in ``window``; a seed
+    without a frame there is an error naming it."""
+    low, high = window
+    inside = runs[(runs["strain"] >= low - 1e-9) & (runs["strain"] <= high + 1e-9)]
+    means = inside.groupby("seed")[list(quantities)].mean()
+    missing = sorted(set(runs["seed"]) - set(means.index))
+    if missing:
+        raise ValueError(f"seeds {missing} have no frame in the steady window {list(window)}")
+    return means
+
+
+def per_seed_table(points: dict[str, dict], window) -> pd.DataFrame:
+    """One row per point and seed: ``points`` maps a point name to {"phi", "mu", "rate_ratio", "runs"}
+    (``runs`` its startup stress table over seeds). Columns: point, phi, mu, rate_ratio, seed, the
+    steady means of ``FLOW_CURVE_QUANTITIES`` and ``sigma`` (sigma / sigma_0)."""
+    frames = []
+    for name, point in points.items():
+        means = seed_steady_means(point["runs"], window).reset_index()
+        means["sigma"] = stress_over_sigma0(means["eta_r"], point["rate_ratio"])
+        frames.append(means.assign(point=name, phi=point["phi"], mu=point["mu"], rate_ratio=point["rate_ratio"]))
+    table = pd.concat(frames, ignore_index=True)
+    return table[["point", "phi", "mu", "rate_ratio", "seed", *FLOW_CURVE_QUANTITIES, "sigma"]]
+
+
+def flow_curve_table(per_seed: pd.DataFrame, level: float = LEVEL) -> pd.DataFrame:
+    """One row per point of ``per_seed`` (`per_seed_table`): point, phi, mu, rate_ratio, n_seeds, and
+    for each of ``FLOW_CURVE_QUANTITIES`` and ``sigma`` its mean over seeds, ``_low`` and ``_high``
+    (t-interval at ``level``; NaN for a quantity no seed recorded). Sorted by phi, mu, rate ratio."""
+    rows = []
+    for (name, phi, mu, rate), seeds in per_seed.groupby(["point", "phi", "mu", "rate_ratio"], sort=False):
+        row = {"point": name, "phi": phi, "mu": mu, "rate_ratio": rate, "n_seeds": len(seeds)}
+        for quantity in (*FLOW_CURVE_QUANTITIES, "sigma"):
+            values = seeds[quantity].to_numpy(dtype=float)
+            if np.isnan(values).all():
+                row.update({quantity: np.nan, f"{quantity}_low": np.nan, f"{quantity}_high": np.nan})
+                continue
+            interval = t_interval(values, level)
+            row.update({quantity: interval.mean, f"{quantity}_low": interval.low, f"{quantity}_high": interval.high})
+        rows.append(row)
+    return pd.DataFrame(rows).sort_values(["phi", "mu", "rate_ratio"]).reset_index(drop=True)
+
+
+def onset_stress(per_seed: pd.DataFrame, level: float = LEVEL) -> dict:
+    """sigma* / sigma_0 of f = exp(-sigma*/sigma) (module docstring) from the `per_seed_table` rows of
+    one flow curve (one per seed and point): the per-seed slopes'
+    t-interval, how many points per seed had 0 < f < 1, and the smallest and largest per-point
+    estimate -ln f sigma / sigma_0 (over seeds and points). NaN where a seed has no such point."""
+    slopes, estimates, used = [], [], []
+    for _, seed_rows in per_seed.groupby("seed"):
+        fraction = seed_rows["frictional_fraction"].to_numpy(dtype=float)
+        sigma = seed_rows["sigma"].to_numpy(dtype=float)
+        usable = (fraction > 0) & (fraction < 1)
+        used.append(int(usable.sum()))
+        if not usable.any():
+            slopes.append(np.nan)
+            continue
+        x, y = 1.0 / sigma[usable], -np.log(fraction[usable])
+        slopes.append(float(x @ y / (x @ x)))
+        estimates.extend(y * sigma[usable])
+    slopes = np.asarray(slopes)
+    if np.isnan(slopes).any() or len(slopes) < 2:
+        return {"sigma_star": np.nan, "low": np.nan, "high": np.nan, "points_per_seed": used}
+    interval = t_interval(slopes, level)
+    return {
+        "sigma_star": interval.mean,
+        "low": interval.low,
+        "high": interval.high,
+        "points_per_seed": used,
+        "estimate_min": float(np.min(estimates)),
+        "estimate_max": float(np.max(estimates)),
+    }

@@ -1,0 +1,87 @@
+"""Flow curves under critical-load friction (suspension_fabric.evaluation.flow_curve) against known answers."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+from scipy import stats
+
+from suspension_fabric.evaluation import flow_curve
+
+STRAINS = tuple(0.5 * k for k in range(9))  # 0 to 4
+
+
+def startup_runs(values_by_seed: dict[int, dict[str, float]], strains=STRAINS) -> pd.DataFrame:
+    """A startup stress table: per seed constant quantities over ``strains``, except eta_r = 1000 before
+    strain 2 (outside the steady window)."""
+    rows = []
+    for seed, values in values_by_seed.items():
+        for strain in strains:
+            row = {"seed": seed, "strain": strain, **dict.fromkeys(flow_curve.FLOW_CURVE_QUANTITIES, 0.0), **values}
+            if strain < 2.0:
+                row["eta_r"] = 1000.0
+            rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def test_sigma_over_sigma0_is_eta_r_gamma_over_6_pi():
+    """sigma / sigma_0 = eta_r Gamma / (6 pi): 1 at eta_r = 6 pi, Gamma = 1; 0.5 at eta_r = 30 pi, Gamma = 0.1."""
+    assert flow_curve.stress_over_sigma0(6.0 * math.pi, 1.0) == pytest.approx(1.0, rel=1e-15)
+    assert flow_curve.stress_over_sigma0(30.0 * math.pi, 0.1) == pytest.approx(0.5, rel=1e-14)
+    with pytest.raises(ValueError, match="must be > 0"):
+        flow_curve.stress_over_sigma0(1.0, 0.0)
+
+
+def test_steady_means_use_the_window_only_and_name_a_seed_without_frames():
+    runs = startup_runs({1: {"eta_r": 10.0}, 2: {"eta_r": 20.0}})
+    means = flow_curve.seed_steady_means(runs, [2.0, 4.0])
+    assert means.loc[1, "eta_r"] == 10.0 and means.loc[2, "eta_r"] == 20.0
+    short = pd.concat([runs, startup_runs({3: {"eta_r": 5.0}}, strains=[0.0, 1.0])])
+    with pytest.raises(ValueError, match=r"seeds \[3\] have no frame"):
+        flow_curve.seed_steady_means(short, [2.0, 4.0])
+
+
+def test_the_table_is_the_seed_mean_with_its_t_interval():
+    """Two seeds with eta_r 10 and 20 at Gamma = 0.6 pi: sigma / sigma_0 = 1 and 2 per seed, mean 1.5, and the
+    95% t-interval half-width t(0.975, 1) s / sqrt(2) = 12.706 x 0.5; a quantity no seed recorded is NaN."""
+    runs = startup_runs(
+        {1: {"eta_r": 10.0, "frictional_fraction": 0.2}, 2: {"eta_r": 20.0, "frictional_fraction": 0.4}}
+    )
+    runs["Z_touching"] = np.nan
+    points = {"p": {"phi": 0.54, "mu": 1.0, "rate_ratio": 0.6 * math.pi, "runs": runs}}
+    per_seed = flow_curve.per_seed_table(points, [2.0, 4.0])
+    np.testing.assert_allclose(per_seed["sigma"], [1.0, 2.0], rtol=1e-14)
+    table = flow_curve.flow_curve_table(per_seed, 0.95)
+    row = table.iloc[0]
+    half = stats.t.ppf(0.975, 1) * 0.5
+    assert row["sigma"] == pytest.approx(1.5) and row["n_seeds"] == 2
+    assert row["sigma_high"] - row["sigma"] == pytest.approx(half, rel=1e-9)
+    assert row["frictional_fraction"] == pytest.approx(0.3)
+    assert np.isnan(row["Z_touching"]) and np.isnan(row["Z_touching_low"])
+
+
+def test_onset_stress_recovers_the_wyart_cates_sigma_star_per_seed():
+    """f = exp(-s*/sigma) exactly, with s* = 0.1 for one seed and 0.3 for the other: the per-seed slopes are
+    0.1 and 0.3, their mean 0.2; points with f = 0 or 1 are left out (two of five per seed here), and
+    every per-point estimate -ln f sigma lies in [0.1, 0.3]."""
+    rows = []
+    for seed, star in ((1, 0.1), (2, 0.3)):
+        for sigma, fraction in ((0.05, 0.0), (0.2, None), (0.5, None), (1.0, None), (50.0, 1.0)):
+            exact = math.exp(-star / sigma) if fraction is None else fraction
+            rows.append({"seed": seed, "sigma": sigma, "frictional_fraction": exact})
+    onset = flow_curve.onset_stress(pd.DataFrame(rows), 0.95)
+    assert onset["sigma_star"] == pytest.approx(0.2, rel=1e-12)
+    assert onset["points_per_seed"] == [3, 3]
+    assert onset["estimate_min"] == pytest.approx(0.1) and onset["estimate_max"] == pytest.approx(0.3)
+    assert onset["low"] < 0.1 < 0.3 < onset["high"]
+
+
+def test_onset_stress_is_nan_when_a_seed_has_no_partial_fraction():
+    rows = [
+        {"seed": 1, "sigma": 1.0, "frictional_fraction": 0.5},
+        {"seed": 2, "sigma": 1.0, "frictional_fraction": 1.0},
+    ]
+    assert np.isnan(flow_curve.onset_stress(pd.DataFrame(rows))["sigma_star"])

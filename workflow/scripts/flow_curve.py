@@ -1,0 +1,33 @@
+"""Snakemake: the flow curves of a campaign over critical-load rates, their per-seed table, the onset
+stress of each curve and the figure (rule flow_curve)."""
+
+from pathlib import Path
+
+import pandas as pd
+
+from suspension_fabric.evaluation import flow_curve
+from suspension_fabric.io.table_provenance import checked_tables
+from suspension_fabric.reporting.figures import save_figure
+from suspension_fabric.reporting.flow_curve_figures import figure_flow_curve
+from suspension_fabric.workflow_io import logged
+
+sm = snakemake  # noqa: F821 (injected by Snakemake)
+with logged(sm.log[0]), checked_tables(sm):
+    points = {
+        name: {**point, "runs": pd.read_csv(path)}
+        for (name, point), path in zip(sm.params.points.items(), sm.input.stress_runs)
+    }
+    per_seed = flow_curve.per_seed_table(points, sm.params.steady_window)
+    table = flow_curve.flow_curve_table(per_seed, sm.params.level)
+    onsets = pd.DataFrame(
+        [
+            {"phi": phi, "mu": mu, **flow_curve.onset_stress(rows, sm.params.level)}
+            for (phi, mu), rows in per_seed.groupby(["phi", "mu"])
+        ]
+    )
+    per_seed.to_csv(sm.output.seeds, index=False)
+    table.to_csv(sm.output.table, index=False)
+    onsets.to_csv(sm.output.onsets, index=False)
+    save_figure(figure_flow_curve(table, onsets, sm.params.level), str(Path(sm.output.figure_png).with_suffix("")))
+    print(table[["point", "sigma", "eta_r", "frictional_fraction", "Z_touching"]].to_string())
+    print(onsets.to_string())
