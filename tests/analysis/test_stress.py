@@ -559,23 +559,23 @@ def test_a_stress_table_cut_mid_line_is_refused_as_truncated_naming_the_file(tmp
 
 
 def test_contact_columns_are_window_means_of_the_counted_contacts():
-    """Z_touching = 2 <contacts> / N and frictional_fraction = <frictional> / <contacts>, the means
-    over each frame's window of table rows (the rows in (s - h, s + h], h half the frame spacing):
-    rows at steps 1..4 with contacts 10, 20, 30, 50 and frictional 0, 10, 30, 50 give, for frames at 0
-    (rows 1, 2: the set-up frame takes the rows after it) and 4 (rows 3, 4, h = 2) with N = 40,
-    Z = (0.75, 2.0) and fractions (1/3, 1.0); a table without counts gives NaN, and one with counts
-    but no N is refused."""
+    """Z_touching = 2 <contacts> / N and Z_frictional = 2 <frictional> / N, the means over each frame's
+    window of table rows (the rows in (s - h, s + h], h half the frame spacing): rows at steps 1..4 with
+    contacts 0, 20, 30, 50 and frictional 0, 10, 30, 50 give, for frames at 0 (rows 1, 2: the set-up
+    frame takes the rows after it) and 4 (rows 3, 4, h = 2) with N = 40, Z_touching = (0.5, 2.0) and
+    Z_frictional = (0.25, 2.0), defined also where a row has no contact; a table without counts
+    gives NaN, and one with counts but no N is refused."""
     steps = np.arange(0, 5)
     table = {name: np.zeros(5) for name in ("pxx", "pyy", "pzz", "pxy", "pxz", "pyz")}
     for prefix in ("kinetic_", "contact_", "lubrication_"):
         table.update({f"{prefix}{k}": np.zeros(5) for k in ("pxx", "pyy", "pzz", "pxy", "pxz", "pyz")})
     table.update({f"contact_torque_{k}": np.zeros(5) for k in "xyz"}, vol=np.ones(5), step=steps)
-    counted = dict(table, contacts=np.array([0, 10, 20, 30, 50.0]), frictional_contacts=np.array([0, 0, 10, 30, 50.0]))
+    counted = dict(table, contacts=np.array([0, 0, 20, 30, 50.0]), frictional_contacts=np.array([0, 0, 10, 30, 50.0]))
     frames = stress_on_frames(
         counted, [0, 4], first_step=0, eta_f=ETA_F, rate=RATE, phi=PHI, theta_deg=0.0, n_particles=40
     )
-    np.testing.assert_allclose(frames["Z_touching"], [2 * 15 / 40, 2 * 40 / 40], rtol=1e-15)
-    np.testing.assert_allclose(frames["frictional_fraction"], [5 / 15, 40 / 40], rtol=1e-15)
+    np.testing.assert_allclose(frames["Z_touching"], [2 * 10 / 40, 2 * 40 / 40], rtol=1e-15)
+    np.testing.assert_allclose(frames["Z_frictional"], [2 * 5 / 40, 2 * 40 / 40], rtol=1e-15)
     plain = stress_on_frames(table, [0, 4], first_step=0, eta_f=ETA_F, rate=RATE, phi=PHI, theta_deg=0.0)
     assert plain[list(stress.CONTACT_COLUMNS)].isna().all().all()
     with pytest.raises(ValueError, match="n_particles"):

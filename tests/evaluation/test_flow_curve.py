@@ -46,11 +46,15 @@ def test_steady_means_use_the_window_only_and_name_a_seed_without_frames():
 
 def test_the_table_is_the_seed_mean_with_its_t_interval():
     """Two seeds with eta_r 10 and 20 at Gamma = 0.6 pi: sigma / sigma_0 = 1 and 2 per seed, mean 1.5, and the
-    95% t-interval half-width t(0.975, 1) s / sqrt(2) = 12.706 x 0.5; a quantity no seed recorded is NaN."""
+    95% t-interval half-width t(0.975, 1) s / sqrt(2) = 12.706 x 0.5; frictional fractions 0.4/2 and 1.6/4,
+    mean 0.3; a quantity no seed recorded is NaN."""
     runs = startup_runs(
-        {1: {"eta_r": 10.0, "frictional_fraction": 0.2}, 2: {"eta_r": 20.0, "frictional_fraction": 0.4}}
+        {
+            1: {"eta_r": 10.0, "Z_touching": 2.0, "Z_frictional": 0.4},
+            2: {"eta_r": 20.0, "Z_touching": 4.0, "Z_frictional": 1.6},
+        }
     )
-    runs["Z_touching"] = np.nan
+    runs["N1"] = np.nan
     points = {"p": {"phi": 0.54, "mu": 1.0, "rate_ratio": 0.6 * math.pi, "runs": runs}}
     per_seed = flow_curve.per_seed_table(points, [2.0, 4.0])
     np.testing.assert_allclose(per_seed["sigma"], [1.0, 2.0], rtol=1e-14)
@@ -59,8 +63,8 @@ def test_the_table_is_the_seed_mean_with_its_t_interval():
     half = stats.t.ppf(0.975, 1) * 0.5
     assert row["sigma"] == pytest.approx(1.5) and row["n_seeds"] == 2
     assert row["sigma_high"] - row["sigma"] == pytest.approx(half, rel=1e-9)
-    assert row["frictional_fraction"] == pytest.approx(0.3)
-    assert np.isnan(row["Z_touching"]) and np.isnan(row["Z_touching_low"])
+    assert row["frictional_fraction"] == pytest.approx(0.3) and row["Z_touching"] == pytest.approx(3.0)
+    assert np.isnan(row["N1"]) and np.isnan(row["N1_low"])
 
 
 def test_onset_stress_recovers_the_wyart_cates_sigma_star_per_seed():

@@ -441,3 +441,23 @@ def test_the_shipped_studies_pass_every_new_check(monkeypatch):
             for study in study_configs(load_config(path)).values():
                 check_complete_study(study)
     assert main(["config/campaign.yaml", "config/map.yaml"]) == 0
+
+
+@pytest.mark.fault("refused")
+def test_only_symmetric_angles_are_refused_for_the_full_study_only(tmp_path):
+    """Angles 0 and 180 alone simulated and then failed in the verdicts (KeyError: 'angles'): the claims
+    decide on rotations strictly between 0 and 180 degrees. The full study is refused naming the key;
+    the angles still validate, for single targets."""
+    files = [study_file(tmp_path, with_keys(TEST_STUDY, angles_deg=[0, 180]))]
+    assert workflow_config(files)[0]["angles_deg"] == [0, 180]
+    message = refused(files, complete=True)
+    assert message.startswith("study.yaml: config key 'angles_deg' ([0, 180]) of study test"), message
+    assert "strictly between 0 and 180" in message
+
+
+@pytest.mark.parametrize(("angles", "folded"), [([0, -180, 90, 180], [0, 180, 90]), ([-180, 45], [180, 45])])
+def test_minus_180_is_the_rotation_by_180_simulated_once(tmp_path, angles, folded):
+    """-180 and 180 turn the flow to the same direction: read as one rotation, run once (they failed in
+    a figure with KeyError: 'theta' after simulating both)."""
+    config, _ = workflow_config([study_file(tmp_path, with_keys(TEST_STUDY, angles_deg=angles))])
+    assert config["angles_deg"] == folded

@@ -29,5 +29,5 @@ with logged(sm.log[0]), checked_tables(sm):
     table.to_csv(sm.output.table, index=False)
     onsets.to_csv(sm.output.onsets, index=False)
     save_figure(figure_flow_curve(table, onsets, sm.params.level), str(Path(sm.output.figure_png).with_suffix("")))
-    print(table[["point", "sigma", "eta_r", "frictional_fraction", "Z_touching"]].to_string())
+    print(table[["point", "sigma", "eta_r", "frictional_fraction", "Z_touching", "Z_frictional"]].to_string())
     print(onsets.to_string())

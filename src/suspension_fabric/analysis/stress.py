@@ -116,12 +116,13 @@ PARTICLE_PARTS: tuple[str, ...] = ("contact", "lubrication", "kinetic")
 ALTERNATIVE_PARTS: tuple[str, ...] = ("stresslet",)
 PAPER_COMPONENTS: tuple[str, ...] = VECTOR_ORDER
 DERIVED_COLUMNS: tuple[str, ...] = ("eta_r", "N1", "N2", "Pi")
-#: The contacts (overlapping pairs) beside the stress: ``Z_touching`` = 2 contacts / N, their mean
-#: number per particle (not the near-contact Z of the fabric, which counts gaps below eps too), and
-#: ``frictional_fraction`` the share of them that can carry friction (below the critical load a contact
-#: is frictionless; 1 with rate-independent friction mu > 0, 0 with mu = 0), window means of the
-#: counts the simulation records at every table row.
-CONTACT_COLUMNS: tuple[str, ...] = ("Z_touching", "frictional_fraction")
+#: The contacts (overlapping pairs) beside the stress, per particle: ``Z_touching`` = 2 contacts / N
+#: (not the near-contact Z of the fabric, which counts gaps below eps too) and ``Z_frictional`` = 2
+#: frictional contacts / N, those that can carry friction (below the critical load a contact is
+#: frictionless; all with rate-independent friction mu > 0, none with mu = 0); window means of the
+#: counts the simulation records at every table row. The frictional fraction is their ratio, taken of
+#: means (a window may hold no contact).
+CONTACT_COLUMNS: tuple[str, ...] = ("Z_touching", "Z_frictional")
 STRESS_VALUE_COLUMNS: tuple[str, ...] = (
     *DERIVED_COLUMNS,
     *(f"{part}_{c}" for part in (*PARTS, *ALTERNATIVE_PARTS) for c in PAPER_COMPONENTS),
@@ -268,10 +269,8 @@ def stress_on_frames(
                 values[f"{part}_{c}"][k] = value
         for name, count in counts.items():
             count_means[name][k] = count[inside].mean()
-    contacts = count_means["contacts"]
-    with np.errstate(invalid="ignore", divide="ignore"):
-        values["Z_touching"] = 2.0 * contacts / (n_particles or 1)
-        values["frictional_fraction"] = np.where(contacts > 0, count_means["frictional_contacts"] / contacts, np.nan)
+    values["Z_touching"] = 2.0 * count_means["contacts"] / (n_particles or 1)
+    values["Z_frictional"] = 2.0 * count_means["frictional_contacts"] / (n_particles or 1)
     return derived_quantities(pd.DataFrame({**columns, **values}))
 
 

@@ -35,6 +35,7 @@ from suspension_fabric.analysis.seed_statistics import LEVEL, t_interval
 
 __all__ = [
     "FLOW_CURVE_QUANTITIES",
+    "DERIVED_QUANTITIES",
     "stress_over_sigma0",
     "seed_steady_means",
     "per_seed_table",
@@ -42,8 +43,11 @@ __all__ = [
     "onset_stress",
 ]
 
-#: Steady quantities of the flow curve (stress table columns), plus sigma/sigma_0
-FLOW_CURVE_QUANTITIES = ("eta_r", "N1", "N2", "Pi", "Z_touching", "frictional_fraction")
+#: Steady quantities of the flow curve (stress table columns)
+FLOW_CURVE_QUANTITIES = ("eta_r", "N1", "N2", "Pi", "Z_touching", "Z_frictional")
+#: Per seed beside them: the frictional fraction Z_frictional / Z_touching (of the window means) and
+#: sigma / sigma_0
+DERIVED_QUANTITIES = ("frictional_fraction", "sigma")
 
 
 def stress_over_sigma0(eta_r, rate_ratio: float):
@@ -54,38 +58,40 @@ def stress_over_sigma0(eta_r, rate_ratio: float):
 
 
 def seed_steady_means(runs: pd.DataFrame, window, quantities=FLOW_CURVE_QUANTITIES) -> pd.DataFrame:
-    """Per seed (index) the mean of each quantity over the frames with strain in ``window``; a seed
-    without a frame there is an error naming it."""
+    """Per seed (index) the mean of each quantity over the frames with strain in ``window``, and the
+    frictional fraction of those means; a seed without a frame there is an error naming it."""
     low, high = window
     inside = runs[(runs["strain"] >= low - 1e-9) & (runs["strain"] <= high + 1e-9)]
     means = inside.groupby("seed")[list(quantities)].mean()
     missing = sorted(set(runs["seed"]) - set(means.index))
     if missing:
         raise ValueError(f"seeds {missing} have no frame in the steady window {list(window)}")
+    if {"Z_touching", "Z_frictional"} <= set(means.columns):
+        means["frictional_fraction"] = means["Z_frictional"] / means["Z_touching"]
     return means
 
 
 def per_seed_table(points: dict[str, dict], window) -> pd.DataFrame:
     """One row per point and seed: ``points`` maps a point name to {"phi", "mu", "rate_ratio", "runs"}
     (``runs`` its startup stress table over seeds). Columns: point, phi, mu, rate_ratio, seed, the
-    steady means of ``FLOW_CURVE_QUANTITIES`` and ``sigma`` (sigma / sigma_0)."""
+    steady means of ``FLOW_CURVE_QUANTITIES`` and ``DERIVED_QUANTITIES``."""
     frames = []
     for name, point in points.items():
         means = seed_steady_means(point["runs"], window).reset_index()
         means["sigma"] = stress_over_sigma0(means["eta_r"], point["rate_ratio"])
         frames.append(means.assign(point=name, phi=point["phi"], mu=point["mu"], rate_ratio=point["rate_ratio"]))
     table = pd.concat(frames, ignore_index=True)
-    return table[["point", "phi", "mu", "rate_ratio", "seed", *FLOW_CURVE_QUANTITIES, "sigma"]]
+    return table[["point", "phi", "mu", "rate_ratio", "seed", *FLOW_CURVE_QUANTITIES, *DERIVED_QUANTITIES]]
 
 
 def flow_curve_table(per_seed: pd.DataFrame, level: float = LEVEL) -> pd.DataFrame:
     """One row per point of ``per_seed`` (`per_seed_table`): point, phi, mu, rate_ratio, n_seeds, and
-    for each of ``FLOW_CURVE_QUANTITIES`` and ``sigma`` its mean over seeds, ``_low`` and ``_high``
+    for each of ``FLOW_CURVE_QUANTITIES`` and ``DERIVED_QUANTITIES`` its mean over seeds, ``_low`` and ``_high``
     (t-interval at ``level``; NaN for a quantity no seed recorded). Sorted by phi, mu, rate ratio."""
     rows = []
     for (name, phi, mu, rate), seeds in per_seed.groupby(["point", "phi", "mu", "rate_ratio"], sort=False):
         row = {"point": name, "phi": phi, "mu": mu, "rate_ratio": rate, "n_seeds": len(seeds)}
-        for quantity in (*FLOW_CURVE_QUANTITIES, "sigma"):
+        for quantity in (*FLOW_CURVE_QUANTITIES, *DERIVED_QUANTITIES):
             values = seeds[quantity].to_numpy(dtype=float)
             if np.isnan(values).all():
                 row.update({quantity: np.nan, f"{quantity}_low": np.nan, f"{quantity}_high": np.nan})

@@ -559,6 +559,7 @@ def _cross_check(config: dict) -> None:
     except RelationError as error:
         raise ConfigError(f"config key 'models.stress': {error}") from None
     _check_parameters_from(config["models"].get("parameters_from"), models)
+    config["angles_deg"] = folded_angles(config["angles_deg"])
     labels = [angle_label(a) for a in config["angles_deg"]]
     if len(set(labels)) != len(labels):
         raise ConfigError(f"config key 'angles_deg': angles collide after formatting: {labels}")
@@ -886,6 +887,13 @@ def check_complete_study(config: dict, sources: ConfigSources | None = None) -> 
             "needs at least 2 angles: the benchmarks' held-out evaluation predicts each fold of angles "
             "(models.held_out_folds, capped at the number of angles) from a fit on the others"
         )
+    elif all(theta in (0, 180) for theta in config["angles_deg"]):
+        message = (
+            f"config key 'angles_deg' ({config['angles_deg']}) of study {study}: its full set of outputs "
+            "needs an angle strictly between 0 and 180 degrees (either sign): the claims decide on the "
+            "rotations that turn the vorticity, as <nn>'_23 is zero by symmetry at 0 and 180 "
+            "(suspension_fabric.evaluation.claims)"
+        )
     if message is not None:
         error = ConfigError(message)
         raise (error if sources is None else sources.locate(error)) from None
@@ -939,6 +947,17 @@ def main(argv: list[str] | None = None) -> int:
         return 1
     print(f"{' + '.join(paths)}: valid ({', '.join(studies)})")
     return 0
+
+
+def folded_angles(angles_deg) -> list:
+    """The rotations of ``angles_deg`` once each, in their order: -180 degrees turns the flow as 180 does,
+    so it is read as 180 and a repeat is dropped (a rotation simulated once)."""
+    folded = []
+    for theta in angles_deg:
+        theta = 180 if theta == -180 else theta
+        if theta not in folded:
+            folded.append(theta)
+    return folded
 
 
 def angle_label(theta_deg: float) -> str:
