@@ -10,6 +10,7 @@ import pytest
 from scipy import stats
 
 from suspension_fabric.evaluation import flow_curve
+from suspension_fabric.reporting.flow_curve_fragments import flow_curve_summary
 
 STRAINS = tuple(0.5 * k for k in range(9))  # 0 to 4
 
@@ -89,3 +90,24 @@ def test_onset_stress_is_nan_when_a_seed_has_no_partial_fraction():
         {"seed": 2, "sigma": 1.0, "frictional_fraction": 1.0},
     ]
     assert np.isnan(flow_curve.onset_stress(pd.DataFrame(rows))["sigma_star"])
+
+
+def test_the_summary_prints_each_point_and_the_onset_from_the_tables():
+    """The fragment's numbers come from the table and the onset: one row per point with its rate and
+    intervals, and the onset line with the per-seed counts; a curve without onset says so."""
+    rows = []
+    for seed, star in ((1, 0.1), (2, 0.3)):
+        for rate, eta in ((0.01, 20.0), (0.1, 60.0)):
+            sigma = eta * rate / (6 * math.pi)
+            rows.append({"point": f"r{rate}", "phi": 0.54, "mu": 1.0, "rate_ratio": rate, "seed": seed, "eta_r": eta,
+                         "N1": 0.0, "N2": 0.0, "Pi": 2 * eta, "Z_touching": 3.0 + seed, "Z_frictional": 1.0,
+                         "frictional_fraction": math.exp(-star / sigma), "sigma": sigma})  # fmt: skip
+    per_seed = pd.DataFrame(rows)
+    table = flow_curve.flow_curve_table(per_seed, 0.95)
+    onsets = pd.DataFrame([{"phi": 0.54, "mu": 1.0, **flow_curve.onset_stress(per_seed, 0.95)}])
+    text = flow_curve_summary(table, onsets, 0.95)
+    assert "| 0.54, 1 | 0.01 |" in text and "| 0.54, 1 | 0.1 |" in text
+    assert "95% t-interval" in text and "over [2, 2] points with 0 < f < 1 per seed" in text
+    assert "σ*/σ₀ = 0.2" in text
+    none = flow_curve_summary(table, onsets.assign(sigma_star=np.nan), 0.95)
+    assert "no onset stress" in none

@@ -67,6 +67,7 @@ rule flow_curve:
         table=f"{CAMPAIGN_RESULTS}/tables/flow_curve.csv",
         seeds=f"{CAMPAIGN_RESULTS}/tables/flow_curve_seeds.csv",
         onsets=f"{CAMPAIGN_RESULTS}/tables/flow_curve_onsets.csv",
+        summary=f"{CAMPAIGN_RESULTS}/tables/flow_curve_summary.md",
         figure_pdf=f"{CAMPAIGN_RESULTS}/figures/flow_curve.pdf",
         figure_png=report(
             f"{CAMPAIGN_RESULTS}/figures/flow_curve.png", caption="../report/flow_curve.rst", category="Flow curves"

@@ -9,6 +9,7 @@ from suspension_fabric.evaluation import flow_curve
 from suspension_fabric.io.table_provenance import checked_tables
 from suspension_fabric.reporting.figures import save_figure
 from suspension_fabric.reporting.flow_curve_figures import figure_flow_curve
+from suspension_fabric.reporting.flow_curve_fragments import flow_curve_summary
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
@@ -28,6 +29,8 @@ with logged(sm.log[0]), checked_tables(sm):
     per_seed.to_csv(sm.output.seeds, index=False)
     table.to_csv(sm.output.table, index=False)
     onsets.to_csv(sm.output.onsets, index=False)
+    with open(sm.output.summary, "w") as out:
+        out.write(flow_curve_summary(table, onsets, sm.params.level))
     save_figure(figure_flow_curve(table, onsets, sm.params.level), str(Path(sm.output.figure_png).with_suffix("")))
     print(table[["point", "sigma", "eta_r", "frictional_fraction", "Z_touching", "Z_frictional"]].to_string())
     print(onsets.to_string())

@@ -1,0 +1,59 @@
+"""The flow curves as a Markdown fragment for the docs, so that no number of them is typed by hand:
+rule flow_curve writes it from the flow-curve table and the onset stresses
+([`suspension_fabric.evaluation.flow_curve`][suspension_fabric.evaluation.flow_curve]); the rebuild test
+compares it with its committed copy in ``docs/generated/``."""
+
+from __future__ import annotations
+
+import pandas as pd
+
+from .html_tables import MISSING, format_interval, format_number, is_missing
+from .leaderboard_fragments import markdown_table
+
+__all__ = ["flow_curve_summary"]
+
+#: Columns of the fragment's table: (table column, heading)
+_COLUMNS = (
+    ("sigma", "σ/σ₀"),
+    ("eta_r", "η_r"),
+    ("frictional_fraction", "frictional fraction f"),
+    ("Z_touching", "contacts per particle"),
+    ("Pi", "Π"),
+)
+
+
+def flow_curve_summary(table: pd.DataFrame, onsets: pd.DataFrame, level: float) -> str:
+    """Per point the rate ratio and the steady sigma/sigma_0, eta_r, frictional fraction, contacts per
+    particle and Pi with their t-intervals; then each curve's Wyart-Cates onset stress."""
+    header = ["φ, μ", "γ̇/γ̇₀", *(heading for _, heading in _COLUMNS), "seeds"]
+    rows = [
+        [
+            f"{row['phi']:.2f}, {row['mu']:g}",
+            f"{row['rate_ratio']:g}",
+            *(format_interval(row[c], row[f"{c}_low"], row[f"{c}_high"]) for c, _ in _COLUMNS),
+            f"{row['n_seeds']:d}",
+        ]
+        for _, row in table.iterrows()
+    ]
+    lines = [
+        f"Steady state over the startup's steady window, mean over seeds [{level:.0%} t-interval]:",
+        "",
+        markdown_table(header, rows),
+    ]
+    for _, onset in onsets.iterrows():
+        star = onset["sigma_star"]
+        curve = f"φ = {onset['phi']:.2f}, μ = {onset['mu']:g}"
+        if is_missing(star):
+            lines.append(f"- {curve}: no onset stress (a seed has no point with 0 < f < 1).")
+            continue
+        spread = (
+            f"{format_number(onset['estimate_min'], 3)} to {format_number(onset['estimate_max'], 3)}"
+            if not is_missing(onset.get("estimate_min"))
+            else MISSING
+        )
+        lines.append(
+            f"- {curve}: σ*/σ₀ = {format_interval(star, onset['low'], onset['high'])} (per-seed slope of "
+            f"−ln f against σ₀/σ over {onset['points_per_seed']} points with 0 < f < 1 per seed; "
+            f"the per-point estimates −ln f · σ/σ₀ span {spread})."
+        )
+    return "\n".join(lines) + "\n"
