@@ -105,9 +105,35 @@ def test_the_summary_prints_each_point_and_the_onset_from_the_tables():
     per_seed = pd.DataFrame(rows)
     table = flow_curve.flow_curve_table(per_seed, 0.95)
     onsets = pd.DataFrame([{"phi": 0.54, "mu": 1.0, **flow_curve.onset_stress(per_seed, 0.95)}])
-    text = flow_curve_summary(table, onsets, 0.95)
+    fit = pd.DataFrame([{"mu": 1.0, "parameter": "phi_Jmu", "value": 0.58, "low": 0.57, "high": 0.59}])
+    text = flow_curve_summary(table, onsets, fit, 0.95)
     assert "| 0.54, 1 | 0.01 |" in text and "| 0.54, 1 | 0.1 |" in text
     assert "95% t-interval" in text and "over [2, 2] points with 0 < f < 1 per seed" in text
     assert "σ*/σ₀ = 0.2" in text
-    none = flow_curve_summary(table, onsets.assign(sigma_star=np.nan), 0.95)
+    assert (
+        "at μ = 1 with the measured f, fitted per seed over every point of the curves: φ_J^μ = 0.580 [0.570, 0.590]"
+        in text
+    )
+    none = flow_curve_summary(table, onsets.assign(sigma_star=np.nan), fit.iloc[:0], 0.95)
     assert "no onset stress" in none
+
+
+def test_the_wyart_cates_fit_recovers_its_parameters_from_exact_viscosities():
+    """Viscosities of the Wyart-Cates form exactly (A = 1.2, phi_J0 = 0.64, phi_Jmu = 0.58 for one seed,
+    phi_Jmu = 0.585 for the other) at phi 0.50 and 0.54 and f in {0, 0.3, 0.9, 1} give back each seed's
+    parameters (the mean of the two phi_Jmu, 0.5825) and a zero residual; a single volume fraction is
+    not fitted."""
+    rows = []
+    for seed, phi_jmu in ((1, 0.58), (2, 0.585)):
+        for phi in (0.50, 0.54):
+            for fraction in (0.0, 0.3, 0.9, 1.0):
+                eta = flow_curve.wyart_cates_viscosity(phi, fraction, 1.2, 0.64, phi_jmu)
+                rows.append({"mu": 1.0, "seed": seed, "phi": phi, "frictional_fraction": fraction, "eta_r": eta})
+    fit = flow_curve.wyart_cates_fit(pd.DataFrame(rows), 0.95).set_index("parameter")
+    assert fit.loc["A", "value"] == pytest.approx(1.2, rel=1e-5)
+    assert fit.loc["phi_J0", "value"] == pytest.approx(0.64, rel=1e-6)
+    assert fit.loc["phi_Jmu", "value"] == pytest.approx(0.5825, rel=1e-6)
+    assert fit.loc["phi_Jmu", "low"] < 0.58 < 0.585 < fit.loc["phi_Jmu", "high"]
+    assert fit.loc["rms_log_residual", "value"] < 1e-6
+    one_phi = pd.DataFrame(rows).query("phi == 0.54")
+    assert flow_curve.wyart_cates_fit(one_phi).empty

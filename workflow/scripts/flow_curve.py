@@ -26,11 +26,14 @@ with logged(sm.log[0]), checked_tables(sm):
             for (phi, mu), rows in per_seed.groupby(["phi", "mu"])
         ]
     )
+    wyart_cates = flow_curve.wyart_cates_fit(per_seed, sm.params.level)
+    wyart_cates.to_csv(sm.output.wyart_cates, index=False)
     per_seed.to_csv(sm.output.seeds, index=False)
     table.to_csv(sm.output.table, index=False)
     onsets.to_csv(sm.output.onsets, index=False)
     with open(sm.output.summary, "w") as out:
-        out.write(flow_curve_summary(table, onsets, sm.params.level))
+        out.write(flow_curve_summary(table, onsets, wyart_cates, sm.params.level))
     save_figure(figure_flow_curve(table, onsets, sm.params.level), str(Path(sm.output.figure_png).with_suffix("")))
     print(table[["point", "sigma", "eta_r", "frictional_fraction", "Z_touching", "Z_frictional"]].to_string())
     print(onsets.to_string())
+    print(wyart_cates.to_string())

@@ -41,6 +41,9 @@ __all__ = [
     "per_seed_table",
     "flow_curve_table",
     "onset_stress",
+    "WYART_CATES_PARAMETERS",
+    "wyart_cates_viscosity",
+    "wyart_cates_fit",
 ]
 
 #: Steady quantities of the flow curve (stress table columns)
@@ -131,3 +134,51 @@ def onset_stress(per_seed: pd.DataFrame, level: float = LEVEL) -> dict:
         "estimate_min": float(np.min(estimates)),
         "estimate_max": float(np.max(estimates)),
     }
+
+
+#: Parameters of the Wyart-Cates viscosity (``wyart_cates_fit``)
+WYART_CATES_PARAMETERS = ("A", "phi_J0", "phi_Jmu")
+
+
+def wyart_cates_viscosity(phi, fraction, A: float, phi_J0: float, phi_Jmu: float):
+    """eta = A (1 - phi / phi_J(f))^-2 with phi_J(f) = f phi_Jmu + (1 - f) phi_J0 (Wyart and Cates 2014)."""
+    jamming = np.asarray(fraction, dtype=float) * phi_Jmu + (1.0 - np.asarray(fraction, dtype=float)) * phi_J0
+    return A * (1.0 - np.asarray(phi, dtype=float) / jamming) ** -2
+
+
+def wyart_cates_fit(per_seed: pd.DataFrame, level: float = LEVEL) -> pd.DataFrame:
+    r"""The Wyart-Cates viscosity fitted per seed to every point of every flow curve of one friction
+    coefficient, at the frictional fraction the simulation measured there: least squares on
+    $\ln\eta_r$ over the points (each seed's points of all volume fractions), for A, phi_J0 (the
+    frictionless jamming fraction) and phi_Jmu (the frictional one), both above the densest phi.
+    Needs two volume fractions at least (else A and the jamming fractions are one combination).
+    One row per (mu, parameter): the t-interval over seeds of the per-seed values, and per mu the rms
+    residual of ln eta_r (``parameter`` "rms_log_residual")."""
+    from scipy.optimize import least_squares
+
+    rows = []
+    for mu, curves in per_seed.groupby("mu"):
+        if curves["phi"].nunique() < 2:
+            continue
+        densest = float(curves["phi"].max())
+        fitted = {name: [] for name in (*WYART_CATES_PARAMETERS, "rms_log_residual")}
+        for _, points in curves.groupby("seed"):
+            phi = points["phi"].to_numpy(dtype=float)
+            fraction = points["frictional_fraction"].to_numpy(dtype=float)
+            log_eta = np.log(points["eta_r"].to_numpy(dtype=float))
+
+            def residual(x, phi=phi, fraction=fraction, log_eta=log_eta):
+                return np.log(wyart_cates_viscosity(phi, fraction, *x)) - log_eta
+
+            start = (1.0, min(densest + 0.1, 0.73), densest + 0.03)
+            solution = least_squares(
+                residual, start, bounds=([1e-3, densest + 1e-4, densest + 1e-4], [1e3, 0.74, 0.74])
+            )
+            for name, value in zip(WYART_CATES_PARAMETERS, solution.x):
+                fitted[name].append(float(value))
+            fitted["rms_log_residual"].append(float(np.sqrt(np.mean(solution.fun**2))))
+        for name, values in fitted.items():
+            interval = t_interval(values, level)
+            low, high = interval.low, interval.high
+            rows.append({"mu": mu, "parameter": name, "value": interval.mean, "low": low, "high": high})
+    return pd.DataFrame(rows, columns=["mu", "parameter", "value", "low", "high"])

@@ -22,9 +22,14 @@ _COLUMNS = (
 )
 
 
-def flow_curve_summary(table: pd.DataFrame, onsets: pd.DataFrame, level: float) -> str:
+#: The Wyart-Cates parameters as printed
+_WYART_CATES = {"A": "A", "phi_J0": "φ_J⁰", "phi_Jmu": "φ_J^μ", "rms_log_residual": "rms residual of ln η_r"}
+
+
+def flow_curve_summary(table: pd.DataFrame, onsets: pd.DataFrame, wyart_cates: pd.DataFrame, level: float) -> str:
     """Per point the rate ratio and the steady sigma/sigma_0, eta_r, frictional fraction, contacts per
-    particle and Pi with their t-intervals; then each curve's Wyart-Cates onset stress."""
+    particle and Pi with their t-intervals; then each curve's Wyart-Cates onset stress, and the
+    Wyart-Cates viscosity fitted per friction coefficient."""
     header = ["φ, μ", "γ̇/γ̇₀", *(heading for _, heading in _COLUMNS), "seeds"]
     rows = [
         [
@@ -55,5 +60,14 @@ def flow_curve_summary(table: pd.DataFrame, onsets: pd.DataFrame, level: float) 
             f"- {curve}: σ*/σ₀ = {format_interval(star, onset['low'], onset['high'])} (per-seed slope of "
             f"−ln f against σ₀/σ over {onset['points_per_seed']} points with 0 < f < 1 per seed; "
             f"the per-point estimates −ln f · σ/σ₀ span {spread})."
+        )
+    for mu, fit in wyart_cates.groupby("mu"):
+        values = ", ".join(
+            f"{_WYART_CATES[row['parameter']]} = {format_interval(row['value'], row['low'], row['high'])}"
+            for _, row in fit.iterrows()
+        )
+        lines.append(
+            f"- Wyart-Cates viscosity η_r = A (1 − φ/φ_J(f))⁻², φ_J(f) = f φ_J^μ + (1 − f) φ_J⁰, at μ = {mu:g} "
+            f"with the measured f, fitted per seed over every point of the curves: {values}."
         )
     return "\n".join(lines) + "\n"

@@ -1,0 +1,39 @@
+"""The flow curves under critical-load friction rebuilt from their committed datasets
+(config/thickening.yaml with config/thickening_reference.yaml, data/thickening), as docs/thickening.md
+shows them: no simulation job, every point of the campaign, and the Markdown fragment the page
+includes (docs/generated/flow_curve_summary.md) equal to the one the rebuild writes."""
+
+import shutil
+
+import pandas as pd
+import pytest
+
+from quoted_numbers import fragment_problems
+from suspension_fabric.study.campaign import campaign_points
+from suspension_fabric.study.config import load_config
+from workflow_helpers import REPO, copy_workflow, dry_run_jobs, snakemake
+
+pytestmark = pytest.mark.workflow
+
+CONFIG = ["--configfile", "config/thickening.yaml", "config/thickening_reference.yaml"]
+SUMMARY = "results/thickening_reference/tables/flow_curve_summary.md"
+
+
+def test_the_flow_curves_rebuild_from_the_committed_datasets_as_the_docs_show_them(tmp_path):
+    workdir = copy_workflow(tmp_path)
+    shutil.copytree(REPO / "data" / "thickening", workdir / "data" / "thickening")
+    plan = snakemake(workdir, "-n", *CONFIG)
+    assert plan.returncode == 0, (plan.stdout + plan.stderr)[-3000:]
+    rules = {job["rule"] for job in dry_run_jobs(plan.stdout + plan.stderr)}
+    assert "flow_curve" in rules and "campaign_map" not in rules, rules
+    assert not rules & {"pack", "shear_segment", "fabric_table", "stress_table"}, rules
+    result = snakemake(workdir, *CONFIG, timeout=600)
+    assert result.returncode == 0, result.stderr[-3000:]
+    campaign = load_config(REPO / "config" / "thickening.yaml")
+    table = pd.read_csv(workdir / "results/thickening_reference/tables/flow_curve.csv")
+    assert sorted(table["point"]) == sorted(campaign_points(campaign))
+    assert (table["n_seeds"] == len(campaign["seeds"])).all()
+    problems = fragment_problems(
+        (workdir / SUMMARY).read_text(), (REPO / "docs/generated/flow_curve_summary.md").read_text()
+    )
+    assert not problems, problems
