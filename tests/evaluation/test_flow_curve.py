@@ -92,6 +92,27 @@ def test_onset_stress_is_nan_when_a_seed_has_no_partial_fraction():
     assert np.isnan(flow_curve.onset_stress(pd.DataFrame(rows))["sigma_star"])
 
 
+def test_the_thickening_exponent_is_the_per_seed_secant_of_ln_eta_against_ln_sigma():
+    """beta = (ln eta_2 - ln eta_1) / (ln sigma_2 - ln sigma_1) per seed: eta doubling while sigma grows
+    4-fold gives 0.5, eta growing 8-fold with sigma 8-fold gives 1 (the stress no longer rises with the
+    rate); the mean over the two seeds is 0.75 with the t-interval of (0.5, 1). A pair only one seed
+    shares has no interval."""
+    rows = [
+        {"phi": 0.56, "mu": 1.0, "seed": 1, "rate_ratio": 0.01, "sigma": 1.0, "eta_r": 10.0},
+        {"phi": 0.56, "mu": 1.0, "seed": 1, "rate_ratio": 0.02, "sigma": 4.0, "eta_r": 20.0},
+        {"phi": 0.56, "mu": 1.0, "seed": 2, "rate_ratio": 0.01, "sigma": 1.0, "eta_r": 10.0},
+        {"phi": 0.56, "mu": 1.0, "seed": 2, "rate_ratio": 0.02, "sigma": 8.0, "eta_r": 80.0},
+        {"phi": 0.56, "mu": 1.0, "seed": 2, "rate_ratio": 0.05, "sigma": 16.0, "eta_r": 80.0},
+    ]
+    exponents = flow_curve.thickening_exponents(pd.DataFrame(rows), 0.95)
+    first, second = exponents.iloc[0], exponents.iloc[1]
+    assert (first["rate_low"], first["rate_high"], first["n_seeds"]) == (0.01, 0.02, 2)
+    assert first["exponent"] == pytest.approx(0.75, rel=1e-12)
+    half = stats.t.ppf(0.975, 1) * np.std([0.5, 1.0], ddof=1) / math.sqrt(2)
+    assert first["high"] - first["exponent"] == pytest.approx(half, rel=1e-9)
+    assert second["n_seeds"] == 1 and np.isnan(second["exponent"])
+
+
 def test_the_summary_prints_each_point_and_the_onset_from_the_tables():
     """The fragment's numbers come from the table and the onset: one row per point with its rate and
     intervals, and the onset line with the per-seed counts; a curve without onset says so."""
@@ -106,7 +127,8 @@ def test_the_summary_prints_each_point_and_the_onset_from_the_tables():
     table = flow_curve.flow_curve_table(per_seed, 0.95)
     onsets = pd.DataFrame([{"phi": 0.54, "mu": 1.0, **flow_curve.onset_stress(per_seed, 0.95)}])
     fit = pd.DataFrame([{"mu": 1.0, "parameter": "phi_Jmu", "value": 0.58, "low": 0.57, "high": 0.59}])
-    text = flow_curve_summary(table, onsets, fit, 0.95)
+    exponents = flow_curve.thickening_exponents(per_seed, 0.95)
+    text = flow_curve_summary(table, onsets, exponents, fit, 0.95)
     assert "| 0.54, 1 | 0.01 |" in text and "| 0.54, 1 | 0.1 |" in text
     assert "95% t-interval" in text and "over [2, 2] points with 0 < f < 1 per seed" in text
     assert "σ*/σ₀ = 0.2" in text
@@ -114,7 +136,9 @@ def test_the_summary_prints_each_point_and_the_onset_from_the_tables():
         "at μ = 1 with the measured f, fitted per seed over every point of the curves: φ_J^μ = 0.580 [0.570, 0.590]"
         in text
     )
-    none = flow_curve_summary(table, onsets.assign(sigma_star=np.nan), fit.iloc[:0], 0.95)
+    # eta 20 -> 60 while sigma grows 30-fold at both seeds: ln 3 / ln 30
+    assert f"0.01 to 0.1: {math.log(3) / math.log(30):.3f}" in text
+    none = flow_curve_summary(table, onsets.assign(sigma_star=np.nan), exponents, fit.iloc[:0], 0.95)
     assert "no onset stress" in none
 
 

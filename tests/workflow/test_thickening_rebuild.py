@@ -10,7 +10,7 @@ import pytest
 
 from quoted_numbers import fragment_problems
 from suspension_fabric.study.campaign import campaign_points
-from suspension_fabric.study.config import load_config
+from suspension_fabric.study.config import load_layered_config
 from workflow_helpers import REPO, copy_workflow, dry_run_jobs, snakemake
 
 pytestmark = pytest.mark.workflow
@@ -29,7 +29,7 @@ def test_the_flow_curves_rebuild_from_the_committed_datasets_as_the_docs_show_th
     assert not rules & {"pack", "shear_segment", "fabric_table", "stress_table"}, rules
     result = snakemake(workdir, *CONFIG, timeout=600)
     assert result.returncode == 0, result.stderr[-3000:]
-    campaign = load_config(REPO / "config" / "thickening.yaml")
+    campaign = load_layered_config([REPO / "config/thickening.yaml", REPO / "config/thickening_reference.yaml"])
     table = pd.read_csv(workdir / "results/thickening_reference/tables/flow_curve.csv")
     assert sorted(table["point"]) == sorted(campaign_points(campaign))
     assert (table["n_seeds"] == len(campaign["seeds"])).all()

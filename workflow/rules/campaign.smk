@@ -60,7 +60,7 @@ rule campaign_figures:
 rule flow_curve:
     """Flow curves of a campaign over critical-load rates (campaign.critical_load_rate): per point and
     seed the steady stress, contacts and frictional fraction against sigma / sigma_0, their t-intervals,
-    each curve's Wyart-Cates onset stress, the Wyart-Cates viscosity fitted over the curves of each
+    each curve's Wyart-Cates onset stress and thickening exponents, the Wyart-Cates viscosity fitted over the curves of each
     friction coefficient, a Markdown fragment for the docs and the figure."""
     input:
         stress_runs=per_point(rules.aggregate_stress_startup.output.runs),
@@ -68,6 +68,7 @@ rule flow_curve:
         table=f"{CAMPAIGN_RESULTS}/tables/flow_curve.csv",
         seeds=f"{CAMPAIGN_RESULTS}/tables/flow_curve_seeds.csv",
         onsets=f"{CAMPAIGN_RESULTS}/tables/flow_curve_onsets.csv",
+        exponents=f"{CAMPAIGN_RESULTS}/tables/flow_curve_exponents.csv",
         wyart_cates=f"{CAMPAIGN_RESULTS}/tables/flow_curve_wyart_cates.csv",
         summary=f"{CAMPAIGN_RESULTS}/tables/flow_curve_summary.md",
         figure_pdf=f"{CAMPAIGN_RESULTS}/figures/flow_curve.pdf",

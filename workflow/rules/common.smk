@@ -5,7 +5,7 @@ import re
 from pathlib import Path
 
 from suspension_fabric.code_version import CodeVersions
-from suspension_fabric.study.campaign import study_configs
+from suspension_fabric.study.campaign import is_flow_curve_campaign, study_configs
 from suspension_fabric.study.config import (
     angle_label,
     check_complete_study,
@@ -170,7 +170,7 @@ def study_targets(study):
 def all_targets(wildcards):
     """The input function of the default target, every output of every study. What only the full set
     needs (two seeds, two angles) is checked here, still before any job, so one seed runs single targets."""
-    if config["campaign"] and config["campaign"]["critical_load_rate"]:
+    if is_flow_curve_campaign(config):
         return CAMPAIGN_TARGETS  # flow curves: each point a steady state, not a rotation study
     for study in STUDIES.values():
         check_complete_study(study, CONFIG_SOURCES)

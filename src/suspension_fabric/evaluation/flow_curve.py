@@ -22,6 +22,14 @@ tested directly: $-\ln f = \sigma^*/\sigma$ is linear in $1/\sigma$ through the 
 $\sigma^*$ is the least-squares slope of $-\ln f$ against $\sigma_0/\sigma$ over that seed's points with
 $0 < f < 1$ (``onset_stress``), and its t-interval over seeds is reported with the spread of the
 per-point estimates $-\ln f \cdot \sigma/\sigma_0$ (equal for every point if the form holds).
+
+Thickening exponent. Between neighbouring rates of one curve, per seed, the secant
+$\beta = \Delta\ln\eta_r / \Delta\ln\sigma$ (``thickening_exponents``): 0 on a Newtonian plateau,
+between 0 and 1 for continuous thickening. $\beta = 1$ is a stress that stops rising with the rate
+($\dot\gamma = \sigma/\eta_r$ constant), the discontinuous limit. Under rate control the rate rises
+between neighbouring points, so a secant stays below 1 unless the two points sit on different
+branches of an S-shaped curve; a secant close to 1 says the curve is near the discontinuous limit,
+and only stress control can show the unstable branch.
 """
 
 from __future__ import annotations
@@ -41,6 +49,7 @@ __all__ = [
     "per_seed_table",
     "flow_curve_table",
     "onset_stress",
+    "thickening_exponents",
     "WYART_CATES_PARAMETERS",
     "wyart_cates_viscosity",
     "wyart_cates_fit",
@@ -134,6 +143,31 @@ def onset_stress(per_seed: pd.DataFrame, level: float = LEVEL) -> dict:
         "estimate_min": float(np.min(estimates)),
         "estimate_max": float(np.max(estimates)),
     }
+
+
+def thickening_exponents(per_seed: pd.DataFrame, level: float = LEVEL) -> pd.DataFrame:
+    """The secant exponent d ln eta_r / d ln sigma between neighbouring rates of each curve (module
+    docstring), per seed, from the `per_seed_table` rows: one row per (phi, mu, rate_low, rate_high)
+    with the mean over the seeds both points share, its t-interval at ``level`` and n_seeds."""
+    rows = []
+    for (phi, mu), curve in per_seed.groupby(["phi", "mu"]):
+        rates = sorted(curve["rate_ratio"].unique())
+        by_rate = {rate: curve[curve["rate_ratio"] == rate].set_index("seed") for rate in rates}
+        for low_rate, high_rate in zip(rates, rates[1:]):
+            low, high = by_rate[low_rate], by_rate[high_rate]
+            seeds = low.index.intersection(high.index)
+            exponents = (np.log(high.loc[seeds, "eta_r"]) - np.log(low.loc[seeds, "eta_r"])) / (
+                np.log(high.loc[seeds, "sigma"]) - np.log(low.loc[seeds, "sigma"])
+            )
+            row = {"phi": phi, "mu": mu, "rate_low": low_rate, "rate_high": high_rate, "n_seeds": len(seeds)}
+            if len(seeds) >= 2:
+                interval = t_interval(exponents.to_numpy(dtype=float), level)
+                row.update({"exponent": interval.mean, "low": interval.low, "high": interval.high})
+            else:
+                row.update({"exponent": np.nan, "low": np.nan, "high": np.nan})
+            rows.append(row)
+    columns = ["phi", "mu", "rate_low", "rate_high", "exponent", "low", "high", "n_seeds"]
+    return pd.DataFrame(rows, columns=columns)
 
 
 #: Parameters of the Wyart-Cates viscosity (``wyart_cates_fit``)

@@ -26,10 +26,12 @@ _COLUMNS = (
 _WYART_CATES = {"A": "A", "phi_J0": "φ_J⁰", "phi_Jmu": "φ_J^μ", "rms_log_residual": "rms residual of ln η_r"}
 
 
-def flow_curve_summary(table: pd.DataFrame, onsets: pd.DataFrame, wyart_cates: pd.DataFrame, level: float) -> str:
+def flow_curve_summary(
+    table: pd.DataFrame, onsets: pd.DataFrame, exponents: pd.DataFrame, wyart_cates: pd.DataFrame, level: float
+) -> str:
     """Per point the rate ratio and the steady sigma/sigma_0, eta_r, frictional fraction, contacts per
-    particle and Pi with their t-intervals; then each curve's Wyart-Cates onset stress, and the
-    Wyart-Cates viscosity fitted per friction coefficient."""
+    particle and Pi with their t-intervals; then each curve's Wyart-Cates onset stress and its thickening
+    exponents between neighbouring rates, and the Wyart-Cates viscosity fitted per friction coefficient."""
     header = ["φ, μ", "γ̇/γ̇₀", *(heading for _, heading in _COLUMNS), "seeds"]
     rows = [
         [
@@ -60,6 +62,15 @@ def flow_curve_summary(table: pd.DataFrame, onsets: pd.DataFrame, wyart_cates: p
             f"- {curve}: σ*/σ₀ = {format_interval(star, onset['low'], onset['high'])} (per-seed slope of "
             f"−ln f against σ₀/σ over {onset['points_per_seed']} points with 0 < f < 1 per seed; "
             f"the per-point estimates −ln f · σ/σ₀ span {spread})."
+        )
+    for (phi, mu), curve in exponents.groupby(["phi", "mu"]):
+        secants = "; ".join(
+            f"{row['rate_low']:g} to {row['rate_high']:g}: {format_interval(row['exponent'], row['low'], row['high'])}"
+            for _, row in curve.iterrows()
+        )
+        lines.append(
+            f"- φ = {phi:.2f}, μ = {mu:g}: thickening exponent Δln η_r / Δln σ between neighbouring γ̇/γ̇₀ "
+            f"(1 is the discontinuous limit), per seed: {secants}."
         )
     for mu, fit in wyart_cates.groupby("mu"):
         values = ", ".join(

@@ -20,7 +20,7 @@ from itertools import product
 
 from .config import ConfigError, ConfigSources, validate_config
 
-__all__ = ["point_name", "campaign_points", "study_configs"]
+__all__ = ["point_name", "campaign_points", "study_configs", "is_flow_curve_campaign"]
 
 #: Keys a point's overrides may not set: the campaign sets them for the point (its results folder,
 #: its phi and mu, which its name states), so an override would be dropped or belie the name.
@@ -32,6 +32,13 @@ def point_name(phi: float, mu: float, critical_load_rate: float | None = None) -
     (0.54, 1, 0.03) -> 'phi0.54_mu1_rate0.03'."""
     name = f"phi{phi:.2f}_mu{mu:g}"
     return name if critical_load_rate is None else f"{name}_rate{critical_load_rate:g}"
+
+
+def is_flow_curve_campaign(config: dict) -> bool:
+    """Whether a validated config is a campaign of flow curves (``campaign.critical_load_rate``):
+    its default target is each point's steady state, not the rotation study, so the full study's
+    needs (two angles, an oblique one) do not apply to its points."""
+    return bool(config["campaign"] and config["campaign"]["critical_load_rate"])
 
 
 def _merged(base: dict, override: dict) -> dict:

@@ -55,6 +55,7 @@ __all__ = [
     "check_comparison",
     "frames_between",
     "load_config",
+    "load_layered_config",
     "angle_label",
     "simulation_settings",
     "SIMULATION_RUN_KEYS",
@@ -821,6 +822,17 @@ def load_config(path: str | os.PathLike) -> dict:
     return validate_config(config, sources=ConfigSources([(_shown(path), config)]))
 
 
+def load_layered_config(paths) -> dict:
+    """Read and validate study YAML files layered in order, as the workflow reads
+    ``--configfile A.yaml B.yaml`` (later files' keys replace earlier ones, nested sections merged);
+    errors name the file and the key."""
+    sources = read_config_sources(paths)
+    config = {}
+    for _, data in sources:
+        _merge(config, yaml.safe_load(yaml.safe_dump(data)))  # a copy: the sources stay as read
+    return validate_config(config, sources=sources)
+
+
 def shipped_paths(config: dict, checkout: str | os.PathLike) -> dict:
     """Make absolute, in ``config`` (a study or campaign, changed in place and returned; a key of
     the wrong type is left to the validation), every relative path that names nothing in the
@@ -937,11 +949,7 @@ def main(argv: list[str] | None = None) -> int:
         print("usage: python -m suspension_fabric.study.config CONFIG.yaml [MORE.yaml...]", file=sys.stderr)
         return 2
     try:
-        sources = read_config_sources(paths)
-        config = {}
-        for _, data in sources:
-            _merge(config, yaml.safe_load(yaml.safe_dump(data)))  # a copy: the sources stay as read
-        studies = study_configs(validate_config(config, sources=sources), sources)
+        studies = study_configs(load_layered_config(paths), read_config_sources(paths))
     except ConfigError as err:
         print(err, file=sys.stderr)
         return 1
