@@ -68,6 +68,27 @@ def test_the_table_is_the_seed_mean_with_its_t_interval():
     assert np.isnan(row["N1"]) and np.isnan(row["N1_low"])
 
 
+def test_a_point_at_controlled_stress_measures_its_rate_from_the_critical_load():
+    """At stress control sigma / sigma_0 = S is imposed and the rate measured: gammadot / gammadot_0 =
+    6 pi eta_f a^2 / <F_CL> over the steady window (a step of strain lasts a time proportional to F_CL).
+    With eta_f = 223, a = 0.5 and F_CL = 223 pi / 2 (seed 1) and 223 pi (seed 2) the rates are 3 and
+    1.5; sigma is S for both seeds, and eta_r stays the strain mean of the runs."""
+    runs = startup_runs(
+        {
+            1: {"eta_r": 40.0, "Z_touching": 3.0, "Z_frictional": 1.5, "critical_load": 223.0 * math.pi / 2},
+            2: {"eta_r": 80.0, "Z_touching": 3.0, "Z_frictional": 1.5, "critical_load": 223.0 * math.pi},
+        }
+    )
+    points = {"s": {"phi": 0.56, "mu": 1.0, "stress_ratio": 0.2, "eta_f": 223.0, "d_small": 1.0, "runs": runs}}
+    per_seed = flow_curve.per_seed_table(points, [2.0, 4.0])
+    np.testing.assert_allclose(per_seed["rate_ratio"], [3.0, 1.5], rtol=1e-12)
+    assert (per_seed["sigma"] == 0.2).all() and (per_seed["control"] == "stress").all()
+    table = flow_curve.flow_curve_table(per_seed, 0.95)
+    assert table.loc[0, "rate_ratio"] == pytest.approx(2.25) and table.loc[0, "target"] == 0.2
+    with pytest.raises(ValueError, match="critical load its runs recorded"):
+        flow_curve.measured_rate_ratio([0.0], 223.0, 1.0)
+
+
 def test_onset_stress_recovers_the_wyart_cates_sigma_star_per_seed():
     """f = exp(-s*/sigma) exactly, with s* = 0.1 for one seed and 0.3 for the other: the per-seed slopes are
     0.1 and 0.3, their mean 0.2; points with f = 0 or 1 are left out (two of five per seed here), and
@@ -98,15 +119,15 @@ def test_the_thickening_exponent_is_the_per_seed_secant_of_ln_eta_against_ln_sig
     rate); the mean over the two seeds is 0.75 with the t-interval of (0.5, 1). A pair only one seed
     shares has no interval."""
     rows = [
-        {"phi": 0.56, "mu": 1.0, "seed": 1, "rate_ratio": 0.01, "sigma": 1.0, "eta_r": 10.0},
-        {"phi": 0.56, "mu": 1.0, "seed": 1, "rate_ratio": 0.02, "sigma": 4.0, "eta_r": 20.0},
-        {"phi": 0.56, "mu": 1.0, "seed": 2, "rate_ratio": 0.01, "sigma": 1.0, "eta_r": 10.0},
-        {"phi": 0.56, "mu": 1.0, "seed": 2, "rate_ratio": 0.02, "sigma": 8.0, "eta_r": 80.0},
-        {"phi": 0.56, "mu": 1.0, "seed": 2, "rate_ratio": 0.05, "sigma": 16.0, "eta_r": 80.0},
+        {"phi": 0.56, "mu": 1.0, "seed": 1, "control": "rate", "target": 0.01, "sigma": 1.0, "eta_r": 10.0},
+        {"phi": 0.56, "mu": 1.0, "seed": 1, "control": "rate", "target": 0.02, "sigma": 4.0, "eta_r": 20.0},
+        {"phi": 0.56, "mu": 1.0, "seed": 2, "control": "rate", "target": 0.01, "sigma": 1.0, "eta_r": 10.0},
+        {"phi": 0.56, "mu": 1.0, "seed": 2, "control": "rate", "target": 0.02, "sigma": 8.0, "eta_r": 80.0},
+        {"phi": 0.56, "mu": 1.0, "seed": 2, "control": "rate", "target": 0.05, "sigma": 16.0, "eta_r": 80.0},
     ]
     exponents = flow_curve.thickening_exponents(pd.DataFrame(rows), 0.95)
     first, second = exponents.iloc[0], exponents.iloc[1]
-    assert (first["rate_low"], first["rate_high"], first["n_seeds"]) == (0.01, 0.02, 2)
+    assert (first["target_low"], first["target_high"], first["n_seeds"]) == (0.01, 0.02, 2)
     assert first["exponent"] == pytest.approx(0.75, rel=1e-12)
     half = stats.t.ppf(0.975, 1) * np.std([0.5, 1.0], ddof=1) / math.sqrt(2)
     assert first["high"] - first["exponent"] == pytest.approx(half, rel=1e-9)
@@ -120,16 +141,17 @@ def test_the_summary_prints_each_point_and_the_onset_from_the_tables():
     for seed, star in ((1, 0.1), (2, 0.3)):
         for rate, eta in ((0.01, 20.0), (0.1, 60.0)):
             sigma = eta * rate / (6 * math.pi)
-            rows.append({"point": f"r{rate}", "phi": 0.54, "mu": 1.0, "rate_ratio": rate, "seed": seed, "eta_r": eta,
+            rows.append({"point": f"r{rate}", "phi": 0.54, "mu": 1.0, "control": "rate", "target": rate,
+                         "rate_ratio": rate, "seed": seed, "eta_r": eta,
                          "N1": 0.0, "N2": 0.0, "Pi": 2 * eta, "Z_touching": 3.0 + seed, "Z_frictional": 1.0,
                          "frictional_fraction": math.exp(-star / sigma), "sigma": sigma})  # fmt: skip
     per_seed = pd.DataFrame(rows)
     table = flow_curve.flow_curve_table(per_seed, 0.95)
-    onsets = pd.DataFrame([{"phi": 0.54, "mu": 1.0, **flow_curve.onset_stress(per_seed, 0.95)}])
+    onsets = pd.DataFrame([{"phi": 0.54, "mu": 1.0, "control": "rate", **flow_curve.onset_stress(per_seed, 0.95)}])
     fit = pd.DataFrame([{"mu": 1.0, "parameter": "phi_Jmu", "value": 0.58, "low": 0.57, "high": 0.59}])
     exponents = flow_curve.thickening_exponents(per_seed, 0.95)
     text = flow_curve_summary(table, onsets, exponents, fit, 0.95)
-    assert "| 0.54, 1 | 0.01 |" in text and "| 0.54, 1 | 0.1 |" in text
+    assert "| 0.54, 1 | rate | 0.01 |" in text and "| 0.54, 1 | rate | 0.1 |" in text
     assert "95% t-interval" in text and "over [2, 2] points with 0 < f < 1 per seed" in text
     assert "σ*/σ₀ = 0.2" in text
     assert (

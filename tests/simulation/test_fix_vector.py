@@ -25,6 +25,7 @@ def expected_index(variable: str, entries: dict[str, int]) -> int:
         "solver_iterations": "LAST_ITERATIONS",
         "contact_count": "CONTACTS",
         "frictional_count": "FRICTIONAL_CONTACTS",
+        "critical_load_now": "CRITICAL_LOAD",
     }
     if variable in counts:
         return entries[counts[variable]]
@@ -57,6 +58,7 @@ def test_the_fix_reports_the_enum_size():
         "solver_iterations",
         "contact_count",
         "frictional_count",
+        "critical_load_now",
         *(f"{part}_p{k}" for part in ("contact", "lubrication", "stresslet") for k in range(1, 7)),
         *(f"contact_torque_{axis}" for axis in AXES),
     ],
@@ -71,4 +73,4 @@ def test_every_index_the_input_reads(variable):
 def test_no_other_index_is_read():
     """Every f_integrate[i] of the input is one of the checked variables."""
     read = re.findall(r'"variable (\w+) equal f_integrate\[\d+\]', FORCES.read_text())
-    assert len(read) == 3 + 3 * 6 + 3
+    assert len(read) == 4 + 3 * 6 + 3

@@ -75,6 +75,26 @@ def test_overrides_subsets_and_points_not_run():
     assert point_name(0.4, 1.0) == "phi0.40_mu1" and point_name(0.525, 0.25) == "phi0.53_mu0.25"
 
 
+def test_a_flow_curve_axis_names_its_points_and_sets_its_key():
+    """campaign.critical_load_rate or campaign.critical_load_stress adds a third axis: points
+    phi<phi>_mu<mu>_rate<rate> or _stress<stress>, each with its forces key; both at once are refused."""
+    rates = campaign_points(campaign(mu=[1.0], critical_load_rate=[0.1]))
+    assert (
+        list(rates)[0] == "phi0.40_mu1_rate0.1" and rates["phi0.40_mu1_rate0.1"]["forces"]["critical_load_rate"] == 0.1
+    )
+    stresses = campaign_points(campaign(mu=[1.0], critical_load_stress=[0.05, 0.2]))
+    assert list(stresses) == [
+        "phi0.40_mu1_stress0.05",
+        "phi0.40_mu1_stress0.2",
+        "phi0.45_mu1_stress0.05",
+        "phi0.45_mu1_stress0.2",
+    ]
+    assert stresses["phi0.45_mu1_stress0.2"]["forces"]["critical_load_stress"] == 0.2
+    assert stresses["phi0.45_mu1_stress0.2"]["forces"]["critical_load_rate"] is None
+    with pytest.raises(ConfigError, match="'campaign.critical_load_rate' and 'campaign.critical_load_stress' exclude"):
+        campaign_points(campaign(mu=[1.0], critical_load_rate=[0.1], critical_load_stress=[0.1]))
+
+
 @pytest.mark.parametrize(
     "section, message",
     [

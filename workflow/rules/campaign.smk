@@ -58,7 +58,8 @@ rule campaign_figures:
 
 
 rule flow_curve:
-    """Flow curves of a campaign over critical-load rates (campaign.critical_load_rate): per point and
+    """Flow curves of a campaign over critical-load rates or stresses (campaign.critical_load_rate or
+    campaign.critical_load_stress): per point and
     seed the steady stress, contacts and frictional fraction against sigma / sigma_0, their t-intervals,
     each curve's Wyart-Cates onset stress and thickening exponents, the Wyart-Cates viscosity fitted over the curves of each
     friction coefficient, a Markdown fragment for the docs and the figure."""
@@ -81,6 +82,9 @@ rule flow_curve:
                 "phi": STUDIES[study]["particles"]["phi"],
                 "mu": STUDIES[study]["forces"]["mu"],
                 "rate_ratio": STUDIES[study]["forces"]["critical_load_rate"],
+                "stress_ratio": STUDIES[study]["forces"]["critical_load_stress"],
+                "eta_f": STUDIES[study]["forces"]["eta_f"],
+                "d_small": STUDIES[study]["particles"]["d_small"],
             }
             for name, study in POINTS.items()
         },
@@ -95,7 +99,7 @@ rule flow_curve:
         "../scripts/flow_curve.py"
 
 
-if config["campaign"]["critical_load_rate"]:
+if is_flow_curve_campaign(config):
     # flow curves: every point's startup and continuation tables and the curves (no map: the points
     # share their (phi, mu))
     CAMPAIGN_TARGETS = [

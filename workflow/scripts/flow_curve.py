@@ -22,8 +22,8 @@ with logged(sm.log[0]), checked_tables(sm):
     table = flow_curve.flow_curve_table(per_seed, sm.params.level)
     onsets = pd.DataFrame(
         [
-            {"phi": phi, "mu": mu, **flow_curve.onset_stress(rows, sm.params.level)}
-            for (phi, mu), rows in per_seed.groupby(["phi", "mu"])
+            {"phi": phi, "mu": mu, "control": control, **flow_curve.onset_stress(rows, sm.params.level)}
+            for (phi, mu, control), rows in per_seed.groupby(["phi", "mu", "control"])
         ]
     )
     wyart_cates = flow_curve.wyart_cates_fit(per_seed, sm.params.level)
@@ -36,6 +36,7 @@ with logged(sm.log[0]), checked_tables(sm):
     with open(sm.output.summary, "w") as out:
         out.write(flow_curve_summary(table, onsets, exponents, wyart_cates, sm.params.level))
     save_figure(figure_flow_curve(table, onsets, sm.params.level), str(Path(sm.output.figure_png).with_suffix("")))
-    print(table[["point", "sigma", "eta_r", "frictional_fraction", "Z_touching", "Z_frictional"]].to_string())
+    shown = ["point", "rate_ratio", "sigma", "eta_r", "frictional_fraction", "Z_touching", "Z_frictional"]
+    print(table[shown].to_string())
     print(onsets.to_string())
     print(wyart_cates.to_string())

@@ -82,6 +82,7 @@ import pandas as pd
 
 from suspension_fabric.io.runinfo import read_run_info
 from suspension_fabric.io.stressio import read_stress_table
+from suspension_fabric.simulation.scales import EINSTEIN_COEFFICIENT
 
 from .frames import VECTOR_ORDER, simulation_to_paper, sym_to_vec
 from .tables import read_fabric_table, read_table_csv
@@ -93,6 +94,7 @@ __all__ = [
     "PAPER_COMPONENTS",
     "DERIVED_COLUMNS",
     "CONTACT_COLUMNS",
+    "LOAD_COLUMNS",
     "STRESSLET_COLUMNS",
     "STRESS_VALUE_COLUMNS",
     "STRESS_TABLE_COLUMNS",
@@ -123,10 +125,17 @@ DERIVED_COLUMNS: tuple[str, ...] = ("eta_r", "N1", "N2", "Pi")
 #: counts the simulation records at every table row. The frictional fraction is their ratio, taken of
 #: means (a window may hold no contact).
 CONTACT_COLUMNS: tuple[str, ...] = ("Z_touching", "Z_frictional")
+#: The critical load F_CL of the contact law (simulation units, at a shear rate of 1), window mean of
+#: the table's per-row value: constant under an imposed rate, following the stress under stress control,
+#: where the physical rate over gammadot_0 is 6 pi eta_f a^2 / F_CL at each row and its mean over time
+#: 6 pi eta_f a^2 / (the mean of F_CL over strain) (suspension_fabric.evaluation.flow_curve); 0 without a
+#: critical load, NaN in tables from before it was recorded.
+LOAD_COLUMNS: tuple[str, ...] = ("critical_load",)
 STRESS_VALUE_COLUMNS: tuple[str, ...] = (
     *DERIVED_COLUMNS,
     *(f"{part}_{c}" for part in (*PARTS, *ALTERNATIVE_PARTS) for c in PAPER_COMPONENTS),
     *CONTACT_COLUMNS,
+    *LOAD_COLUMNS,
 )
 #: The values of the config key analysis.lubrication_stress
 #: ([`with_lubrication_stress`][suspension_fabric.analysis.stress.with_lubrication_stress]).
@@ -134,9 +143,8 @@ LUBRICATION_STRESSES: tuple[str, ...] = ("dipole", "stresslet")
 #: Columns that older per-run CSVs lack; [`read_stress_csv`][suspension_fabric.analysis.stress.read_stress_csv] gives
 #: them as NaN.
 STRESSLET_COLUMNS: tuple[str, ...] = tuple(f"{part}_{c}" for part in ALTERNATIVE_PARTS for c in PAPER_COMPONENTS)
-OPTIONAL_COLUMNS: tuple[str, ...] = (*STRESSLET_COLUMNS, *CONTACT_COLUMNS)
+OPTIONAL_COLUMNS: tuple[str, ...] = (*STRESSLET_COLUMNS, *CONTACT_COLUMNS, *LOAD_COLUMNS)
 STRESS_TABLE_COLUMNS: tuple[str, ...] = ("seed", "theta", "N", "phi", "step", "strain", "n_rows", *STRESS_VALUE_COLUMNS)
-EINSTEIN_COEFFICIENT = 2.5
 #: Significant digits of the per-run stress CSV: far below the stress's frame-to-frame noise
 #: (~1e-2 relative), and half the size of full round-trip precision.
 STRESS_FLOAT_FORMAT = "%.9g"
@@ -257,6 +265,8 @@ def stress_on_frames(
     if counts and n_particles is None:
         raise ValueError("the stress table counts contacts: give n_particles for Z_touching")
     count_means = {name: np.full(len(frame_steps), np.nan) for name in COUNT_COLUMNS}
+    loads = {name: np.asarray(table[name], dtype=float) for name in LOAD_COLUMNS if name in table}
+    values.update({name: np.full(len(frame_steps), np.nan) for name in LOAD_COLUMNS})
     for k, step in enumerate(frame_steps):
         # the frame at the set-up step takes the rows just after it, at least the first one
         reach = max(half, row_spacing) if step == first_step else half
@@ -269,6 +279,8 @@ def stress_on_frames(
                 values[f"{part}_{c}"][k] = value
         for name, count in counts.items():
             count_means[name][k] = count[inside].mean()
+        for name, load in loads.items():
+            values[name][k] = load[inside].mean()
     values["Z_touching"] = 2.0 * count_means["contacts"] / (n_particles or 1)
     values["Z_frictional"] = 2.0 * count_means["frictional_contacts"] / (n_particles or 1)
     return derived_quantities(pd.DataFrame({**columns, **values}))

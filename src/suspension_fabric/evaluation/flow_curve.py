@@ -11,7 +11,12 @@ $$
 $$
 
 with $\eta_r$ the relative viscosity (solvent and Einstein parts included, as everywhere in the
-project).
+project). A point at controlled stress (``forces.critical_load_stress``: $\sigma/\sigma_0 = S$ held) has
+its rate measured instead: the runs' clock is the strain, and the critical load follows the stress,
+$F_{CL} = a^2\sigma/S$, so the physical rate at each step is $\dot\gamma/\dot\gamma_0 = 6\pi\eta_f
+a^2/F_{CL}$ and its mean over time is $6\pi\eta_f a^2$ over the mean of $F_{CL}$ over strain (a step of
+strain lasts a time proportional to $F_{CL}$). Its $\eta_r$, the mean over strain, is then the
+viscosity of the mean rate, $6\pi S$ over that rate.
 
 Per seed, every quantity is the mean over the startup frames in the steady window; the table gives
 the mean over seeds with its t-interval (``level``), the seeds the independent units.
@@ -45,6 +50,8 @@ __all__ = [
     "FLOW_CURVE_QUANTITIES",
     "DERIVED_QUANTITIES",
     "stress_over_sigma0",
+    "measured_rate_ratio",
+    "CONTROLS",
     "seed_steady_means",
     "per_seed_table",
     "flow_curve_table",
@@ -57,9 +64,12 @@ __all__ = [
 
 #: Steady quantities of the flow curve (stress table columns)
 FLOW_CURVE_QUANTITIES = ("eta_r", "N1", "N2", "Pi", "Z_touching", "Z_frictional")
-#: Per seed beside them: the frictional fraction Z_frictional / Z_touching (of the window means) and
-#: sigma / sigma_0
-DERIVED_QUANTITIES = ("frictional_fraction", "sigma")
+#: Per seed beside them: the frictional fraction Z_frictional / Z_touching (of the window means),
+#: sigma / sigma_0 and gammadot / gammadot_0 (one of the two imposed, the other measured)
+DERIVED_QUANTITIES = ("frictional_fraction", "sigma", "rate_ratio")
+#: What a point imposes: its shear rate (forces.critical_load_rate) or its shear stress
+#: (forces.critical_load_stress); ``target`` is that imposed value
+CONTROLS = ("rate", "stress")
 
 
 def stress_over_sigma0(eta_r, rate_ratio: float):
@@ -67,6 +77,15 @@ def stress_over_sigma0(eta_r, rate_ratio: float):
     if not rate_ratio > 0:
         raise ValueError(f"the rate ratio gammadot / gammadot_0 must be > 0, got {rate_ratio}")
     return np.asarray(eta_r, dtype=float) * rate_ratio / (6.0 * math.pi)
+
+
+def measured_rate_ratio(critical_load, eta_f: float, d_small: float):
+    """gammadot / gammadot_0 = 6 pi eta_f a^2 / F_CL at a shear rate of 1 (module docstring), a = d_small / 2,
+    from the critical load's mean over strain (stress control)."""
+    load = np.asarray(critical_load, dtype=float)
+    if np.any(~(load > 0)):
+        raise ValueError(f"a point at controlled stress needs the critical load its runs recorded (> 0), got {load}")
+    return 6.0 * math.pi * eta_f * (0.5 * d_small) ** 2 / load
 
 
 def seed_steady_means(runs: pd.DataFrame, window, quantities=FLOW_CURVE_QUANTITIES) -> pd.DataFrame:
@@ -84,25 +103,40 @@ def seed_steady_means(runs: pd.DataFrame, window, quantities=FLOW_CURVE_QUANTITI
 
 
 def per_seed_table(points: dict[str, dict], window) -> pd.DataFrame:
-    """One row per point and seed: ``points`` maps a point name to {"phi", "mu", "rate_ratio", "runs"}
-    (``runs`` its startup stress table over seeds). Columns: point, phi, mu, rate_ratio, seed, the
-    steady means of ``FLOW_CURVE_QUANTITIES`` and ``DERIVED_QUANTITIES``."""
+    """One row per point and seed: ``points`` maps a point name to {"phi", "mu", "rate_ratio",
+    "stress_ratio", "eta_f", "d_small", "runs"}, one of the two ratios given (the other None), ``runs``
+    its startup stress table over seeds. Columns: point, phi, mu, control ("rate" or "stress"), target
+    (the imposed ratio), seed, the steady means of ``FLOW_CURVE_QUANTITIES`` and ``DERIVED_QUANTITIES``."""
     frames = []
     for name, point in points.items():
-        means = seed_steady_means(point["runs"], window).reset_index()
-        means["sigma"] = stress_over_sigma0(means["eta_r"], point["rate_ratio"])
-        frames.append(means.assign(point=name, phi=point["phi"], mu=point["mu"], rate_ratio=point["rate_ratio"]))
+        quantities = FLOW_CURVE_QUANTITIES
+        stress_ratio = point.get("stress_ratio")
+        if stress_ratio is not None:
+            quantities = (*FLOW_CURVE_QUANTITIES, "critical_load")
+        means = seed_steady_means(point["runs"], window, quantities).reset_index()
+        if stress_ratio is None:
+            control, target = "rate", point["rate_ratio"]
+            means["rate_ratio"] = target
+            means["sigma"] = stress_over_sigma0(means["eta_r"], target)
+        else:
+            control, target = "stress", stress_ratio
+            means["rate_ratio"] = measured_rate_ratio(means["critical_load"], point["eta_f"], point["d_small"])
+            means["sigma"] = float(stress_ratio)
+        frames.append(means.assign(point=name, phi=point["phi"], mu=point["mu"], control=control, target=target))
     table = pd.concat(frames, ignore_index=True)
-    return table[["point", "phi", "mu", "rate_ratio", "seed", *FLOW_CURVE_QUANTITIES, *DERIVED_QUANTITIES]]
+    return table[["point", "phi", "mu", "control", "target", "seed", *FLOW_CURVE_QUANTITIES, *DERIVED_QUANTITIES]]
 
 
 def flow_curve_table(per_seed: pd.DataFrame, level: float = LEVEL) -> pd.DataFrame:
-    """One row per point of ``per_seed`` (`per_seed_table`): point, phi, mu, rate_ratio, n_seeds, and
-    for each of ``FLOW_CURVE_QUANTITIES`` and ``DERIVED_QUANTITIES`` its mean over seeds, ``_low`` and ``_high``
-    (t-interval at ``level``; NaN for a quantity no seed recorded). Sorted by phi, mu, rate ratio."""
+    """One row per point of ``per_seed`` (`per_seed_table`): point, phi, mu, control, target, n_seeds,
+    and for each of ``FLOW_CURVE_QUANTITIES`` and ``DERIVED_QUANTITIES`` its mean over seeds, ``_low`` and
+    ``_high`` (t-interval at ``level``; NaN for a quantity no seed recorded; the imposed one's interval has
+    zero width). Sorted by phi, mu, control and target."""
     rows = []
-    for (name, phi, mu, rate), seeds in per_seed.groupby(["point", "phi", "mu", "rate_ratio"], sort=False):
-        row = {"point": name, "phi": phi, "mu": mu, "rate_ratio": rate, "n_seeds": len(seeds)}
+    for (name, phi, mu, control, target), seeds in per_seed.groupby(
+        ["point", "phi", "mu", "control", "target"], sort=False
+    ):
+        row = {"point": name, "phi": phi, "mu": mu, "control": control, "target": target, "n_seeds": len(seeds)}
         for quantity in (*FLOW_CURVE_QUANTITIES, *DERIVED_QUANTITIES):
             values = seeds[quantity].to_numpy(dtype=float)
             if np.isnan(values).all():
@@ -111,7 +145,7 @@ def flow_curve_table(per_seed: pd.DataFrame, level: float = LEVEL) -> pd.DataFra
             interval = t_interval(values, level)
             row.update({quantity: interval.mean, f"{quantity}_low": interval.low, f"{quantity}_high": interval.high})
         rows.append(row)
-    return pd.DataFrame(rows).sort_values(["phi", "mu", "rate_ratio"]).reset_index(drop=True)
+    return pd.DataFrame(rows).sort_values(["phi", "mu", "control", "target"]).reset_index(drop=True)
 
 
 def onset_stress(per_seed: pd.DataFrame, level: float = LEVEL) -> dict:
@@ -146,27 +180,29 @@ def onset_stress(per_seed: pd.DataFrame, level: float = LEVEL) -> dict:
 
 
 def thickening_exponents(per_seed: pd.DataFrame, level: float = LEVEL) -> pd.DataFrame:
-    """The secant exponent d ln eta_r / d ln sigma between neighbouring rates of each curve (module
-    docstring), per seed, from the `per_seed_table` rows: one row per (phi, mu, rate_low, rate_high)
-    with the mean over the seeds both points share, its t-interval at ``level`` and n_seeds."""
+    """The secant exponent d ln eta_r / d ln sigma between neighbouring imposed values (rates or
+    stresses) of each curve (module docstring), per seed, from the `per_seed_table` rows: one row per
+    (phi, mu, control, target_low, target_high) with the mean over the seeds both points share, its
+    t-interval at ``level`` and n_seeds."""
     rows = []
-    for (phi, mu), curve in per_seed.groupby(["phi", "mu"]):
-        rates = sorted(curve["rate_ratio"].unique())
-        by_rate = {rate: curve[curve["rate_ratio"] == rate].set_index("seed") for rate in rates}
-        for low_rate, high_rate in zip(rates, rates[1:]):
-            low, high = by_rate[low_rate], by_rate[high_rate]
+    for (phi, mu, control), curve in per_seed.groupby(["phi", "mu", "control"]):
+        targets = sorted(curve["target"].unique())
+        by_target = {target: curve[curve["target"] == target].set_index("seed") for target in targets}
+        for low_target, high_target in zip(targets, targets[1:]):
+            low, high = by_target[low_target], by_target[high_target]
             seeds = low.index.intersection(high.index)
             exponents = (np.log(high.loc[seeds, "eta_r"]) - np.log(low.loc[seeds, "eta_r"])) / (
                 np.log(high.loc[seeds, "sigma"]) - np.log(low.loc[seeds, "sigma"])
             )
-            row = {"phi": phi, "mu": mu, "rate_low": low_rate, "rate_high": high_rate, "n_seeds": len(seeds)}
+            row = {"phi": phi, "mu": mu, "control": control, "target_low": low_target, "target_high": high_target}
+            row["n_seeds"] = len(seeds)
             if len(seeds) >= 2:
                 interval = t_interval(exponents.to_numpy(dtype=float), level)
                 row.update({"exponent": interval.mean, "low": interval.low, "high": interval.high})
             else:
                 row.update({"exponent": np.nan, "low": np.nan, "high": np.nan})
             rows.append(row)
-    columns = ["phi", "mu", "rate_low", "rate_high", "exponent", "low", "high", "n_seeds"]
+    columns = ["phi", "mu", "control", "target_low", "target_high", "exponent", "low", "high", "n_seeds"]
     return pd.DataFrame(rows, columns=columns)
 
 

@@ -10,7 +10,8 @@ lubrication parts (``kinetic_pxx`` ... ``lubrication_pyz``), the summed contact 
 the pair lubrication stresslets over the volume, beside the dipoles; absent from tables written before they were
 recorded, NaN from the stock stand-in), the box volume ``vol``, tilts xz, yz and height lz, and the counts
 ``contacts`` (overlapping pairs) and ``frictional_contacts`` (of them those that can carry friction; both
-absent from tables written before they were recorded). The first row is printed at
+absent from tables written before they were recorded), and ``critical_load``, the critical load of the
+step (0 without one; under stress control it follows the stress; absent from older tables). The first row is printed at
 set-up, before the first step. Tables written before the parts were recorded in full hold only the
 contact and lubrication pxz, pyz and press; [`suspension_fabric.analysis.stress`][suspension_fabric.analysis.stress]
 refuses them.

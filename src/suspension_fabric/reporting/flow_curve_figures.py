@@ -34,13 +34,23 @@ def _draw(table: pd.DataFrame, onsets: pd.DataFrame, level: float):
         ("Z_touching", "contacts per particle $Z_c$"),
     )
     onset_lines = []
-    for k, ((phi, mu), rows) in enumerate(table.groupby(["phi", "mu"])):
+    for k, ((phi, mu, control), rows) in enumerate(table.groupby(["phi", "mu", "control"])):
         rows = rows.sort_values("sigma")
         color = f"C{k}"
         xerr = _interval(rows, "sigma")
-        label = rf"$\phi$ = {phi:g}, $\mu$ = {mu:g}"
+        label = rf"$\phi$ = {phi:g}, $\mu$ = {mu:g}" + ("" if control == "rate" else ", stress imposed")
+        marker = "o" if control == "rate" else "s"
         rate_axis.errorbar(
-            rows["rate_ratio"], rows["sigma"], yerr=xerr, color=color, marker="o", ms=5, capsize=2, lw=1, label=label
+            rows["rate_ratio"],
+            rows["sigma"],
+            xerr=_interval(rows, "rate_ratio"),
+            yerr=xerr,
+            color=color,
+            marker=marker,
+            ms=5,
+            capsize=2,
+            lw=1,
+            label=label,
         )
         for ax, (column, _) in zip(axes, panels):
             ax.errorbar(
@@ -49,13 +59,13 @@ def _draw(table: pd.DataFrame, onsets: pd.DataFrame, level: float):
                 xerr=xerr,
                 yerr=_interval(rows, column),
                 color=color,
-                marker="o",
+                marker=marker,
                 ms=5,
                 capsize=2,
                 lw=1,
                 label=label,
             )
-        onset = onsets[(onsets["phi"] == phi) & (onsets["mu"] == mu)]
+        onset = onsets[(onsets["phi"] == phi) & (onsets["mu"] == mu) & (onsets["control"] == control)]
         if len(onset) and np.isfinite(onset["sigma_star"].iloc[0]):
             star = float(onset["sigma_star"].iloc[0])
             sigma = np.geomspace(rows["sigma"].min(), rows["sigma"].max(), 200)

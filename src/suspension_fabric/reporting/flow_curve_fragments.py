@@ -12,9 +12,10 @@ from .leaderboard_fragments import markdown_table
 
 __all__ = ["flow_curve_summary"]
 
-#: Columns of the fragment's table: (table column, heading)
+#: The imposed and the measured of rate and stress: (table column, heading, the control that imposes it)
+_CONTROLLED = (("rate_ratio", "γ̇/γ̇₀", "rate"), ("sigma", "σ/σ₀", "stress"))
+#: The other columns of the fragment's table: (table column, heading)
 _COLUMNS = (
-    ("sigma", "σ/σ₀"),
     ("eta_r", "η_r"),
     ("frictional_fraction", "frictional fraction f"),
     ("Z_touching", "contacts per particle"),
@@ -32,24 +33,40 @@ def flow_curve_summary(
     """Per point the rate ratio and the steady sigma/sigma_0, eta_r, frictional fraction, contacts per
     particle and Pi with their t-intervals; then each curve's Wyart-Cates onset stress and its thickening
     exponents between neighbouring rates, and the Wyart-Cates viscosity fitted per friction coefficient."""
-    header = ["φ, μ", "γ̇/γ̇₀", *(heading for _, heading in _COLUMNS), "seeds"]
+    header = [
+        "φ, μ",
+        "imposed",
+        *(heading for _, heading, _ in _CONTROLLED),
+        *(heading for _, heading in _COLUMNS),
+        "seeds",
+    ]
+
+    def controlled(row, column, control):  # the imposed value bare, the measured one with its interval
+        if row["control"] == control:
+            return f"{row[column]:g}"
+        return format_interval(row[column], row[f"{column}_low"], row[f"{column}_high"])
+
     rows = [
         [
             f"{row['phi']:.2f}, {row['mu']:g}",
-            f"{row['rate_ratio']:g}",
+            row["control"],
+            *(controlled(row, column, control) for column, _, control in _CONTROLLED),
             *(format_interval(row[c], row[f"{c}_low"], row[f"{c}_high"]) for c, _ in _COLUMNS),
             f"{row['n_seeds']:d}",
         ]
         for _, row in table.iterrows()
     ]
     lines = [
-        f"Steady state over the startup's steady window, mean over seeds [{level:.0%} t-interval]:",
+        f"Steady state over the startup's steady window, mean over seeds [{level:.0%} t-interval]; each point "
+        "imposes its rate or its stress and measures the other:",
         "",
         markdown_table(header, rows),
     ]
     for _, onset in onsets.iterrows():
         star = onset["sigma_star"]
-        curve = f"φ = {onset['phi']:.2f}, μ = {onset['mu']:g}"
+        curve = f"φ = {onset['phi']:.2f}, μ = {onset['mu']:g}" + (
+            ", stress imposed" if onset["control"] == "stress" else ""
+        )
         if is_missing(star):
             lines.append(f"- {curve}: no onset stress (a seed has no point with 0 < f < 1).")
             continue
@@ -63,14 +80,16 @@ def flow_curve_summary(
             f"−ln f against σ₀/σ over {onset['points_per_seed']} points with 0 < f < 1 per seed; "
             f"the per-point estimates −ln f · σ/σ₀ span {spread})."
         )
-    for (phi, mu), curve in exponents.groupby(["phi", "mu"]):
+    for (phi, mu, control), curve in exponents.groupby(["phi", "mu", "control"]):
         secants = "; ".join(
-            f"{row['rate_low']:g} to {row['rate_high']:g}: {format_interval(row['exponent'], row['low'], row['high'])}"
+            f"{row['target_low']:g} to {row['target_high']:g}: "
+            f"{format_interval(row['exponent'], row['low'], row['high'])}"
             for _, row in curve.iterrows()
         )
+        imposed = "γ̇/γ̇₀" if control == "rate" else "σ/σ₀"
         lines.append(
-            f"- φ = {phi:.2f}, μ = {mu:g}: thickening exponent Δln η_r / Δln σ between neighbouring γ̇/γ̇₀ "
-            f"(1 is the discontinuous limit), per seed: {secants}."
+            f"- φ = {phi:.2f}, μ = {mu:g}: thickening exponent Δln η_r / Δln σ between neighbouring imposed "
+            f"{imposed} (1 is the discontinuous limit), per seed: {secants}."
         )
     for mu, fit in wyart_cates.groupby("mu"):
         values = ", ".join(

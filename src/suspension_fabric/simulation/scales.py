@@ -94,6 +94,20 @@ def critical_load_force(rate_ratio: float, eta_f: float, d_small: float, shear_r
     return 6.0 * math.pi * eta_f * (0.5 * d_small) ** 2 * shear_rate / rate_ratio
 
 
+#: The Einstein coefficient: force- and torque-free spheres add 2.5 phi to the relative viscosity
+#: (Einstein, Ann. Phys. 19, 289, 1906), a stress no force of the simulation carries.
+EINSTEIN_COEFFICIENT = 2.5
+
+
+def background_viscosity(eta_f: float, phi: float) -> float:
+    """eta_f (1 + 2.5 phi): the shear stress per unit rate of the solvent and the Einstein term, which
+    the stress tables add to the particles' forces (suspension_fabric.analysis.stress) and stress
+    control adds to the stress it holds (forces.critical_load_stress)."""
+    if not (eta_f > 0 and 0 <= phi < 1):
+        raise ValueError(f"eta_f must be > 0 and phi in [0, 1), got {eta_f}, {phi}")
+    return eta_f * (1.0 + EINSTEIN_COEFFICIENT * phi)
+
+
 def output_stride(strain: float, dt: float, rate: float = 1.0) -> int:
     """Steps between outputs every ``strain``, as shear_run.lmp computes them (at least 1;
     LAMMPS's round() takes halves away from zero, Python's to even)."""

@@ -2,8 +2,9 @@
 
 A config with a ``campaign`` section is a grid of studies: every key outside ``campaign`` is the
 base study; each point of the grid ``campaign.phi`` x ``campaign.mu`` (x ``campaign.critical_load_rate``
-if given: a flow curve per (phi, mu) under critical-load friction) is the base with
-``particles.phi`` and ``forces.mu`` (and ``forces.critical_load_rate``) set, plus that point's
+or ``campaign.critical_load_stress`` if given: a flow curve per (phi, mu) under critical-load friction,
+at imposed rates or stresses) is the base with ``particles.phi`` and ``forces.mu`` (and the flow curve's
+``forces`` key) set, plus that point's
 ``campaign.overrides`` (nested study
 keys, e.g. a longer startup near jamming). A point's outputs go to ``results/<study>/<point>``
 (``point_name``: ``phi0.45_mu0.5``); the map over the points goes to ``results/<study>``.
@@ -20,25 +21,53 @@ from itertools import product
 
 from .config import ConfigError, ConfigSources, validate_config
 
-__all__ = ["point_name", "campaign_points", "study_configs", "is_flow_curve_campaign"]
+__all__ = [
+    "point_name",
+    "campaign_points",
+    "study_configs",
+    "is_flow_curve_campaign",
+    "flow_curve_axis",
+    "FLOW_CURVE_AXES",
+]
 
 #: Keys a point's overrides may not set: the campaign sets them for the point (its results folder,
 #: its phi and mu, which its name states), so an override would be dropped or belie the name.
 FIXED_BY_THE_CAMPAIGN = ("study", "campaign", "particles.phi", "forces.mu")
 
 
-def point_name(phi: float, mu: float, critical_load_rate: float | None = None) -> str:
+#: The flow-curve axes of a campaign: the config key (campaign and forces) -> the point name's tag
+FLOW_CURVE_AXES = {"critical_load_rate": "rate", "critical_load_stress": "stress"}
+
+
+def point_name(phi: float, mu: float, critical_load_rate: float | None = None, *, critical_load_stress=None) -> str:
     """Folder name of a state point: (0.45, 0.5) -> 'phi0.45_mu0.5', (0.4, 0) -> 'phi0.40_mu0',
-    (0.54, 1, 0.03) -> 'phi0.54_mu1_rate0.03'."""
+    (0.54, 1, 0.03) -> 'phi0.54_mu1_rate0.03', (0.56, 1, critical_load_stress=0.1) -> 'phi0.56_mu1_stress0.1'."""
     name = f"phi{phi:.2f}_mu{mu:g}"
-    return name if critical_load_rate is None else f"{name}_rate{critical_load_rate:g}"
+    if critical_load_rate is not None:
+        name += f"_rate{critical_load_rate:g}"
+    if critical_load_stress is not None:
+        name += f"_stress{critical_load_stress:g}"
+    return name
+
+
+def flow_curve_axis(config: dict) -> str | None:
+    """The campaign's flow-curve axis (a key of FLOW_CURVE_AXES), None for a (phi, mu) grid; both
+    axes at once are refused naming the keys."""
+    campaign = config["campaign"] or {}
+    given = [key for key in FLOW_CURVE_AXES if campaign.get(key)]
+    if len(given) > 1:
+        raise ConfigError(
+            "config keys 'campaign.critical_load_rate' and 'campaign.critical_load_stress' exclude each other: "
+            "a flow curve imposes either the rate or the stress at its points; make two campaigns"
+        )
+    return given[0] if given else None
 
 
 def is_flow_curve_campaign(config: dict) -> bool:
     """Whether a validated config is a campaign of flow curves (``campaign.critical_load_rate``):
     its default target is each point's steady state, not the rotation study, so the full study's
     needs (two angles, an oblique one) do not apply to its points."""
-    return bool(config["campaign"] and config["campaign"]["critical_load_rate"])
+    return flow_curve_axis(config) is not None
 
 
 def _merged(base: dict, override: dict) -> dict:
@@ -57,9 +86,14 @@ def campaign_points(config: dict) -> dict[str, dict]:
     point name, in grid order (phi, then mu). Errors name the point and the key."""
     campaign = config["campaign"]
     base = {key: value for key, value in config.items() if key != "campaign"}
-    rates = campaign["critical_load_rate"] or [None]
-    grid = {point_name(*point): point for point in product(campaign["phi"], campaign["mu"], rates)}
-    if len(grid) != len(campaign["phi"]) * len(campaign["mu"]) * len(rates):
+    axis = flow_curve_axis(config)
+    values = campaign[axis] if axis else [None]
+
+    def named(phi, mu, value):
+        return point_name(phi, mu, **({axis: value} if axis else {}))
+
+    grid = {named(*point): point for point in product(campaign["phi"], campaign["mu"], values)}
+    if len(grid) != len(campaign["phi"]) * len(campaign["mu"]) * len(values):
         raise ConfigError(f"config key 'campaign': state points collide after naming: {sorted(grid)}")
     for key in ("points", "overrides", "not_run"):
         unknown = [name for name in campaign[key] if name not in grid]
@@ -69,7 +103,7 @@ def campaign_points(config: dict) -> dict[str, dict]:
                 f"campaign.phi x campaign.mu (points: {', '.join(grid)})"
             )
     fixed = FIXED_BY_THE_CAMPAIGN + (("dataset",) if campaign["datasets"] else ())
-    fixed += ("forces.critical_load_rate",) if campaign["critical_load_rate"] else ()
+    fixed += (f"forces.{axis}",) if axis else ()
     for name, override in campaign["overrides"].items():
         for key in fixed:
             section, _, inner = key.partition(".")
@@ -78,7 +112,7 @@ def campaign_points(config: dict) -> dict[str, dict]:
             ):
                 raise ConfigError(
                     f"config key 'campaign.overrides.{name}.{key}': the campaign sets {key} of each point "
-                    f"(from campaign.phi, campaign.mu, campaign.critical_load_rate, campaign.datasets and its "
+                    f"(from campaign.phi, campaign.mu, campaign.{axis or 'phi'}, campaign.datasets and its "
                     f"name {name}); an override "
                     "would be dropped or belie the point's name"
                 )
@@ -87,8 +121,8 @@ def campaign_points(config: dict) -> dict[str, dict]:
         raise ConfigError("config key 'campaign.points': no point left to run (all are in campaign.not_run)")
     points = {}
     for name in (name for name in grid if name in selected):
-        phi, mu, rate = grid[name]
-        forces = {"mu": mu} if rate is None else {"mu": mu, "critical_load_rate": rate}
+        phi, mu, value = grid[name]
+        forces = {"mu": mu} if axis is None else {"mu": mu, axis: value}
         point = _merged(base, {"study": name, "particles": {"phi": phi}, "forces": forces})
         point = _merged(point, campaign["overrides"].get(name, {}))
         if campaign["datasets"]:

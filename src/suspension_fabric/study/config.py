@@ -518,15 +518,22 @@ def _cross_check(config: dict) -> None:
             "config key 'run.contact_solve' (newton) needs run.contact_springs = implicit: it solves the "
             "contacts that fix hydro/implicit/sf owns"
         )
-    if forces["critical_load_rate"] is not None:
+    if forces["critical_load_rate"] is not None and forces["critical_load_stress"] is not None:
+        raise ConfigError(
+            "config keys 'forces.critical_load_rate' and 'forces.critical_load_stress' exclude each other: "
+            "a run imposes either its shear rate or its shear stress; drop one"
+        )
+    for key in ("critical_load_rate", "critical_load_stress"):
+        if forces[key] is None:
+            continue
         if forces["mu"] == 0:
             raise ConfigError(
-                "config key 'forces.critical_load_rate' needs forces.mu > 0: with mu = 0 every contact is "
+                f"config key 'forces.{key}' needs forces.mu > 0: with mu = 0 every contact is "
                 "frictionless whatever its load; drop the key or set mu"
             )
         if run["contact_springs"] != "implicit":
             raise ConfigError(
-                f"config key 'forces.critical_load_rate' needs run.contact_springs = implicit (got "
+                f"config key 'forces.{key}' needs run.contact_springs = implicit (got "
                 f"{run['contact_springs']}): only fix hydro/implicit/sf's own contacts have a critical load"
             )
     if run["local_solve_fraction"] > 0 and run["mpi_ranks"] > 1:

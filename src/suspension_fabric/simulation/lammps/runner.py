@@ -34,7 +34,7 @@ from suspension_fabric.io.resources import LAMMPS_SCRIPTS_DIR
 from suspension_fabric.io.runinfo import RUN_RECORD_FORMAT, read_run_info
 from suspension_fabric.io.schema import load_schema, schema_default
 from suspension_fabric.io.stressio import UNRECORDED_COLUMNS, read_stress_table
-from suspension_fabric.simulation.scales import critical_load_force, output_stride
+from suspension_fabric.simulation.scales import background_viscosity, critical_load_force, output_stride
 
 from .checks import max_overlap_in_dump, stress_jitter
 from .process import ProgressCallback, failure_reason, lammps_command, launch, print_progress
@@ -86,7 +86,10 @@ class ForceModel:
     Defaults are the study defaults of config/schema.yaml. ``eta_f`` fluid viscosity
     (Stokes number 1/eta_f), ``kn`` normal stiffness, ``mu`` friction (paper), frictional only above
     the normal force ``critical_load`` F_CL if it is > 0 (config/schema.yaml
-    ``forces.critical_load_rate``); ``kt``
+    ``forces.critical_load_rate``), or, with ``critical_load_stress`` S > 0 (``forces.critical_load_stress``),
+    at the shear stress held at S sigma_0, sigma_0 = F_CL / a^2 with a = ``critical_load_radius``, F_CL
+    following the stress, ``background_viscosity`` the stress per unit rate no force carries
+    (``suspension_fabric.simulation.scales.background_viscosity``); ``kt``
     tangential stiffness (None: 2/7 kn), ``delta`` lubrication gap regularisation,
     ``h_out`` outer lubrication gap cutoff (in d), ``newton_pair`` the newton setting the
     plugin styles need. ``lubrication`` "sf" = project plugin, "stock" = stand-in model of
@@ -111,6 +114,9 @@ class ForceModel:
     kn: float = schema_default("forces", "kn")
     mu: float = schema_default("forces", "mu")
     critical_load: float = 0.0
+    critical_load_stress: float = 0.0
+    critical_load_radius: float = 0.5
+    background_viscosity: float = 0.0
     kt: float | None = schema_default("forces", "kt")
     delta: float = schema_default("forces", "delta")
     h_out: float = schema_default("forces", "h_out")
@@ -132,10 +138,15 @@ class ForceModel:
         diameter of ``particles``)."""
         forces = dict(config["forces"])
         rate_ratio = forces.pop("critical_load_rate", None)
+        stress_ratio = forces.pop("critical_load_stress", None)
         if rate_ratio is not None:
             forces["critical_load"] = critical_load_force(
                 rate_ratio, forces["eta_f"], config["particles"]["d_small"], ShearSettings.rate
             )
+        if stress_ratio is not None:
+            forces["critical_load_stress"] = stress_ratio
+            forces["critical_load_radius"] = 0.5 * config["particles"]["d_small"]
+            forces["background_viscosity"] = background_viscosity(forces["eta_f"], config["particles"]["phi"])
         return cls(
             plugin=plugin,
             integrator=config["run"]["integrator"],
@@ -170,7 +181,16 @@ class ForceModel:
             )
         if not self.critical_load >= 0.0:
             raise ValueError(f"critical_load must be >= 0, got {self.critical_load!r}")
-        if self.critical_load > 0.0 and self.contact_springs != "implicit":
+        if not (
+            self.critical_load_stress >= 0.0 and self.critical_load_radius > 0.0 and self.background_viscosity >= 0.0
+        ):
+            raise ValueError(
+                "critical_load_stress and background_viscosity must be >= 0 and critical_load_radius > 0, got "
+                f"{self.critical_load_stress!r}, {self.background_viscosity!r}, {self.critical_load_radius!r}"
+            )
+        if self.critical_load > 0.0 and self.critical_load_stress > 0.0:
+            raise ValueError("critical_load and critical_load_stress exclude each other (rate or stress imposed)")
+        if (self.critical_load > 0.0 or self.critical_load_stress > 0.0) and self.contact_springs != "implicit":
             raise ValueError(
                 "a critical load needs contact_springs='implicit' (fix hydro/implicit/sf's own contacts; "
                 "pair granular has none)"
@@ -188,6 +208,9 @@ class ForceModel:
             "kn": _number(self.kn),
             "mu": _number(self.mu),
             "critical_load": _number(self.critical_load),
+            "critical_load_stress": _number(self.critical_load_stress),
+            "critical_load_radius": _number(self.critical_load_radius),
+            "background_viscosity": _number(self.background_viscosity),
             "kt": _number(kt),
             "delta": _number(self.delta),
             "h_out": _number(self.h_out),

@@ -1,5 +1,6 @@
 /* fix <ID> all hydro/implicit/sf [tol <t>] [maxiter <n>] [precond dilu|jacobi] [local <f>] [verify yes|no]
-       [contacts <kn> <kt> <mu>] [critical_load <F_CL>] [solve lagged|newton]
+       [contacts <kn> <kt> <mu>] [critical_load <F_CL> | critical_load_stress <S> <a> <eta_b>]
+       [solve lagged|newton]
        [guess previous|linear|quadratic]
 
    Time integration of spheres whose hydrodynamic forces, the one-body Stokes drag and the
@@ -71,6 +72,20 @@
    the pairs' lubrication stresslets (lubrication.h), which the virial does not include.
    Both take a pass over the pairs, so they are made only on the steps LAMMPS tallies the virial
    for (thermo, stress output) and when the vector is read, from that step's solution.
+   Stress control.  `critical_load_stress S a eta_b` holds sigma / sigma_0 = S, sigma_0 = F_CL / a^2,
+   at a shear rate of 1: in these units (time = strain) a change of the physical shear rate
+   changes no force but the critical load, which does not scale with the rate, so a run at fixed
+   stress is a run whose F_CL follows the stress, F_CL = a^2 sigma / S.  sigma is the shear stress
+   along the flow, sigma:E / gammadot with gammadot = sqrt(2 E:E): eta_b gammadot (the solvent and
+   Einstein parts, which no force carries) plus the particles' contact and lubrication stress, the
+   contact part symmetrised with the summed contact torque.  The step uses the stress of the step
+   before (of the state itself at setup), so the physical stress is held to within its change over
+   one step; the physical rate is gammadot_0 (6 pi S / eta_r) at each step (gammadot_0 =
+   F_CL / (6 pi eta_f a^2)), and the mean viscosity over time at fixed stress is the mean of eta_r
+   over strain.  The stress is made at every step then: one more pass over the pairs per step.
+   Vector entries 32 and 33 give the critical load a step used and the stress it ended with, so
+   a^2 [33] / [32] / S - 1 is how far that step's physical stress was from its target.
+
    The springs are written to restart files (global fix state) and read back when a fix with
    the same ID and style is defined after read_restart.
 
@@ -193,7 +208,8 @@ constexpr int HISTORY_COLUMNS = 13;
 
 FixHydroImplicitSF::FixHydroImplicitSF(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), tolerance(1.0e-5), guess_order(0), velocity_history(nullptr), local_fraction(0.0), verify(false), max_iterations(1000), own_contacts(false), newton_contacts(false), kn(0.0),
-    kt(0.0), mu(0.0), critical_load(0.0), dtv(0.0), lubrication(nullptr), steps(0), total_iterations(0),
+    kt(0.0), mu(0.0), critical_load(0.0), controlled_stress(0.0), load_radius(0.0), background_viscosity(0.0),
+    shear_stress(0.0), dtv(0.0), lubrication(nullptr), steps(0), total_iterations(0),
     total_passes(0), total_released(0), total_local_work(0.0), last_iterations(0), last_error(0.0), sliding_contacts(0), frictional_contacts(0),
     use_dilu(false), dilu_fallbacks(0), distributed(false), comm_values(nullptr), comm_stride(6), tallied_step(-1)
 {
@@ -244,13 +260,24 @@ FixHydroImplicitSF::FixHydroImplicitSF(LAMMPS *lmp, int narg, char **arg) :
       if (!(critical_load >= 0.0))
         error->all(FLERR, "fix hydro/implicit/sf: critical_load must be >= 0, got {}", critical_load);
       iarg += 2;
+    } else if (strcmp(arg[iarg], "critical_load_stress") == 0 && iarg + 3 < narg) {
+      controlled_stress = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      load_radius = utils::numeric(FLERR, arg[iarg + 2], false, lmp);
+      background_viscosity = utils::numeric(FLERR, arg[iarg + 3], false, lmp);
+      if (!(controlled_stress > 0.0) || !(load_radius > 0.0) || !(background_viscosity >= 0.0))
+        error->all(FLERR, "fix hydro/implicit/sf: critical_load_stress needs S > 0, a > 0 and eta_b >= 0, got {} {} {}",
+                   controlled_stress, load_radius, background_viscosity);
+      iarg += 4;
     } else {
       error->all(FLERR, "Illegal fix hydro/implicit/sf keyword '{}': expected tol <t>, maxiter <n>, "
                         "precond dilu|jacobi, local <fraction>, verify yes|no, contacts <kn> <kt> <mu>, critical_load <F_CL>, "
+                        "critical_load_stress <S> <a> <eta_b>, "
                         "solve lagged|newton or guess previous|linear|quadratic",
                  arg[iarg]);
     }
   }
+  if (controlled_stress > 0.0 && critical_load > 0.0)
+    error->all(FLERR, "fix hydro/implicit/sf: critical_load and critical_load_stress exclude each other");
   time_integrate = 1;
   virial_global_flag = 1;
   thermo_virial = 1;
@@ -311,6 +338,9 @@ void FixHydroImplicitSF::init()
     error->all(FLERR, "fix hydro/implicit/sf: solve newton needs the keyword contacts (the fix's own contacts)");
   if (critical_load > 0.0 && !own_contacts)
     error->all(FLERR, "fix hydro/implicit/sf: critical_load needs the keyword contacts (the fix's own contacts)");
+  if (controlled_stress > 0.0 && !own_contacts)
+    error->all(FLERR, "fix hydro/implicit/sf: critical_load_stress needs the keyword contacts (the fix's own contacts)");
+
   if (own_contacts) {
     if (force->pair_match("granular", 0, 0) != nullptr || force->pair_match("gran", 0, 0) != nullptr)
       error->all(FLERR, "fix hydro/implicit/sf ... contacts computes the contacts itself; remove the "
@@ -346,6 +376,7 @@ void FixHydroImplicitSF::setup(int /*vflag*/)
     finish_contacts(false);
   }
   tally_step(E);
+  if (controlled_stress > 0.0) follow_stress(E);
 }
 
 // E = (L + L^T)/2 of the imposed flow
@@ -1374,7 +1405,45 @@ void FixHydroImplicitSF::final_integrate()
   for (int a = 0; a < 3; a++)
     for (int b = 0; b < 3; b++) step_strain[a][b] = E[a][b];
   tallied_step = -1;
-  if (update->vflag_global == update->ntimestep) tally_step(step_strain);
+  if (update->vflag_global == update->ntimestep || controlled_stress > 0.0) tally_step(step_strain);
+  if (controlled_stress > 0.0) follow_stress(step_strain);
+}
+
+/* The shear stress along the imposed flow of the tallied step, sigma:E / gammadot (stress
+   control above): eta_b gammadot plus minus the particles' pressure tensor (contact part
+   symmetrised with the summed torque, as suspension_fabric.analysis.stress does) contracted
+   with E / gammadot; summed over the ranks. */
+double FixHydroImplicitSF::flow_shear_stress(const double E[3][3]) const
+{
+  double local[9];
+  for (int k = 0; k < 6; k++) local[k] = contact_virial[k] + lubrication_virial[k];
+  for (int k = 0; k < 3; k++) local[6 + k] = contact_torque[k];
+  double total[9];
+  MPI_Allreduce(local, total, 9, MPI_DOUBLE, MPI_SUM, world);
+  // symmetric off-diagonals xy, xz, yz of the contact virial: + T_z / 2, - T_y / 2, + T_x / 2
+  total[3] += 0.5 * total[8];
+  total[4] -= 0.5 * total[7];
+  total[5] += 0.5 * total[6];
+  const double volume = domain->xprd * domain->yprd * domain->zprd;
+  const double pressure_e = (total[0] * E[0][0] + total[1] * E[1][1] + total[2] * E[2][2] +
+                             2.0 * (total[3] * E[0][1] + total[4] * E[0][2] + total[5] * E[1][2])) / volume;
+  double ee = 0.0;
+  for (int a = 0; a < 3; a++)
+    for (int b = 0; b < 3; b++) ee += E[a][b] * E[a][b];
+  const double rate = std::sqrt(2.0 * ee);
+  if (!(rate > 0.0)) error->all(FLERR, "fix hydro/implicit/sf: critical_load_stress needs an imposed shear");
+  return background_viscosity * rate - pressure_e / rate;
+}
+
+// critical_load_stress: the critical load of the next step from the stress of this one
+void FixHydroImplicitSF::follow_stress(const double E[3][3])
+{
+  shear_stress = flow_shear_stress(E);
+  if (!(shear_stress > 0.0))
+    error->all(FLERR, "fix hydro/implicit/sf: critical_load_stress met a shear stress of {} (<= 0) at step {}",
+               shear_stress, update->ntimestep);
+  reported[HydroVector::SHEAR_STRESS - 1] = shear_stress;    // entry 32 keeps the load this step used
+  critical_load = load_radius * load_radius * shear_stress / controlled_stress;
 }
 
 // the virial and the fix's vector of the step just solved (E: its imposed strain rate)
@@ -1423,7 +1492,9 @@ void FixHydroImplicitSF::tally_virial(const double E[3][3])
    contacts, 22: springs released to sliding per step (mean), 23: dilu rebuilds that fell back
    to block Jacobi (not positive definite), 24-29: minus the summed pair stresslets (LAMMPS order;
    /vol is their pressure tensor), 30: local solves' work per step (mean, patch atoms x
-   iterations / N).  4-12 and 20-22 are zero without `contacts`. */
+   iterations / N), 31: frictional contacts, 32: the critical load of the last step, 33: with
+   critical_load_stress the shear stress it follows (else 0).  4-12 and 20-22 are zero without
+   `contacts`. */
 double FixHydroImplicitSF::compute_vector(int n)
 {
   if (tallied_step != update->ntimestep) tally_step(step_strain);
@@ -1454,6 +1525,8 @@ void FixHydroImplicitSF::report_vector()
   reported[LAST_ERROR - 1] = last_error;
   reported[MEAN_PASSES - 1] = per_step(static_cast<double>(total_passes));
   reported[MEAN_RELEASED - 1] = per_step(static_cast<double>(total_released));
+  reported[CRITICAL_LOAD - 1] = critical_load;
+  reported[SHEAR_STRESS - 1] = shear_stress;
 }
 
 /* The springs of all ranks as (smaller tag, larger tag, xi) records, on every rank. */

@@ -41,7 +41,9 @@ namespace HydroVector {
     STRESSLET_VIRIAL = 24,     // 6: pair lubrication stresslets
     MEAN_LOCAL_WORK = 30,      // mean local-solve work per step, in sweeps over all atoms
     FRICTIONAL_CONTACTS = 31,  // contacts of the last step above the critical load (all with none)
-    SIZE = 31
+    CRITICAL_LOAD = 32,        // the critical load of the last step (critical_load_stress: it follows the stress)
+    SHEAR_STRESS = 33,         // critical_load_stress: the shear stress along the flow the critical load follows
+    SIZE = 33
   };
 }    // namespace HydroVector
 
@@ -107,6 +109,11 @@ class FixHydroImplicitSF : public Fix {
   bool newton_contacts;    // solve newton: the contact law re-linearised about each pass's solution
   double kn, kt, mu;
   double critical_load;    // keyword critical_load: F_CL, contacts with kn o <= F_CL are frictionless
+  // keyword critical_load_stress S a eta_b: F_CL follows the shear stress sigma of the step before,
+  // F_CL = a^2 sigma / S, so that sigma / sigma_0 = S (sigma_0 = F_CL / a^2) at every step;
+  // eta_b gammadot is the stress the particles' virial leaves out (solvent and Einstein parts)
+  double controlled_stress, load_radius, background_viscosity;
+  double shear_stress;    // the shear stress along the flow of the last tallied step (critical_load_stress)
   double dtv;
   PairLubricateSF *lubrication;
 
@@ -198,6 +205,8 @@ class FixHydroImplicitSF : public Fix {
   double apply_preconditioner(const std::vector<double> &r, std::vector<double> &z, double &largest) const;
   void tally_virial(const double E[3][3]);
   void tally_step(const double E[3][3]);
+  double flow_shear_stress(const double E[3][3]) const;
+  void follow_stress(const double E[3][3]);
   void relative_velocities(const SuspensionFabric::ImposedFlow &flow);
   void extrapolate_first_iterate();
 };
