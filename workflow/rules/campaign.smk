@@ -99,14 +99,62 @@ rule flow_curve:
         "../scripts/flow_curve.py"
 
 
+def point_label(study):
+    """How a flow curve's point is named in tables and legends: phi and the imposed rate or stress."""
+    forces, phi = STUDIES[study]["forces"], STUDIES[study]["particles"]["phi"]
+    if forces["critical_load_stress"] is not None:
+        return f"φ {phi:g}, σ/σ₀ {forces['critical_load_stress']:g}"
+    return f"φ {phi:g}, γ̇/γ̇₀ {forces['critical_load_rate']:g}"
+
+
+rule direction_response:
+    """The response to a change of flow direction at each point of a flow-curve campaign whose angles
+    go beyond 0: each rotated run against the same seed's run at theta = 0 over windows of strain
+    after the change (eta_r, frictional fraction, contacts, <nn>_12), Holm over the table, the points
+    compared with Welch's interval, a Markdown fragment and the figure."""
+    input:
+        stress_runs=per_point(rules.aggregate_stress_rotation.output.runs),
+        fabric_runs=per_point(rules.aggregate_rotation.output.runs),
+    output:
+        table=f"{CAMPAIGN_RESULTS}/tables/direction_response.csv",
+        seeds=f"{CAMPAIGN_RESULTS}/tables/direction_response_seeds.csv",
+        comparisons=f"{CAMPAIGN_RESULTS}/tables/direction_response_comparisons.csv",
+        summary=f"{CAMPAIGN_RESULTS}/tables/direction_response_summary.md",
+        figure_pdf=f"{CAMPAIGN_RESULTS}/figures/direction_response.pdf",
+        figure_png=report(
+            f"{CAMPAIGN_RESULTS}/figures/direction_response.png",
+            caption="../report/direction_response.rst",
+            category="Flow curves",
+        ),
+    params:
+        points={
+            name: {
+                "label": point_label(study),
+                "target": STUDIES[study]["forces"]["critical_load_stress"]
+                or STUDIES[study]["forces"]["critical_load_rate"],
+            }
+            for name, study in POINTS.items()
+        },
+        level=config["verdicts"]["level"],
+        code=code_version("../scripts/direction_response.py"),
+    conda:
+        CONDA_ENV
+    log:
+        f"{CAMPAIGN_RESULTS}/logs/direction_response.log",
+    script:
+        "../scripts/direction_response.py"
+
+
 if is_flow_curve_campaign(config):
     # flow curves: every point's startup and continuation tables and the curves (no map: the points
-    # share their (phi, mu))
+    # share their (phi, mu)); with angles beyond 0, the response to the change of direction
     CAMPAIGN_TARGETS = [
         *rules.flow_curve.output,
         *per_point(rules.aggregate_rotation.output.runs),
         *per_point(rules.aggregate_stress_rotation.output.runs),
         *per_point(rules.aggregate_startup.output.steady),
     ]
+    if any(theta != 0 for theta in config["angles_deg"]):
+        CAMPAIGN_TARGETS += [*rules.direction_response.output]
 else:
     CAMPAIGN_TARGETS = [*rules.campaign_map.output, *rules.campaign_figures.output]
