@@ -15,7 +15,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from suspension_fabric.simulation.lammps import ForceModel, ShearSettings, pack, read_stress_table, run_startup
+from suspension_fabric.simulation.lammps import (
+    ForceModel,
+    ShearSettings,
+    pack,
+    read_stress_table,
+    run_rotation,
+    run_startup,
+)
 from suspension_fabric.simulation.lammps.plugin import plugin_path
 from suspension_fabric.simulation.scales import background_viscosity
 from suspension_fabric.study.config import ConfigError, validate_config
@@ -36,13 +43,9 @@ def table_shear_stress(table) -> np.ndarray:
     return background_viscosity(ETA_F, PHI) - (contact_xz + table["lubrication_pxz"])
 
 
-def test_the_critical_load_follows_the_stress_of_the_step_before(tmp_path):
-    """N = 60 (phi = 0.55, touching), mu = 0.5, kn = 1.25e9, sheared 0.01 strain from rest with a
-    stress-table row every step: each step's critical load is a^2 sigma / S of the row before (to
-    1e-6: the table prints 12 digits). The physical stress S sigma_n / sigma_{n-1} then moves from S only
-    by the stress's change over one step: past the start from rest (strain 0.002) within 5% at every
-    step and 1e-3 at the median (measured: 2e-2 at the 99th percentile, 5e-5 at the median). Some
-    contacts are frictional at the end and some not."""
+def stress_controlled_startup(tmp_path, strain):
+    """A stress-controlled startup of N = 60 (phi = 0.55, touching), mu = 0.5, kn = 1.25e9, a
+    stress-table row every step; returns the run, its settings and force model."""
     packing = pack(tmp_path / "packing", 60, phi=PHI, seed=11, gap_margin=0.0)
     dt = 1e-5
     settings = ShearSettings(
@@ -57,7 +60,45 @@ def test_the_critical_load_follows_the_stress_of_the_step_before(tmp_path):
         critical_load_radius=RADIUS,
         background_viscosity=background_viscosity(ETA_F, PHI),
     )
-    run = run_startup(tmp_path / "run", packing.data_file, 0.01, settings=settings, progress=None, force_model=model)
+    run = run_startup(tmp_path / "run", packing.data_file, strain, settings=settings, progress=None, force_model=model)
+    return run, settings, model
+
+
+def test_a_reversal_at_controlled_stress_follows_the_law_with_its_floor(tmp_path):
+    """Reversed after 0.01 strain, each step's load is a^2 max(sigma, eta_b gammadot) / S of the step
+    before, sigma now along the reversed flow: where the contacts built by the old flow push against
+    the new one hard enough to bring sigma below the solvent's stress, which no finite rate could hold,
+    the load is the solvent's (this small, lubrication-dominated system stays above it: the first
+    steps' stress jumps up as the particles' old velocities meet the reversed flow; the thickened
+    reversals of data/thickening_rotation reach the floor). The reversal runs to its end."""
+    startup, settings, model = stress_controlled_startup(tmp_path, 0.01)
+    reversal = run_rotation(
+        tmp_path / "reversal",
+        startup.checkpoint_file,
+        180.0,
+        0.002,
+        settings=settings,
+        progress=None,
+        force_model=model,
+    )
+    table = read_stress_table(reversal.table_file)
+    sigma = -table_shear_stress(table) + 2.0 * background_viscosity(ETA_F, PHI)  # along the reversed flow
+    load = table["critical_load"]
+    floor = RADIUS**2 * background_viscosity(ETA_F, PHI) / STRESS
+    expected = RADIUS**2 * np.maximum(sigma[:-1], background_viscosity(ETA_F, PHI)) / STRESS
+    np.testing.assert_allclose(load[1:], expected, rtol=1e-6)
+    assert (load[1:] >= floor * (1 - 1e-9)).all()
+    assert table["strain"][-1] == pytest.approx(0.002)
+
+
+def test_the_critical_load_follows_the_stress_of_the_step_before(tmp_path):
+    """N = 60 (phi = 0.55, touching), mu = 0.5, kn = 1.25e9, sheared 0.01 strain from rest with a
+    stress-table row every step: each step's critical load is a^2 sigma / S of the row before (to
+    1e-6: the table prints 12 digits). The physical stress S sigma_n / sigma_{n-1} then moves from S only
+    by the stress's change over one step: past the start from rest (strain 0.002) within 5% at every
+    step and 1e-3 at the median (measured: 2e-2 at the 99th percentile, 5e-5 at the median). Some
+    contacts are frictional at the end and some not."""
+    run, _, _ = stress_controlled_startup(tmp_path, 0.01)
     table = read_stress_table(run.table_file)
     sigma = table_shear_stress(table)
     load = table["critical_load"]
@@ -102,4 +143,4 @@ def test_stress_control_that_cannot_work_is_refused(forces, run, named):
 
 def test_the_force_model_refuses_rate_and_stress_together():
     with pytest.raises(ValueError, match="exclude each other"):
-        ForceModel(critical_load=10.0, critical_load_stress=0.1, plugin="x").variables()
+        ForceModel(critical_load=10.0, critical_load_stress=0.1, background_viscosity=1.0, plugin="x").variables()

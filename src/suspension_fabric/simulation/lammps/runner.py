@@ -188,6 +188,11 @@ class ForceModel:
                 "critical_load_stress and background_viscosity must be >= 0 and critical_load_radius > 0, got "
                 f"{self.critical_load_stress!r}, {self.background_viscosity!r}, {self.critical_load_radius!r}"
             )
+        if self.critical_load_stress > 0.0 and not self.background_viscosity > 0.0:
+            raise ValueError(
+                "critical_load_stress needs background_viscosity > 0 (eta_f (1 + 2.5 phi): the solvent's stress, "
+                "the floor of the stress it follows)"
+            )
         if self.critical_load > 0.0 and self.critical_load_stress > 0.0:
             raise ValueError("critical_load and critical_load_stress exclude each other (rate or stress imposed)")
         if (self.critical_load > 0.0 or self.critical_load_stress > 0.0) and self.contact_springs != "implicit":

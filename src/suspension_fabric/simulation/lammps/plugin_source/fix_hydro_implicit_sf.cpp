@@ -80,7 +80,9 @@
    Einstein parts, which no force carries) plus the particles' contact and lubrication stress, the
    contact part symmetrised with the summed contact torque.  The step uses the stress of the step
    before (of the state itself at setup), so the physical stress is held to within its change over
-   one step; the physical rate is gammadot_0 (6 pi S / eta_r) at each step (gammadot_0 =
+   one step.  A stress below eta_b gammadot, the solvent's (after a reversal the contacts built by the
+   old flow push against the new one), has no finite rate that holds it: the load then follows
+   eta_b gammadot, the fastest flow the stress can drive, and vector entry 34 counts those steps; the physical rate is gammadot_0 (6 pi S / eta_r) at each step (gammadot_0 =
    F_CL / (6 pi eta_f a^2)), and the mean viscosity over time at fixed stress is the mean of eta_r
    over strain.  The stress is made at every step then: one more pass over the pairs per step.
    Vector entries 32 and 33 give the critical load a step used and the stress it ended with, so
@@ -209,7 +211,7 @@ constexpr int HISTORY_COLUMNS = 13;
 FixHydroImplicitSF::FixHydroImplicitSF(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), tolerance(1.0e-5), guess_order(0), velocity_history(nullptr), local_fraction(0.0), verify(false), max_iterations(1000), own_contacts(false), newton_contacts(false), kn(0.0),
     kt(0.0), mu(0.0), critical_load(0.0), controlled_stress(0.0), load_radius(0.0), background_viscosity(0.0),
-    shear_stress(0.0), dtv(0.0), lubrication(nullptr), steps(0), total_iterations(0),
+    shear_stress(0.0), floored_steps(0), dtv(0.0), lubrication(nullptr), steps(0), total_iterations(0),
     total_passes(0), total_released(0), total_local_work(0.0), last_iterations(0), last_error(0.0), sliding_contacts(0), frictional_contacts(0),
     use_dilu(false), dilu_fallbacks(0), distributed(false), comm_values(nullptr), comm_stride(6), tallied_step(-1)
 {
@@ -264,8 +266,8 @@ FixHydroImplicitSF::FixHydroImplicitSF(LAMMPS *lmp, int narg, char **arg) :
       controlled_stress = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
       load_radius = utils::numeric(FLERR, arg[iarg + 2], false, lmp);
       background_viscosity = utils::numeric(FLERR, arg[iarg + 3], false, lmp);
-      if (!(controlled_stress > 0.0) || !(load_radius > 0.0) || !(background_viscosity >= 0.0))
-        error->all(FLERR, "fix hydro/implicit/sf: critical_load_stress needs S > 0, a > 0 and eta_b >= 0, got {} {} {}",
+      if (!(controlled_stress > 0.0) || !(load_radius > 0.0) || !(background_viscosity > 0.0))
+        error->all(FLERR, "fix hydro/implicit/sf: critical_load_stress needs S > 0, a > 0 and eta_b > 0, got {} {} {}",
                    controlled_stress, load_radius, background_viscosity);
       iarg += 4;
     } else {
@@ -1439,11 +1441,15 @@ double FixHydroImplicitSF::flow_shear_stress(const double E[3][3]) const
 void FixHydroImplicitSF::follow_stress(const double E[3][3])
 {
   shear_stress = flow_shear_stress(E);
-  if (!(shear_stress > 0.0))
-    error->all(FLERR, "fix hydro/implicit/sf: critical_load_stress met a shear stress of {} (<= 0) at step {}",
-               shear_stress, update->ntimestep);
   reported[HydroVector::SHEAR_STRESS - 1] = shear_stress;    // entry 32 keeps the load this step used
-  critical_load = load_radius * load_radius * shear_stress / controlled_stress;
+  // a stress below the solvent's (the contacts pushing against a reversed flow) has no finite rate
+  // to hold it: the load follows the solvent's stress, the largest rate the stress can drive
+  double ee = 0.0;
+  for (int a = 0; a < 3; a++)
+    for (int b = 0; b < 3; b++) ee += E[a][b] * E[a][b];
+  const double floor = background_viscosity * std::sqrt(2.0 * ee);
+  if (shear_stress < floor) floored_steps++;
+  critical_load = load_radius * load_radius * std::max(shear_stress, floor) / controlled_stress;
 }
 
 // the virial and the fix's vector of the step just solved (E: its imposed strain rate)
@@ -1493,7 +1499,8 @@ void FixHydroImplicitSF::tally_virial(const double E[3][3])
    to block Jacobi (not positive definite), 24-29: minus the summed pair stresslets (LAMMPS order;
    /vol is their pressure tensor), 30: local solves' work per step (mean, patch atoms x
    iterations / N), 31: frictional contacts, 32: the critical load of the last step, 33: with
-   critical_load_stress the shear stress it follows (else 0).  4-12 and 20-22 are zero without
+   critical_load_stress the shear stress it follows (else 0), 34: the steps whose stress was below
+   the solvent's (critical_load_stress).  4-12 and 20-22 are zero without
    `contacts`. */
 double FixHydroImplicitSF::compute_vector(int n)
 {
@@ -1527,6 +1534,7 @@ void FixHydroImplicitSF::report_vector()
   reported[MEAN_RELEASED - 1] = per_step(static_cast<double>(total_released));
   reported[CRITICAL_LOAD - 1] = critical_load;
   reported[SHEAR_STRESS - 1] = shear_stress;
+  reported[FLOORED_STEPS - 1] = static_cast<double>(floored_steps);
 }
 
 /* The springs of all ranks as (smaller tag, larger tag, xi) records, on every rank. */

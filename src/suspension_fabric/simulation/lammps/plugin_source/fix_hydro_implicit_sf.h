@@ -43,7 +43,8 @@ namespace HydroVector {
     FRICTIONAL_CONTACTS = 31,  // contacts of the last step above the critical load (all with none)
     CRITICAL_LOAD = 32,        // the critical load of the last step (critical_load_stress: it follows the stress)
     SHEAR_STRESS = 33,         // critical_load_stress: the shear stress along the flow the critical load follows
-    SIZE = 33
+    FLOORED_STEPS = 34,        // critical_load_stress: steps whose stress was below the solvent's (load at its floor)
+    SIZE = 34
   };
 }    // namespace HydroVector
 
@@ -114,6 +115,7 @@ class FixHydroImplicitSF : public Fix {
   // eta_b gammadot is the stress the particles' virial leaves out (solvent and Einstein parts)
   double controlled_stress, load_radius, background_viscosity;
   double shear_stress;    // the shear stress along the flow of the last tallied step (critical_load_stress)
+  long floored_steps;     // steps whose stress was below eta_b gammadot (critical_load_stress)
   double dtv;
   PairLubricateSF *lubrication;
 
