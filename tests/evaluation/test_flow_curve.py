@@ -105,6 +105,24 @@ def test_onset_stress_recovers_the_wyart_cates_sigma_star_per_seed():
     assert onset["low"] < 0.1 < 0.3 < onset["high"]
 
 
+def test_onset_differences_are_welch_intervals_between_neighbouring_volume_fractions():
+    """Per-seed sigma* (0.07, 0.08) at phi = 0.50 and (0.09, 0.10) at 0.54: the difference 0.02 with
+    Welch's interval; a curve without per-seed values is skipped."""
+    onsets = pd.DataFrame(
+        [
+            {"phi": 0.50, "mu": 1.0, "control": "rate", "per_seed": [0.07, 0.08]},
+            {"phi": 0.54, "mu": 1.0, "control": "rate", "per_seed": [0.09, 0.10]},
+            {"phi": 0.56, "mu": 1.0, "control": "rate", "per_seed": np.nan},
+        ]
+    )
+    differences = flow_curve.onset_differences(onsets, 0.95)
+    assert len(differences) == 1
+    row = differences.iloc[0]
+    assert (row["phi_low"], row["phi_high"]) == (0.50, 0.54) and row["difference"] == pytest.approx(0.02)
+    se = math.sqrt(2 * np.var([0.07, 0.08], ddof=1) / 2)
+    assert row["high"] - row["difference"] == pytest.approx(stats.t.ppf(0.975, 2) * se, rel=1e-9)
+
+
 def test_onset_stress_is_nan_when_a_seed_has_no_partial_fraction():
     rows = [
         {"seed": 1, "sigma": 1.0, "frictional_fraction": 0.5},
@@ -150,7 +168,21 @@ def test_the_summary_prints_each_point_and_the_onset_from_the_tables():
     onsets = pd.DataFrame([{"phi": 0.54, "mu": 1.0, "control": "rate", **flow_curve.onset_stress(per_seed, 0.95)}])
     fit = pd.DataFrame([{"mu": 1.0, "parameter": "phi_Jmu", "value": 0.58, "low": 0.57, "high": 0.59}])
     exponents = flow_curve.thickening_exponents(per_seed, 0.95)
-    text = flow_curve_summary(table, onsets, exponents, fit, 0.95)
+    differences = pd.DataFrame(
+        [
+            {
+                "mu": 1.0,
+                "control": "rate",
+                "phi_low": 0.5,
+                "phi_high": 0.54,
+                "difference": 0.01,
+                "low": -0.02,
+                "high": 0.04,
+            }
+        ]
+    )
+    text = flow_curve_summary(table, onsets, differences, exponents, fit, 0.95)
+    assert "σ*/σ₀ at φ = 0.54 minus at φ = 0.50 (μ = 1, imposed rate): 0.010 [-0.020, 0.040]" in text
     assert "| 0.54, 1 | rate | 0.01 |" in text and "| 0.54, 1 | rate | 0.1 |" in text
     assert "95% t-interval" in text and "over [2, 2] points with 0 < f < 1 per seed" in text
     assert "σ*/σ₀ = 0.2" in text
@@ -160,7 +192,9 @@ def test_the_summary_prints_each_point_and_the_onset_from_the_tables():
     )
     # eta 20 -> 60 while sigma grows 30-fold at both seeds: ln 3 / ln 30
     assert f"0.01 to 0.1: {math.log(3) / math.log(30):.3f}" in text
-    none = flow_curve_summary(table, onsets.assign(sigma_star=np.nan), exponents, fit.iloc[:0], 0.95)
+    none = flow_curve_summary(
+        table, onsets.assign(sigma_star=np.nan), differences.iloc[:0], exponents, fit.iloc[:0], 0.95
+    )
     assert "no onset stress" in none
 
 

@@ -26,6 +26,8 @@ with logged(sm.log[0]), checked_tables(sm):
             for (phi, mu, control), rows in per_seed.groupby(["phi", "mu", "control"])
         ]
     )
+    differences = flow_curve.onset_differences(onsets, sm.params.level)
+    onsets = onsets.drop(columns="per_seed")
     wyart_cates = flow_curve.wyart_cates_fit(per_seed, sm.params.level)
     exponents = flow_curve.thickening_exponents(per_seed, sm.params.level)
     exponents.to_csv(sm.output.exponents, index=False)
@@ -34,7 +36,7 @@ with logged(sm.log[0]), checked_tables(sm):
     table.to_csv(sm.output.table, index=False)
     onsets.to_csv(sm.output.onsets, index=False)
     with open(sm.output.summary, "w") as out:
-        out.write(flow_curve_summary(table, onsets, exponents, wyart_cates, sm.params.level))
+        out.write(flow_curve_summary(table, onsets, differences, exponents, wyart_cates, sm.params.level))
     save_figure(figure_flow_curve(table, onsets, sm.params.level), str(Path(sm.output.figure_png).with_suffix("")))
     shown = ["point", "rate_ratio", "sigma", "eta_r", "frictional_fraction", "Z_touching", "Z_frictional"]
     print(table[shown].to_string())

@@ -26,15 +26,16 @@ contacts as $f(\sigma) = \exp(-\sigma^*/\sigma)$. The simulation counts that fra
 tested directly: $-\ln f = \sigma^*/\sigma$ is linear in $1/\sigma$ through the origin. Per seed,
 $\sigma^*$ is the least-squares slope of $-\ln f$ against $\sigma_0/\sigma$ over that seed's points with
 $0 < f < 1$ (``onset_stress``), and its t-interval over seeds is reported with the spread of the
-per-point estimates $-\ln f \cdot \sigma/\sigma_0$ (equal for every point if the form holds).
+per-point estimates $-\ln f \cdot \sigma/\sigma_0$ (equal for every point if the form holds). The fit
+through the origin weights each point by $(\sigma_0/\sigma)^2$, so the lowest-stress point with $f > 0$
+sets most of the slope. ``onset_differences`` compares the curves' $\sigma^*$ by Welch's interval.
 
-Thickening exponent. Between neighbouring rates of one curve, per seed, the secant
-$\beta = \Delta\ln\eta_r / \Delta\ln\sigma$ (``thickening_exponents``): 0 on a Newtonian plateau,
-between 0 and 1 for continuous thickening. $\beta = 1$ is a stress that stops rising with the rate
-($\dot\gamma = \sigma/\eta_r$ constant), the discontinuous limit. Under rate control the rate rises
-between neighbouring points, so a secant stays below 1 unless the two points sit on different
-branches of an S-shaped curve; a secant close to 1 says the curve is near the discontinuous limit,
-and only stress control can show the unstable branch.
+Thickening exponent. Between neighbouring imposed values of one curve, per seed, the secant
+$\beta = \Delta\ln\eta_r / \Delta\ln\sigma$ (``thickening_exponents``): 0 on a Newtonian plateau.
+$\beta > 1$ is a rate that falls while the stress rises, the S-shaped curve of discontinuous
+thickening. Under rate control $\beta = x/(x + r)$ with $x = \Delta\ln\eta_r$ and
+$r = \Delta\ln\dot\gamma > 0$, below 1 whenever the stress rises, even across a jump: there it
+only describes the steepness, and the test is the stress-controlled curve's.
 """
 
 from __future__ import annotations
@@ -44,7 +45,7 @@ import math
 import numpy as np
 import pandas as pd
 
-from suspension_fabric.analysis.seed_statistics import LEVEL, t_interval
+from suspension_fabric.analysis.seed_statistics import LEVEL, t_interval, welch_interval
 
 __all__ = [
     "FLOW_CURVE_QUANTITIES",
@@ -56,6 +57,7 @@ __all__ = [
     "per_seed_table",
     "flow_curve_table",
     "onset_stress",
+    "onset_differences",
     "thickening_exponents",
     "WYART_CATES_PARAMETERS",
     "wyart_cates_viscosity",
@@ -176,7 +178,24 @@ def onset_stress(per_seed: pd.DataFrame, level: float = LEVEL) -> dict:
         "points_per_seed": used,
         "estimate_min": float(np.min(estimates)),
         "estimate_max": float(np.max(estimates)),
+        "per_seed": [float(slope) for slope in slopes],
     }
+
+
+def onset_differences(onsets: pd.DataFrame, level: float = LEVEL) -> pd.DataFrame:
+    """sigma* of each curve minus that of the curve of the next lower phi (same mu and control), with
+    Welch's interval over the two curves' per-seed slopes (``onsets`` rows with phi, mu, control and
+    `onset_stress`'s ``per_seed``; curves without an onset are skipped)."""
+    rows = []
+    for (mu, control), curves in onsets.groupby(["mu", "control"]):
+        curves = curves[curves["per_seed"].map(lambda seeds: isinstance(seeds, list) and len(seeds) >= 2)]
+        curves = curves.sort_values("phi")
+        for (_, lower), (_, higher) in zip(curves.iloc[:-1].iterrows(), curves.iloc[1:].iterrows()):
+            interval = welch_interval(higher["per_seed"], lower["per_seed"], level)
+            rows.append({"mu": mu, "control": control, "phi_low": lower["phi"], "phi_high": higher["phi"],
+                         "difference": interval.mean, "low": interval.low, "high": interval.high})  # fmt: skip
+    columns = ["mu", "control", "phi_low", "phi_high", "difference", "low", "high"]
+    return pd.DataFrame(rows, columns=columns)
 
 
 def thickening_exponents(per_seed: pd.DataFrame, level: float = LEVEL) -> pd.DataFrame:

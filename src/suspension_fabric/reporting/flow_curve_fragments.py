@@ -23,12 +23,23 @@ _COLUMNS = (
 )
 
 
+#: What a thickening exponent can say under each control
+_EXPONENT_READING = {
+    "stress": "above 1 where the rate falls as the stress rises",
+    "rate": "below 1 by construction under rate control",
+}
+
 #: The Wyart-Cates parameters as printed
 _WYART_CATES = {"A": "A", "phi_J0": "φ_J⁰", "phi_Jmu": "φ_J^μ", "rms_log_residual": "rms residual of ln η_r"}
 
 
 def flow_curve_summary(
-    table: pd.DataFrame, onsets: pd.DataFrame, exponents: pd.DataFrame, wyart_cates: pd.DataFrame, level: float
+    table: pd.DataFrame,
+    onsets: pd.DataFrame,
+    differences: pd.DataFrame,
+    exponents: pd.DataFrame,
+    wyart_cates: pd.DataFrame,
+    level: float,
 ) -> str:
     """Per point the rate ratio and the steady sigma/sigma_0, eta_r, frictional fraction, contacts per
     particle and Pi with their t-intervals; then each curve's Wyart-Cates onset stress and its thickening
@@ -80,6 +91,11 @@ def flow_curve_summary(
             f"−ln f against σ₀/σ over {onset['points_per_seed']} points with 0 < f < 1 per seed; "
             f"the per-point estimates −ln f · σ/σ₀ span {spread})."
         )
+    for _, row in differences.iterrows():
+        lines.append(
+            f"- σ*/σ₀ at φ = {row['phi_high']:.2f} minus at φ = {row['phi_low']:.2f} (μ = {row['mu']:g}, imposed "
+            f"{row['control']}): {format_interval(row['difference'], row['low'], row['high'])} (Welch over the seeds)."
+        )
     for (phi, mu, control), curve in exponents.groupby(["phi", "mu", "control"]):
         secants = "; ".join(
             f"{row['target_low']:g} to {row['target_high']:g}: "
@@ -89,7 +105,7 @@ def flow_curve_summary(
         imposed = "γ̇/γ̇₀" if control == "rate" else "σ/σ₀"
         lines.append(
             f"- φ = {phi:.2f}, μ = {mu:g}: thickening exponent Δln η_r / Δln σ between neighbouring imposed "
-            f"{imposed} (1 is the discontinuous limit), per seed: {secants}."
+            f"{imposed}, per seed ({_EXPONENT_READING[control]}): {secants}."
         )
     for mu, fit in wyart_cates.groupby("mu"):
         values = ", ".join(

@@ -298,7 +298,7 @@ KEYS_BEFORE_RECORDED = {"contact_springs": "explicit", "preconditioner": "jacobi
 #: solves; rate-independent friction).
 KEYS_ADDED_SINCE = {
     "run": {"contact_solve": "lagged", "local_solve_fraction": 0.0, "initial_guess": "previous"},
-    "forces": {"critical_load_rate": None},
+    "forces": {"critical_load_rate": None, "critical_load_stress": None},
 }
 
 
