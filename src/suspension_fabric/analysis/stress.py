@@ -82,8 +82,8 @@ import pandas as pd
 
 from suspension_fabric.io.runinfo import read_run_info
 from suspension_fabric.io.stressio import read_stress_table
-from suspension_fabric.simulation.scales import EINSTEIN_COEFFICIENT
 
+from .constants import EINSTEIN_COEFFICIENT
 from .frames import VECTOR_ORDER, simulation_to_paper, sym_to_vec
 from .tables import read_fabric_table, read_table_csv
 

@@ -51,8 +51,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from suspension_fabric.analysis.constants import EINSTEIN_COEFFICIENT
 from suspension_fabric.analysis.frames import simple_shear_gradient
-from suspension_fabric.simulation.scales import EINSTEIN_COEFFICIENT
 
 from . import gillissen_wilson as model
 from .fabric_models import Parameter, check_parameters

@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import math
 
+from suspension_fabric.analysis.constants import EINSTEIN_COEFFICIENT
+
 
 def _mass(d: float, density: float) -> float:
     return density * math.pi / 6.0 * d**3
@@ -92,11 +94,6 @@ def critical_load_force(rate_ratio: float, eta_f: float, d_small: float, shear_r
     if min(rate_ratio, eta_f, d_small, shear_rate) <= 0:
         raise ValueError("rate_ratio, eta_f, d_small and shear_rate must be positive")
     return 6.0 * math.pi * eta_f * (0.5 * d_small) ** 2 * shear_rate / rate_ratio
-
-
-#: The Einstein coefficient: force- and torque-free spheres add 2.5 phi to the relative viscosity
-#: (Einstein, Ann. Phys. 19, 289, 1906), a stress no force of the simulation carries.
-EINSTEIN_COEFFICIENT = 2.5
 
 
 def background_viscosity(eta_f: float, phi: float) -> float:
