@@ -39,32 +39,12 @@ def _draw(table: pd.DataFrame, onsets: pd.DataFrame, level: float):
         color = f"C{k}"
         xerr = _interval(rows, "sigma")
         label = rf"$\phi$ = {phi:g}, $\mu$ = {mu:g}" + ("" if control == "rate" else ", stress imposed")
-        marker = "o" if control == "rate" else "s"
+        style = {"color": color, "marker": "o" if control == "rate" else "s", "ms": 5, "capsize": 2, "lw": 1}
         rate_axis.errorbar(
-            rows["rate_ratio"],
-            rows["sigma"],
-            xerr=_interval(rows, "rate_ratio"),
-            yerr=xerr,
-            color=color,
-            marker=marker,
-            ms=5,
-            capsize=2,
-            lw=1,
-            label=label,
+            rows["rate_ratio"], rows["sigma"], xerr=_interval(rows, "rate_ratio"), yerr=xerr, label=label, **style
         )
         for ax, (column, _) in zip(axes, panels):
-            ax.errorbar(
-                rows["sigma"],
-                rows[column],
-                xerr=xerr,
-                yerr=_interval(rows, column),
-                color=color,
-                marker=marker,
-                ms=5,
-                capsize=2,
-                lw=1,
-                label=label,
-            )
+            ax.errorbar(rows["sigma"], rows[column], xerr=xerr, yerr=_interval(rows, column), label=label, **style)
         onset = onsets[(onsets["phi"] == phi) & (onsets["mu"] == mu) & (onsets["control"] == control)]
         if len(onset) and np.isfinite(onset["sigma_star"].iloc[0]):
             star = float(onset["sigma_star"].iloc[0])
