@@ -435,7 +435,11 @@ def test_cases_refused_before_still_name_file_and_key(tmp_path, sections, key):
 
 
 #: Shipped configs that are read only on top of another (a rebuild from committed datasets).
-LAYERED_ON = {"map.yaml": "campaign.yaml", "thickening_reference.yaml": "thickening.yaml"}
+LAYERED_ON = {
+    "map.yaml": "campaign.yaml",
+    "thickening_reference.yaml": "thickening.yaml",
+    "thickening_rotation_reference.yaml": "thickening_rotation.yaml",
+}
 
 
 def test_the_shipped_studies_pass_every_new_check(monkeypatch):

@@ -104,7 +104,9 @@ def point_label(study):
     forces, phi = STUDIES[study]["forces"], STUDIES[study]["particles"]["phi"]
     if forces["critical_load_stress"] is not None:
         return f"φ {phi:g}, σ/σ₀ {forces['critical_load_stress']:g}"
-    return f"φ {phi:g}, γ̇/γ̇₀ {forces['critical_load_rate']:g}"
+    if forces["critical_load_rate"] is not None:
+        return f"φ {phi:g}, γ̇/γ̇₀ {forces['critical_load_rate']:g}"
+    return f"φ {phi:g}, μ {forces['mu']:g}"
 
 
 rule direction_response:

@@ -13,9 +13,9 @@ $$
 with $\eta_r$ the relative viscosity (solvent and Einstein parts included, as everywhere in the
 project). A point at controlled stress (``forces.critical_load_stress``: $\sigma/\sigma_0 = S$ held) has
 its rate measured instead: the runs' clock is the strain, and the critical load follows the stress,
-$F_{CL} = a^2\sigma/S$, so the physical rate at each step is $\dot\gamma/\dot\gamma_0 = 6\pi\eta_f
-a^2/F_{CL}$ and its mean over time is $6\pi\eta_f a^2$ over the mean of $F_{CL}$ over strain (a step of
-strain lasts a time proportional to $F_{CL}$). Its $\eta_r$, the mean over strain, is then the
+$F_{CL} = a^2\sigma/S$, so the physical rate at each step is
+$\dot\gamma/\dot\gamma_0 = 6\pi\eta_f a^2/F_{CL}$ and its mean over time is $6\pi\eta_f a^2$ over the
+mean of $F_{CL}$ over strain (a step of strain lasts a time proportional to $F_{CL}$). Its $\eta_r$, the mean over strain, is then the
 viscosity of the mean rate, $6\pi S$ over that rate.
 
 Per seed, every quantity is the mean over the startup frames in the steady window; the table gives
