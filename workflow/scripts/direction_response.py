@@ -33,7 +33,7 @@ with logged(sm.log[0]), checked_tables(sm):
     comparisons = []
     for first, second in zip(ordered[1:], ordered):  # each point against the next lower target
         for theta in sorted(set(per_seed["theta"])):
-            for quantity in ("eta_r", "frictional_fraction"):
+            for quantity in ("eta_r", "frictional_fraction", "Z_touching", "n12"):
                 window = direction_response.RESPONSE_WINDOWS[0]
                 interval = direction_response.between_points(
                     per_seed, first, second, theta=theta, quantity=quantity, window=window, level=sm.params.level
