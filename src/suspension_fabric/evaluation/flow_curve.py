@@ -15,8 +15,8 @@ project). A point at controlled stress (``forces.critical_load_stress``: $\sigma
 its rate measured instead: the runs' clock is the strain, and the critical load follows the stress,
 $F_{CL} = a^2\sigma/S$, so the physical rate at each step is
 $\dot\gamma/\dot\gamma_0 = 6\pi\eta_f a^2/F_{CL}$ and its mean over time is $6\pi\eta_f a^2$ over the
-mean of $F_{CL}$ over strain (a step of strain lasts a time proportional to $F_{CL}$). Its $\eta_r$, the mean over strain, is then the
-viscosity of the mean rate, $6\pi S$ over that rate.
+mean of $F_{CL}$ over strain (a step of strain lasts a time proportional to $F_{CL}$). Its $\eta_r$,
+the mean over strain, is then the viscosity of the mean rate, $6\pi S$ over that rate.
 
 Per seed, every quantity is the mean over the startup frames in the steady window; the table gives
 the mean over seeds with its t-interval (``level``), the seeds the independent units.
