@@ -40,12 +40,36 @@ from suspension_fabric.study.config import load_config
 STRAIN, WINDOW = 4.0, (2.0, 4.0)
 
 
-def lfdem_run(binary: Path, packing: Path, folder: Path, ratio: float, engine: dict, strain: float) -> Path:
+def reached_strain(folder: Path) -> float:
+    """The last cumulated shear strain of LF_DEM's data file in ``folder`` (0 without one)."""
+    paths = list(folder.glob("data_*.dat"))
+    if not paths:
+        return 0.0
+    rows = [line for line in paths[0].read_text().splitlines() if line and not line.startswith("#")]
+    if not rows:
+        return 0.0
+    return float(rows[-1].split()[data_columns(paths[0])["cumulated shear strain"]])
+
+
+def lfdem_run(
+    binary: Path,
+    packing: Path,
+    folder: Path,
+    ratio: float,
+    engine: dict,
+    strain: float,
+    read_until: float | None = None,
+) -> Path:
     """LF_DEM on ``packing`` at gammadot / gammadot_0 = ``ratio`` (``-r <ratio>cl``), one thread; a
-    folder holding a finished run of the same input (its ``finished`` file) is kept as it is."""
+    folder holding a finished run of the same input (its ``finished`` file) is kept as it is, and with
+    ``read_until`` so is a run still going (or stopped) that has passed that strain."""
     finished = folder / "finished"
     if finished.exists() and finished.read_text() == f"{packing.resolve()} {ratio:g}cl {strain:g}\n":
         return folder
+    if read_until is not None:
+        if reached_strain(folder) >= read_until:
+            return folder
+        raise RuntimeError(f"{folder}: LF_DEM has reached strain {reached_strain(folder):g}, not {read_until:g}")
     folder.mkdir(parents=True, exist_ok=True)
     _, small_radius = write_lfdem_configuration(packing, folder / "conf.dat")
     parameters = lfdem_parameters(small_radius, strain, engine).replace("friction_model = 1;", "friction_model = 2;")
@@ -110,6 +134,11 @@ def main() -> None:
     parser.add_argument("--window", type=float, nargs=2, default=WINDOW)
     parser.add_argument("--jobs", type=int, default=2, help="LF_DEM runs at a time, one core each")
     parser.add_argument("--keep", type=Path, default=Path("benchmarks/lfdem_runs"), help="LF_DEM's run folders")
+    parser.add_argument(
+        "--read-running",
+        action="store_true",
+        help="read runs (finished or not) that have passed the window's end instead of running LF_DEM",
+    )
     args = parser.parse_args()
     if args.lfdem is None or not Path(args.lfdem).is_file():
         print(BUILD_HELP)
@@ -127,7 +156,14 @@ def main() -> None:
                 run = args.study / point / f"seed{seed}"
                 folder = args.keep / point / f"seed{seed}"
                 peer = pool.submit(
-                    lfdem_run, args.lfdem.resolve(), run / "packing/packing.data", folder, ratio, engine, args.strain
+                    lfdem_run,
+                    args.lfdem.resolve(),
+                    run / "packing/packing.data",
+                    folder,
+                    ratio,
+                    engine,
+                    args.strain,
+                    args.window[1] if args.read_running else None,
                 )
                 runs[(ratio, seed)] = (run / "startup/stress.csv", peer)
     print(f"LF_DEM {args.lfdem}; phi {args.phi:g}, mu {mu:g}; strain {args.strain:g}, window {list(args.window)}")
