@@ -30,20 +30,8 @@ with logged(sm.log[0]), checked_tables(sm):
     )
     table = direction_response.response_table(per_seed.drop(columns="target"), sm.params.level)
     ordered = sorted(points, key=lambda name: points[name]["target"])
-    comparisons = []
-    for first, second in zip(ordered[1:], ordered):  # each point against the next lower target
-        for theta in sorted(set(per_seed["theta"])):
-            for quantity in ("eta_r", "frictional_fraction", "Z_touching", "n12"):
-                window = direction_response.RESPONSE_WINDOWS[0]
-                interval = direction_response.between_points(
-                    per_seed, first, second, theta=theta, quantity=quantity, window=window, level=sm.params.level
-                )
-                comparisons.append(
-                    {"first": points[first]["label"], "second": points[second]["label"], "theta": theta,
-                     "quantity": quantity, "window_low": window[0], "window_high": window[1],
-                     "mean": interval.mean, "low": interval.low, "high": interval.high}
-                )  # fmt: skip
-    comparisons = pd.DataFrame(comparisons)
+    labels = {name: point["label"] for name, point in points.items()}
+    comparisons = direction_response.neighbour_comparisons(per_seed, ordered, labels, sm.params.level)
     per_seed.to_csv(sm.output.seeds, index=False)
     table.to_csv(sm.output.table, index=False)
     comparisons.to_csv(sm.output.comparisons, index=False)

@@ -25,7 +25,14 @@ import pandas as pd
 
 from suspension_fabric.analysis.seed_statistics import LEVEL, adjusted_p, t_interval, t_test_p, welch_interval
 
-__all__ = ["RESPONSE_WINDOWS", "RESPONSE_QUANTITIES", "per_seed_responses", "response_table", "between_points"]
+__all__ = [
+    "RESPONSE_WINDOWS",
+    "RESPONSE_QUANTITIES",
+    "per_seed_responses",
+    "response_table",
+    "between_points",
+    "neighbour_comparisons",
+]
 
 #: Windows of strain after the change, chosen before the runs: the first half strain (the
 #: transient) and the rest of a 2-strain segment (the recovery)
@@ -112,3 +119,22 @@ def between_points(per_seed: pd.DataFrame, first: str, second: str, *, theta, qu
     )
     values = [per_seed.loc[cell & (per_seed["point"] == point), "response"].to_numpy() for point in (first, second)]
     return welch_interval(values[0], values[1], level)
+
+
+def neighbour_comparisons(per_seed: pd.DataFrame, ordered, labels: dict, level=LEVEL) -> pd.DataFrame:
+    """Each point of ``ordered`` (point names, by imposed rate or stress) against the one before it,
+    for every angle and quantity over the first window (`between_points`): columns first, second (their
+    ``labels``), theta, quantity, window_low, window_high, mean, low, high."""
+    window = RESPONSE_WINDOWS[0]
+    rows = []
+    for second, first in zip(ordered, ordered[1:]):
+        for theta in sorted(set(per_seed["theta"])):
+            for quantity, _ in RESPONSE_QUANTITIES:
+                interval = between_points(per_seed, first, second, theta=theta, quantity=quantity, window=window,
+                                          level=level)  # fmt: skip
+                rows.append(
+                    {"first": labels[first], "second": labels[second], "theta": theta, "quantity": quantity,
+                     "window_low": window[0], "window_high": window[1], "mean": interval.mean, "low": interval.low,
+                     "high": interval.high}
+                )  # fmt: skip
+    return pd.DataFrame(rows)
