@@ -69,8 +69,9 @@ def test_a_reversal_at_controlled_stress_follows_the_law_with_its_floor(tmp_path
     before, sigma now along the reversed flow: where the contacts built by the old flow push against
     the new one hard enough to bring sigma below the solvent's stress, which no finite rate could hold,
     the load is the solvent's (this small, lubrication-dominated system stays above it: the first
-    steps' stress jumps up as the particles' old velocities meet the reversed flow; the thickened
-    reversals of data/thickening_rotation reach the floor). The reversal runs to its end."""
+    steps' stress jumps up as the particles' old velocities meet the reversed flow; a thickened
+    reversal at phi = 0.54 fell below it and stopped the engine before the floor existed). The reversal
+    runs to its end."""
     startup, settings, model = stress_controlled_startup(tmp_path, 0.01)
     reversal = run_rotation(
         tmp_path / "reversal",
