@@ -43,10 +43,9 @@ def point_name(phi: float, mu: float, critical_load_rate: float | None = None, *
     """Folder name of a state point: (0.45, 0.5) -> 'phi0.45_mu0.5', (0.4, 0) -> 'phi0.40_mu0',
     (0.54, 1, 0.03) -> 'phi0.54_mu1_rate0.03', (0.56, 1, critical_load_stress=0.1) -> 'phi0.56_mu1_stress0.1'."""
     name = f"phi{phi:.2f}_mu{mu:g}"
-    if critical_load_rate is not None:
-        name += f"_rate{critical_load_rate:g}"
-    if critical_load_stress is not None:
-        name += f"_stress{critical_load_stress:g}"
+    for value, tag in zip((critical_load_rate, critical_load_stress), FLOW_CURVE_AXES.values()):
+        if value is not None:
+            name += f"_{tag}{value:g}"
     return name
 
 
