@@ -2,7 +2,8 @@
 the study that rebuilds their tables from it (config/protocols_fresh_reference.yaml): seeds in no
 other dataset, every file with its recorded checksum, no simulation in the rebuild's plan, every
 protocol score held out (the fits are the reference's, data/models/reference_parameters.csv, which
-saw seeds 1-16 only), and the results fragment the docs include equal to the rebuild's."""
+saw seeds 1-16 only), and the results fragments the docs include (the protocols' and the map's
+transfer model's) equal to the rebuild's."""
 
 from __future__ import annotations
 
@@ -49,11 +50,16 @@ def test_the_rebuild_scores_every_protocol_held_out_as_the_docs_show_it(tmp_path
     rules = {job["rule"] for job in dry_run_jobs(plan.stdout + plan.stderr)}
     assert not rules & {"pack", "shear_segment", "fabric_table", "stress_table"}, rules
     target = "results/protocols_fresh_reference/tables/protocol_summary.md"
-    result = snakemake(workdir, target, "--configfile", CONFIG, timeout=900)
+    transfer = "results/protocols_fresh_reference/tables/transfer_protocols.md"
+    result = snakemake(workdir, target, transfer, "--configfile", CONFIG, timeout=900)
     assert result.returncode == 0, result.stderr[-3000:]
     board = pd.read_csv(workdir / "results/protocols_fresh_reference/tables/protocol_leaderboard.csv")
     assert board["held_out"].all() and (board["seeds_seen"] == 0).all()
     assert set(board["fitted_on"]) == {"reference"}
     committed = (REPO / "docs/generated/protocol_fresh_summary.md").read_text()
     problems = fragment_problems((workdir / target).read_text(), committed)
+    assert not problems, problems
+    # the map's transfer model (data/models/transfer_map.json) saw N = 500 packings, none of these seeds
+    committed = (REPO / "docs/generated/transfer_protocols.md").read_text()
+    problems = fragment_problems((workdir / transfer).read_text(), committed)
     assert not problems, problems

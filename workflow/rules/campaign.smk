@@ -57,6 +57,34 @@ rule campaign_figures:
         "../scripts/campaign_figures.py"
 
 
+rule transfer_model:
+    """A fabric model fitted over the map's points at once (suspension_fabric.evaluation.model_transfer):
+    each point predicted by a fit on the others, against G-W; the model fitted on every point as a file
+    other studies score (models.transfer)."""
+    input:
+        startup_runs=per_point(rules.aggregate_startup.output.runs),
+        rotation_runs=per_point(rules.aggregate_rotation.output.runs),
+        fits=per_point(rules.fit_models.output[0]),
+    output:
+        points=f"{CAMPAIGN_RESULTS}/tables/transfer_points.csv",
+        folds=f"{CAMPAIGN_RESULTS}/tables/transfer_folds.csv",
+        summary=f"{CAMPAIGN_RESULTS}/tables/transfer_points.md",
+        model=f"{CAMPAIGN_RESULTS}/tables/transfer_model.json",
+    params:
+        points=POINTS,
+        datasets=config["campaign"]["datasets"],
+        required=config["campaign"]["transfer_points_required"],
+        window=config["verdicts"]["window"],
+        level=config["verdicts"]["level"],
+        code=code_version("../scripts/transfer_model.py"),
+    conda:
+        CONDA_ENV
+    log:
+        f"{CAMPAIGN_RESULTS}/logs/transfer_model.log",
+    script:
+        "../scripts/transfer_model.py"
+
+
 rule flow_curve:
     """Flow curves of a campaign over critical-load rates or stresses (campaign.critical_load_rate or
     campaign.critical_load_stress): per point and
@@ -97,16 +125,6 @@ rule flow_curve:
         f"{CAMPAIGN_RESULTS}/logs/flow_curve.log",
     script:
         "../scripts/flow_curve.py"
-
-
-def point_label(study):
-    """How a flow curve's point is named in tables and legends: phi and the imposed rate or stress."""
-    forces, phi = STUDIES[study]["forces"], STUDIES[study]["particles"]["phi"]
-    if forces["critical_load_stress"] is not None:
-        return f"φ {phi:g}, σ/σ₀ {forces['critical_load_stress']:g}"
-    if forces["critical_load_rate"] is not None:
-        return f"φ {phi:g}, γ̇/γ̇₀ {forces['critical_load_rate']:g}"
-    return f"φ {phi:g}, μ {forces['mu']:g}"
 
 
 rule direction_response:
@@ -160,3 +178,5 @@ if is_flow_curve_campaign(config):
         CAMPAIGN_TARGETS += [*rules.direction_response.output]
 else:
     CAMPAIGN_TARGETS = [*rules.campaign_map.output, *rules.campaign_figures.output]
+    if config["campaign"]["transfer_model"]:
+        CAMPAIGN_TARGETS += [*rules.transfer_model.output]

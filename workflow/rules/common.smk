@@ -156,6 +156,8 @@ def study_targets(study):
         if study not in STRESSLESS_STUDIES:
             targets += [*rules.aggregate_stress_protocols.output, *rules.benchmark_protocols.output]
             targets += rules.report_protocols.output
+            if STUDIES[study]["models"]["transfer"]:
+                targets += rules.transfer_protocols.output
             targets += expand(rules.figure_protocol.output, protocol=list(STUDIES[study]["protocols"]), allow_missing=True)
     if not STUDIES[study]["dataset"]:
         # every run's record a target too: Snakemake deletes it when the run's rerun starts, and plans
@@ -246,3 +248,13 @@ def segment_of(wildcards):
     """The run's segment, its index and flow history (suspension_fabric.io.protocols.RunNode)."""
     node = RUN_TREES[wildcards.study][wildcards.run]
     return {"index": node.index, "history": [segment.as_dict() for segment in node.history]}
+
+
+def point_label(study):
+    """How a flow curve's point is named in tables and legends: phi and the imposed rate or stress."""
+    forces, phi = STUDIES[study]["forces"], STUDIES[study]["particles"]["phi"]
+    if forces["critical_load_stress"] is not None:
+        return f"φ {phi:g}, σ/σ₀ {forces['critical_load_stress']:g}"
+    if forces["critical_load_rate"] is not None:
+        return f"φ {phi:g}, γ̇/γ̇₀ {forces['critical_load_rate']:g}"
+    return f"φ {phi:g}, μ {forces['mu']:g}"

@@ -196,6 +196,33 @@ rule benchmark_protocols:
         "../scripts/benchmark_protocols.py"
 
 
+rule transfer_protocols:
+    """The transfer model of a campaign (models.transfer, rule transfer_model) on each of the study's own
+    protocols at the study's (phi, mu), its rate not refitted, against G-W's steady fit (of
+    models.parameters_from, or the study's own)."""
+    input:
+        model=setting("models", "transfer"),
+        model_parameters=lambda wildcards: STUDIES[wildcards.study]["models"]["parameters_from"]
+        or rules.benchmark_models.output.parameters.format(study=wildcards.study),
+        steady=rules.aggregate_startup.output.steady,
+        protocol_runs=rules.aggregate_protocols.output.runs,
+    output:
+        table=f"{RESULTS}/tables/transfer_protocols.csv",
+        summary=f"{RESULTS}/tables/transfer_protocols.md",
+    params:
+        phi=setting("particles", "phi"),
+        mu=setting("forces", "mu"),
+        protocols=protocol_segments,
+        level=setting("verdicts", "level"),
+        code=code_version("../scripts/transfer_protocols.py"),
+    conda:
+        CONDA_ENV
+    log:
+        f"{RESULTS}/logs/transfer_protocols.log",
+    script:
+        "../scripts/transfer_protocols.py"
+
+
 rule closure_tests:
     """Each closure of <nnnn> (models.closures) against the measured fourth moment, per seed: in the
     steady startup and over the first verdicts.window strain after each rotation; the implied
