@@ -47,9 +47,17 @@ else:
     # Snakemake keeps the last of a key repeated in a config file or --config without a word, and
     # names no file or line for a YAML error: read the sources again strictly, the default study
     # before Snakemake does (a --configfile Snakemake cannot parse stops it before this Snakefile runs).
-    CONFIG_SOURCES = read_config_sources(
-        workflow.overwrite_configfiles or [DEFAULT_CONFIGFILE], workflow.config_settings.config_args
-    )
+    try:
+        CONFIG_SOURCES = read_config_sources(
+            workflow.overwrite_configfiles or [DEFAULT_CONFIGFILE], workflow.config_settings.config_args
+        )
+    except ConfigError as err:
+        if Path.cwd().resolve() != SNAKEFILE.parent:  # -s path/to/Snakefile from another folder
+            raise ConfigError(
+                f"{err}; this workflow's config, data and results are relative to its own folder "
+                f"{SNAKEFILE.parent}: run it from there, or add --directory {SNAKEFILE.parent}"
+            ) from None
+        raise
 
 
 # Without --configfile the default study, with any --config overrides on top of it; a study

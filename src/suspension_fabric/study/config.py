@@ -204,7 +204,8 @@ def read_config_file(path: str | os.PathLike) -> dict:
     (tabs) is read as JSON, as Snakemake does."""
     shown = _shown(path)
     if not Path(path).is_file():
-        raise ConfigError(f"config file not found: {shown}")
+        where = "" if Path(path).is_absolute() else f" (relative to the working directory {Path.cwd()})"
+        raise ConfigError(f"config file not found: {shown}{where}")
     try:
         text = Path(path).read_text(encoding="utf-8")
     except UnicodeDecodeError as err:
