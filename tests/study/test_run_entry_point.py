@@ -4,6 +4,7 @@ file, line or key named."""
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -44,3 +45,16 @@ def test_a_yaml_error_in_a_configfile_is_named_with_its_line_before_snakemake_st
     )
     assert result.returncode == 1
     assert f"{bad}, line 3" in result.stderr and "not valid YAML" in result.stderr
+
+
+def test_the_snakefile_run_from_another_folder_says_where_its_files_are(tmp_path):
+    from workflow_helpers import REPO
+
+    snakemake = Path(sys.executable).with_name("snakemake")
+    result = subprocess.run(
+        [str(snakemake), "-s", str(REPO / "Snakefile"), "-n"], cwd=tmp_path, capture_output=True, text=True, timeout=120
+    )
+    assert result.returncode != 0
+    message = result.stdout + result.stderr
+    assert f"relative to the working directory {tmp_path}" in message
+    assert f"--directory {REPO}" in message
