@@ -80,3 +80,17 @@ def test_two_points_are_compared_by_welch():
     interval = direction_response.between_points(per_seed, "a", "b", theta=90.0, quantity="eta_r", window=(0.0, 0.5))
     assert interval.mean == pytest.approx(-0.3)
     assert interval.low < -0.3 < interval.high
+
+
+def test_windows_are_half_open_so_no_frame_counts_twice_and_the_change_itself_in_none():
+    """eta_r 100 everywhere in both runs but 1000 at the change (strain 0) and 400 at strain 0.5 of
+    the rotated run: window (0, 0.5] holds 0.25 and 0.5, so its mean is (100 + 400) / 2 = 250 against
+    100 (+1.5); window (0.5, 2] holds 0.75 to 2 only, so no change."""
+    stress, fabric = rotation_tables({(1, 0): 100.0, (1, 90): 100.0, (2, 0): 100.0, (2, 90): 100.0})
+    rotated = stress["theta"] == 90
+    stress.loc[rotated & (stress["strain"] == 0.0), "eta_r"] = 1000.0
+    stress.loc[rotated & (stress["strain"] == 0.5), "eta_r"] = 400.0
+    per_seed = direction_response.per_seed_responses(stress, fabric)
+    eta = per_seed[per_seed["quantity"] == "eta_r"].set_index(["seed", "window_low"])["response"]
+    np.testing.assert_allclose(eta.loc[[(1, 0.0), (2, 0.0)]], 1.5, rtol=1e-12)
+    np.testing.assert_allclose(eta.loc[[(1, 0.5), (2, 0.5)]], 0.0, atol=1e-12)

@@ -2,8 +2,8 @@ r"""The response to a change of flow direction at one steady state: each rotated
 at $\theta = 0$ continued from the same checkpoint (same seed, same startup), over windows of strain
 after the change.
 
-Per seed $s$, angle $\theta$ and window $W$ (strain since the change), a quantity $q$ is averaged
-over the frames in $W$, $\bar q_s(\theta, W)$, and compared with the control $\bar q_s(0, W)$:
+Per seed $s$, angle $\theta$ and window $W$ (strain since the change, half open: $(a, b]$), a
+quantity $q$ is averaged over the frames in $W$, $\bar q_s(\theta, W)$, and compared with the control $\bar q_s(0, W)$:
 
 - $\eta_r$ by the relative change $\bar\eta_s(\theta, W) / \bar\eta_s(0, W) - 1$; at controlled
   stress the physical rate changes by $1/(1 + \cdot) - 1$ of it, as $\dot\gamma = \sigma/\eta$;
@@ -47,11 +47,13 @@ RESPONSE_QUANTITIES = (
 
 
 def _window_means(runs: pd.DataFrame, window, columns) -> pd.DataFrame:
-    """Per (seed, theta) the mean of ``columns`` over the frames with strain in ``window`` (strain
-    counted from the change); a (seed, theta) without a frame there is an error naming it."""
+    """Per (seed, theta) the mean of ``columns`` over the frames with strain in ``window`` = (low,
+    high] (strain counted from the change: the frame at the change itself, the state before the new
+    flow acts, is in no window, and a frame on the edge between two windows is in the first only); a
+    (seed, theta) without a frame there is an error naming it."""
     low, high = window
     runs = runs.assign(theta=runs["theta"].astype(float))
-    inside = runs[(runs["strain"] >= low - 1e-9) & (runs["strain"] <= high + 1e-9)]
+    inside = runs[(runs["strain"] > low + 1e-9) & (runs["strain"] <= high + 1e-9)]
     means = inside.groupby(["seed", "theta"])[list(columns)].mean()
     missing = sorted(set(map(tuple, runs[["seed", "theta"]].drop_duplicates().to_numpy())) - set(means.index))
     if missing:
