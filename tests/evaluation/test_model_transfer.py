@@ -131,7 +131,7 @@ def test_a_reversal_scores_the_shear_component_and_leaves_out_the_one_symmetry_k
     curves = ProtocolCurves(
         protocol, np.array([1, 2, 3]), grids, [grids[0], grids[1] + 2.0], [np.stack([f] * 3) for f in fabric], None
     )
-    table = model_transfer.protocol_table(_truth(0.45, 0.5), 0.45, 0.5, {"reversal": curves}, 10.0, -0.1)
+    table = model_transfer.protocol_table(_truth(0.45, 0.5), 0.45, 0.5, {"reversal": curves}, 10.0, 10.0, -0.1)
     assert list(table["component"]) == ["n12"]
     assert table["gw"].iloc[0] == pytest.approx(0.0, abs=1e-12)
     assert not table["target_met"].iloc[0]

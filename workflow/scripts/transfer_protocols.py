@@ -23,8 +23,11 @@ with logged(sm.log[0]), checked_tables(sm):
     runs = read_protocol_table(sm.input.protocol_runs)
     protocols = protocols_from_params(sm.params.protocols)
     curves = {name: protocol_benchmark.protocol_curves(p, runs) for name, p in protocols.items()}
+    map_beta = model_transfer.transferred_beta(
+        [(p["phi"], p["mu"], p["gw_beta"]) for p in source["points"]], sm.params.phi, sm.params.mu
+    )
     table = model_transfer.protocol_table(
-        fit, sm.params.phi, sm.params.mu, curves, float(gw["value"].iloc[0]), n12_ss, sm.params.level
+        fit, sm.params.phi, sm.params.mu, curves, float(gw["value"].iloc[0]), map_beta, n12_ss, sm.params.level
     )
     table.to_csv(sm.output.table, index=False)
     with open(sm.output.summary, "w") as out:
