@@ -48,11 +48,14 @@ stages under it, checked by tests/package/test_layout.py)
                    resumable run directories, post-run checks, the public runs); imports analysis
                    for the overlap check
     models      -- gillissen_wilson (G-W and modified G-W: closure, exact integration, steady
-                   states, fits, rotations), fabric_models and stress_relations (the plug-in
-                   interfaces; plugins loads user files), closures (<nnnn> from <nn>: linear,
-                   quadratic, hybrid), fits_file (fits.json, format 2)
+                   states, fits, rotations), fabric_interface (what a fabric model is),
+                   fabric_models and stress_relations (the plug-ins, built-in ones, integration
+                   and fits; plugins loads user files), sparse_fabric (the sparse-regression
+                   model), closures (<nnnn> from <nn>: linear, quadratic, hybrid), fits_file
+                   (fits.json, format 2)
     study       -- config (schema validation, cross-key checks), campaign (state points),
-                   dataset (reference datasets: load, rebuild)
+                   validate (the command that validates a study), dataset (reference
+                   datasets: load, rebuild)
     evaluation  -- model_vs_simulation (fits, predictions, errors), stress_model (the G-W stress
                    relation against the simulation), model_benchmark, stress_benchmark and
                    protocol_benchmark (held-out scores), claims and verdicts (the paper's claims

@@ -114,3 +114,86 @@ def test_the_api_reference_documents_every_module():
     api = (Path(__file__).parents[2] / "docs" / "api.md").read_text()
     documented = {line.removeprefix("::: suspension_fabric.") for line in api.splitlines() if line.startswith(":::")}
     assert {module_name(p) for p in MODULES} - {""} <= documented
+
+
+MODULE_NAMES = {module_name(p) for p in MODULES}
+
+
+def imported_module(target: str, modules: set[str] = MODULE_NAMES) -> str:
+    """The module an import lands in: ``models.fabric_models.FabricModel`` -> ``models.fabric_models``."""
+    while target and target not in modules:
+        target = target.rpartition(".")[0]
+    return target
+
+
+def import_graph(paths: list[Path] = MODULES, package_dir: Path = PACKAGE_DIR) -> dict[str, set[str]]:
+    """Module -> the package's modules it imports (module level or inside functions)."""
+    modules = {module_name(p, package_dir) for p in paths}
+    return {
+        module_name(p, package_dir): {imported_module(t, modules) for _, t in imported_modules(p, package_dir)}
+        - {module_name(p, package_dir)}
+        for p in paths
+    }
+
+
+def import_cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """One cycle (``[a, b, ..., a]``) through every strongly connected group of two or more modules."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    groups: list[set[str]] = []
+
+    def visit(node: str) -> None:  # Tarjan's strongly connected components
+        index[node] = low[node] = len(index)
+        stack.append(node)
+        for nxt in sorted(graph.get(node, ())):
+            if nxt not in index:
+                visit(nxt)
+                low[node] = min(low[node], low[nxt])
+            elif nxt in stack:
+                low[node] = min(low[node], index[nxt])
+        if low[node] == index[node]:
+            group = set()
+            while True:
+                member = stack.pop()
+                group.add(member)
+                if member == node:
+                    break
+            if len(group) > 1:
+                groups.append(group)
+
+    for node in sorted(graph):
+        if node not in index:
+            visit(node)
+
+    cycles = []
+    for group in groups:
+        start = min(group)
+        path, seen = [start], {start}
+        while True:  # walk inside the group until a module repeats
+            nxt = min(m for m in graph[path[-1]] if m in group)
+            if nxt in seen:
+                cycles.append(path[path.index(nxt) :] + [nxt])
+                break
+            path.append(nxt)
+            seen.add(nxt)
+    return sorted(cycles)
+
+
+def test_no_import_cycle_between_modules():
+    """No module imports itself through others, not even by an import inside a function."""
+    cycles = [" -> ".join(m or "suspension_fabric" for m in cycle) for cycle in import_cycles(import_graph())]
+    assert cycles == [], f"import cycles: {cycles}"
+
+
+def test_the_cycle_check_finds_a_cycle_through_a_lazy_import(tmp_path):
+    """The check itself: a cycle closed by an import inside a function is found (so the test above can fail)."""
+    fake = tmp_path / "suspension_fabric"
+    (fake / "models").mkdir(parents=True)
+    (fake / "models" / "a.py").write_text("from .b import thing\n")
+    (fake / "models" / "b.py").write_text("def thing():\n    from suspension_fabric.models import c\n")
+    (fake / "models" / "c.py").write_text("import numpy\nfrom .a import other\n")
+    (fake / "models" / "d.py").write_text("from . import a\n")
+    graph = import_graph(sorted(fake.rglob("*.py")), fake)
+    assert import_cycles(graph) == [["models.a", "models.b", "models.c", "models.a"]]
+    assert import_cycles({**graph, "models.c": set()}) == []

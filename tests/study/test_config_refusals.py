@@ -19,12 +19,12 @@ from suspension_fabric.study.config import (
     check_complete_study,
     frames_between,
     load_config,
-    main,
     read_config_file,
     read_config_sources,
     study_run_tree,
     validate_config,
 )
+from suspension_fabric.study.validate import main
 from workflow_helpers import REPO, copy_workflow, snakemake
 
 #: config/test.yaml: dt 1e-4, startup 0.3, rotations 0.1, a frame every 0.01, steady window [0.1, 0.3]
@@ -103,7 +103,7 @@ def test_the_same_key_in_two_mappings_is_no_repetition(tmp_path):
 @pytest.mark.fault("refused")
 def test_a_yaml_syntax_error_names_file_line_and_column(tmp_path, capsys):
     """Snakemake's own message for this file names neither file nor line, and comes before the
-    Snakefile runs for a --configfile (so `python -m suspension_fabric.study.config` is the way
+    Snakefile runs for a --configfile (so `python -m suspension_fabric.study.validate` is the way
     there); the default config/config.yaml is read strictly before Snakemake reads it."""
     path = study_file(tmp_path, TEST_STUDY.replace("seeds: [1, 2]", "seeds: [1, 2"))
     line = TEST_STUDY.splitlines().index("seeds: [1, 2]") + 1

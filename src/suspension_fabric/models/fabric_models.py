@@ -1,10 +1,10 @@
 r"""Fabric models as plug-ins: any model of $\mathrm{d}\langle nn\rangle/\mathrm{d}\gamma$ runs
 through the same integration, steady state and fits.
 
-A fabric model is a [`FabricModel`][suspension_fabric.models.fabric_models.FabricModel]: a key (its name in tables), a
-display label, its parameters with bounds ([`Parameter`][suspension_fabric.models.fabric_models.Parameter]), the
-components of the steady simple-shear fabric that the paper-style fit matches (one per parameter), and the right-hand
-side
+A fabric model is a [`FabricModel`][suspension_fabric.models.fabric_interface.FabricModel]: a key (its name in
+tables), a display label, its parameters with bounds
+([`Parameter`][suspension_fabric.models.fabric_interface.Parameter]), the components of the steady simple-shear fabric
+that the paper-style fit matches (one per parameter), and the right-hand side
 
 $$
 \frac{\mathrm{d}\langle nn\rangle}{\mathrm{d}\gamma} =
@@ -12,11 +12,16 @@ $$
 $$
 
 in the paper frame, where ``flow`` is the normalised kinematics of the velocity gradient $L$
-([`Flow`][suspension_fabric.models.fabric_models.Flow]: $\hat{L} = L/\dot\gamma$,
+([`Flow`][suspension_fabric.models.fabric_interface.Flow]: $\hat{L} = L/\dot\gamma$,
 $\hat{E} = (\hat{L} + \hat{L}^{\mathsf{T}})/2$, its extensional part $\hat{E}_e$ and compressional part $\hat{E}_c$, as
 in [`suspension_fabric.models.gillissen_wilson.split_strain_rate`][]), ``params`` maps parameter
 names to values and $\phi$ is the volume fraction. A model may also give a closed-form steady
 state in simple shear and its own exact steady fit.
+The interface is defined in
+[`suspension_fabric.models.fabric_interface`][suspension_fabric.models.fabric_interface] (its names importable from here
+too), below this module and the sparse-regression model whose files
+[`load_model`][suspension_fabric.models.fabric_models.load_model] reads
+([`suspension_fabric.models.sparse_fabric`][suspension_fabric.models.sparse_fabric]).
 
 Integration ([`integrate`][suspension_fabric.models.fabric_models.integrate]): if the model declares itself ``affine``
 (its right-hand side is affine in $\langle nn\rangle$ for a fixed flow, as G-W and the modified model are), the 6-vector
@@ -51,11 +56,8 @@ and 2. A user's model is named in the config as ``module:attribute`` or
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
 from functools import partial
-from typing import NamedTuple
 
 import numpy as np
 
@@ -73,8 +75,21 @@ from suspension_fabric.io.protocols import Protocol
 
 from . import gillissen_wilson as paper_models
 from .closures import contract_hybrid
-from .gillissen_wilson import as_strains, closure_model_rhs, solve_affine, split_strain_rate
+
+# the model interface, its names importable from here as before it had a module of its own
+from .fabric_interface import (
+    FabricModel,
+    Flow,
+    ModelError,
+    Parameter,
+    check_parameters,
+    common_flow,
+    flow_of,
+    newton_steady,
+)
+from .gillissen_wilson import as_strains, closure_model_rhs, solve_affine
 from .plugins import load_plugin, resolve_plugins
+from .sparse_fabric import read_model_file
 
 __all__ = [
     "Parameter",
@@ -109,113 +124,10 @@ __all__ = [
 STEADY_STRAIN = 200.0
 
 
-class ModelError(ValueError):
-    """A fabric model that cannot be used as declared (bad parameters, not affine, no steady state)."""
-
-
-@dataclass(frozen=True)
-class Parameter:
-    """A model parameter: its name, bounds (inclusive) and the start of the fits' search."""
-
-    name: str
-    lower: float
-    upper: float
-    start: float
-
-    def __post_init__(self):
-        if not self.name.isidentifier():
-            raise ModelError(f"parameter name {self.name!r} must be an identifier")
-        if not (self.lower <= self.start <= self.upper):
-            raise ModelError(
-                f"parameter {self.name}: start {self.start} outside its bounds [{self.lower}, {self.upper}]"
-            )
-
-
-def check_parameters(parameters, params: Mapping[str, float], owner: str, error: type[Exception]) -> dict[str, float]:
-    """``params`` as {name: float} with every one of ``parameters``, finite and within its bounds;
-    otherwise ``error`` naming ``owner`` (e.g. "model gw")."""
-    names = [p.name for p in parameters]
-    if set(params) != set(names):
-        raise error(f"{owner}: parameters {sorted(params)} given, expected {names}")
-    checked = {}
-    for p in parameters:
-        value = float(params[p.name])
-        if not (math.isfinite(value) and p.lower <= value <= p.upper):
-            raise error(f"{owner}: {p.name} = {value} outside [{p.lower}, {p.upper}]")
-        checked[p.name] = value
-    return checked
-
-
-class Flow(NamedTuple):
-    """Normalised kinematics of a velocity gradient L (paper frame): Lh = L/gammadot, Eh = sym(Lh),
-    Eh_e and Eh_c its parts with positive and negative eigenvalues (shapes (..., 3, 3))."""
-
-    grad_hat: np.ndarray
-    e_hat: np.ndarray
-    e_ext: np.ndarray
-    e_comp: np.ndarray
-
-
-def flow_of(velocity_gradient) -> Flow:
-    """[`Flow`][suspension_fabric.models.fabric_models.Flow] of a velocity gradient (only its direction matters)."""
-    grad_hat, e_hat, e_ext, e_comp, _ = split_strain_rate(velocity_gradient)
-    return Flow(grad_hat, e_hat, e_ext, e_comp)
-
-
-@dataclass(frozen=True)
-class FabricModel:
-    """A fabric model (see the module docstring). ``rhs(fabric, flow, params, phi)`` broadcasts over
-    leading axes of ``fabric`` and of the flow's tensors; ``steady`` (optional) returns the closed
-    steady fabric in simple shear L = e1 e2 from (params, phi); ``fit`` (optional) returns the
-    parameters whose steady state matches ``targets`` ({component: value}) exactly; ``published``
-    (optional) holds the parameters its source printed, for comparison with the fits.
-
-    ``vector_form`` (optional) is ``rhs`` again, in the form the ODE solver calls about 10^5 times
-    per fit: ``vector_form(flow, params, phi)`` returns the function v -> dv/dgamma on 6-vectors
-    (..., 6) under that fixed flow, with whatever depends on the flow alone computed once (or None
-    for a flow it does not handle, where ``rhs`` is used). It must equal ``rhs`` to rounding
-    (tests/models/test_fabric_models.py checks the built-in ones)."""
-
-    key: str
-    label: str
-    parameters: tuple[Parameter, ...]
-    steady_targets: tuple[str, ...]
-    rhs: Callable
-    affine: bool = False
-    steady: Callable | None = None
-    fit: Callable | None = None
-    description: str = field(default="", compare=False)
-    published: Mapping[str, float] | None = field(default=None, compare=False)
-    vector_form: Callable | None = field(default=None, compare=False)
-
-    def __post_init__(self):
-        if not self.key.isidentifier():
-            raise ModelError(f"model key {self.key!r} must be an identifier (it names table columns)")
-        names = [p.name for p in self.parameters]
-        if not names or len(set(names)) != len(names):
-            raise ModelError(f"model {self.key}: parameter names {names} must be distinct and at least one")
-        if self.published is not None and set(self.published) != set(names):
-            raise ModelError(f"model {self.key}: published parameters {sorted(self.published)} must be {names}")
-        unknown = set(self.steady_targets) - set(VECTOR_ORDER)
-        if unknown or len(self.steady_targets) != len(names):
-            raise ModelError(
-                f"model {self.key}: steady_targets {self.steady_targets} must be {len(names)} "
-                f"fabric components among {VECTOR_ORDER} (one per parameter)"
-            )
-
-    @property
-    def names(self) -> tuple[str, ...]:
-        return tuple(p.name for p in self.parameters)
-
-    def check(self, params: Mapping[str, float]) -> dict[str, float]:
-        """``params`` as a {name: float} dict with every parameter, finite and within its bounds."""
-        return check_parameters(self.parameters, params, f"model {self.key}", ModelError)
-
-
 # --------------------------------------------------------------------------- built-in models
 def _closure_model_rhs(fabric, flow: Flow, rate_break: float, rate_form: float, rate_iso: float, phi: float):
     """[`suspension_fabric.models.gillissen_wilson.closure_model_rhs`][] on a
-    [`Flow`][suspension_fabric.models.fabric_models.Flow]."""
+    [`Flow`][suspension_fabric.models.fabric_interface.Flow]."""
     return closure_model_rhs(
         np.asarray(fabric, dtype=float), flow.grad_hat, flow.e_ext, flow.e_comp, rate_break, rate_form, rate_iso, phi
     )
@@ -387,41 +299,6 @@ def _applied(matrix) -> Callable:
     return lambda v: (matrix @ v[..., None])[..., 0]
 
 
-def common_flow(flow: Flow) -> Flow | None:
-    """The flow as one (3, 3) flow if every entry of a batch is the same, else None."""
-    grad = np.asarray(flow.grad_hat)
-    if grad.ndim == 2:
-        return flow
-    flat = grad.reshape(-1, 3, 3)
-    if np.all(flat == flat[0]):
-        return Flow(*(np.asarray(t).reshape(-1, 3, 3)[0] for t in flow))
-    return None
-
-
-def newton_steady(fabric_model: FabricModel, params, phi, start) -> np.ndarray:
-    """The steady fabric of a model in simple shear as the root of its right-hand side nearest
-    ``start`` (Powell's hybrid method), accepted only if it attracts (every eigenvalue of the
-    Jacobian, by central differences, has a negative real part); else
-    [`ModelError`][suspension_fabric.models.fabric_models.ModelError]."""
-    flow = flow_of(simple_shear_gradient())
-
-    def residual(v):
-        return _rhs_vec(fabric_model, v, flow, params, phi)
-
-    from scipy.optimize import root  # scipy where used: table-only jobs start without it
-
-    solution = root(residual, sym_to_vec(np.asarray(start, dtype=float)), method="hybr", tol=1e-13)
-    if not solution.success or np.abs(residual(solution.x)).max() > 1e-10:
-        raise ModelError(f"model {fabric_model.key}: no steady state near the start at {params} ({solution.message})")
-    step = 1e-6
-    jacobian = np.stack(
-        [(residual(solution.x + step * e) - residual(solution.x - step * e)) / (2 * step) for e in np.eye(6)], axis=1
-    )
-    if not np.all(np.linalg.eigvals(jacobian).real < 0.0):
-        raise ModelError(f"model {fabric_model.key}: the steady state at {params} does not attract")
-    return vec_to_sym(solution.x)
-
-
 #: G-W with the closure that tested best against the measured fourth moment (the hybrid closure,
 #: [`suspension_fabric.models.closures`][suspension_fabric.models.closures]); its steady state by Newton's method from
 #: G-W's.
@@ -443,12 +320,11 @@ BUILT_IN = {m.key: m for m in (GW, MODIFIED, SEPARATE_RATES, GW_HYBRID)}
 # --------------------------------------------------------------------------- loading
 def load_model(spec: str) -> FabricModel:
     """A model from its config entry: a built-in key, ``package.module:attribute``,
-    ``path/to/file.py:attribute`` (the attribute a [`FabricModel`][suspension_fabric.models.fabric_models.FabricModel])
-    or a model file ``path/to/model.json`` written by the project (a sparse-regression model,
+    ``path/to/file.py:attribute`` (the attribute a
+    [`FabricModel`][suspension_fabric.models.fabric_interface.FabricModel]) or a model file ``path/to/model.json``
+    written by the project (a sparse-regression model,
     [`suspension_fabric.models.sparse_fabric.read_model_file`][])."""
     if spec.endswith(".json"):
-        from .sparse_fabric import read_model_file  # the sparse model is itself a FabricModel
-
         return read_model_file(spec)
     return load_plugin(spec, BUILT_IN, FabricModel, ModelError, "model")
 
@@ -472,8 +348,8 @@ def vector_rhs(fabric_model: FabricModel, flow: Flow, params, phi) -> Callable:
 
 def affine_system(fabric_model: FabricModel, flow: Flow, params, phi):
     """(M, b) of dv/dgamma = M v + b for an affine model, from its right-hand side; raises
-    [`ModelError`][suspension_fabric.models.fabric_models.ModelError] if the model is not affine in <nn> (checked on a
-    random fabric)."""
+    [`ModelError`][suspension_fabric.models.fabric_interface.ModelError] if the model is not affine in <nn> (checked
+    on a random fabric)."""
     if not fabric_model.affine:
         raise ModelError(f"model {fabric_model.key} is not declared affine")
     lead = flow.grad_hat.shape[:-2]

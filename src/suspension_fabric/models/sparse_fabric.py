@@ -34,7 +34,7 @@ import numpy as np
 
 from suspension_fabric.analysis.frames import SYMMETRIC_BASIS, map_matrix, sym_to_vec, vec_to_sym
 
-from .fabric_models import FabricModel, Flow, ModelError, Parameter, common_flow, newton_steady
+from .fabric_interface import FabricModel, Flow, ModelError, Parameter, common_flow, newton_steady
 
 __all__ = [
     "LIBRARY",
@@ -136,11 +136,11 @@ def sparse_model(
     label: str = "sparse regression",
     steady_fabric=None,
 ) -> FabricModel:
-    """The [`FabricModel`][suspension_fabric.models.fabric_models.FabricModel] of (1) with the given
+    """The [`FabricModel`][suspension_fabric.models.fabric_interface.FabricModel] of (1) with the given
     {term: c_k} (terms of `LIBRARY`); its parameter is the rate r, fitted on the steady
     <nn>_12. ``steady_fabric``: the steady fabric the fit held at r = 1, from which the steady
     state at any r is found by Newton's method
-    ([`newton_steady`][suspension_fabric.models.fabric_models.newton_steady]; else by integration)."""
+    ([`newton_steady`][suspension_fabric.models.fabric_interface.newton_steady]; else by integration)."""
     unknown = set(coefficients) - set(LIBRARY)
     if unknown or not coefficients:
         raise ModelError(f"sparse model terms {sorted(unknown) or '(none)'}: expected terms of LIBRARY {list(LIBRARY)}")

@@ -946,25 +946,6 @@ def check_comparison(config: dict, label: str, compared: dict, *, taken=(), stre
         )
 
 
-def main(argv: list[str] | None = None) -> int:
-    """``python -m suspension_fabric.study.config FILE...``: validate a study as the workflow does
-    with ``--configfile FILE...`` (the files layered in order), naming file, line and key of what is
-    wrong; Snakemake's own message for a --configfile it cannot parse names neither."""
-    from .campaign import study_configs
-
-    paths = sys.argv[1:] if argv is None else argv
-    if not paths:
-        print("usage: python -m suspension_fabric.study.config CONFIG.yaml [MORE.yaml...]", file=sys.stderr)
-        return 2
-    try:
-        studies = study_configs(load_layered_config(paths), read_config_sources(paths))
-    except ConfigError as err:
-        print(err, file=sys.stderr)
-        return 1
-    print(f"{' + '.join(paths)}: valid ({', '.join(studies)})")
-    return 0
-
-
 def folded_angles(angles_deg) -> list:
     """The rotations of ``angles_deg`` once each, in their order: -180 degrees turns the flow as 180 does,
     so it is read as 180 and a repeat is dropped (a rotation simulated once)."""
@@ -982,7 +963,6 @@ def angle_label(theta_deg: float) -> str:
     return text.replace("-", "m")
 
 
-if __name__ == "__main__":  # the package's module, whose ConfigError the campaign module raises
-    from suspension_fabric.study.config import main as package_main
-
-    sys.exit(package_main())
+if __name__ == "__main__":  # the command moved to study.validate, which also validates a campaign's points
+    print("python -m suspension_fabric.study.validate CONFIG.yaml [MORE.yaml...] validates a study", file=sys.stderr)
+    sys.exit(2)
