@@ -12,9 +12,9 @@ simulation across MPI ranks").
     .venv/bin/python benchmarks/mpi_scaling.py model [--n 16000]     # efficiency, 1-64 ranks
     .venv/bin/python benchmarks/mpi_scaling.py sizes --n 500 4000 16000   # cost per atom against N
     .venv/bin/python benchmarks/mpi_scaling.py local --n 500 4000 16000   # local solves: idle
-    .venv/bin/python benchmarks/mpi_scaling.py contention [--n 16000] [--label L]   # two 1-rank runs at once: idle
-    .venv/bin/python benchmarks/mpi_scaling.py jitter [--n 16000] [--label L]   # a synchronisation's price: idle
-    .venv/bin/python benchmarks/mpi_scaling.py preconditioners [--n 16000] [--label L]   # each on 1, 2 ranks: idle
+
+The commands `contention`, `jitter` and `preconditioners`, whose tables are in
+benchmarks/data/mpi_scaling/n16000/, are in commit 7b1031c (docs/physics.md).
 
 `prepare`: the paper's point (phi = 0.45, packing seed 1, the default forces and engine) at
 N = n, a startup to strain PREPARE_STRAIN on 2 ranks, into results/mpi_scaling/n<N>/.
@@ -46,21 +46,6 @@ the CG iterations and the iterations' part: what the growth of the cost with N c
 with local solves (run.local_solve_fraction = LOCAL_FRACTION), alternating, REPEATS times each:
 the cost per atom per step, the global CG iterations, and the cost per atom against the
 smallest N (local_solves_n<N>_..., one table per command).
-
-`contention`: the 1-rank continuation (CONTENTION_STRAIN) alone, then two of it at once (one per
-core), alternating, REPEATS times: how much two runs on the two cores slow each other (memory and
-cache shared), which bounds what any split over 2 ranks can gain here: 2 / (1 + slowdown)
-(contention.csv, or with --label L contention_L.csv).
-
-`jitter`: benchmarks/mpi_sync_jitter.c on 2 ranks at JITTER_GRAINS_US and at the committed 2-rank
-run's grain (its step over its synchronisations per step): how much longer a fixed piece of
-register arithmetic takes with an MPI_Allreduce after each piece than without, the price of a
-synchronisation beyond its latency on this machine (jitter.csv, or jitter_L.csv).
-
-`preconditioners`: each preconditioner of run.preconditioner on 1 and on 2 ranks, the four runs of
-a round in an order that rotates, REPEATS rounds: per round each one's loop time over the default's
-on each rank count, and the faster 2-rank run over the faster 1-rank run (preconditioners.csv, or
-preconditioners_L.csv).
 
 `model`: the time per step on P ranks of dedicated cores of one node,
     t(P) = N/P (a + b I(P)) + (5 + 2 I(P)) 6 g(P) c + (5 + 3 I(P)) s log2 P,
@@ -110,7 +95,6 @@ TABLES = Path("benchmarks/data/mpi_scaling")
 PREPARE_STRAIN = 1.0
 MEASURE_STRAIN = 0.1
 ITERATION_STRAIN = 0.02
-CONTENTION_STRAIN = 0.05
 REPEATS = 3
 SPLIT_TOL = 1.0e-5
 LOCAL_FRACTION = 0.02
@@ -125,9 +109,6 @@ EXCHANGES_PER_ITERATION = 2
 SUMS_FIXED = 5
 SUMS_PER_ITERATION = 3
 LATENCY_SOURCE = Path(__file__).with_name("mpi_latency.c")
-JITTER_SOURCE = Path(__file__).with_name("mpi_sync_jitter.c")
-JITTER_GRAINS_US = (30, 100, 1000)
-JITTER_SECONDS = 2.0
 SECTION = re.compile(r"^(Comm|Modify)\s*\|\s*[0-9.eE+-]+\s*\|\s*([0-9.eE+-]+)\s*\|", re.MULTILINE)
 GHOSTS = re.compile(r"^Nghost:\s+([0-9.eE+-]+) ave", re.MULTILINE)
 BOX = re.compile(r"triclinic box = \(([^)]*)\) to \(([^)]*)\)")
@@ -313,47 +294,6 @@ def rotating_rounds(n: int, runs: list[tuple[int, str, ForceModel, dict]]) -> li
     return rows
 
 
-def preconditioners(n: int, label: str = "") -> None:
-    """Each preconditioner on 1 and on 2 ranks, the four runs of a round in an order that rotates from
-    round to round (REPEATS rounds): which is faster on each rank count, measured side by side
-    (preconditioners.csv)."""
-    runs = [(ranks, name) for ranks in (1, 2) for name in PRECONDITIONERS]
-    print("| round | ranks | preconditioner | loop s | mean CG iterations | host steal % |\n|--:|--:|---|--:|--:|--:|")
-    rows = rotating_rounds(
-        n,
-        [
-            (ranks, f"{name}_ranks{ranks}", ForceModel(preconditioner=name), {"preconditioner": name})
-            for ranks, name in runs
-        ],
-    )
-    write_rows(rows, tables(n) / f"preconditioners{labelled(label)}.csv")
-    print()
-    for ranks in (1, 2):
-        by_round = {
-            name: [row["loop_s"] for row in rows if row["ranks"] == ranks and row["preconditioner"] == name]
-            for name in PRECONDITIONERS
-        }
-        default = by_round[DEFAULT_PRECONDITIONER]
-        for name in (name for name in PRECONDITIONERS if name != DEFAULT_PRECONDITIONER):
-            ratios = [other / base for other, base in zip(by_round[name], default, strict=True)]
-            print(
-                f"{ranks} rank(s): {name}'s loop time over {DEFAULT_PRECONDITIONER}'s per round "
-                f"{', '.join(f'{r:.2f}' for r in ratios)}; median {statistics.median(ratios):.2f}"
-            )
-    best = {
-        ranks: [
-            min(row["loop_s"] for row in rows if row["ranks"] == ranks and row["repeat"] == repeat)
-            for repeat in range(1, REPEATS + 1)
-        ]
-        for ranks in (1, 2)
-    }
-    speedups = [one / two for one, two in zip(best[1], best[2], strict=True)]
-    print(
-        f"the faster on 2 ranks over the faster on 1, per round: {', '.join(f'{x:.2f}' for x in speedups)}; "
-        f"median {statistics.median(speedups):.2f} (target >= 1.7)"
-    )
-
-
 def iterations(n: int, ranks_list: list[int], preconditioner: str = DEFAULT_PRECONDITIONER) -> None:
     """The CG iterations and ghosts on each rank count (iterations.csv; another preconditioner than
     the default into iterations_<preconditioner>.csv)."""
@@ -481,42 +421,6 @@ def latency(n: int) -> None:
         f"2 ranks: MPI_Allreduce of one double {allreduce_us:.3f} us; a message of {doubles} doubles "
         f"{message_ns:.3f} ns per double one way"
     )
-
-
-def syncs_per_step(iterations_per_step: float) -> float:
-    """The ghost exchanges and global sums of one step at that many CG iterations (the counts above)."""
-    fixed = EXCHANGES_FIXED + SUMS_FIXED
-    return fixed + (EXCHANGES_PER_ITERATION + SUMS_PER_ITERATION) * iterations_per_step
-
-
-def jitter(n: int, label: str = "") -> None:
-    """Compiles benchmarks/mpi_sync_jitter.c and runs it on 2 ranks at several grains of work
-    between synchronisations, one of them the committed 2-rank run's (its step over its
-    synchronisations per step): how much a synchronisation costs beyond its latency here."""
-    two = [row for row in read_rows(tables(n) / "measure.csv") if row["ranks"] == 2]
-    step_us = 1e6 * statistics.median(row["loop_s"] / row["steps"] for row in two)
-    step_grain = step_us / syncs_per_step(statistics.median(row["iterations"] for row in two))
-    binary = compile_mpi_program(JITTER_SOURCE)
-    print(
-        f"# 2 ranks; the committed 2-rank run: {step_us / 1000:.1f} ms per step, "
-        f"{step_grain:.0f} us of work per synchronisation\n"
-    )
-    print("| work between synchronisations, us | alone, us (slower rank) | synchronised, us | lost | host steal % |")
-    print("|--:|--:|--:|--:|--:|")
-    rows = []
-    for grain in sorted((*JITTER_GRAINS_US, round(step_grain))):
-        intervals = max(1000, round(JITTER_SECONDS * 1e6 / grain))
-        command = [str(mpi_launcher()), "-np", "2", str(binary), str(grain), str(intervals)]
-        before = cpu_times()
-        result = subprocess.run(command, env=lammps_environment(), capture_output=True, text=True, check=True)
-        steal = stolen_share(before, cpu_times())
-        work_us, alone_us, synchronised_us = (float(value) for value in result.stdout.split())
-        lost = synchronised_us / alone_us - 1.0
-        rows.append({"grain_us": work_us, "alone_us": alone_us, "synchronised_us": synchronised_us, "steal": steal})
-        print(
-            f"| {work_us:.0f} | {alone_us:.1f} | {synchronised_us:.1f} | {lost:+.1%} | {100 * steal:.1f} |", flush=True
-        )
-    write_rows(rows, tables(n) / f"jitter{labelled(label)}.csv")
 
 
 def processor_grid(ranks: int, lengths: tuple[float, float, float]) -> tuple[int, int, int]:
@@ -708,26 +612,6 @@ def sizes(ns: list[int]) -> None:
         )
 
 
-def contention(n: int, label: str = "") -> None:
-    """The 1-rank continuation alone and two of it at once, alternating (module docstring); into
-    contention.csv, or contention_<label>.csv."""
-    from concurrent.futures import ThreadPoolExecutor
-
-    rows, slowdowns = [], []
-    print("| repeat | alone s | two at once s (each) | slowdown |\n|--:|--:|--:|--:|")
-    for repeat in range(1, REPEATS + 1):
-        alone = continuation(n, 1, CONTENTION_STRAIN, "contention_alone")["loop_s"]
-        with ThreadPoolExecutor(2) as pool:
-            pair = list(pool.map(lambda k: continuation(n, 1, CONTENTION_STRAIN, f"contention_{k}"), ("a", "b")))
-        together = [run["loop_s"] for run in pair]
-        slowdowns.append(statistics.fmean(together) / alone - 1.0)
-        rows.append({"repeat": repeat, "alone_s": alone, "first_s": together[0], "second_s": together[1]})
-        print(f"| {repeat} | {alone:.1f} | {together[0]:.1f}, {together[1]:.1f} | {slowdowns[-1]:+.1%} |", flush=True)
-    write_rows(rows, tables(n) / f"contention{labelled(label)}.csv")
-    median = statistics.median(slowdowns)
-    print(f"\nmedian slowdown {median:+.1%}: a 2-rank speed-up of at most {2 / (1 + median):.2f} on this machine")
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument(
@@ -742,9 +626,6 @@ def main() -> None:
             "model",
             "sizes",
             "local",
-            "contention",
-            "jitter",
-            "preconditioners",
         ),
     )
     parser.add_argument("--n", type=int, nargs="+", default=[16000])
@@ -761,8 +642,7 @@ def main() -> None:
     parser.add_argument(
         "--label",
         default="",
-        help="measure, contention, jitter, preconditioners: write the table as <name>_<label>.csv beside the "
-        "committed one",
+        help="measure: write the table as <name>_<label>.csv beside the committed one",
     )
     args = parser.parse_args()
     if args.command == "sizes":
@@ -786,12 +666,6 @@ def main() -> None:
         split(args.n)
     elif args.command == "latency":
         latency(args.n)
-    elif args.command == "contention":
-        contention(args.n, args.label)
-    elif args.command == "jitter":
-        jitter(args.n, args.label)
-    elif args.command == "preconditioners":
-        preconditioners(args.n, args.label)
     else:
         model(args.n)
 

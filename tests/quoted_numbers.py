@@ -871,7 +871,7 @@ OTHER_PAGES = [
 ]
 QUOTES += OTHER_PAGES
 
-# -- BENCHMARKS.md's dilu order across the MPI ranks, and what two cores allow -----------------
+# -- docs/physics.md's summary of the MPI research (benchmarks/data/mpi_scaling) -----------------
 
 
 def preconditioner_pairs() -> list[float]:
@@ -901,231 +901,12 @@ def mpi_speedups(table: str, n: int = 16000) -> list[float]:
     return ratios + [float(np.median(ratios))]
 
 
-def loop_ranges(table: str) -> list[float]:
-    """benchmarks/mpi_scaling.py measure: the least and largest loop time of the 1-rank runs, then of
-    the 2-rank runs."""
-    rows = scaling_table(f"n16000/{table}")
-    return [float(f(rows[rows["ranks"] == ranks]["loop_s"])) for ranks in (1, 2) for f in (np.min, np.max)]
-
-
-def jitter_loss_at(table: str, grain_us: float) -> float:
-    """benchmarks/mpi_scaling.py jitter: the share lost to synchronising (%) at the grain nearest grain_us."""
-    rows = scaling_table(f"n16000/{table}")
-    row = rows.iloc[(rows["grain_us"] - grain_us).abs().argmin()]
-    return 100 * (row["synchronised_us"] / row["alone_us"] - 1)
-
-
-def jitter_at_the_step_grain() -> list[float]:
-    """benchmarks/mpi_scaling.py jitter: the committed 2-rank step (ms), its synchronisations per step, the
-    work between two of them (us), and the share lost to synchronising at that grain (%)."""
-    two = scaling_table("n16000/measure.csv").query("ranks == 2")
-    step_ms = 1000 * float((two["loop_s"] / two["steps"]).median())
-    meetings = benchmark_script("mpi_scaling").syncs_per_step(float(two["iterations"].median()))
-    grain = 1000 * step_ms / meetings
-    return [step_ms, meetings, grain, jitter_loss_at("jitter_20261206.csv", grain)]
-
-
-def profile_shares() -> list[float]:
-    """perf report of the 2-rank continuation (perf_ranks2_20261206.txt): the shares (%) of the LAMMPS
-    processes' samples in the plugin, its ghost packing and unpacking, the kernel, MPICH and the C library."""
-    lines = (REPO / "benchmarks/data/mpi_scaling/n16000/perf_ranks2_20261206.txt").read_text().splitlines()
-    rows = [line.split() for line in lines if line.strip() and not line.startswith("#")]
-    by_dso = {row[2]: float(row[0].rstrip("%")) for row in rows if len(row) == 3 and row[1] == "lmp"}
-    packing = sum(float(row[0].rstrip("%")) for row in rows if len(row) > 4 and "pack_" in row[4])
-    total = sum(by_dso.values())
-    names = ("libsuspension_fabric_lammps.so", None, "[kernel.kallsyms]", "libmpi.so.12", "libc.so.6")
-    return [100 * (by_dso[name] if name else packing) / total for name in names]
-
-
-HOST_PHASE_QUOTES = [
+PHYSICS = "docs/physics.md"
+MPI_RESEARCH_QUOTES = [
     Quote(
-        "BENCHMARKS.md",
-        "speed-up of 2 ranks over 1 (loop time), per pair: {0.94}, {1.10}, {1.27}; median {1.10} (target >= 1.7)",
-        lambda: mpi_speedups("measure_20261206.csv"),
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "the 1-rank runs took {49.0}-{72.0} s instead of {42.5}-{42.9}, and the 2-rank runs {47.8}-{56.5} s "
-        "instead of {27.6}-{28.9},",
-        lambda: (
-            [*loop_ranges("measure_20261206.csv")[:2], *loop_ranges("measure.csv")[:2]]
-            + [*loop_ranges("measure_20261206.csv")[2:], *loop_ranges("measure.csv")[2:]]
-        ),
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "(`contention_20261206.csv`): {+10.0}%, {+0.2}% and {+1.8}% over one alone, median {+1.8}%,",
-        lambda: contention_figures("contention_20261206.csv", repeats=True)[:4],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "the grain of {320} us is the committed 2-rank step, {27.8} ms, over its {87} meetings",
-        lambda: [jitter_at_the_step_grain()[i] for i in (2, 0, 1)],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "At the solve's grain a synchronisation cost {8.3}% of the work between two of them",
-        lambda: jitter_at_the_step_grain()[3:],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "{79.9}% fell in the plugin ({4.5}% in packing and unpacking the ghost exchanges), {7.6}% in the kernel",
-        lambda: profile_shares()[:3],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "{6.3}% in MPICH and {3.0}% in the C library",
-        lambda: profile_shares()[3:],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "host's phase ({1.48}-{1.55} calm, {0.94}-{1.27} slow for the same code)",
-        lambda: (
-            [min(mpi_speedups("measure.csv")[:-1]), max(mpi_speedups("measure.csv")[:-1])]
-            + [min(mpi_speedups("measure_20261206.csv")[:-1]), max(mpi_speedups("measure_20261206.csv")[:-1])]
-        ),
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "about {87} times per step (the 5 + 2 I ghost exchanges and 5 + 3 I global sums at I = {15.35})",
-        lambda: [jitter_at_the_step_grain()[1], scaling_median("n16000/measure.csv", "iterations", ranks=2)],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "(at most {4.2}% of the CPUs' time)",
-        lambda: [100 * scaling_table("n16000/measure_20261206.csv")["steal"].max()],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "with pure arithmetic and a latency of {0.34} us (`latency`)",
-        lambda: [float(scaling_table("n16000/latency.csv")["allreduce_us"].iloc[0])],
-        None,
-    ),
-]
-
-
-def preconditioner_row(table: str) -> list[float]:
-    """A row of the host-phase preconditioner table: the 1-rank and the 2-rank loop-time ranges, the
-    iterations on 1 and 2 ranks, the speed-up per pair and its median."""
-    iterations = [scaling_median(f"n16000/{table}", "iterations", ranks=ranks) for ranks in (1, 2)]
-    return loop_ranges(table) + iterations + mpi_speedups(table)
-
-
-HOST_PHASE_QUOTES += [
-    Quote(
-        "BENCHMARKS.md",
-        "| jacobi | {74.8}-{82.5} | {47.2}-{50.5} | {23.45} / {23.45} | {1.66}, {1.50}, {1.63} | {1.63} |",
-        lambda: preconditioner_row("measure_jacobi_20261206.csv"),
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "| dilu (the default) | {60.8}-{69.9} | {44.3}-{53.0} | {9.90} / {15.35} | {1.26}, {1.15}, {1.58} | {1.26} |",
-        lambda: preconditioner_row("measure_20261206b.csv"),
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "With the same iterations on 1 and 2 ranks the split gave {1.50}-{1.66}x",
-        lambda: sorted(mpi_speedups("measure_jacobi_20261206.csv")[:-1])[::2],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "(median loop {50.0} against {52.5} s), on 1 rank slower ({78.4} against {66.4} s)",
-        lambda: [
-            scaling_median(f"n16000/{table}", "loop_s", ranks=ranks)
-            for ranks in (2, 1)
-            for table in ("measure_jacobi_20261206.csv", "measure_20261206b.csv")
-        ],
-        None,
-    ),
-]
-
-
-def preconditioner_ratios() -> list[float]:
-    """benchmarks/mpi_scaling.py preconditioners: per round jacobi's loop time over dilu's on 1 rank, then
-    their median, the same on 2 ranks, then the faster 2-rank run over the faster 1-rank run per round and
-    their median."""
-    rows = scaling_table("n16000/preconditioners_20261206.csv")
-    figures = []
-    for ranks in (1, 2):
-        on = rows[rows["ranks"] == ranks].pivot(index="repeat", columns="preconditioner", values="loop_s")
-        ratios = list(on["jacobi"] / on["dilu"])
-        figures += ratios + [float(np.median(ratios))]
-    best = rows.groupby(["repeat", "ranks"])["loop_s"].min().unstack()
-    speedups = list(best[1] / best[2])
-    return figures + speedups + [float(np.median(speedups))]
-
-
-HOST_PHASE_QUOTES += [
-    Quote(
-        "BENCHMARKS.md",
-        "(`jitter` at the 320 us grain: {+2.2}% and {-0.02}%,",
-        lambda: [jitter_loss_at("jitter_20261206c.csv", 320), jitter_loss_at("jitter_20261206c2.csv", 320)],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "gave per pair {1.42}, {1.32}, {1.07} with dilu and {1.40}, {1.97}, {1.74} with block Jacobi (medians {1.32} "
-        "and {1.74}).",
-        lambda: (
-            mpi_speedups("measure_20261206c.csv")[:-1]
-            + mpi_speedups("measure_jacobi_20261206c.csv")[:-1]
-            + [mpi_speedups("measure_20261206c.csv")[-1], mpi_speedups("measure_jacobi_20261206c.csv")[-1]]
-        ),
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "Output: 1 rank(s): jacobi's loop time over dilu's per round {1.10}, {1.23}, {1.06}; median {1.10}; "
-        "2 rank(s): jacobi's loop time over dilu's per round {0.95}, {0.83}, {0.89}; median {0.89}; the faster on 2 "
-        "ranks over the faster on 1, per round: {1.48}, {1.39}, {1.33}; median {1.39} (target >= 1.7)",
-        preconditioner_ratios,
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "faster than dilu in every round (by {11}%, median), and dilu faster on 1 rank (by {10}%).",
-        lambda: [100 * (1 - preconditioner_ratios()[7]), 100 * (preconditioner_ratios()[3] - 1)],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "the faster 2-rank run gained {1.33}-{1.48}x",
-        lambda: [min(preconditioner_ratios()[8:11]), max(preconditioner_ratios()[8:11])],
-        None,
-    ),
-]
-HOST_PHASE_QUOTES.append(
-    Quote(
-        "BENCHMARKS.md",
-        "the same 200 steps took {24.25} CG iterations per step on {1}, {2}, {4} and {8} ranks alike",
-        lambda: (
-            [float(scaling_table("n16000/iterations_jacobi.csv")["iterations"].unique().item())]
-            + list(scaling_table("n16000/iterations_jacobi.csv")["ranks"])
-        ),
-        None,
-    )
-)
-QUOTES += HOST_PHASE_QUOTES
-
-
-MPI_PRECONDITIONER_QUOTES = [
-    Quote(
-        "BENCHMARKS.md",
+        PHYSICS,
         "at N = 16000, {10.85} CG iterations per step on 2 ranks against {15.40} with block Jacobi across the ranks "
-        "(one rank: {9.90} in `measure`'s longer window, above).",
+        "(one rank: {9.90} in `measure`'s longer window).",
         lambda: [
             scaling_median("n16000/rank_ordered_dilu_pair.csv", "iterations", preconditioner="rank_ordered_dilu"),
             scaling_median("n16000/rank_ordered_dilu_pair.csv", "iterations", preconditioner="block_jacobi"),
@@ -1134,20 +915,30 @@ MPI_PRECONDITIONER_QUOTES = [
         None,
     ),
     Quote(
-        "BENCHMARKS.md",
-        "{1.00}, {1.11}, {0.89}, {0.82}, {0.93}, {1.14}; median {0.96}.",
-        preconditioner_pairs,
+        PHYSICS,
+        "It gave no faster steps (median loop-time ratio {0.96} over six pairs)",
+        lambda: preconditioner_pairs()[-1:],
         None,
     ),
     Quote(
-        "BENCHMARKS.md",
+        PHYSICS,
         "two at once take {2.2}% longer (median; {-4.4}% to {+8.2}%, as much as the machine's own drift between "
         "runs). That bounds the 2-rank speed-up at about {1.96}x. So the {1.53}x is not the shared memory's",
         lambda: contention_figures() + [mpi_speedup(16000)],
         None,
     ),
+    Quote(
+        PHYSICS,
+        "the local solves make the solve slower, not faster: {37.85} global CG iterations per step against {15.35} "
+        "without them",
+        lambda: [
+            scaling_median("n16000/measure_local0.02.csv", "iterations", ranks=2),
+            scaling_median("n16000/measure.csv", "iterations", ranks=2),
+        ],
+        None,
+    ),
 ]
-QUOTES += MPI_PRECONDITIONER_QUOTES
+QUOTES += MPI_RESEARCH_QUOTES
 
 
 # -- BENCHMARKS.md's record of the test suite's CPU (benchmarks/suite_cpu.py) ---------------------
@@ -1221,22 +1012,6 @@ LARGEST = "local_solves_n500_n32000.csv"
 BENCHMARK_QUOTES = [
     Quote(
         "BENCHMARKS.md",
-        "the local solves make the solve slower, not faster: {37.85} global CG iterations per step against {15.35} "
-        "without them",
-        lambda: [
-            scaling_median("n16000/measure_local0.02.csv", "iterations", ranks=2),
-            scaling_median("n16000/measure.csv", "iterations", ranks=2),
-        ],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "The 2-rank speed-up of the default engine stays the {1.53}x measured without them.",
-        lambda: [mpi_speedup(16000)],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
         "Its cost per atom per step on one rank is about {3.1} times N = 500's, and its global CG iterations "
         "({12.10} per step) continue the growth with N of the table above ({4.20}, {7.65}, {9.90} at N = 500, 4000, "
         "16000): {1.1} more per doubling of N from 4000 to 16000, {2.2} from 16000 to 32000. Local solves take "
@@ -1273,195 +1048,10 @@ BENCHMARK_QUOTES = [
 ]
 QUOTES += BENCHMARK_QUOTES
 
-# -- the step of the Newton contact solve at (0.53, 0.5) and local solves at (0.55, 1) ------------
-
-VALIDATION = REPO / "benchmarks/data/engine_validation"
-#: the steady window of benchmarks/engine_validation.py (engine_ladder.STEADY_WINDOW)
-STEADY_STRAINS = (2.0, 5.0)
-LAGGED_053 = [REPO / "data/campaign/phi0.53_mu0.5", VALIDATION / "engine_lagged_phi0.53_mu0.5_seeds5-8"]
-NEWTON_053 = {dt: [VALIDATION / f"engine_newton_dt{dt}_phi0.53_mu0.5"] for dt in ("1e-5", "2e-5", "5e-5")}
-NEWTON_053["1e-4"] = [VALIDATION / "engine_newton_phi0.53_mu0.5", VALIDATION / "engine_newton_phi0.53_mu0.5_seeds5-8"]
-CORNER_SHORT = [VALIDATION / "engine_newton_dt8e-6_phi0.55_mu0.5"]
-CORNER_LONG = [REPO / "data/campaign/phi0.55_mu0.5", VALIDATION / "engine_newton_dt4e-5_phi0.55_mu0.5_seeds5-8"]
-FRICTIONAL_SHORT = [VALIDATION / "engine_newton_dt8e-6_phi0.53_mu1"]
-FRICTIONAL_LONG = [
-    VALIDATION / "engine_newton_dt4e-5_phi0.53_mu1",
-    VALIDATION / "engine_newton_dt4e-5_phi0.53_mu1_seeds5-8",
-]
-DENSE_FRICTIONAL_SHORT = [VALIDATION / "engine_newton_dt1.6e-6_phi0.55_mu1"]
-DENSE_FRICTIONAL_LONG = [
-    VALIDATION / "engine_newton_dt8e-6_phi0.55_mu1",
-    VALIDATION / "engine_newton_dt8e-6_phi0.55_mu1_seeds5-8",
-]
-
-
-@cache
-def _seed_steady_means(folders: tuple[Path, ...], column: str) -> np.ndarray:
-    means = []
-    for folder in folders:
-        for startup in sorted(Path(folder).glob("seed*/startup")):
-            table = pd.read_csv(startup / "stress.csv")
-            if column not in table:
-                table = pd.read_csv(startup / "fabric.csv")
-            steady = (table["strain"] >= STEADY_STRAINS[0]) & (table["strain"] <= STEADY_STRAINS[1])
-            means.append(table[column][steady].mean())
-    return np.array(means)
-
-
-def steady_means(folders, column: str = "eta_r") -> np.ndarray:
-    """Each seed's mean of a stress or fabric column over the steady window of its startup, over the
-    seed folders of every folder given (benchmarks/engine_validation.py's steady state)."""
-    return _seed_steady_means(tuple(folders), column)
-
-
-def change_percent(study, reference, column: str = "eta_r") -> float:
-    """The study's seed mean against the reference's, in %."""
-    return 100 * (steady_means(study, column).mean() / steady_means(reference, column).mean() - 1)
-
-
-def welch_error(study, reference, column: str = "eta_r") -> float:
-    """Standard error of the difference of the two seed means (engine_validation.py's)."""
-    a, b = steady_means(study, column), steady_means(reference, column)
-    return float(np.sqrt(a.var(ddof=1) / len(a) + b.var(ddof=1) / len(b)))
-
-
-def welch_z(study, reference, column: str = "eta_r") -> float:
-    difference = steady_means(study, column).mean() - steady_means(reference, column).mean()
-    return difference / welch_error(study, reference, column)
-
-
-def corner_local(column: str, fraction: float) -> float:
-    """benchmarks/contact_solve.py local at (0.55, 1): mean over the states of each state's median."""
-    table = pd.read_csv(REPO / "benchmarks/data/contact_solve_local.csv")
-    rows = table[np.isclose(table["local_solve_fraction"], fraction)]
-    return float(rows.groupby("state")[column].median().mean())
-
-
-def startup_seconds(folders) -> float:
-    """The mean LAMMPS wall time of the seeds' startups, from their run records."""
-    records = [path for folder in folders for path in sorted(Path(folder).glob("seed*/startup/run.json"))]
-    return float(np.mean([json.loads(path.read_text())["wall_time_s"] for path in records]))
-
-
-def seed_spread_percent(folders) -> float:
-    """The seeds' standard deviation of the steady eta_r, in % of their mean."""
-    means = steady_means(folders)
-    return 100 * means.std(ddof=1) / means.mean()
-
-
-STEP_QUOTES = [
-    Quote(
-        "BENCHMARKS.md",
-        "within the seeds' noise of the lagged solve up to 0.047 tau (-{3.8} +- {4.6}% in eta_r), {10}-{11}% low "
-        "from 0.12 tau on",
-        lambda: [
-            -change_percent(NEWTON_053["2e-5"], LAGGED_053),
-            100 * welch_error(NEWTON_053["2e-5"], LAGGED_053) / steady_means(LAGGED_053).mean(),
-            -change_percent(NEWTON_053["5e-5"], LAGGED_053),
-            -change_percent(NEWTON_053["1e-4"], LAGGED_053),
-        ],
-        None,
-    ),
-    Quote(
-        "docs/map.md",
-        "(eta_r {8.4}% lower at 0.048 than at 0.24, within the errors)",
-        lambda: [-change_percent(CORNER_SHORT, CORNER_LONG)],
-        None,
-    ),
-    Quote(
-        "docs/map.md",
-        "a step five times shorter gave an eta_r {8.4}% lower there",
-        lambda: [-change_percent(CORNER_SHORT, CORNER_LONG)],
-        None,
-    ),
-    Quote(
-        "docs/campaign.md",
-        "found no such effect (eta_r {8.4}% lower at 0.048 than at 0.24, z = {-1.66})",
-        lambda: [-change_percent(CORNER_SHORT, CORNER_LONG), welch_z(CORNER_SHORT, CORNER_LONG)],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "At (0.55, 0.5) the longer step does not lower the stress: the shorter step's eta_r is {8.4}% *lower* than "
-        "that at 0.24 tau, not significantly (z = {-1.66})",
-        lambda: [-change_percent(CORNER_SHORT, CORNER_LONG), welch_z(CORNER_SHORT, CORNER_LONG)],
-        None,
-    ),
-    Quote(
-        "docs/campaign.md",
-        "and give a viscosity {10}-{11}% lower at 0.12 and 0.24",
-        lambda: [-change_percent(NEWTON_053["5e-5"], LAGGED_053), -change_percent(NEWTON_053["1e-4"], LAGGED_053)],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "save {16}% at the corner point: its steps are dominated by contact events, and the local solves take a third "
-        "of the global iterations ({6.89} to {4.50}) for {0.16} sweeps of local work.",
-        lambda: [
-            100 * (1 - corner_local("wall_per_strain", 0.02) / corner_local("wall_per_strain", 0.0)),
-            corner_local("iterations_per_step", 0.0),
-            corner_local("iterations_per_step", 0.02),
-            corner_local("local_work_per_step", 0.02),
-        ],
-        None,
-    ),
-]
-STEP_QUOTES += [
-    Quote(
-        "BENCHMARKS.md",
-        "(eta_r -{1.9}%, z = {-0.41}; Pi -{2.2}%; every quantity within |z| = 1.4), and it differs from its own run "
-        "at 0.24 tau as the lagged solve did (eta_r +{10.8}%, z = {2.66}; Pi +{14.3}%, z = {2.72};",
-        lambda: [
-            -change_percent(NEWTON_053["1e-5"], LAGGED_053),
-            welch_z(NEWTON_053["1e-5"], LAGGED_053),
-            -change_percent(NEWTON_053["1e-5"], LAGGED_053, "Pi"),
-            change_percent(NEWTON_053["1e-5"], NEWTON_053["1e-4"]),
-            welch_z(NEWTON_053["1e-5"], NEWTON_053["1e-4"]),
-            change_percent(NEWTON_053["1e-5"], NEWTON_053["1e-4"], "Pi"),
-            welch_z(NEWTON_053["1e-5"], NEWTON_053["1e-4"], "Pi"),
-        ],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "(the seeds of one engine spread by {8}-{12}%)",
-        lambda: [seed_spread_percent(CORNER_SHORT), seed_spread_percent(CORNER_LONG)],
-        None,
-    ),
-]
-STEP_QUOTES += [
-    Quote(
-        "BENCHMARKS.md",
-        "so the run times compare only roughly: {604} s per startup at 0.048 tau, {283} s at 0.24 tau)",
-        lambda: [startup_seconds(FRICTIONAL_SHORT), startup_seconds(FRICTIONAL_LONG[1:])],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "eta_r at 0.048 tau differs by {-0.1}% from that at 0.24 tau (z = {-0.03}), Pi by +{0.6}%",
-        lambda: [
-            change_percent(FRICTIONAL_SHORT, FRICTIONAL_LONG),
-            welch_z(FRICTIONAL_SHORT, FRICTIONAL_LONG),
-            change_percent(FRICTIONAL_SHORT, FRICTIONAL_LONG, "Pi"),
-        ],
-        None,
-    ),
-    *(
-        Quote(
-            page,
-            "at (0.53, 1) (eta_r {-0.1}%, z = {-0.03})",
-            lambda: [change_percent(FRICTIONAL_SHORT, FRICTIONAL_LONG), welch_z(FRICTIONAL_SHORT, FRICTIONAL_LONG)],
-            None,
-        )
-        for page in ("docs/map.md", "docs/campaign.md")
-    ),
-]
-QUOTES += STEP_QUOTES
-
 
 @cache
 def scheduler_overhead() -> pd.DataFrame:
-    """benchmarks/data/scheduler_overhead.csv (benchmarks/scheduler_overhead.py --save)."""
+    """benchmarks/data/scheduler_overhead.csv (commit 8c75e99: benchmarks/scheduler_overhead.py --save)."""
     return pd.read_csv(REPO / "benchmarks/data/scheduler_overhead.csv")
 
 
@@ -1486,6 +1076,34 @@ QUOTES.append(
         None,
     )
 )
+
+
+# -- the steady pressure of (0.55, 1)'s first dataset (its startups' stress tables, benchmarks/data) ---
+
+VALIDATION = REPO / "benchmarks/data/engine_validation"
+#: the steady window of the engine validation (commit 85ba66c: benchmarks/engine_validation.py)
+STEADY_STRAINS = (2.0, 5.0)
+DENSE_FRICTIONAL_LONG = [
+    VALIDATION / "engine_newton_dt8e-6_phi0.55_mu1",
+    VALIDATION / "engine_newton_dt8e-6_phi0.55_mu1_seeds5-8",
+]
+
+
+@cache
+def _seed_steady_means(folders: tuple[Path, ...], column: str) -> np.ndarray:
+    means = []
+    for folder in folders:
+        for startup in sorted(Path(folder).glob("seed*/startup")):
+            table = pd.read_csv(startup / "stress.csv")
+            steady = (table["strain"] >= STEADY_STRAINS[0]) & (table["strain"] <= STEADY_STRAINS[1])
+            means.append(table[column][steady].mean())
+    return np.array(means)
+
+
+def steady_means(folders, column: str = "eta_r") -> np.ndarray:
+    """Each seed's mean of a stress column over the steady window of its startup, over the seed folders
+    of every folder given."""
+    return _seed_steady_means(tuple(folders), column)
 
 
 # -- the map (docs/map.md): each campaign point's committed dataset ------------------------------
@@ -1754,7 +1372,7 @@ def _settled_startup(r: Results, model: str | None) -> float:
     return max(settle_strain(strain, curve.to_numpy() - 1.0, TOLERANCE)[0] for curve in curves.values())
 
 
-# -- the models' right-hand sides on 6-vectors (benchmarks/model_vector_forms.py --save ...) -----
+# -- the models' right-hand sides on 6-vectors (commit f89f0d6: benchmarks/model_vector_forms.py) -----
 
 
 @cache
@@ -1785,7 +1403,7 @@ QUOTES += [
 
 @cache
 def figure_pdf_cost() -> pd.DataFrame:
-    """benchmarks/data/figure_pdf_cost.csv (benchmarks/figure_pdf_cost.py --save)."""
+    """benchmarks/data/figure_pdf_cost.csv (commit 94e3e9f: benchmarks/figure_pdf_cost.py --save)."""
     return pd.read_csv(REPO / "benchmarks/data/figure_pdf_cost.csv").set_index(["figure", "maps"])
 
 
@@ -1801,522 +1419,6 @@ QUOTES.append(
             figure_pdf_cost().loc[("fig2_rotation", "rasterized"), "cpu_s"],
             figure_pdf_cost().loc[("fig2_rotation", "rasterized"), "pdf_mb"],
         ],
-        None,
-    )
-)
-
-
-def startup_record_seconds(folder: Path, seeds=None) -> list[float]:
-    """The LAMMPS wall times of a folder's startups (all seeds, or those named), from their run records."""
-    records = sorted(Path(folder).glob("seed*/startup/run.json"))
-    if seeds is not None:
-        records = [path for path in records if int(path.parts[-3].removeprefix("seed")) in seeds]
-    return [json.loads(path.read_text())["wall_time_s"] for path in records]
-
-
-def dense_frictional_quoted() -> list[float]:
-    """eta_r's change and z, Pi's, at (0.55, 1): 0.048 against 0.24 tau."""
-    return [
-        change_percent(DENSE_FRICTIONAL_SHORT, DENSE_FRICTIONAL_LONG),
-        welch_z(DENSE_FRICTIONAL_SHORT, DENSE_FRICTIONAL_LONG),
-        change_percent(DENSE_FRICTIONAL_SHORT, DENSE_FRICTIONAL_LONG, "Pi"),
-        welch_z(DENSE_FRICTIONAL_SHORT, DENSE_FRICTIONAL_LONG, "Pi"),
-    ]
-
-
-QUOTES += [
-    Quote(
-        "BENCHMARKS.md",
-        "benchmarks: the two run last, with the machine otherwise quiet, took {1783} and {1773} s per startup against "
-        "{498}-{693} s for the dataset's at 0.24 tau",
-        lambda: [
-            *startup_record_seconds(DENSE_FRICTIONAL_SHORT[0], seeds=(5, 7)),
-            min(startup_record_seconds(DENSE_FRICTIONAL_LONG[0])),
-            max(startup_record_seconds(DENSE_FRICTIONAL_LONG[0])),
-        ],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "eta_r {-3.0}% (z = {-0.77}), Pi {-3.4}% (z = {-0.80}),",
-        dense_frictional_quoted,
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "the standard error of the eta_r difference is {3.9}% of eta_r",
-        lambda: [
-            100
-            * welch_error(DENSE_FRICTIONAL_SHORT, DENSE_FRICTIONAL_LONG)
-            / steady_means(DENSE_FRICTIONAL_LONG).mean()
-        ],
-        None,
-    ),
-    *(
-        Quote(page, "at (0.55, 1) (eta_r {-3.0}%, z = {-0.77},", lambda: dense_frictional_quoted()[:2], None)
-        for page in ("docs/map.md", "docs/campaign.md")
-    ),
-]
-
-
-def run_record_seconds(folder: Path, runs) -> float:
-    """The summed LAMMPS wall times of the named runs ("seed1/startup", ...) from their run records."""
-    return float(sum(json.loads((Path(folder) / run / "run.json").read_text())["wall_time_s"] for run in runs))
-
-
-CORNER_IDLE = VALIDATION / "engine_newton_dt8e-6_phi0.55_mu1_idle_cost"
-CORNER_IDLE_RUNS = [str(path.parent.relative_to(CORNER_IDLE)) for path in sorted(CORNER_IDLE.glob("seed*/*/run.json"))]
-
-QUOTES.append(
-    Quote(
-        "BENCHMARKS.md",
-        "together they took {2615} s against the dataset's {2311} s for the same six: {13}% more, not less.",
-        lambda: [
-            run_record_seconds(CORNER_IDLE, CORNER_IDLE_RUNS),
-            run_record_seconds(VALIDATION / "engine_newton_dt8e-6_phi0.55_mu1", CORNER_IDLE_RUNS),
-            100
-            * (
-                run_record_seconds(CORNER_IDLE, CORNER_IDLE_RUNS)
-                / run_record_seconds(VALIDATION / "engine_newton_dt8e-6_phi0.55_mu1", CORNER_IDLE_RUNS)
-                - 1
-            ),
-        ],
-        None,
-    )
-)
-
-
-@cache
-def plugin_pairs() -> pd.DataFrame:
-    """benchmarks/data/plugin_pair_corner.csv: per pair, the current build's loop time against the old one's."""
-    table = pd.read_csv(REPO / "benchmarks/data/plugin_pair_corner.csv").pivot(index="pair", columns="build")
-    return table["loop_s"]
-
-
-QUOTES.append(
-    Quote(
-        "BENCHMARKS.md",
-        "loop times within {-1.2}% to +{3.1}% of each other, while the pairs themselves went from {110} s to {129} s",
-        lambda: [
-            100 * (plugin_pairs()["current"] / plugin_pairs()["1e7c74b"] - 1).min(),
-            100 * (plugin_pairs()["current"] / plugin_pairs()["1e7c74b"] - 1).max(),
-            plugin_pairs()["1e7c74b"].min(),
-            plugin_pairs()["1e7c74b"].max(),
-        ],
-        None,
-    )
-)
-
-# -- the first iterate extrapolated at the corner (BENCHMARKS.md, "The corner with the first iterate extrapolated")
-
-GUESS_CORNER = "benchmarks/data/engine_validation/engine_guess_phi0.55_mu1"
-CORNER_DATASET = "benchmarks/data/engine_validation/engine_newton_dt8e-6_phi0.55_mu1"
-
-
-def guess_rung(column: str, guess: str, fraction: float, point: str = "phi0.55_mu1") -> pd.Series:
-    """benchmarks/contact_solve.py guess: each state's median of a column for one rung."""
-    table = pd.read_csv(REPO / "benchmarks/data/contact_solve_guess.csv")
-    rows = table[(table["point"] == point) & (table["initial_guess"] == guess)]
-    return rows[np.isclose(rows["local_solve_fraction"], fraction)].groupby("state")[column].median()
-
-
-def iterations_saved(guess: str, fraction: float) -> float:
-    """The % of the old solve's CG iterations per step a rung saves (means over the states)."""
-    old = guess_rung("iterations_per_step", "previous", 0.0).mean()
-    return 100 * (1 - guess_rung("iterations_per_step", guess, fraction).mean() / old)
-
-
-@cache
-def pair_ratios(name: str, older: str) -> pd.Series:
-    """A benchmarks/plugin_pair.sh table (benchmarks/data/<name>): per round, the current build's loop
-    time over the older one's (the build column's `older`)."""
-    table = pd.read_csv(REPO / "benchmarks/data" / name, comment="#").pivot(index="round", columns="build")["loop_s"]
-    return table["current"] / table[older]
-
-
-def solve_pairs() -> pd.Series:
-    """benchmarks/data/solve_pair_corner.csv: per round, the new solve's loop time over the old one's."""
-    return pair_ratios("solve_pair_corner.csv", "HEAD")
-
-
-def rotation_pair_difference(kind: str, column: str, bin_index: int) -> float:
-    """benchmarks/guess_rotation_pairs.py: the mean over the states of the new solve's bin mean less the old one's."""
-    return float(benchmark_script("guess_rotation_pairs").state_differences(kind, column)[:, bin_index].mean())
-
-
-GUESS_FOLDERS = [REPO / GUESS_CORNER], [REPO / CORNER_DATASET]
-
-QUOTES += [
-    Quote(
-        "BENCHMARKS.md",
-        "extrapolation saves {33}% of the CG iterations (quadratic; linear {27}%), and with local solves "
-        "{61}%; the wall time falls less, to {0.77} of the old solve's with both,",
-        lambda: [
-            iterations_saved("quadratic", 0.0),
-            iterations_saved("linear", 0.0),
-            iterations_saved("quadratic", 0.02),
-            (guess_rung("wall_per_strain", "quadratic", 0.02) / guess_rung("wall_per_strain", "previous", 0.0)).mean(),
-        ],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "The new solve's loop time over the old one's: {0.83} and {0.85}.",
-        lambda: list(solve_pairs()),
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "It cost {1.85} core-hours against the dataset's {1.89}:",
-        lambda: [core_hours(GUESS_CORNER), core_hours(CORNER_DATASET)],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "the same six runs took {1983} s here against {2615} s in that check and {2311} s in the dataset. The "
-        "solves' ratio in one period is the side-by-side startups' ({0.83}) and the continuations' above ({0.77}).",
-        lambda: [
-            run_record_seconds(REPO / GUESS_CORNER, CORNER_IDLE_RUNS),
-            run_record_seconds(CORNER_IDLE, CORNER_IDLE_RUNS),
-            run_record_seconds(REPO / CORNER_DATASET, CORNER_IDLE_RUNS),
-            solve_pairs().iloc[0],
-            (guess_rung("wall_per_strain", "quadratic", 0.02) / guess_rung("wall_per_strain", "previous", 0.0)).mean(),
-        ],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "Every steady quantity agrees (eta_r {+2.7}%, z = {0.44}; Pi {+2.5}%;",
-        lambda: [
-            change_percent(*GUESS_FOLDERS),
-            welch_z(*GUESS_FOLDERS),
-            change_percent(*GUESS_FOLDERS, column="Pi"),
-        ],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "expects {13.0} of the 140 bins beyond 2 and puts the largest beyond {7.12} in 5% of draws.",
-        lambda: list(benchmark_script("engine_validation").welch_null(4, 4, 140)),
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "<nn>'_12 over 0.05-0.1 moves by {0.00009} and sigma'_12 over 0.2-0.3 by {-7.6}.",
-        lambda: [rotation_pair_difference("fabric", "n12", 1), rotation_pair_difference("stress", "total_12", 3)],
-        None,
-    ),
-]
-
-
-def virial_pairs() -> pd.Series:
-    """benchmarks/data/plugin_pair_virial.csv: per round, the lazy virial's loop time over the eager one's."""
-    return pair_ratios("plugin_pair_virial.csv", "ed2d28d")
-
-
-QUOTES.append(
-    Quote(
-        "BENCHMARKS.md",
-        "The same stress tables, in {0.96} and {0.93} of the time.",
-        lambda: list(virial_pairs()),
-        None,
-    )
-)
-
-
-# -- the two dear points made again with block Jacobi (BENCHMARKS.md, "The two dear points made again")
-
-JACOBI_053 = [VALIDATION / "engine_iii_jacobi_phi0.53_mu1"], FRICTIONAL_LONG
-JACOBI_055 = [VALIDATION / "engine_iii_jacobi_phi0.55_mu1"], DENSE_FRICTIONAL_LONG
-
-
-def old_build_pair_seconds(name: str, build: str) -> list[float]:
-    """The older build's loop times in a benchmarks/plugin_pair.sh table, per round."""
-    table = pd.read_csv(REPO / "benchmarks/data" / name, comment="#")
-    return list(table[table["build"] == build]["loop_s"])
-
-
-QUOTES += [
-    Quote(
-        "BENCHMARKS.md",
-        "The new solve's loop time over the old one's: {0.68} and {0.65}.\n\n**The two points' protocol.**",
-        lambda: list(pair_ratios("solve_pair_engine_iii.csv", "1e7c74b")),
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "The corner cost {1.63} core-hours, over the 1.5 of engine III, although the same startup took\n{0.68} and "
-        "{0.65} of the old solve's time side by side: the old build's startup took {133} and {115} s here\nagainst "
-        "{110}-{129} s in the pairs of 2026-11-27,",
-        lambda: [
-            core_hours("benchmarks/data/engine_validation/engine_iii_jacobi_phi0.55_mu1"),
-            *pair_ratios("solve_pair_engine_iii.csv", "1e7c74b"),
-            *old_build_pair_seconds("solve_pair_engine_iii.csv", "1e7c74b"),
-            min(old_build_pair_seconds("plugin_pair_corner.csv", "1e7c74b")),
-            max(old_build_pair_seconds("plugin_pair_corner.csv", "1e7c74b")),
-        ],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "eta_r {-11.5}%\n(z = {-3.78}) and Pi {-12.9}% at the corner, eta_r {+8.6}% (z = {2.58}) and Pi {+10.6}% "
-        "at (0.53, 1), where Z\n({+0.7}%, z = {4.04}) and n12 ({3.0}% larger in magnitude) move too.",
-        lambda: [
-            change_percent(*JACOBI_055),
-            welch_z(*JACOBI_055),
-            change_percent(*JACOBI_055, column="Pi"),
-            change_percent(*JACOBI_053),
-            welch_z(*JACOBI_053),
-            change_percent(*JACOBI_053, column="Pi"),
-            change_percent(*JACOBI_053, column="Z"),
-            welch_z(*JACOBI_053, column="Z"),
-            change_percent(*JACOBI_053, column="n12"),
-        ],
-        None,
-    ),
-]
-
-DILU_053 = [VALIDATION / "engine_iii_dilu_phi0.53_mu1"], FRICTIONAL_LONG
-
-QUOTES.append(
-    Quote(
-        "BENCHMARKS.md",
-        "The stress now agrees (eta_r {+6.9}%, z = {0.90}; Pi {+10.2}%, z = {1.05}), but the check still fails on "
-        "the\nfabric: Z is {0.6}% higher (z = {3.28}) and n11 and n33 about 1% (z = {2.45} and {2.95}). The same Z "
-        "shift came\nwith block Jacobi ({+0.7}%), and the check of the step at this point found n33 {+1.0}% "
-        "(z = {2.75}) and Z {+0.3}%",
-        lambda: [
-            change_percent(*DILU_053),
-            welch_z(*DILU_053),
-            change_percent(*DILU_053, column="Pi"),
-            welch_z(*DILU_053, column="Pi"),
-            change_percent(*DILU_053, column="Z"),
-            welch_z(*DILU_053, column="Z"),
-            welch_z(*DILU_053, column="n11"),
-            welch_z(*DILU_053, column="n33"),
-            change_percent(*JACOBI_053, column="Z"),
-            change_percent(FRICTIONAL_SHORT, FRICTIONAL_LONG, column="n33"),
-            welch_z(FRICTIONAL_SHORT, FRICTIONAL_LONG, column="n33"),
-            change_percent(FRICTIONAL_SHORT, FRICTIONAL_LONG, column="Z"),
-        ],
-        None,
-    )
-)
-
-QUOTES.append(
-    Quote(
-        "BENCHMARKS.md",
-        "Its loop time over the old one's: {0.78} and {0.73}, against {0.83} and {0.85} before the one-pass product",
-        lambda: [*pair_ratios("solve_pair_engine_iii_dilu.csv", "1e7c74b"), *solve_pairs()],
-        None,
-    )
-)
-
-QUOTES.append(
-    Quote(
-        "BENCHMARKS.md",
-        "It cost {0.546} core-hours",
-        lambda: [core_hours("benchmarks/data/engine_validation/engine_iii_dilu_phi0.53_mu1")],
-        None,
-    )
-)
-
-TIGHT_053 = [VALIDATION / "engine_newton_tol1e-4_phi0.53_mu1"]
-
-QUOTES.append(
-    Quote(
-        "BENCHMARKS.md",
-        "The tighter solve gives the map's dataset (Z {+0.2}%, z = {0.93}; eta_r {+2.9}%, z = {0.76}; every quantity "
-        "within\n|z| = 1.65), and against the dilu rerun with the extrapolated first iterate its Z is {0.4}% lower\n"
-        "(z = {-2.12};",
-        lambda: [
-            change_percent(TIGHT_053, FRICTIONAL_LONG, column="Z"),
-            welch_z(TIGHT_053, FRICTIONAL_LONG, column="Z"),
-            change_percent(TIGHT_053, FRICTIONAL_LONG),
-            welch_z(TIGHT_053, FRICTIONAL_LONG),
-            -change_percent(TIGHT_053, DILU_053[0], column="Z"),
-            welch_z(TIGHT_053, DILU_053[0], column="Z"),
-        ],
-        None,
-    )
-)
-
-
-# -- the two dear points at solver_tol 3e-4 (BENCHMARKS.md, "The two dear points at solver_tol 3e-4") -----
-
-NEW_053 = [REPO / "data/campaign/phi0.53_mu1"]
-NEW_055 = [REPO / "data/campaign/phi0.55_mu1"]
-
-
-def tol_rung(column: str, preconditioner: str, guess: str, fraction: float, tol: float) -> pd.Series:
-    """benchmarks/contact_solve.py tol: each state's median of a column for one rung."""
-    table = pd.read_csv(REPO / "benchmarks/data/contact_solve_tol.csv")
-    rows = table[(table["preconditioner"] == preconditioner) & (table["initial_guess"] == guess)]
-    rows = rows[np.isclose(rows["local_solve_fraction"], fraction) & np.isclose(rows["solver_tol"], tol)]
-    return rows.groupby("state")[column].median()
-
-
-def tol_wall_ratio(preconditioner: str, guess: str, fraction: float, tol: float) -> float:
-    """A rung's wall time per strain over the map's solve on the same state, mean over the states."""
-    base = tol_rung("wall_per_strain", "dilu", "previous", 0.0, 1e-3)
-    return float((tol_rung("wall_per_strain", preconditioner, guess, fraction, tol) / base).mean())
-
-
-def paired_difference(study, reference, column: str) -> list[float]:
-    """Per packing, the study's steady mean less the reference's (the same seeds first on both sides):
-    the mean and its 95% t-interval."""
-    from scipy import stats
-
-    a = steady_means(study, column)
-    d = a - steady_means(reference, column)[: len(a)]
-    half = stats.t.ppf(0.975, len(d) - 1) * d.std(ddof=1) / np.sqrt(len(d))
-    return [d.mean(), d.mean() - half, d.mean() + half]
-
-
-def changes_and_z(study, reference, *columns: str) -> list[float]:
-    """For each column, the study's change against the reference in % and its Welch z."""
-    return [
-        value
-        for column in columns
-        for value in (change_percent(study, reference, column), welch_z(study, reference, column))
-    ]
-
-
-def transient_counts(study, dataset) -> list[float]:
-    """engine_validation.py's transient bins: how many lie beyond |z| = 2, how many the Welch null
-    of 4 against 4 seeds expects, and the largest |z|."""
-    validation = benchmark_script("engine_validation")
-    zs = np.abs(validation.transient_table(study, dataset)[1])
-    return [float((zs > 2).sum()), validation.welch_null(4, 4, len(zs))[0], float(zs.max())]
-
-
-QUOTES += [
-    Quote(
-        "BENCHMARKS.md",
-        "With dilu, tol 3e-4 costs {1.1} more CG iterations per step than 1e-3, and the wall time goes from {0.77} "
-        "to\n{0.84} of the map's solve;",
-        lambda: [
-            tol_rung("iterations_per_step", "dilu", "quadratic", 0.02, 3e-4).mean()
-            - tol_rung("iterations_per_step", "dilu", "quadratic", 0.02, 1e-3).mean(),
-            tol_wall_ratio("dilu", "quadratic", 0.02, 1e-3),
-            tol_wall_ratio("dilu", "quadratic", 0.02, 3e-4),
-        ],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "**(0.53, 1): {0.674} core-hours**, against {0.546} at tol 1e-3 with the same start and {1.60} for the map's",
-        lambda: [
-            core_hours("data/campaign/phi0.53_mu1"),
-            core_hours("benchmarks/data/engine_validation/engine_iii_dilu_phi0.53_mu1"),
-            core_hours("benchmarks/data/engine_validation/engine_newton_dt4e-5_phi0.53_mu1"),
-        ],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "Z is {0.4}% above the tighter solve's (z = {1.17}), where the rerun at tol 1e-3 was {0.4}% above it with\n"
-        "z = {2.12}; the only quantity beyond |z| = 2 is N1 (z = {2.21}), the noisiest, with {1.2} expected by chance",
-        lambda: [
-            change_percent(NEW_053, TIGHT_053, column="Z"),
-            welch_z(NEW_053, TIGHT_053, column="Z"),
-            change_percent(DILU_053[0], TIGHT_053, column="Z"),
-            welch_z(DILU_053[0], TIGHT_053, column="Z"),
-            welch_z(NEW_053, TIGHT_053, column="N1"),
-            benchmark_script("engine_validation").welch_null(4, 4, 13)[0],
-        ],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "eta_r {+3.9}% (z = {0.65}), Z {+0.6}%\n(z = {1.75}), and n33 {+1.4}% (z = {3.06}; per packing {+0.007}, "
-        "95% t-interval [{-0.005}, {+0.019}]); after the\nrotations {15} of 140 bins beyond |z| = 2, {13.0} expected "
-        "by the Welch null, the largest {3.04}.",
-        lambda: [
-            *changes_and_z(NEW_053, FRICTIONAL_LONG, "eta_r", "Z", "n33"),
-            *paired_difference(NEW_053, FRICTIONAL_LONG, "n33"),
-            *transient_counts(NEW_053, FRICTIONAL_LONG),
-        ],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "the tighter solve by {0.6}% (z = {1.47}) and the step five times shorter by {1.0}% (z = {2.75}, eight seeds),",
-        lambda: [
-            change_percent(TIGHT_053, FRICTIONAL_LONG, column="n33"),
-            welch_z(TIGHT_053, FRICTIONAL_LONG, column="n33"),
-            change_percent(FRICTIONAL_SHORT, FRICTIONAL_LONG, column="n33"),
-            welch_z(FRICTIONAL_SHORT, FRICTIONAL_LONG, column="n33"),
-        ],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "**(0.55, 1): {1.37} core-hours**, against {1.89} for the map's first dataset,",
-        lambda: [core_hours("data/campaign/phi0.55_mu1"), core_hours(CORNER_DATASET)],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "at the corner the pilot's Pi was {1306}, and the first dataset measured {892}\n(the mean over its eight "
-        "seeds, strain 2-5). With the measured Pi and no margin, kn = 7.8125e9 (m = 62.5)\nkeeps the ratio at "
-        "{3.9} x 10^4,",
-        lambda: [
-            pilot_pressure("phi0.55_mu1"),
-            steady_means(DENSE_FRICTIONAL_LONG, "Pi").mean(),
-            corner_forces()["kn"] / (corner_forces()["eta_f"] * steady_means(DENSE_FRICTIONAL_LONG, "Pi").mean()) / 1e4,
-        ],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "It passes: eta_r {+7.6}% (z = {1.57}), Z {-0.3}% (z = {-0.98}), every steady quantity within |z| = {1.64}, "
-        "and {12}\ntransient bins beyond 2 where the Welch null expects {13.0}. The stress is the least resolved: per "
-        "packing\neta_r is higher in all four seeds ({+51}, 95% t-interval [{-12}, {+114}]),",
-        lambda: [
-            *changes_and_z(NEW_055, DENSE_FRICTIONAL_LONG, "eta_r", "Z"),
-            max(
-                abs(welch_z(NEW_055, DENSE_FRICTIONAL_LONG, column=c))
-                for c in ("n11", "n22", "n33", "n12", "n13", "n23", "Z", "eta_r", "N1", "N2", "Pi")
-            ),
-            *transient_counts(NEW_055, DENSE_FRICTIONAL_LONG)[:2],
-            *paired_difference(NEW_055, DENSE_FRICTIONAL_LONG, "eta_r"),
-        ],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "Cost, the two points made again: (0.53, 1) {0.674} and (0.55, 1) {1.37} core-hours, with (0.55, 0.5) at "
-        "{1.32}",
-        lambda: [
-            core_hours("data/campaign/phi0.53_mu1"),
-            core_hours("data/campaign/phi0.55_mu1"),
-            core_hours("data/campaign/phi0.55_mu0.5"),
-        ],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "at the first stiffness the continuations' ratio ({0.84})\nputs the point near {1.59} core-hours, so the "
-        "longer step bought about {13}%.",
-        lambda: [
-            tol_wall_ratio("dilu", "quadratic", 0.02, 3e-4),
-            tol_wall_ratio("dilu", "quadratic", 0.02, 3e-4) * core_hours(CORNER_DATASET),
-            100
-            * (
-                1
-                - core_hours("data/campaign/phi0.55_mu1")
-                / (tol_wall_ratio("dilu", "quadratic", 0.02, 3e-4) * core_hours(CORNER_DATASET))
-            ),
-        ],
-        None,
-    ),
-]
-QUOTES.append(
-    Quote(
-        "BENCHMARKS.md",
-        "about twice the {3.80} per step of the continuations",
-        lambda: [tol_rung("iterations_per_step", "dilu", "quadratic", 0.02, 3e-4).mean()],
         None,
     )
 )
@@ -2374,21 +1476,6 @@ MPI_ACCURACY_QUOTES = [
         ],
         None,
     ),
-    Quote(
-        "BENCHMARKS.md",
-        "dilu on 2 ranks at 1e-3 left {1.32} times the rms error and {1.67} times the largest; its matched tol is "
-        "{3}e-4 ({15.20} iterations per step against {7.10} on 1 rank). Block Jacobi's is {5}e-4 ({22.15}).",
-        lambda: [
-            accuracy_ratio(4000, 2, "dilu", 1e-3, "rms")[0],
-            accuracy_ratio(4000, 2, "dilu", 1e-3, "largest")[0],
-            1e4 * matched_tol(4000, 2, "dilu"),
-            accuracy_iterations(4000, 2, "dilu", matched_tol(4000, 2, "dilu")),
-            accuracy_iterations(4000, 1, "dilu", 1e-3),
-            1e4 * matched_tol(4000, 2, "jacobi"),
-            accuracy_iterations(4000, 2, "jacobi", matched_tol(4000, 2, "jacobi")),
-        ],
-        None,
-    ),
 ]
 QUOTES += MPI_ACCURACY_QUOTES
 
@@ -2411,19 +1498,6 @@ def timing_ratios(label: str) -> list[float]:
     return list(timing_loops(label, 2, "jacobi") / timing_loops(label, 2, "dilu"))
 
 
-def multi_rank_counts_matched_at(n: int, tol: float) -> list[int]:
-    """The rank counts above 1 at which both preconditioners' matched tol is `tol` (one step's errors)."""
-    matched = benchmark_script("mpi_accuracy").matched_tolerances(accuracy_ratios(n))
-    counts = sorted({ranks for ranks, _ in matched if ranks > 1})
-    return [ranks for ranks in counts if all(np.isclose(matched[(ranks, p)], tol) for p in ("dilu", "jacobi"))]
-
-
-def timing_output(label: str) -> list[float]:
-    """benchmarks/mpi_accuracy.py timing's speed-up lines: block Jacobi's per round and median, then dilu's."""
-    speedups = timing_speedups(label)
-    return [*speedups[:3], float(np.median(speedups[:3])), *speedups[3:6], float(np.median(speedups[3:6]))]
-
-
 def timing_speedups(label: str) -> list[float]:
     """benchmarks/mpi_accuracy.py timing: per round, the 1-rank default's loop time over each 2-rank
     preconditioner's (block Jacobi's rounds, then dilu's), then jacobi's 2-rank loop time over dilu's, median."""
@@ -2435,121 +1509,17 @@ def timing_speedups(label: str) -> list[float]:
 
 MPI_ACCURACY_QUOTES += [
     Quote(
-        "BENCHMARKS.md",
-        "Output: 2 ranks, jacobi at tol 0.0005: speed-up over 1 rank, dilu at 0.001, per round {1.34}, {1.26}, "
-        "{1.39}; median {1.34}; 2 ranks, dilu at tol 0.0005: speed-up over 1 rank, dilu at 0.001, per round {1.12}, "
-        "{1.06}, {1.16}; median {1.12}",
-        lambda: timing_output("20261206"),
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "The 1-rank runs took {80.0}-{86.4} s, against {42.5}-{42.9} s in the committed calm table. `jitter` lost "
-        "{+5.2}% at the 320 us grain before the runs",
-        lambda: [
-            *(lambda t: [t[t["ranks"] == 1]["loop_s"].min(), t[t["ranks"] == 1]["loop_s"].max()])(
-                scaling_table("n16000/accuracy_timing_20261206.csv")
-            ),
-            *loop_ranges("measure.csv")[:2],
-            jitter_loss_at("jitter_20261206d.csv", 320),
-        ],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "block Jacobi was faster than dilu on 2 ranks at equal accuracy in every round, by {16}% (median",
-        lambda: [100 * (1 - timing_speedups("20261206")[-1])],
-        None,
-    ),
-    Quote(
         "docs/workflow.md",
         "at N = 16000 on 2 ranks tol 1e-3 left {1.56} times the 1-rank velocity error (rms).",
         lambda: [accuracy_ratio(16000, 2, "dilu", 1e-3, "rms")[0]],
         None,
     ),
 ]
-MPI_ACCURACY_QUOTES.append(
-    Quote(
-        "BENCHMARKS.md",
-        "dilu at 1e-3 left {1.61} and {1.57} times the 1-rank rms error: like the jump of the iterations, the loss "
-        "comes with the first split, and {5}e-4 matched on {2}, {4} and {8} ranks alike.",
-        lambda: [
-            accuracy_ratio(16000, 4, "dilu", 1e-3, "rms")[0],
-            accuracy_ratio(16000, 8, "dilu", 1e-3, "rms")[0],
-            1e4 * matched_tol(16000, 2, "dilu"),
-            *multi_rank_counts_matched_at(16000, matched_tol(16000, 2, "dilu")),
-        ],
-        None,
-    )
-)
-MPI_ACCURACY_QUOTES += [
-    Quote(
-        "BENCHMARKS.md",
-        "An hour later `jitter` lost {+0.7}% at the 320 us grain, with no steal (`jitter_20261206e.csv`), and the "
-        "same command with `--label 20261206e` gave (`accuracy_timing_20261206e.csv`; {+1.4}% after,",
-        lambda: [jitter_loss_at("jitter_20261206e.csv", 320), jitter_loss_at("jitter_20261206e2.csv", 320)],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "Output: 2 ranks, jacobi at tol 0.0005: speed-up over 1 rank, dilu at 0.001, per round {1.28}, {1.60}, "
-        "{1.34}; median {1.34}; 2 ranks, dilu at tol 0.0005: speed-up over 1 rank, dilu at 0.001, per round {1.35}, "
-        "{1.31}, {1.24}; median {1.31}; 2 ranks: jacobi's loop time over dilu's per round {1.06}, {0.82}, {0.93}; "
-        "median {0.93}",
-        lambda: timing_output("20261206e") + [*timing_ratios("20261206e"), timing_speedups("20261206e")[-1]],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "(1-rank runs {50.4}, {59.7} and {62.9} s), and block Jacobi won {2} of the {3} rounds. Over both commands "
-        "it was the faster on 2 ranks in {5} rounds of {6}.",
-        lambda: [
-            *scaling_table("n16000/accuracy_timing_20261206e.csv").query("ranks == 1")["loop_s"],
-            sum(r < 1 for r in timing_ratios("20261206e")),
-            len(timing_ratios("20261206e")),
-            *jacobi_wins(("20261206", "20261206e")),
-        ],
-        None,
-    ),
-]
-MPI_ACCURACY_QUOTES += [
-    Quote(
-        page,
-        passage,
-        lambda: [float(np.mean([np.median(timing_speedups("20261206e")[i : i + 3]) for i in (0, 3)]))],
-        None,
-    )
-    for page, passage in (
-        (
-            "BENCHMARKS.md",
-            "In these two phases, at equal accuracy, the two preconditioners gave 2 ranks about the same speed-up, "
-            "{1.3}x,",
-        ),
-    )
-]
 QUOTES += MPI_ACCURACY_QUOTES[3:]
 
 
 # -- BENCHMARKS.md's calm-phase timing with block Jacobi on 1 rank too, and the model at equal accuracy -------
 CALM_TIMINGS = ("20261206f", "20261206g")
-
-
-def one_rank_jacobi_output(label: str) -> list[float]:
-    """timing's last two lines: block Jacobi's 1-rank loop time over the default's per round and median,
-    then its 1-rank loop time over its 2-rank one per round and median."""
-    over_default = timing_loops(label, 1, "jacobi") / timing_loops(label, 1, "dilu")
-    split = timing_loops(label, 1, "jacobi") / timing_loops(label, 2, "jacobi")
-    return [*over_default, over_default.median(), *split, split.median()]
-
-
-def full_timing_output(label: str) -> list[float]:
-    """Every number of timing's output on a table with block Jacobi on 1 rank too, in print order."""
-    return [
-        *timing_output(label),
-        *timing_ratios(label),
-        timing_speedups(label)[-1],
-        *one_rank_jacobi_output(label),
-    ]
 
 
 def calm_loops(ranks: int, preconditioner: str) -> list[float]:
@@ -2575,46 +1545,7 @@ def modelled(ranks: int, preconditioner: str, key: str) -> float:
     return row[key]
 
 
-CALM_TIMING_QUOTES = [
-    Quote(
-        "BENCHMARKS.md",
-        "(+{1.1}%, +{1.3}% and +{0.5}% lost at the 320 us grain, `jitter_20261206f.csv`, `jitter_20261206f2.csv`,",
-        lambda: [jitter_loss_at(f"jitter_{label}.csv", 320) for label in ("20261206f", "20261206f2", "20261206g")],
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "Output (`accuracy_timing_20261206f.csv`): 2 ranks, jacobi at tol 0.0005: speed-up over 1 rank, dilu "
-        "at 0.001, per round {1.55}, {1.44}, {1.54}; median {1.54}; 2 ranks, dilu at tol 0.0005: speed-up "
-        "over 1 rank, dilu at 0.001, per round {1.36}, {1.22}, {1.26}; median {1.26}; 2 ranks: jacobi's loop "
-        "time over dilu's per round {0.88}, {0.85}, {0.82}; median {0.85}; 1 rank, jacobi at tol 0.0005: loop "
-        "time over 1 rank, dilu at 0.001, per round {1.41}, {1.14}, {1.16}; median {1.16}; jacobi at tol "
-        "0.0005: speed-up of 2 ranks over its 1 rank, per round {2.17}, {1.64}, {1.79}; median {1.79}",
-        lambda: full_timing_output("20261206f"),
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "Output (`accuracy_timing_20261206g.csv`): 2 ranks, jacobi at tol 0.0005: speed-up over 1 rank, dilu "
-        "at 0.001, per round {1.42}, {1.39}, {1.48}; median {1.42}; 2 ranks, dilu at tol 0.0005: speed-up "
-        "over 1 rank, dilu at 0.001, per round {1.24}, {1.20}, {1.22}; median {1.22}; 2 ranks: jacobi's loop "
-        "time over dilu's per round {0.87}, {0.86}, {0.83}; median {0.86}; 1 rank, jacobi at tol 0.0005: loop "
-        "time over 1 rank, dilu at 0.001, per round {1.16}, {1.18}, {1.16}; median {1.16}; jacobi at tol "
-        "0.0005: speed-up of 2 ranks over its 1 rank, per round {1.64}, {1.64}, {1.71}; median {1.64}",
-        lambda: full_timing_output("20261206g"),
-        None,
-    ),
-    Quote(
-        "BENCHMARKS.md",
-        "The 1-rank default took {37.5}-{41.5} s, a little less than in the committed calm table ({42.5}-{42.9} s).",
-        lambda: [
-            min(calm_loops(1, "dilu")),
-            max(calm_loops(1, "dilu")),
-            *loop_ranges("measure.csv")[:2],
-        ],
-        None,
-    ),
-]
+CALM_TIMING_QUOTES: list[Quote] = []
 
 
 ALL_TIMINGS = ("20261206", "20261206e", *CALM_TIMINGS)
@@ -2751,7 +1682,7 @@ EQUAL_ACCURACY_MODEL_QUOTES = [
         "at equal accuracy block Jacobi keeps {0.74} of the ideal speed-up on 8 ranks and {0.54} on 64, dilu {0.57} "
         "and {0.37}. dilu's matched iterations grow by {2.67} per doubling of the ranks ({18.30} on 2 ranks, "
         "{23.65} on 8), and from {32} ranks on they exceed block Jacobi's, which do not grow at all. The model at "
-        "the default tol (above) gave dilu {0.43} on 64 ranks",
+        "the default tol (`mpi_scaling.py model --n 16000`) gave dilu {0.43} on 64 ranks",
         lambda: [
             modelled(8, "jacobi", "efficiency"),
             modelled(64, "jacobi", "efficiency"),

@@ -85,7 +85,8 @@ def test_implicit_springs_run_far_above_the_explicit_spring_limit(tmp_path, touc
     X(delta), allows 2 X(delta)/kn = 8.4e-4), 0.1 strain of a touching N = 60 packing passes
     every runner check, overlaps stay below 5e-3 d (measured 1.3e-3: the normal spring lags
     one step) and the contact stress stays bounded (|contact pxz| < 1e5; ~1e3 in these runs).
-    Whether such a step is accurate is a separate question (BENCHMARKS.md, "Engine speed II")."""
+    Whether such a step is accurate is a separate question (docs/physics.md, "How the engine's
+    defaults were chosen")."""
     implicit = short_startup(tmp_path / "implicit", touching_packing, "implicit", 4e-4, 0.1)
     table = read_stress_table(implicit.table_file)
     assert np.all(np.isfinite(table["contact_pxz"]))
@@ -119,7 +120,8 @@ def test_newton_solve_keeps_the_contact_stress_where_the_lagged_solve_loses_it(t
     dt = 1e-4 = 0.24 tau with solve newton is within 2% of that at dt = 1e-5 = 0.024 tau (the
     lagged solve's accurate step); with the lagged solve at 0.24 tau, where contacts that should
     stick keep sliding on their explicit Coulomb force, it keeps less than half of it (17%
-    when this test was written; the same loss on steady states: BENCHMARKS.md, "Engine III")."""
+    when this test was written; the same loss on steady states: docs/physics.md, "How the
+    engine's defaults were chosen")."""
     packing = pack(tmp_path / "packing", 100, phi=0.55, seed=5, gap_margin=0.0)
     strain = 0.3
 

@@ -124,7 +124,8 @@ def test_implicit_springs_step_resolves_the_contact_relaxation_time():
 
 def test_local_solves_on_several_ranks_are_refused_naming_the_key():
     """Local solves pay on one rank only: on two each rank solves its patches without the other's
-    couplings and the global iterations grow (measured in BENCHMARKS.md), so the pair is refused."""
+    couplings and the global iterations grow (measured: docs/physics.md, "How the
+    engine's defaults were chosen"), so the pair is refused."""
     assert validate_config({**MINIMAL, "run": {"local_solve_fraction": 0.02}})["run"]["mpi_ranks"] == 1
     assert validate_config({**MINIMAL, "run": {"mpi_ranks": 2}})["run"]["local_solve_fraction"] == 0
     with pytest.raises(ConfigError, match=r"run.local_solve_fraction' \(0.02\) needs run.mpi_ranks = 1"):

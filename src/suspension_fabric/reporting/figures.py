@@ -224,7 +224,7 @@ def figure_rotation(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: d
                 vmin=-limits[column],
                 vmax=limits[column],
                 shading="flat",
-                rasterized=True,  # an image in the PDF, not a path per cell (benchmarks/figure_pdf_cost.py)
+                rasterized=True,  # an image in the PDF, not a path per cell (commit 94e3e9f, figure_pdf_cost.py)
             )
             ax.set_thetamin(-180)
             ax.set_thetamax(180)
@@ -428,7 +428,7 @@ def figure_stress_rotation(
                 vmin=limits[column][0],
                 vmax=limits[column][1],
                 shading="flat",
-                rasterized=True,  # an image in the PDF, not a path per cell (benchmarks/figure_pdf_cost.py)
+                rasterized=True,  # an image in the PDF, not a path per cell (commit 94e3e9f, figure_pdf_cost.py)
             )
             ax.set_thetamin(-180)
             ax.set_thetamax(180)
