@@ -217,3 +217,28 @@ def test_the_wyart_cates_fit_recovers_its_parameters_from_exact_viscosities():
     assert fit.loc["rms_log_residual", "value"] < 1e-6
     one_phi = pd.DataFrame(rows).query("phi == 0.54")
     assert flow_curve.wyart_cates_fit(one_phi).empty
+
+
+def test_frictionless_points_join_each_seeds_fit_and_set_phi_j0():
+    """A flow curve at one volume fraction (0.54, f from 0.05 to 1) cannot be fitted alone; with the
+    frictionless viscosities A (1 - phi/phi_J0)^-2 at phi 0.40-0.55 (f = 0) joined per seed, the fit
+    gives back A = 1.2, phi_J0 = 0.64 and phi_Jmu = 0.58 exactly; a seed the frictionless points lack
+    is named."""
+    curve, runs = [], {}
+    for seed in (1, 2):
+        for fraction in (0.05, 0.3, 0.9, 1.0):
+            eta = flow_curve.wyart_cates_viscosity(0.54, fraction, 1.2, 0.64, 0.58)
+            curve.append({"mu": 1.0, "seed": seed, "phi": 0.54, "frictional_fraction": fraction, "eta_r": eta})
+    for phi in (0.40, 0.45, 0.50, 0.55):
+        eta = float(flow_curve.wyart_cates_viscosity(phi, 0.0, 1.2, 0.64, 0.58))
+        table = pd.DataFrame([{"seed": s, "strain": g, "eta_r": eta} for s in (1, 2) for g in (2.0, 3.0)])
+        runs[f"phi{phi:.2f}_mu0"] = (phi, (2.0, 3.0), table)
+    frictionless = flow_curve.frictionless_steady(runs)
+    assert set(frictionless["frictional_fraction"]) == {0.0} and len(frictionless) == 8
+    assert flow_curve.wyart_cates_fit(pd.DataFrame(curve)).empty
+    fit = flow_curve.wyart_cates_fit(pd.DataFrame(curve), 0.95, frictionless).set_index("parameter")
+    assert fit.loc["A", "value"] == pytest.approx(1.2, rel=1e-5)
+    assert fit.loc["phi_J0", "value"] == pytest.approx(0.64, rel=1e-6)
+    assert fit.loc["phi_Jmu", "value"] == pytest.approx(0.58, rel=1e-6)
+    with pytest.raises(ValueError, match=r"no seed \[2\]"):
+        flow_curve.wyart_cates_fit(pd.DataFrame(curve), 0.95, frictionless[frictionless["seed"] == 1])

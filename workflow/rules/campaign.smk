@@ -93,12 +93,14 @@ rule flow_curve:
     friction coefficient, a Markdown fragment for the docs and the figure."""
     input:
         stress_runs=per_point(rules.aggregate_stress_startup.output.runs),
+        frictionless=frictionless_datasets,
     output:
         table=f"{CAMPAIGN_RESULTS}/tables/flow_curve.csv",
         seeds=f"{CAMPAIGN_RESULTS}/tables/flow_curve_seeds.csv",
         onsets=f"{CAMPAIGN_RESULTS}/tables/flow_curve_onsets.csv",
         exponents=f"{CAMPAIGN_RESULTS}/tables/flow_curve_exponents.csv",
         wyart_cates=f"{CAMPAIGN_RESULTS}/tables/flow_curve_wyart_cates.csv",
+        frictionless=f"{CAMPAIGN_RESULTS}/tables/flow_curve_frictionless.csv",
         summary=f"{CAMPAIGN_RESULTS}/tables/flow_curve_summary.md",
         figure_pdf=f"{CAMPAIGN_RESULTS}/figures/flow_curve.pdf",
         figure_png=report(

@@ -250,6 +250,13 @@ def segment_of(wildcards):
     return {"index": node.index, "history": [segment.as_dict() for segment in node.history]}
 
 
+def frictionless_datasets(wildcards):
+    """An input function: the record of each dataset at mu = 0 in campaign.frictionless_datasets (the
+    f = 0 points of the Wyart-Cates fit), none without that key."""
+    folder = (config["campaign"] or {}).get("frictionless_datasets")
+    return sorted(str(p) for p in Path(folder).glob("*_mu0/dataset.json")) if folder else []
+
+
 def point_label(study):
     """How a flow curve's point is named in tables and legends: phi and the imposed rate or stress."""
     forces, phi = STUDIES[study]["forces"], STUDIES[study]["particles"]["phi"]

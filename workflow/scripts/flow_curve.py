@@ -10,6 +10,7 @@ from suspension_fabric.io.table_provenance import checked_tables
 from suspension_fabric.reporting.figures import save_figure
 from suspension_fabric.reporting.flow_curve_figures import figure_flow_curve
 from suspension_fabric.reporting.flow_curve_fragments import flow_curve_summary
+from suspension_fabric.study.dataset import load
 from suspension_fabric.workflow_io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
@@ -28,7 +29,14 @@ with logged(sm.log[0]), checked_tables(sm):
     )
     differences = flow_curve.onset_differences(onsets, sm.params.level)
     onsets = onsets.drop(columns="per_seed")
-    wyart_cates = flow_curve.wyart_cates_fit(per_seed, sm.params.level)
+    frictionless = {}
+    for record in sm.input.frictionless:
+        loaded = load(Path(record).parent)
+        window = loaded.config["analysis"]["steady_window"]
+        frictionless[Path(record).parent.name] = (loaded.config["particles"]["phi"], window, loaded.stress_startup)
+    frictionless = flow_curve.frictionless_steady(frictionless)
+    frictionless.to_csv(sm.output.frictionless, index=False)
+    wyart_cates = flow_curve.wyart_cates_fit(per_seed, sm.params.level, frictionless)
     exponents = flow_curve.thickening_exponents(per_seed, sm.params.level)
     exponents.to_csv(sm.output.exponents, index=False)
     wyart_cates.to_csv(sm.output.wyart_cates, index=False)
@@ -36,7 +44,7 @@ with logged(sm.log[0]), checked_tables(sm):
     table.to_csv(sm.output.table, index=False)
     onsets.to_csv(sm.output.onsets, index=False)
     with open(sm.output.summary, "w") as out:
-        out.write(flow_curve_summary(table, onsets, differences, exponents, wyart_cates, sm.params.level))
+        out.write(flow_curve_summary(table, onsets, differences, exponents, wyart_cates, sm.params.level, frictionless))
     save_figure(figure_flow_curve(table, onsets, sm.params.level), str(Path(sm.output.figure_png).with_suffix("")))
     shown = ["point", "rate_ratio", "sigma", "eta_r", "frictional_fraction", "Z_touching", "Z_frictional"]
     print(table[shown].to_string())

@@ -61,6 +61,7 @@ __all__ = [
     "thickening_exponents",
     "WYART_CATES_PARAMETERS",
     "wyart_cates_viscosity",
+    "frictionless_steady",
     "wyart_cates_fit",
 ]
 
@@ -235,18 +236,41 @@ def wyart_cates_viscosity(phi, fraction, A: float, phi_J0: float, phi_Jmu: float
     return A * (1.0 - np.asarray(phi, dtype=float) / jamming) ** -2
 
 
-def wyart_cates_fit(per_seed: pd.DataFrame, level: float = LEVEL) -> pd.DataFrame:
+def frictionless_steady(loaded: dict) -> pd.DataFrame:
+    """Each seed's steady eta_r of rate-independent frictionless datasets (mu = 0: every contact
+    frictionless, the f = 0 limit of a flow curve), from {name: (phi, steady_window, startup stress
+    table)}: columns point, phi, seed, eta_r, frictional_fraction (0)."""
+    frames = []
+    for name, (phi, window, runs) in loaded.items():
+        means = seed_steady_means(runs, window, ("eta_r",)).reset_index()
+        frames.append(means.assign(point=name, phi=float(phi), frictional_fraction=0.0))
+    columns = ["point", "phi", "seed", "eta_r", "frictional_fraction"]
+    return pd.concat(frames, ignore_index=True)[columns] if frames else pd.DataFrame(columns=columns)
+
+
+def wyart_cates_fit(
+    per_seed: pd.DataFrame, level: float = LEVEL, frictionless: pd.DataFrame | None = None
+) -> pd.DataFrame:
     r"""The Wyart-Cates viscosity fitted per seed to every point of every flow curve of one friction
     coefficient, at the frictional fraction the simulation measured there: least squares on
     $\ln\eta_r$ over the points (each seed's points of all volume fractions), for A, phi_J0 (the
     frictionless jamming fraction) and phi_Jmu (the frictional one), both above the densest phi.
-    Needs two volume fractions at least (else A and the jamming fractions are one combination).
-    One row per (mu, parameter): the t-interval over seeds of the per-seed values, and per mu the rms
-    residual of ln eta_r (``parameter`` "rms_log_residual")."""
+    ``frictionless`` (`frictionless_steady`): points at f = 0 of other volume fractions, joined to the
+    same seed's points of every friction coefficient, so that phi_J0 is set by frictionless
+    viscosities near it. Needs two volume fractions at least (else A and the jamming fractions are one
+    combination). One row per (mu, parameter): the t-interval over seeds of the per-seed values, and
+    per mu the rms residual of ln eta_r (``parameter`` "rms_log_residual")."""
     from scipy.optimize import least_squares
 
     rows = []
     for mu, curves in per_seed.groupby("mu"):
+        if frictionless is not None and not frictionless.empty:
+            missing = sorted(set(curves["seed"]) - set(frictionless["seed"]))
+            if missing:
+                raise ValueError(f"the frictionless points have no seed {missing} of the flow curves")
+            curves = pd.concat(
+                [curves, frictionless[frictionless["seed"].isin(set(curves["seed"]))]], ignore_index=True
+            )
         if curves["phi"].nunique() < 2:
             continue
         densest = float(curves["phi"].max())

@@ -40,6 +40,7 @@ def flow_curve_summary(
     exponents: pd.DataFrame,
     wyart_cates: pd.DataFrame,
     level: float,
+    frictionless: pd.DataFrame | None = None,
 ) -> str:
     """Per point the rate ratio and the steady sigma/sigma_0, eta_r, frictional fraction, contacts per
     particle and Pi with their t-intervals; then each curve's Wyart-Cates onset stress and its thickening
@@ -107,6 +108,10 @@ def flow_curve_summary(
             f"- φ = {phi:.2f}, μ = {mu:g}: thickening exponent Δln η_r / Δln σ between neighbouring imposed "
             f"{imposed}, per seed ({_EXPONENT_READING[control]}): {secants}."
         )
+    joined = ""
+    if frictionless is not None and not frictionless.empty:
+        phis = ", ".join(f"{phi:.2f}" for phi in sorted(set(frictionless["phi"])))
+        joined = f" and the frictionless points (μ = 0, f = 0) at φ = {phis}"
     for mu, fit in wyart_cates.groupby("mu"):
         values = ", ".join(
             f"{_WYART_CATES[row['parameter']]} = {format_interval(row['value'], row['low'], row['high'])}"
@@ -114,6 +119,6 @@ def flow_curve_summary(
         )
         lines.append(
             f"- Wyart-Cates viscosity η_r = A (1 − φ/φ_J(f))⁻², φ_J(f) = f φ_J^μ + (1 − f) φ_J⁰, at μ = {mu:g} "
-            f"with the measured f, fitted per seed over every point of the curves: {values}."
+            f"with the measured f, fitted per seed over every point of the curves{joined}: {values}."
         )
     return "\n".join(lines) + "\n"
