@@ -256,10 +256,11 @@ def wyart_cates_fit(
     $\ln\eta_r$ over the points (each seed's points of all volume fractions), for A, phi_J0 (the
     frictionless jamming fraction) and phi_Jmu (the frictional one), both above the densest phi.
     ``frictionless`` (`frictionless_steady`): points at f = 0 of other volume fractions, joined to the
-    same seed's points of every friction coefficient, so that phi_J0 is set by frictionless
-    viscosities near it. Needs two volume fractions at least (else A and the jamming fractions are one
-    combination). One row per (mu, parameter): the t-interval over seeds of the per-seed values, and
-    per mu the rms residual of ln eta_r (``parameter`` "rms_log_residual")."""
+    same seed's points of every friction coefficient; one at a volume fraction of the curves is left
+    out (the same packing as the curves' own low rates). Needs two volume fractions at least (else A
+    and the jamming fractions are one combination). One row per (mu, parameter): the t-interval over
+    seeds of the per-seed values (seed noise only: the form's misfit, common to every seed, is not in
+    it), and per mu the rms residual of ln eta_r (``parameter`` "rms_log_residual")."""
     from scipy.optimize import least_squares
 
     rows = []
@@ -268,9 +269,10 @@ def wyart_cates_fit(
             missing = sorted(set(curves["seed"]) - set(frictionless["seed"]))
             if missing:
                 raise ValueError(f"the frictionless points have no seed {missing} of the flow curves")
-            curves = pd.concat(
-                [curves, frictionless[frictionless["seed"].isin(set(curves["seed"]))]], ignore_index=True
-            )
+            # a frictionless point at a volume fraction of the curves has their packings (same seed and
+            # phi): the curves' own low rates are that measurement already
+            joined = frictionless["seed"].isin(set(curves["seed"])) & ~frictionless["phi"].isin(set(curves["phi"]))
+            curves = pd.concat([curves, frictionless[joined]], ignore_index=True)
         if curves["phi"].nunique() < 2:
             continue
         densest = float(curves["phi"].max())

@@ -110,7 +110,8 @@ def flow_curve_summary(
         )
     joined = ""
     if frictionless is not None and not frictionless.empty:
-        phis = ", ".join(f"{phi:.2f}" for phi in sorted(set(frictionless["phi"])))
+        curve_phis = set(table["phi"]) if "phi" in table else set()
+        phis = ", ".join(f"{phi:.2f}" for phi in sorted(set(frictionless["phi"]) - curve_phis))
         joined = f" and the frictionless points (μ = 0, f = 0) at φ = {phis}"
     for mu, fit in wyart_cates.groupby("mu"):
         values = ", ".join(
