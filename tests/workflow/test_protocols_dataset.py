@@ -53,14 +53,17 @@ def test_the_rebuild_plans_no_simulation_and_writes_the_documented_results(tmp_p
     assert not problems, problems
 
 
-def test_the_late_state_table_reads_each_difference_by_its_interval():
+def test_the_late_state_table_reads_each_difference_after_holm_over_the_list():
     """states_markdown: one row per segment after the startup, each quantity's seed mean with its
-    paired difference from the startup's steady state, read "lower" (interval below 0), "higher"
-    (above) or "not decided"; the startup's steady values in the first row."""
+    paired difference from the startup's steady state, read "lower" or "higher" where its p-value
+    adjusted by Holm over every difference of the list is below 0.05, else "not decided": p = 0.001,
+    0.6 and 0.04 over three cells adjust to 0.003, 0.6 and 0.08, so the third, whose interval
+    excludes 0, is not decided; the startup's steady values in the first row."""
     import pandas as pd
 
+    cells = {"Z": (-0.2, -0.25, -0.15, 0.001), "eta_r": (0.1, -0.5, 0.7, 0.6), "n12": (0.01, 0.001, 0.02, 0.04)}
     rows = []
-    for quantity, (mean, low, high) in {"Z": (-0.2, -0.25, -0.15), "eta_r": (0.1, -0.5, 0.7)}.items():
+    for quantity, (mean, low, high, p) in cells.items():
         rows.append(
             {
                 "protocol": "rotary_90",
@@ -70,16 +73,17 @@ def test_the_late_state_table_reads_each_difference_by_its_interval():
                 "window_low": 2.5,
                 "window_high": 5.0,
                 "quantity": quantity,
-                "mean": 3.3 if quantity == "Z" else 15.7,
-                "startup_steady": 3.5 if quantity == "Z" else 15.6,
+                "mean": {"Z": 3.3, "eta_r": 15.7, "n12": -0.09}[quantity],
+                "startup_steady": {"Z": 3.5, "eta_r": 15.6, "n12": -0.1}[quantity],
                 "difference": mean,
                 "difference_low": low,
                 "difference_high": high,
+                "difference_p": p,
             }
         )
     lines = states_markdown(pd.DataFrame(rows), 0.95)
-    assert "| startup steady state | | 3.5 | 15.6 |" in lines
+    assert "| startup steady state | | 3.5 | -0.1 | 15.6 |" in lines
     assert (
         "| 1: flow at 0 deg, turning 90 deg/strain | 2.5-5 | 3.3 (-0.2 [-0.25, -0.15] lower) | "
-        "15.7 (0.1 [-0.5, 0.7] not decided) |" in lines
+        "-0.09 (0.01 [0.001, 0.02] not decided) | 15.7 (0.1 [-0.5, 0.7] not decided) |" in lines
     )

@@ -175,7 +175,10 @@ def segment_states(
     protocols: Mapping[str, Protocol], table: pd.DataFrame, value_columns, steady_window, level: float = LEVEL
 ) -> pd.DataFrame:
     """The late state of every segment after the first of each protocol (module docstring) from a
-    protocol table (per seed)."""
+    protocol table (per seed), with the t-test p-value of each difference from the startup's steady
+    state (``difference_p``; a report that reads many cells at once adjusts them)."""
+    from .seed_statistics import t_test_p
+
     low, high = steady_window
     rows = []
     for name, protocol in protocols.items():
@@ -191,6 +194,7 @@ def segment_states(
             for column in value_columns:
                 state = t_interval(per_seed[column].to_numpy(), level)
                 shift = t_interval((per_seed[column] - base[column]).to_numpy(), level)
+                shift_p = t_test_p((per_seed[column] - base[column]).to_numpy())
                 rows.append(
                     {
                         "protocol": name,
@@ -208,6 +212,7 @@ def segment_states(
                         "difference": shift.mean,
                         "difference_low": shift.low,
                         "difference_high": shift.high,
+                        "difference_p": shift_p,
                     }
                 )
     return pd.DataFrame(rows)

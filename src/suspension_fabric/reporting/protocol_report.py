@@ -25,6 +25,7 @@ from __future__ import annotations
 import pandas as pd
 
 from suspension_fabric.analysis.protocol_tables import DRIFT_POWER
+from suspension_fabric.analysis.seed_statistics import adjusted_p
 from suspension_fabric.evaluation.protocol_benchmark import ALL_COMPONENTS
 from suspension_fabric.io.fit_provenance import held_out_label
 
@@ -84,11 +85,15 @@ def states_markdown(states: pd.DataFrame, level: float) -> list[str]:
     """Per protocol, the late state of each segment after the startup against the startup's steady
     state (module docstring); ``states``: protocol_states.csv and stress_protocol_states.csv rows."""
     percent = f"{100 * level:g}%"
-    shown = states[states["quantity"].isin(list(STATE_QUANTITIES))]
+    shown = states[states["quantity"].isin(list(STATE_QUANTITIES))].copy()
+    # every difference of the page is read at once: Holm's adjustment over all of them
+    shown["difference_p_holm"] = adjusted_p(shown["difference_p"].to_numpy(), "holm")
     lines = [
         f"Late state of each segment (its second half), seed mean; in brackets the per-seed difference from the "
-        f"startup's steady state [{percent} t-interval] and its reading (higher, lower, not decided). ⟨nn⟩ in the "
-        "frame of the current flow; η_r and Π in units of η_f γ̇.",
+        f"startup's steady state [{percent} t-interval] and its reading: higher or lower where the t-test's p, "
+        f"adjusted by Holm's method over the {len(shown)} differences of this list, is below {1 - level:.2g}, else "
+        "not decided. ⟨nn⟩ in the frame of the current flow; η_r dimensionless (the shear stress over η_f γ̇), Π "
+        "in units of η_f γ̇.",
         "",
     ]
     for protocol, rows in shown.groupby("protocol", sort=False):
@@ -107,9 +112,8 @@ def states_markdown(states: pd.DataFrame, level: float) -> list[str]:
             cells = []
             for q in quantities:
                 r = by_quantity.loc[q]
-                reading = {"better": "lower", "worse": "higher", "identical": "identical"}.get(
-                    comparison(r["difference_low"], r["difference_high"]), "not decided"
-                )
+                decided = r["difference_p_holm"] < 1.0 - level
+                reading = ("lower" if r["difference"] < 0 else "higher") if decided else "not decided"
                 shift = _interval(r["difference"], r["difference_low"], r["difference_high"])
                 cells.append(f"{r['mean']:.3g} ({shift} {reading})")
             window = f"{first['window_low']:g}-{first['window_high']:g}"
