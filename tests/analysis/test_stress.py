@@ -546,6 +546,17 @@ def test_recorded_value_columns_leave_out_what_no_run_recorded():
         stress.recorded_value_columns(mixed, "runs/x")
 
 
+def test_a_critical_load_recorded_in_some_runs_only_is_left_out_with_a_message(capsys):
+    """Runs at imposed rate from before the critical load was recorded beside newer ones: the column
+    (a constant of the config there) is left out of every run, with a message naming the source."""
+    frame = pd.DataFrame({"seed": [1, 1, 2], **{c: [0.1, 0.2, 0.3] for c in stress.STRESS_VALUE_COLUMNS}})
+    mixed = frame.copy()
+    mixed.loc[2, "critical_load"] = np.nan
+    kept = stress.recorded_value_columns(mixed, "runs/y")
+    assert "critical_load" not in kept and "stresslet_12" in kept
+    assert "runs/y: critical_load recorded in some runs only" in capsys.readouterr().out
+
+
 def test_a_stress_table_cut_mid_line_is_refused_as_truncated_naming_the_file(tmp_path):
     """A finished run's stress.txt whose last row lacks its newline (cut by a kill or a full disk)
     is refused, naming the file and saying truncated, not read with a row fewer."""

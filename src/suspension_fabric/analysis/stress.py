@@ -360,11 +360,16 @@ def with_lubrication_stress(frame: pd.DataFrame, choice: str, source: str = "str
 def recorded_value_columns(frame: pd.DataFrame, source: str = "stress tables") -> tuple[str, ...]:
     """``STRESS_VALUE_COLUMNS`` without the optional columns that no row of ``frame`` recorded
     (NaN throughout: runs from before the stresslets were recorded, or of the stock model); an
-    optional column recorded in some rows only is an error naming ``source``."""
+    optional column recorded in some rows only is an error naming ``source``, but for `LOAD_COLUMNS`:
+    only runs at imposed rate can lack them (stress control came with them), where the critical load
+    is the config's constant, so they are left out of every run with a message."""
     missing = []
     for column in OPTIONAL_COLUMNS:
         absent = frame[column].isna()
         if absent.all():
+            missing.append(column)
+        elif absent.any() and column in LOAD_COLUMNS:
+            print(f"{source}: {column} recorded in some runs only (runs at imposed rate, a constant there): left out")
             missing.append(column)
         elif absent.any():
             seeds = sorted(frame.loc[absent, "seed"].unique().tolist()) if "seed" in frame else []
