@@ -84,7 +84,8 @@ def test_the_headline_names_the_verdicts_and_the_best_stress_relation():
     text = headline_paragraph(FITS, verdicts, board, "test: N = 40, 2 seeds")
     assert text.startswith("What the data say, in short (test: N = 40, 2 seeds): G-W beta = 11.00 ± 0.12")
     assert "C1 and C2 are confirmed; C3 is refuted." in text
-    assert "diverging (global fit)" in text and "75% smaller" in text
+    assert "± one jackknife standard error over seeds" in text
+    assert "“diverging” (global fit) predicts the viscosity after a rotation best" in text and "75% smaller" in text
 
 
 def test_the_verdict_table_has_a_column_per_dataset_and_the_seeds_an_undecided_claim_needs():

@@ -144,8 +144,8 @@ def headline_paragraph(fits: dict, verdicts: pd.DataFrame, stress_board: pd.Data
         f"What the data say, in short ({label}): G-W beta = "
         f"{_estimate(gw['parameters']['beta'], gw['errors']['beta'])}, modified beta = "
         f"{_estimate(modified['parameters']['beta'], modified['errors']['beta'])}, A = "
-        f"{_estimate(modified['parameters']['A'], modified['errors']['A'])} (paper: {paper_gw.get('beta')}; "
-        f"{paper_mod.get('beta')}, {paper_mod.get('A')})."
+        f"{_estimate(modified['parameters']['A'], modified['errors']['A'])} (± one jackknife standard error over "
+        f"seeds; paper: {paper_gw.get('beta')}; {paper_mod.get('beta')}, {paper_mod.get('A')})."
     ]
     listed = [f"{_and(decided[v])} {'is' if len(decided[v]) == 1 else 'are'} {v}" for v in decided if decided[v]]
     if listed:
@@ -157,9 +157,9 @@ def headline_paragraph(fits: dict, verdicts: pd.DataFrame, stress_board: pd.Data
         if best["relation"] != "gw":
             gain = 1.0 - best["held_out_mse"] / reference
             parts.append(
-                f"The best stress relation on rotation angles its fit did not see (the same seeds), {best['label']} "
-                f"({best['mode']} fit), predicts the viscosity after a rotation with a {gain:.0%} smaller mean square "
-                "error than G-W's."
+                f"Of the stress relations, “{best['label']}” ({best['mode']} fit) predicts the viscosity after a "
+                f"rotation best: on angles its fit did not see (the same seeds), its mean square error is {gain:.0%} "
+                "smaller than that of the G-W relation."
             )
     parts.append("Details, numbers and their intervals: the docs.")
     return " ".join(parts) + "\n"
