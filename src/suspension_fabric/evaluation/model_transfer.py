@@ -67,7 +67,6 @@ __all__ = [
     "kinematic_coefficients",
     "MapPoint",
     "map_point",
-    "load_point",
     "TransferFit",
     "fit_coefficients",
     "choose_threshold",
@@ -155,17 +154,6 @@ def map_point(name: str, config: dict, startup_runs: pd.DataFrame, rotation_runs
     )
 
 
-def load_point(folder, window: float = 2.0) -> MapPoint:
-    """A committed dataset (a folder of data/campaign) as a
-    [`MapPoint`][suspension_fabric.evaluation.model_transfer.MapPoint]."""
-    from suspension_fabric.study.dataset import load
-
-    loaded = load(Path(folder))
-    return map_point(
-        Path(folder).name, loaded.config, loaded.fabric_startup, loaded.fabric_rotation, loaded.fits, window
-    )
-
-
 def _steady_fabric(point: MapPoint) -> np.ndarray:
     low, high = point.steady_window
     inside = (point.curves.startup_strains >= low - 1e-9) & (point.curves.startup_strains <= high + 1e-9)
@@ -180,9 +168,11 @@ def _point_system(point: MapPoint, names, cache: dict) -> tuple[np.ndarray, np.n
     if key in cache:
         return cache[key]
     curves = [*point.startup.values(), *point.rotation.values()]
-    A, y = weak_form_system(curves, names)
-    kinematic = weak_form_system(curves, list(KINEMATIC))[0] @ np.array(list(KINEMATIC.values()))
-    y = y - kinematic
+    # one weak form over the fitted terms and the kinematic ones (which the order-1 library holds)
+    columns = [*names, *(name for name in KINEMATIC if name not in names)]
+    A, y = weak_form_system(curves, columns)
+    y = y - np.ascontiguousarray(A[:, [columns.index(name) for name in KINEMATIC]]) @ np.array(list(KINEMATIC.values()))
+    A = A[:, : len(names)]
     steady = _steady_fabric(point)
     # a window of the weak form spans WINDOW_FRAMES - 1 frame steps; a window's residual is about the
     # right-hand side times its strain, and sqrt(count) windows' worth of rows is what the steady
