@@ -296,3 +296,34 @@ def test_bootstrap_of_the_mean_takes_the_same_resamples_as_seed_bootstrap(n):
     expected = seed_bootstrap(lambda subset: float(np.mean([by_seed[s] for s in subset])), seeds)
     vectorized = seed_bootstrap_of_mean(lambda means: means.mean(axis=1), curves, vectorized=True)
     assert vectorized == pytest.approx(expected, rel=1e-12)
+
+
+def test_the_interval_t_test_is_the_test_the_t_interval_inverts():
+    """From a t-interval's mean, bounds, level and n, the two-sided p equals the t-test's on the values, and
+    p < 0.05 exactly when the 95% interval excludes 0."""
+    rng = np.random.default_rng(5)
+    for shift in (0.0, 0.3, 1.0, 2.0):
+        values = rng.normal(shift, 1.0, size=6)
+        interval = ss.t_interval(values, 0.95)
+        p = ss.interval_t_test_p(interval.mean, interval.low, interval.high, interval.n, 0.95)
+        assert p == pytest.approx(ss.t_test_p(values), rel=1e-9)
+        assert (p < 0.05) == (interval.low > 0 or interval.high < 0)
+    assert np.isnan(ss.interval_t_test_p(0.1, 0.0, 0.2, 1))
+
+
+def test_a_verdict_after_adjustment_is_decided_only_below_the_level():
+    assert ss.decide_adjusted(0.2, 0.01) == ss.CONFIRMED and ss.decide_adjusted(-0.2, 0.049) == ss.REFUTED
+    assert ss.decide_adjusted(0.2, 0.05) == ss.UNDECIDED and ss.decide_adjusted(0.2, np.nan) == ss.UNDECIDED
+
+
+def test_variance_pseudo_values_average_to_the_variance_and_carry_its_error():
+    """Pseudo-values n s^2 - (n - 1) s^2_(-i): their mean is s^2 (ddof 1) exactly; fewer than three
+    seeds give s^2 to every seed (0 for one)."""
+    x = np.random.default_rng(2).normal(size=(7, 4))
+    q = ss.variance_pseudo_values(x)
+    np.testing.assert_allclose(q.mean(axis=0), x.var(axis=0, ddof=1), rtol=1e-12)
+    i = 3
+    np.testing.assert_allclose(q[i], 7 * x.var(axis=0, ddof=1) - 6 * np.delete(x, i, axis=0).var(axis=0, ddof=1))
+    np.testing.assert_allclose(ss.variance_pseudo_values(x[:2]), np.broadcast_to(x[:2].var(axis=0, ddof=1), (2, 4)))
+    assert (ss.variance_pseudo_values(x[:1]) == 0.0).all()
+    np.testing.assert_allclose(ss.variance_pseudo_values(x.T, axis=1), q.T)

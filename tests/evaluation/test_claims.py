@@ -287,17 +287,27 @@ def test_c1_claim_table_averages_angles_within_seeds(statistics):
 
 
 def test_noise_floors_are_between_seed_variances(statistics):
-    """s2_12 = between-seed variance (ddof 1) of the simulated r12 averaged over strains > 0: the
-    seeds differ by the constants c_s, so s2_12 = var(c_s, ddof=1) at every angle. The simulated r23
-    differs by d_s g, so s2_23 = var(d_s, ddof=1) x mean of g^2 over g = 0.01 k, k = 1..200, i.e.
-    var(d) x 1e-4 x 201 x 401 / 6 (the strain-0 point left out of the mean)."""
-    c = list(SEED_C.values())
-    var_c = sum((x - sum(c) / 3) ** 2 for x in c) / 2
-    d = list(SEED_D.values())
-    var_d = sum((x - sum(d) / 3) ** 2 for x in d) / 2
+    """s2_12 = between-seed variance (ddof 1) of the simulated r12 averaged over strains > 0, as
+    each seed's jackknife pseudo-value 3 var(c) - 2 var(c without that seed): the seeds differ by
+    the constants c_s, so these are the same at every angle and their mean over seeds is var(c).
+    The simulated r23 differs by d_s g, so s2_23 carries var(d)'s pseudo-values x the mean of g^2
+    over g = 0.01 k, k = 1..200, i.e. 1e-4 x 201 x 401 / 6 (the strain-0 point left out)."""
+
+    def variance(x):
+        return sum((v - sum(x) / len(x)) ** 2 for v in x) / (len(x) - 1)
+
+    def pseudo(table, seed):
+        others = [v for s, v in table.items() if s != seed]
+        return 3 * variance(list(table.values())) - 2 * variance(others)
+
     mean_g2 = 1e-4 * 201 * 401 / 6
-    np.testing.assert_allclose(statistics["s2_12"], var_c, rtol=1e-9)
-    np.testing.assert_allclose(statistics["s2_23"], var_d * mean_g2, rtol=1e-9)
+    for seed in SEED_C:
+        rows = statistics[statistics["seed"] == seed]
+        np.testing.assert_allclose(rows["s2_12"], pseudo(SEED_C, seed), rtol=1e-9)
+        np.testing.assert_allclose(rows["s2_23"], pseudo(SEED_D, seed) * mean_g2, rtol=1e-9)
+    by_angle = statistics.groupby("theta")[["s2_12", "s2_23"]].mean()
+    np.testing.assert_allclose(by_angle["s2_12"], variance(list(SEED_C.values())), rtol=1e-9)
+    np.testing.assert_allclose(by_angle["s2_23"], variance(list(SEED_D.values())) * mean_g2, rtol=1e-9)
 
 
 def test_one_seed_has_no_noise_floor_and_an_infinite_interval(replicates):

@@ -83,6 +83,16 @@ def test_the_noise_floor_is_the_between_seed_variance_of_the_simulated_curves():
     assert floor[[0, 1, 2, 4, 5]] == pytest.approx(0.0, abs=1e-20)
 
 
+def test_the_floor_per_seed_is_its_jackknife_pseudo_value():
+    """Seed i's value is n var(offsets) - (n - 1) var(offsets without i) (ddof 1, n = 5): their
+    mean is the floor itself (the variance is an unbiased U-statistic)."""
+    per_seed = mt.noise_floor_per_seed(curves(BUMP))
+    n = len(OFFSETS)
+    expected = [n * np.var(OFFSETS, ddof=1) - (n - 1) * np.var(np.delete(OFFSETS, i), ddof=1) for i in range(n)]
+    assert per_seed[:, 3] == pytest.approx(expected, rel=1e-9)
+    assert per_seed.mean(axis=0) == pytest.approx(mt.noise_floor(curves(BUMP)), rel=1e-9, abs=1e-20)
+
+
 def test_the_held_out_target_is_met_only_below_half_the_reference_error_net_of_the_floor():
     c = curves(BUMP)
     floor = mt.noise_floor(c)
@@ -90,8 +100,11 @@ def test_the_held_out_target_is_met_only_below_half_the_reference_error_net_of_t
     jitter = 0.01 * rng.normal(size=(5, 6))
     reference = floor + 1.0 + jitter
     for candidate_net, met in ((0.3, True), (0.6, False)):
-        table = mt.target_table(floor + candidate_net + jitter[::-1], reference, c).set_index("component")
-        expected = t_interval(0.5 * (reference[:, 3] - floor[3]) - candidate_net - jitter[::-1, 3])
+        candidate = floor + candidate_net + jitter[::-1]
+        table = mt.target_table(candidate, reference, c).set_index("component")
+        # the floor subtracted per seed as its pseudo-value (the same mean, its error in the interval)
+        floors = mt.noise_floor_per_seed(c)[:, 3]
+        expected = t_interval(0.5 * (reference[:, 3] - floors) - (candidate[:, 3] - floors))
         assert table.loc["n12", "target_statistic"] == pytest.approx(expected.mean, rel=1e-9)
         assert table.loc["n12", "target_low"] == pytest.approx(expected.low, rel=1e-9)
         assert bool(table.loc["n12", "target_met"]) is met

@@ -47,3 +47,17 @@ def test_the_summary_lists_each_simulated_point_with_its_values_and_claims():
 def test_a_map_without_points_not_run_ends_with_its_claims():
     summary = map_summary(pd.DataFrame([_row(0.45, 0.5, 15.2, -0.02)]), 0.9)
     assert "Not run" not in summary and "[90% t-interval" in summary
+
+
+def test_holm_over_the_maps_cells_leaves_undecided_what_the_family_does_not_decide():
+    """Three refuted cells with p = 0.01, 0.03, 0.04: Holm's adjusted p-values are 3 x 0.01 = 0.03,
+    max(2 x 0.03, 0.03) = 0.06 and max(0.04, 0.06) = 0.06, so only the first stays refuted at 5%."""
+    rows = []
+    for phi, p in ((0.40, 0.01), (0.45, 0.03), (0.50, 0.04)):
+        rows.append(_row(phi, 0.5, 10.0, -0.05) | {"C3'_p": p})
+    table = map_table(rows, {})
+    np.testing.assert_allclose(table["C3'_p_holm"], [0.03, 0.06, 0.06])
+    assert list(table["C3'_verdict_holm"]) == ["refuted", "undecided", "undecided"]
+    claims = map_claims_table(table, claims=("C3'",)).splitlines()
+    assert claims[2].endswith("refuted |") and claims[3].endswith("refuted (Holm: undecided) |")
+    assert "keeps 1 of the 3 decided verdicts" in map_summary(table, 0.95)

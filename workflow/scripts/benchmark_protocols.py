@@ -41,6 +41,14 @@ with logged(sm.log[0]), checked_tables(sm):
         }
         for mode in ("steady", "global")
     }
+    # each fit's jackknife errors, propagated into the scores' intervals (NaN: a fit without errors)
+    parameter_errors = {
+        mode: {
+            key: rows.set_index("parameter")["error"].astype(float).to_dict()
+            for key, rows in fitted[fitted["mode"] == mode].groupby("model")
+        }
+        for mode in ("steady", "global")
+    }
     board, predictions = protocol_benchmark.fabric_protocol_leaderboard(
         models,
         mode_parameters,
@@ -50,6 +58,7 @@ with logged(sm.log[0]), checked_tables(sm):
         seen=seen_seeds(fitted, sources),
         reference=sm.params.reference,
         level=sm.params.level,
+        parameter_errors=parameter_errors,
     )
     fitted_on = fitted.groupby(["model", "mode"])["fitted_on"].first()
     board.insert(3, "fitted_on", [fitted_on[key] for key in zip(board["model"], board["mode"])])

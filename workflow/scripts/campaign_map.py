@@ -30,7 +30,7 @@ with logged(sm.log[0]), checked_tables(sm):
                 sm.params.level,
             )
         )
-    table = state_map.map_table(rows, sm.params.not_run)
+    table = state_map.map_table(rows, sm.params.not_run, sm.params.level)
     table.to_csv(sm.output.table, index=False)
     write_map_page(table, sm.output.page)
     with open(sm.output.summary, "w") as out:

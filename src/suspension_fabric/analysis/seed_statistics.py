@@ -25,8 +25,11 @@ __all__ = [
     "t_interval",
     "welch_interval",
     "decide",
+    "decide_adjusted",
+    "interval_t_test_p",
     "seeds_needed",
     "jackknife",
+    "variance_pseudo_values",
     "seed_bootstrap",
     "bootstrap_means",
     "seed_bootstrap_of_mean",
@@ -76,11 +79,13 @@ def _t_quantile(level: float, dof: int) -> float:
     return _student_quantile(level, dof)
 
 
-def t_interval(values, level: float = LEVEL) -> Interval:
+def t_interval(values, level: float = LEVEL, extra_se: float = 0.0) -> Interval:
     """Student t-interval of the mean of per-seed values (n - 1 degrees of freedom).
 
-    Non-finite values are an error (a seed whose statistic cannot be computed must be named by
-    the caller, not silently dropped). One value gives an infinite interval.
+    ``extra_se``: a standard error from outside the seeds (e.g. of fitted parameters the values
+    depend on), added in quadrature to the seeds' own. Non-finite values are an error (a seed whose
+    statistic cannot be computed must be named by the caller, not silently dropped). One value gives
+    an infinite interval.
     """
     level = _check_level(level)
     values = np.asarray(values, dtype=float).ravel()
@@ -91,7 +96,7 @@ def t_interval(values, level: float = LEVEL) -> Interval:
     n, mean = values.size, float(values.mean())
     if n < 2:
         return Interval(mean, np.inf, -np.inf, np.inf, n, level)
-    se = float(values.std(ddof=1) / np.sqrt(n))
+    se = float(np.hypot(values.std(ddof=1) / np.sqrt(n), extra_se))
     half = _t_quantile(level, n - 1) * se
     return Interval(mean, se, mean - half, mean + half, n, level)
 
@@ -103,6 +108,28 @@ def decide(interval: Interval) -> str:
     if interval.high < 0.0:
         return REFUTED
     return UNDECIDED
+
+
+def decide_adjusted(mean: float, p_adjusted: float, level: float = LEVEL) -> str:
+    """The three-way verdict after a multiplicity adjustment: decided (by the sign of ``mean``) only
+    where the adjusted p-value is below 1 - ``level``."""
+    if not np.isfinite(p_adjusted) or p_adjusted >= round(1.0 - _check_level(level), 12):
+        return UNDECIDED
+    return CONFIRMED if mean > 0.0 else REFUTED
+
+
+def interval_t_test_p(mean: float, low: float, high: float, n: int, level: float = LEVEL) -> float:
+    """Two-sided p-value of the t-test behind a t-interval [low, high] at ``level`` over ``n`` seeds
+    with this seed mean (its standard error is the half-width over the t quantile): p < 1 - level
+    exactly when the interval excludes 0. NaN below two seeds or for an infinite interval."""
+    if not (n >= 2 and np.isfinite(mean) and np.isfinite(low) and np.isfinite(high)):
+        return np.nan
+    se = 0.5 * (high - low) / _t_quantile(_check_level(level), n - 1)
+    if se == 0.0:
+        return 1.0 if mean == 0.0 else 0.0
+    from scipy import stats
+
+    return float(2.0 * stats.t.sf(abs(mean) / se, n - 1))
 
 
 def seeds_needed(interval: Interval, max_seeds: int = 10_000) -> float:
@@ -146,6 +173,27 @@ def jackknife(statistic, seeds) -> tuple[float, float]:
     leave_one_out = np.array([statistic([s for s in seeds if s != left]) for left in seeds], dtype=float)
     n = len(seeds)
     return value, float(np.sqrt((n - 1) / n * np.sum((leave_one_out - leave_one_out.mean()) ** 2)))
+
+
+def variance_pseudo_values(values, axis: int = 0) -> np.ndarray:
+    """Per seed (along ``axis``), the jackknife pseudo-values n s^2 - (n - 1) s^2_(-i) of the
+    between-seed variance s^2 (ddof 1), elementwise over the other axes; the seeds' axis is kept.
+
+    s^2 is an unbiased U-statistic, so the pseudo-values' mean over the seeds is s^2 itself to
+    round-off; a noise floor subtracted seed by seed as its pseudo-value leaves every point
+    estimate as it was, and a t-interval over seeds then carries the floor's own sampling error.
+    With fewer than three seeds no seed can be left out of a variance: every seed gets s^2 (0 for
+    one seed), the floor taken as known.
+    """
+    values = np.moveaxis(np.asarray(values, dtype=float), axis, 0)
+    n = values.shape[0]
+    if n < 2:
+        return np.moveaxis(np.zeros_like(values), 0, axis)
+    whole = np.var(values, axis=0, ddof=1)
+    if n < 3:
+        return np.moveaxis(np.broadcast_to(whole, values.shape).copy(), 0, axis)
+    left_out = np.stack([np.var(np.delete(values, i, axis=0), axis=0, ddof=1) for i in range(n)])
+    return np.moveaxis(n * whole - (n - 1) * left_out, 0, axis)
 
 
 def seed_bootstrap(statistic, seeds, level: float = LEVEL) -> tuple[float, float, float]:
@@ -228,13 +276,14 @@ def welch_interval(first, second, level: float = LEVEL) -> Interval:
     return Interval(difference, se, difference - half, difference + half, min(a.size, b.size), level)
 
 
-def t_test_p(values) -> float:
+def t_test_p(values, extra_se: float = 0.0) -> float:
     """Two-sided p-value of Student's t-test that the per-seed values have mean zero (the test the
-    t-interval inverts: p < 1 - level exactly when the interval excludes 0); 1 for values all zero."""
+    t-interval inverts, ``extra_se`` as there: p < 1 - level exactly when the interval excludes 0);
+    1 for values all zero."""
     values = np.asarray(values, dtype=float).ravel()
     if values.size < 2:
         return 1.0
-    se = float(values.std(ddof=1) / np.sqrt(values.size))
+    se = float(np.hypot(values.std(ddof=1) / np.sqrt(values.size), extra_se))
     if se == 0.0:
         return 1.0 if values.mean() == 0.0 else 0.0
     from scipy import stats

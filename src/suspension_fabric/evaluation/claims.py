@@ -40,7 +40,7 @@ import pandas as pd
 from suspension_fabric.analysis import tables
 from suspension_fabric.analysis.components import COMPONENTS
 from suspension_fabric.analysis.frames import rotation_about_gradient, simple_shear_gradient, to_basis
-from suspension_fabric.analysis.seed_statistics import LEVEL, decide, seeds_needed, t_interval
+from suspension_fabric.analysis.seed_statistics import LEVEL, decide, seeds_needed, t_interval, variance_pseudo_values
 from suspension_fabric.analysis.tables import fabric_tensors
 from suspension_fabric.evaluation.model_benchmark import mean_square
 from suspension_fabric.models import fabric_models
@@ -280,9 +280,11 @@ def overshoot_excess(r12, strain, inside, baseline=None) -> np.ndarray:
 def angle_statistics(replicates: list[SeedReplicate], choice: Choice) -> pd.DataFrame:
     """Per (seed, theta): D12, E23, X12 of the simulation and both models (by role), the models'
     mean-square errors on r12 and r23, the challenger's overshoot max(r12) - 1, and the noise floors
-    ``s2_12``, ``s2_23`` (between-seed variance of the simulated curve, ddof 1, averaged over the
-    strains of (0, W]; the same for every seed of an angle; 0 for a single seed, whose interval is
-    infinite anyway)."""
+    ``s2_12``, ``s2_23``: the between-seed variance (ddof 1) of the simulated curve averaged over
+    the strains of (0, W], as each seed's jackknife pseudo-value
+    ([`variance_pseudo_values`][suspension_fabric.analysis.seed_statistics.variance_pseudo_values]), so that
+    their mean over seeds is the variance and an interval over seeds carries the floor's own error
+    (0 for a single seed, whose interval is infinite anyway)."""
     strain, thetas = replicates[0].strain, replicates[0].thetas
     for rep in replicates[1:]:
         if len(rep.strain) != len(strain) or not np.allclose(rep.strain, strain) or not np.allclose(rep.thetas, thetas):
@@ -293,16 +295,13 @@ def angle_statistics(replicates: list[SeedReplicate], choice: Choice) -> pd.Data
     after = strain > 0.0
     sim12 = np.stack([rep.sim["r12"] for rep in replicates])
     sim23 = np.stack([rep.sim["r23"] for rep in replicates])
-    s2 = {
-        c: (np.var(x, axis=0, ddof=1)[..., after].mean(axis=-1) if len(replicates) > 1 else np.zeros(len(thetas)))
-        for c, x in (("12", sim12), ("23", sim23))
-    }
+    s2 = {c: variance_pseudo_values(x)[..., after].mean(axis=-1) for c, x in (("12", sim12), ("23", sim23))}
 
     def base(curve):
         return curve[zero[0]][None, :] if choice.baseline == "continuation" else None
 
     rows = []
-    for rep in replicates:
+    for index, rep in enumerate(replicates):
         curves = {"sim": rep.sim, **rep.models}
         window = rep.models["challenger"]["r12"]
         window_base = base(window)
@@ -317,7 +316,7 @@ def angle_statistics(replicates: list[SeedReplicate], choice: Choice) -> pd.Data
             for comp in ("12", "23"):
                 values[f"MSE{comp}_{role}"] = mean_square(rep.models[role][f"r{comp}"], rep.sim[f"r{comp}"], strain)
         values["O12_challenger"] = window.max(axis=-1) - 1.0
-        values["s2_12"], values["s2_23"] = s2["12"], s2["23"]
+        values["s2_12"], values["s2_23"] = s2["12"][index], s2["23"][index]
         values["n12_ss"] = rep.n12_ss
         rows.append(pd.DataFrame(values))
     return pd.concat(rows, ignore_index=True)

@@ -63,7 +63,8 @@ rates' ratio is that flux balance, not a finding about formation against breakin
 Scores, as the claims' ([`suspension_fabric.evaluation.claims`][suspension_fabric.evaluation.claims]): each seed's
 curves in units of its own steady <nn>_12; per seed and angle the mean square of model - seed over the strains of
 (0, W]. Two nets of it: the noise floor s^2 subtracted (between-seed variance of the simulated
-curve, averaged over the same strains), and the control subtracted, the same seed's score at
+curve, averaged over the same strains; per seed its jackknife pseudo-value, whose mean over the
+seeds is s^2, so the interval carries the floor's error), and the control subtracted, the same seed's score at
 theta = 0 (no rotation, the continuation of the startup): what a variant misses without any
 rotation is its steady offset and drift, not its response to a rotation, and the paired
 per-seed difference needs no estimate of the floor. A seed's score is the mean over the angles of
@@ -88,7 +89,7 @@ import scipy.optimize
 
 from suspension_fabric.analysis.components import FOURTH_MOMENT_COMPONENTS
 from suspension_fabric.analysis.frames import VECTOR_ORDER, simple_shear_gradient, sym_to_vec, vec_to_sym
-from suspension_fabric.analysis.seed_statistics import LEVEL, adjusted_p, t_interval, t_test_p
+from suspension_fabric.analysis.seed_statistics import LEVEL, adjusted_p, t_interval, t_test_p, variance_pseudo_values
 from suspension_fabric.analysis.tables import fabric_tensors
 from suspension_fabric.models import fabric_models
 from suspension_fabric.models import gillissen_wilson as gw_equations
@@ -382,7 +383,8 @@ def _component(tensors, component: str) -> np.ndarray:
 
 def fabric_scores(seed_runs: list[SeedRuns], phi: float, fitted: dict | None = None) -> pd.DataFrame:
     """Per seed, theta, variant, criterion and scored component: the mean square of
-    (model - seed)/<nn>_12^ss over (0, W], the noise floor s^2 of that angle and component, the
+    (model - seed)/<nn>_12^ss over (0, W], the noise floor s^2 of that angle and component (the seed's
+    pseudo-value: `variance_pseudo_values`), the
     rates and the largest component of (1) at the seed's measured steady <nn> and <nnnn> with those
     rates (``steady_residual``, per unit strain; the closure's own <nnnn> for ``closure``), and the
     seed's steady Eh_e:<nn> (``steady_extension``, phi/6 in any single-rate steady state).
@@ -408,8 +410,8 @@ def fabric_scores(seed_runs: list[SeedRuns], phi: float, fitted: dict | None = N
             simulated = np.stack([_component(r["sim"], component) for r in ratios.values()])
             if simulated.shape[1] != len(strain):
                 raise ValueError(f"theta = {theta:g}: the seeds' rotation runs have other strains")
-            floor = np.var(simulated, axis=0, ddof=1)[after].mean() if len(simulated) > 1 else 0.0
-            for seed, r in ratios.items():
+            floors = variance_pseudo_values(simulated)[:, after].mean(axis=1)
+            for (seed, r), floor in zip(ratios.items(), floors):
                 for key, rate in per_seed[seed][1]["rates"].items():
                     rows.append(
                         {
@@ -421,7 +423,7 @@ def fabric_scores(seed_runs: list[SeedRuns], phi: float, fitted: dict | None = N
                             "mse": float(
                                 mean_square(_component(r[key], component), _component(r["sim"], component), strain)
                             ),
-                            "floor": floor,
+                            "floor": float(floor),
                             **dict(zip(RATE_NAMES, rate)),
                             "steady_residual": residuals[(seed, key)],
                             "steady_extension": steady_extension(per_seed[seed][0].fabric_ss),

@@ -5,7 +5,8 @@ held out by construction):
 
 1. **Held-out error** ([`target_table`][suspension_fabric.evaluation.model_targets.target_table]): on <nn>'_12 and
    <nn>'_23, its held-out mean square error net of the seed-noise floor f at most `TARGET_SHARE` of the reference's. Per
-   seed, T = share (E_ref - f) - (E_model - f); met where the t-interval of T over seeds lies above 0.
+   seed, T = share (E_ref - f) - (E_model - f); met where the t-interval of T over seeds lies above 0
+   (f per seed as its jackknife pseudo-value, so the interval carries the floor's own error).
    E is the benchmark's per-seed score
    ([`suspension_fabric.evaluation.model_benchmark.seed_errors`][], units (<nn>_12^ss)^2) and
    f the between-seed variance of the simulated curves
@@ -31,7 +32,7 @@ import pandas as pd
 
 from suspension_fabric.analysis.components import component_label
 from suspension_fabric.analysis.frames import sym_to_vec
-from suspension_fabric.analysis.seed_statistics import LEVEL, t_interval
+from suspension_fabric.analysis.seed_statistics import LEVEL, t_interval, variance_pseudo_values
 from suspension_fabric.models import fabric_models
 
 from . import claims
@@ -42,6 +43,7 @@ __all__ = [
     "STEADY_TOLERANCE",
     "SHEAR_COMPONENTS",
     "noise_floor",
+    "noise_floor_per_seed",
     "target_table",
     "overshoot_table",
     "overshoot_sentence",
@@ -62,13 +64,24 @@ SHEAR_COMPONENTS = ("n12", "n23")
 _COMPONENTS = ("n11", "n22", "n33", "n12", "n13", "n23")
 
 
+def _scaled_rotation(curves: SeedCurves) -> np.ndarray:
+    after = curves.rotation_strains > 0.0
+    return sym_to_vec(curves.rotation[:, :, after]) / curves.n12_ss  # (seeds, angles, R, 6)
+
+
 def noise_floor(curves: SeedCurves) -> np.ndarray:
     """Per component (6,): the between-seed variance (ddof 1) of the simulated curves over
     (0, W] in units of (<nn>_12^ss)^2, averaged over the strains and angles: what a perfect model
     scores on one seed."""
-    after = curves.rotation_strains > 0.0
-    values = sym_to_vec(curves.rotation[:, :, after]) / curves.n12_ss  # (seeds, angles, R, 6)
-    return np.var(values, axis=0, ddof=1).mean(axis=(0, 1))
+    return np.var(_scaled_rotation(curves), axis=0, ddof=1).mean(axis=(0, 1))
+
+
+def noise_floor_per_seed(curves: SeedCurves) -> np.ndarray:
+    """(seeds, 6): the noise floor as each seed's jackknife pseudo-value
+    ([`variance_pseudo_values`][suspension_fabric.analysis.seed_statistics.variance_pseudo_values]); their
+    mean is [`noise_floor`][suspension_fabric.evaluation.model_targets.noise_floor], and a seed's error net
+    of its value carries the floor's own sampling error into an interval over seeds."""
+    return variance_pseudo_values(_scaled_rotation(curves)).mean(axis=(1, 2))
 
 
 def target_table(
@@ -76,11 +89,14 @@ def target_table(
 ) -> pd.DataFrame:
     """Per component: both models' held-out errors (seeds, 6) net of the noise floor (t-intervals
     over seeds), their paired difference, and the target statistic T = share (E_ref - f) -
-    (E_cand - f) per seed, met where its interval lies above 0 (`TARGET_SHARE`)."""
-    floor = noise_floor(curves)
+    (E_cand - f) per seed, met where its interval lies above 0 (`TARGET_SHARE`); f per seed
+    ([`noise_floor_per_seed`][suspension_fabric.evaluation.model_targets.noise_floor_per_seed]), so the
+    intervals carry the floor's own error."""
+    floors = noise_floor_per_seed(curves)
+    floor = floors.mean(axis=0)
     rows = []
     for c, component in enumerate(_COMPONENTS):
-        mine, theirs = candidate[:, c] - floor[c], reference[:, c] - floor[c]
+        mine, theirs = candidate[:, c] - floors[:, c], reference[:, c] - floors[:, c]
         statistic = t_interval(TARGET_SHARE * theirs - mine, level)
         values = {"candidate": t_interval(mine, level), "reference": t_interval(theirs, level)}
         difference = t_interval(mine - theirs, level)

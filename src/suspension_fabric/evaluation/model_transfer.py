@@ -54,7 +54,7 @@ from suspension_fabric.models.sparse_fabric import LIBRARY, ORDER, corotational,
 
 from .model_benchmark import SeedCurves, seed_curves
 from .model_discovery import _FLOW, WINDOW_FRAMES, _predicted, run_curves, stlsq, weak_form_system
-from .model_targets import target_table
+from .model_targets import noise_floor_per_seed, target_table
 from .nested_selection import independent_terms
 
 __all__ = [
@@ -374,11 +374,10 @@ def point_table(scores: dict, points: Sequence[MapPoint], level: float = LEVEL) 
         mine = scores[point.name]
         table = target_table(mine["transfer"], mine["gw"], point.curves, level).set_index("component")
         control = target_table(mine["transfer"], mine["gw_transferred"], point.curves, level).set_index("component")
+        floors = noise_floor_per_seed(point.curves)
         for c, component in ((3, "n12"), (5, "n23")):
             share = table.loc[component, "share"]
-            statistic = share * (mine["gw"][:, c] - table.loc[component, "floor"]) - (
-                mine["transfer"][:, c] - table.loc[component, "floor"]
-            )
+            statistic = share * (mine["gw"][:, c] - floors[:, c]) - (mine["transfer"][:, c] - floors[:, c])
             rows.append(
                 {
                     "point": point.name,
@@ -476,10 +475,11 @@ def protocol_table(
     points as the model), all from the seed-mean fabric at rest
     ([`model_protocol_predictions`][suspension_fabric.evaluation.protocol_benchmark.model_protocol_predictions]);
     mean square errors after the first segment in units of (<nn>_12^ss)^2, net of the noise floor
-    (what the seed-mean curve itself scores, the best any one prediction can), T = 0.5 (G-W - floor) -
-    (model - floor) per seed with its t-interval and one-sided p-value, Holm over every row. A
+    (the between-seed variance, what the true mean curve would score on a new seed: per seed
+    [`fabric_protocol_floor`][suspension_fabric.evaluation.protocol_benchmark.fabric_protocol_floor]),
+    T = 0.5 (G-W - floor) - (model - floor) per seed with its t-interval and one-sided p-value, Holm over every row. A
     component every model keeps at 0 along the protocol (by the flow's symmetry) is left out."""
-    from .protocol_benchmark import fabric_protocol_scores, model_protocol_predictions
+    from .protocol_benchmark import fabric_protocol_floor, fabric_protocol_scores, model_protocol_predictions
 
     model = fit.model(phi, mu)
     rows = []
@@ -490,11 +490,11 @@ def protocol_table(
             "gw_map": model_protocol_predictions(fabric_models.GW, {"beta": map_beta}, phi, one),
         }
         scores = {key: fabric_protocol_scores(p, one, n12_ss) for key, p in predicted.items()}
-        floor = fabric_protocol_scores([segment.mean(axis=0) for segment in one.fabric], one, n12_ss).mean(axis=0)
+        floors = fabric_protocol_floor(one, n12_ss)
         for c, component, (i, j) in ((3, "n12", (0, 1)), (5, "n23", (1, 2))):
             if all(max(np.abs(seg[..., i, j]).max() for seg in p) < 1e-12 for p in predicted.values()):
                 continue
-            net = {key: value[:, c] - floor[c] for key, value in scores.items()}
+            net = {key: value[:, c] - floors[:, c] for key, value in scores.items()}
             statistic = 0.5 * net["gw"] - net["transfer"]
             interval = t_interval(statistic, level)
             control = t_interval(net["transfer"] - net["gw_map"], level)
@@ -503,7 +503,7 @@ def protocol_table(
                     "protocol": name,
                     "component": component,
                     "seeds": len(one.seeds),
-                    "floor": floor[c],
+                    "floor": floors[:, c].mean(),
                     **{key: value.mean() for key, value in net.items()},
                     "T": interval.mean,
                     "T_low": interval.low,
@@ -587,8 +587,10 @@ def protocols_markdown(table: pd.DataFrame, source: dict) -> str:
         f"study's (φ, μ) with its rate not refitted. G-W: β = {table['gw_beta'].iloc[0]:.4g}, fitted on data/reference "
         f"(N = 1000, the reference of the target); G-W (map): β = {table['map_beta'].iloc[0]:.4g}, ln β linear in φ "
         "and μ over the same map points as the model (the like-for-like control). None saw these seeds. Mean square "
-        "error after the first segment in units of (⟨nn⟩₁₂ˢˢ)², net of the noise floor (what the seed-mean curve "
-        f"scores), mean over seeds; T = 0.5 G-W − model per seed [{level}% t-interval]; met where Holm's adjustment "
+        "error after the first segment in units of (⟨nn⟩₁₂ˢˢ)², net of the noise floor (the between-seed variance, "
+        "what the true mean curve would score on a new seed; subtracted per seed as its jackknife pseudo-value, so "
+        "the intervals carry its error), mean over seeds; T = 0.5 (G-W − floor) − (model − floor) per seed "
+        f"[{level}% t-interval]; met where Holm's adjustment "
         f"of its one-sided p over all {len(table)} cells is below {1 - table['level'].iloc[0]:.2g}.",
         "",
         "| protocol | component | floor | model | G-W | G-W (map) | model − G-W (map) | T | Holm p | target |",

@@ -229,7 +229,10 @@ def nested_comparison(errors: dict[str, np.ndarray], curves: SeedCurves, level: 
             keep = np.isfinite(values).all(axis=1) & np.isfinite(errors["gw"]).all(axis=1)
             if keep.sum() < 2:
                 continue
-            table = target_table(values[keep], errors["gw"][keep], curves._replace(seeds=curves.seeds[keep]), level)
+            scored = curves._replace(
+                seeds=curves.seeds[keep], startup=curves.startup[keep], rotation=curves.rotation[keep]
+            )
+            table = target_table(values[keep], errors["gw"][keep], scored, level)
             table["target_met"] = False  # a model that diverges on any held-out seed misses the target
         else:
             table = target_table(values, errors["gw"], curves, level)

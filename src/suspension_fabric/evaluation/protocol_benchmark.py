@@ -33,7 +33,7 @@ import numpy as np
 import pandas as pd
 
 from suspension_fabric.analysis.components import COMPONENTS
-from suspension_fabric.analysis.seed_statistics import LEVEL, adjusted_p, t_interval, t_test_p
+from suspension_fabric.analysis.seed_statistics import LEVEL, adjusted_p, t_interval, t_test_p, variance_pseudo_values
 from suspension_fabric.io.protocols import Protocol
 from suspension_fabric.models import fabric_models
 from suspension_fabric.models.stress_relations import coefficients, relation_stress
@@ -45,6 +45,8 @@ __all__ = [
     "protocol_curves",
     "model_protocol_predictions",
     "fabric_protocol_scores",
+    "fabric_protocol_floor",
+    "parameter_spread",
     "fabric_protocol_leaderboard",
     "stress_protocol_leaderboard",
     "STRESS_SCORED",
@@ -116,31 +118,85 @@ def model_protocol_predictions(fabric_model, params, phi: float, curves: Protoco
     return fabric_models.protocol_fabric(fabric_model, curves.protocol, curves.segment_strains, params, phi, fabric0)
 
 
-def fabric_protocol_scores(predicted: list, curves: ProtocolCurves, n12_ss: float) -> np.ndarray:
-    """Per seed and component (seeds, 6): mean over the scored frames of (model - seed)^2 / n12_ss^2."""
-    scored = _scored_frames(curves)
-    squares = [
-        (p[None, keep][..., _ROWS, _COLS] - f[:, keep][..., _ROWS, _COLS]) ** 2
-        for p, f, keep in zip(predicted, curves.fabric, scored)
+def _scored_seed_components(curves: ProtocolCurves, predicted: list | None = None) -> np.ndarray:
+    """(seeds, frames, 6) over the scored frames: each seed's fabric components, less the
+    prediction's where one is given."""
+    blocks = [
+        f[:, keep][..., _ROWS, _COLS] - (0.0 if predicted is None else predicted[k][None, keep][..., _ROWS, _COLS])
+        for k, (f, keep) in enumerate(zip(curves.fabric, _scored_frames(curves)))
     ]
-    stacked = np.concatenate(squares, axis=1)  # (seeds, frames, 6)
+    stacked = np.concatenate(blocks, axis=1)
     if stacked.shape[1] == 0:
         raise ValueError(f"protocol {curves.protocol.name}: no frame after the first segment to score")
-    return stacked.mean(axis=1) / n12_ss**2
+    return stacked
 
 
-def _paired(table: pd.DataFrame, scores: Mapping, own_key, reference_key, reference: str, level: float):
+def fabric_protocol_scores(predicted: list, curves: ProtocolCurves, n12_ss: float) -> np.ndarray:
+    """Per seed and component (seeds, 6): mean over the scored frames of (model - seed)^2 / n12_ss^2."""
+    return (_scored_seed_components(curves, predicted) ** 2).mean(axis=1) / n12_ss**2
+
+
+def fabric_protocol_floor(curves: ProtocolCurves, n12_ss: float) -> np.ndarray:
+    """Per seed and component (seeds, 6): the seed-noise floor of
+    [`fabric_protocol_scores`][suspension_fabric.evaluation.protocol_benchmark.fabric_protocol_scores], the
+    between-seed variance (ddof 1) of the simulated fabric over the scored frames / n12_ss^2 (what the
+    true mean curve would score on a new seed), as each seed's jackknife pseudo-value
+    ([`variance_pseudo_values`][suspension_fabric.analysis.seed_statistics.variance_pseudo_values]): their mean
+    is the floor, and a score net of them carries the floor's own error into an interval over seeds."""
+    return variance_pseudo_values(_scored_seed_components(curves)).mean(axis=1) / n12_ss**2
+
+
+def parameter_spread(
+    fabric_model, params: Mapping[str, float], errors: Mapping[str, float] | None, phi: float,
+    curves: ProtocolCurves, n12_ss: float,
+) -> np.ndarray:  # fmt: skip
+    """(7,): per component and for their mean (the leaderboard's ``all``), a bound on the standard
+    error the fit's own uncertainty gives the seed-mean score, sum_k |S(p_k + s_k) - S(p_k - s_k)| / 2
+    with s_k parameter k's standard error (the score's response to each parameter by central
+    differences; the sum bounds the standard deviation of a linear combination whatever the
+    parameters' correlations). NaN where a parameter has no finite error or a moved model cannot be
+    integrated: not propagated."""
+    missing = np.full(len(COMPONENTS) + 1, np.nan)
+    if errors is None or not all(np.isfinite(errors.get(name, np.nan)) for name in params):
+        return missing
+    bound = np.zeros(len(COMPONENTS) + 1)
+    for name, value in params.items():
+        moved = []
+        for sign in (1.0, -1.0):
+            try:
+                predicted = model_protocol_predictions(
+                    fabric_model, {**params, name: value + sign * errors[name]}, phi, curves
+                )
+            except (ValueError, fabric_models.ModelError):
+                return missing
+            per_seed = fabric_protocol_scores(predicted, curves, n12_ss).mean(axis=0)
+            moved.append(np.append(per_seed, per_seed.mean()))
+        bound += 0.5 * np.abs(moved[0] - moved[1])
+    return bound
+
+
+def _paired(
+    table: pd.DataFrame, scores: Mapping, own_key, reference_key, reference: str, level: float,
+    spread: Mapping | None = None,
+):  # fmt: skip
     """Adds to every row the paired per-seed difference of its scores (``scores[own_key(row)]``) from
     the reference's (``scores[reference_key(row)]``), with its t-interval, its t-test p-value and
-    that p-value adjusted by Holm's method over every row of the table (NaN without a reference)."""
+    that p-value adjusted by Holm's method over every row of the table (NaN without a reference).
+    ``spread``: per key the parameters' standard-error bound on the seed-mean score; the
+    difference's is the sum of both rows' (a bound whatever their fits' correlation), added in
+    quadrature to the seeds' (NaN counts as 0: not propagated)."""
     names = [f"difference{suffix}_vs_{reference}" for suffix in ("", "_low", "_high", "_p")]
     table[names] = np.nan
+    spread = spread or {}
     for index, row in table.iterrows():
         base = scores.get(reference_key(row))
         if base is not None:
             shift = scores[own_key(row)] - base
-            paired = t_interval(shift, level)
-            table.loc[index, names] = (paired.mean, paired.low, paired.high, t_test_p(shift))
+            extra = np.nansum([spread.get(own_key(row), 0.0), spread.get(reference_key(row), 0.0)])
+            if own_key(row) == reference_key(row):
+                extra = 0.0
+            paired = t_interval(shift, level, extra)
+            table.loc[index, names] = (paired.mean, paired.low, paired.high, t_test_p(shift, extra))
     # every difference of the table is read at once: Holm's adjustment over all of them
     table[f"difference_p_holm_vs_{reference}"] = adjusted_p(table[names[-1]], "holm")
     return table
@@ -156,14 +212,20 @@ def fabric_protocol_leaderboard(
     seen: Mapping[tuple[str, str], set],
     reference: str,
     level: float = LEVEL,
+    parameter_errors: Mapping[str, Mapping[str, Mapping[str, float]]] | None = None,
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
     """(leaderboard, predictions): one row per model, mode, protocol and component (the six and
     ``all``) with the mean square error's t-interval over seeds and the paired difference from
     ``reference`` in the steady mode; and the seed-mean predictions on every frame.
     ``mode_parameters[mode][model]`` are each model's parameters in each mode; ``seen[(model, mode)]``
     the seeds its fit saw (suspension_fabric.io.fit_provenance.seen_seeds): a row is ``held_out``
-    only if none of its seeds is among them, and ``seeds_seen`` counts those that are."""
-    rows, predictions, scores = [], [], {}
+    only if none of its seeds is among them, and ``seeds_seen`` counts those that are.
+    ``parameter_errors`` (the same layout: each parameter's standard error): the fits' uncertainty is
+    propagated into every interval and p-value
+    ([`parameter_spread`][suspension_fabric.evaluation.protocol_benchmark.parameter_spread], column
+    ``parameter_se``; NaN where a fit has no error, whose rows carry the seeds' spread only)."""
+    rows, predictions, scores, spread = [], [], {}, {}
+    parameter_errors = parameter_errors or {}
     for mode, by_model in mode_parameters.items():
         for key, fabric_model in models.items():
             if key not in by_model:
@@ -173,9 +235,12 @@ def fabric_protocol_leaderboard(
                 overlap = len(set(one.seeds.tolist()) & seen[(key, mode)])
                 per_seed = fabric_protocol_scores(predicted, one, n12_ss)
                 columns = {**{c: per_seed[:, k] for k, c in enumerate(COMPONENTS)}, ALL_COMPONENTS: per_seed.mean(1)}
-                for component, values in columns.items():
+                errors = parameter_errors.get(mode, {}).get(key)
+                bounds = parameter_spread(fabric_model, by_model[key], errors, phi, one, n12_ss)
+                for (component, values), bound in zip(columns.items(), bounds):
                     scores[(key, mode, name, component)] = values
-                    interval = t_interval(values, level)
+                    spread[(key, mode, name, component)] = bound
+                    interval = t_interval(values, level, 0.0 if np.isnan(bound) else bound)
                     rows.append(
                         {
                             "model": key,
@@ -189,6 +254,7 @@ def fabric_protocol_leaderboard(
                             "mse": interval.mean,
                             "mse_low": interval.low,
                             "mse_high": interval.high,
+                            "parameter_se": bound,
                         }
                     )
                 for index, (segment_grid, grid, tensors) in enumerate(zip(one.segment_strains, one.strains, predicted)):
@@ -212,6 +278,7 @@ def fabric_protocol_leaderboard(
         lambda row: (reference, "steady", row["protocol"], row["component"]),
         reference,
         level,
+        spread,
     )
     return table, pd.concat(predictions, ignore_index=True)
 

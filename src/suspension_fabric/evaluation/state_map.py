@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from suspension_fabric.analysis.seed_statistics import LEVEL, t_interval
+from suspension_fabric.analysis.seed_statistics import LEVEL, adjusted_p, decide_adjusted, interval_t_test_p, t_interval
 from suspension_fabric.analysis.stress import DERIVED_COLUMNS
 
 __all__ = [
@@ -35,6 +35,8 @@ __all__ = [
     "map_table",
     "fitted_columns",
     "MAP_QUANTITIES",
+    "MAP_CLAIMS",
+    "claims_multiplicity",
 ]
 
 #: Boyer, Guazzelli and Pouliquen (2011), frictional spheres
@@ -45,6 +47,10 @@ DRIFT_MARGIN = 0.1
 FABRIC_QUANTITIES = ("n11", "n22", "n33", "n12", "n13", "n23", "Z")
 STRESS_QUANTITIES = DERIVED_COLUMNS  # eta_r, N1, N2, Pi
 MAP_QUANTITIES = FABRIC_QUANTITIES + STRESS_QUANTITIES
+#: The claims the map reports per point, read at once over all points (one family for Holm's
+#: adjustment): the paired model-error statistics after a rotation (> 0: the challenger is better)
+#: and the challenger's overshoot
+MAP_CLAIMS = ("C3'", "C4'", "C5")
 
 
 def bgp_viscosities(phi, parameters: dict = BGP_PARAMETERS) -> tuple[np.ndarray, np.ndarray]:
@@ -168,14 +174,39 @@ def point_row(
         if isinstance(claim.verdict, str) and claim.verdict:
             row[f"{claim.claim}_mean"], row[f"{claim.claim}_low"] = claim.mean, claim.low
             row[f"{claim.claim}_high"], row[f"{claim.claim}_verdict"] = claim.high, claim.verdict
+            row[f"{claim.claim}_p"] = interval_t_test_p(claim.mean, claim.low, claim.high, len(study["seeds"]), level)
     return row
 
 
-def map_table(rows: list[dict], not_run: dict[str, str]) -> pd.DataFrame:
+def claims_multiplicity(table: pd.DataFrame, claims=MAP_CLAIMS, level: float = LEVEL) -> pd.DataFrame:
+    """Adds per claim of ``claims`` the p-value adjusted by Holm's method over every cell of those
+    claims at every point (``<claim>_p_holm``: the map's cells are read at once) and the verdict
+    that adjustment leaves (``<claim>_verdict_holm``: decided only where the adjusted p is below
+    1 - ``level``); cells without a p-value (a point not run, a claim without its angles) stay
+    out of the family."""
+    table = table.copy()
+    present = [claim for claim in claims if f"{claim}_p" in table]
+    if not present:
+        return table
+    stacked = table[[f"{claim}_p" for claim in present]].to_numpy(dtype=float)
+    adjusted = adjusted_p(stacked.ravel(), "holm").reshape(stacked.shape)
+    for k, claim in enumerate(present):
+        table[f"{claim}_p_holm"] = adjusted[:, k]
+        table[f"{claim}_verdict_holm"] = [
+            decide_adjusted(mean, p, level) if np.isfinite(p) else np.nan
+            for mean, p in zip(table[f"{claim}_mean"], adjusted[:, k])
+        ]
+    return table
+
+
+def map_table(rows: list[dict], not_run: dict[str, str], level: float = LEVEL) -> pd.DataFrame:
     """The map table: the simulated points' rows, and a row per point not run with its reason
-    in ``steady`` (``not run: <reason>``) and its phi, mu from the name."""
+    in ``steady`` (``not run: <reason>``) and its phi, mu from the name; the claims' verdicts
+    adjusted over the map's cells
+    ([`claims_multiplicity`][suspension_fabric.evaluation.state_map.claims_multiplicity])."""
     extra = []
     for point, reason in not_run.items():
         phi, mu = (float(part[len(prefix) :]) for part, prefix in zip(point.split("_"), ("phi", "mu")))
         extra.append({"point": point, "phi": phi, "mu": mu, "steady": f"not run: {reason}"})
-    return pd.DataFrame(rows + extra).sort_values(["mu", "phi"], ignore_index=True)
+    table = pd.DataFrame(rows + extra).sort_values(["mu", "phi"], ignore_index=True)
+    return claims_multiplicity(table, MAP_CLAIMS, level)

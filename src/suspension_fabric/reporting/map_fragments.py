@@ -14,16 +14,13 @@ from __future__ import annotations
 
 import pandas as pd
 
-from suspension_fabric.evaluation.state_map import fitted_columns
+from suspension_fabric.evaluation.state_map import MAP_CLAIMS, fitted_columns
 
 from .html_tables import MISSING, format_interval, is_missing, parameter_label
 from .leaderboard_fragments import markdown_table
 
-__all__ = ["MAP_CLAIMS", "map_claims_table", "map_state_table", "map_summary"]
+__all__ = ["MAP_CLAIMS", "holm_count", "map_claims_table", "map_state_table", "map_summary"]
 
-#: The claims the map's fragment reports per point: the paired model-error statistics after a
-#: rotation (> 0: the challenger is better) and the challenger's overshoot
-MAP_CLAIMS = ("C3'", "C4'", "C5")
 #: Steady quantities of the state table: (column, heading, significant figures)
 _STATE = (("eta_r", "eta_r", 3), ("Pi", "Pi", 3), ("Z", "Z", 3), ("n12", "<nn>_12", 3))
 
@@ -67,9 +64,30 @@ def map_state_table(table: pd.DataFrame) -> str:
     return markdown_table([*header, "steady state"], rows)
 
 
+def _holm_note(entry: dict, claim: str) -> str:
+    """ " (Holm: <verdict>)" where the adjustment over the map's cells changes the cell's verdict."""
+    adjusted = entry.get(f"{claim}_verdict_holm")
+    if is_missing(adjusted) or adjusted == entry[f"{claim}_verdict"]:
+        return ""
+    return f" (Holm: {adjusted})"
+
+
+def holm_count(table: pd.DataFrame, claims=MAP_CLAIMS) -> tuple[int, int]:
+    """(verdicts decided at the cells' own level, of them still decided after Holm's adjustment)."""
+    decided = kept = 0
+    for entry in _simulated(table).to_dict("records"):
+        for claim in claims:
+            verdict = entry.get(f"{claim}_verdict")
+            if isinstance(verdict, str) and verdict in ("confirmed", "refuted"):
+                decided += 1
+                kept += entry.get(f"{claim}_verdict_holm") == verdict
+    return decided, kept
+
+
 def map_claims_table(table: pd.DataFrame, claims=MAP_CLAIMS) -> str:
     """The simulated points' claim statistics as a Markdown table: per claim the seed mean
-    [t-interval] and the verdict."""
+    [t-interval] and the verdict, with the verdict Holm's adjustment over the map's cells leaves
+    where it differs."""
     header = ["phi, mu", *claims]
     rows = []
     for entry in _simulated(table).to_dict("records"):
@@ -80,7 +98,7 @@ def map_claims_table(table: pd.DataFrame, claims=MAP_CLAIMS) -> str:
                 cells.append(MISSING)
                 continue
             interval = format_interval(mean, entry[f"{claim}_low"], entry[f"{claim}_high"])
-            cells.append(f"{interval} {entry[f'{claim}_verdict']}")
+            cells.append(f"{interval} {entry[f'{claim}_verdict']}{_holm_note(entry, claim)}")
         rows.append(cells)
     return markdown_table(header, rows)
 
@@ -95,6 +113,13 @@ def map_summary(table: pd.DataFrame, level: float) -> str:
         f"Claim statistics, seed mean [{level:.0%} t-interval over seeds] and verdict:\n",
         map_claims_table(table),
     ]
+    decided, kept = holm_count(table)
+    if decided:
+        parts.append(
+            f"The table's cells are read at once: Holm's adjustment of each cell's t-test p-value over all of "
+            f"them (family-wise error {1 - level:.0%}) keeps {kept} of the {decided} decided verdicts; a cell it "
+            "leaves undecided says so in brackets.\n"
+        )
     if len(not_run):
         listed = "; ".join(f"({_point(e)}): {e['steady'][len('not run: ') :]}" for e in not_run.to_dict("records"))
         parts.append(f"Not run: {listed}.\n")

@@ -180,6 +180,24 @@ def symmetry_zero(board: pd.DataFrame, protocol: str, component: str) -> bool:
     return bool(bounds.size) and bool((bounds <= ROUND_OFF).all())
 
 
+def _parameter_note(board: pd.DataFrame) -> str:
+    """The sentence saying whether the fabric intervals carry the fits' own uncertainty, and for
+    which rows they do not (a fit without errors)."""
+    if "parameter_se" not in board:
+        return ""
+    missing = board[board["parameter_se"].isna()]
+    fitted = {"steady": "steady state", "global": "startup + rotations"}
+    names = ", ".join(
+        sorted({f"{label} ({fitted.get(mode, mode)})" for label, mode in zip(missing["label"], missing["mode"])})
+    )
+    note = (
+        " Fabric intervals and p-values carry the fits' own uncertainty: each parameter moved by its jackknife error, "
+        "the seed-mean score's response (summed over the parameters, a bound whatever their correlation) added in "
+        "quadrature to the seeds' standard error"
+    )
+    return note + (f"; not for {names}, whose fits have no error." if names else ".")
+
+
 def summary_markdown(
     board: pd.DataFrame,
     stress_board: pd.DataFrame,
@@ -206,7 +224,7 @@ def summary_markdown(
         f"{relation}) [{percent} interval] and its reading, better or worse only where the p-value adjusted by "
         f"Holm's method over the fabric table's {cells} differences is under {1 - level:.2g}. Fabric errors in units "
         "of (⟨nn⟩₁₂ˢˢ)², η_r's in (η_rˢˢ)². Scored seeds: held out only if no fit behind the row saw any of "
-        "them. A component every model keeps at 0 by the flow's symmetry is left out.",
+        "them. A component every model keeps at 0 by the flow's symmetry is left out." + _parameter_note(board),
         "",
     ]
     for protocol in dict.fromkeys(board["protocol"]):
