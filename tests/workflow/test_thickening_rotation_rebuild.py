@@ -35,7 +35,7 @@ def rebuilt(tmp_path_factory):
     plan = snakemake(workdir, "-n", *CONFIG)
     assert plan.returncode == 0, (plan.stdout + plan.stderr)[-3000:]
     rules = {job["rule"] for job in dry_run_jobs(plan.stdout + plan.stderr)}
-    assert {"flow_curve", "direction_response"} <= rules, rules
+    assert {"flow_curve", "direction_response", "fit_models", "direction_models"} <= rules, rules
     assert not rules & {"pack", "shear_segment", "fabric_table", "stress_table"}, rules
     result = snakemake(workdir, *CONFIG, timeout=600)
     assert result.returncode == 0, result.stderr[-3000:]
@@ -43,7 +43,7 @@ def rebuilt(tmp_path_factory):
 
 
 def test_the_fragments_are_the_committed_ones(rebuilt):
-    for name in ("direction_response_summary.md", "flow_curve_summary.md"):
+    for name in ("direction_response_summary.md", "flow_curve_summary.md", "direction_models_summary.md"):
         committed = REPO / "docs" / "generated" / f"thickening_rotation_{name}"
         problems = fragment_problems((rebuilt / TABLES / name).read_text(), committed.read_text())
         assert not problems, (name, problems)

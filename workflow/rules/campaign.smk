@@ -167,6 +167,44 @@ rule direction_response:
         "../scripts/direction_response.py"
 
 
+rule direction_models:
+    """Fabric models after a change of flow direction at each point of a flow-curve campaign whose
+    angles go beyond 0 (suspension_fabric.evaluation.direction_models): each model fitted on the
+    point's startup steady state and scored after each change against no transient, then between
+    the points; Holm over each table; a Markdown fragment."""
+    input:
+        startup_runs=per_point(rules.aggregate_startup.output.runs),
+        rotation_runs=per_point(rules.aggregate_rotation.output.runs),
+        fits=per_point(rules.fit_models.output[0]),
+    output:
+        seeds=f"{CAMPAIGN_RESULTS}/tables/direction_models_seeds.csv",
+        skill=f"{CAMPAIGN_RESULTS}/tables/direction_models.csv",
+        comparison=f"{CAMPAIGN_RESULTS}/tables/direction_models_comparison.csv",
+        summary=f"{CAMPAIGN_RESULTS}/tables/direction_models_summary.md",
+    params:
+        points={
+            name: {
+                "label": point_label(study),
+                "target": STUDIES[study]["forces"]["critical_load_stress"]
+                or STUDIES[study]["forces"]["critical_load_rate"],
+                "models": STUDIES[study]["models"]["fabric"],
+                "startup_strain": STUDIES[study]["run"]["startup_strain"],
+                "rotation_strain": STUDIES[study]["run"]["rotation_strain"],
+                "steady_window": STUDIES[study]["analysis"]["steady_window"],
+            }
+            for name, study in POINTS.items()
+        },
+        window=config["verdicts"]["window"],
+        level=config["verdicts"]["level"],
+        code=code_version("../scripts/direction_models.py"),
+    conda:
+        CONDA_ENV
+    log:
+        f"{CAMPAIGN_RESULTS}/logs/direction_models.log",
+    script:
+        "../scripts/direction_models.py"
+
+
 if is_flow_curve_campaign(config):
     # flow curves: every point's startup and continuation tables and the curves (no map: the points
     # share their (phi, mu)); with angles beyond 0, the response to the change of direction
@@ -177,7 +215,7 @@ if is_flow_curve_campaign(config):
         *per_point(rules.aggregate_startup.output.steady),
     ]
     if any(theta != 0 for theta in config["angles_deg"]):
-        CAMPAIGN_TARGETS += [*rules.direction_response.output]
+        CAMPAIGN_TARGETS += [*rules.direction_response.output, *rules.direction_models.output]
 else:
     CAMPAIGN_TARGETS = [*rules.campaign_map.output, *rules.campaign_figures.output]
     if config["campaign"]["transfer_model"]:
