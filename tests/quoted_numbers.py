@@ -39,7 +39,8 @@ import numpy as np
 import pandas as pd
 
 REPO = Path(__file__).resolve().parents[1]
-_BRACED = re.compile(r"\{([-+]?\d+(?:\.\d+)?)\}")
+# (not a LaTeX sub- or superscript: the 12 of $\langle nn\rangle_{12}$ is not a quoted number)
+_BRACED = re.compile(r"(?<![_^])\{([-+]?\d+(?:\.\d+)?)\}")
 
 
 class Results:
@@ -343,25 +344,26 @@ QUOTES: list[Quote] = [
     ),
     Quote(
         RESULTS,
-        "any plotted cell (angle, strain frame) is {0.026} of |<nn>_12^ss| for <nn>'_12 and {0.029} for <nn>'_23",
+        "any plotted cell (angle, strain frame) is {0.026} of $\\left\\lvert \\langle nn\\rangle^{\\mathrm{ss}}_{12}"
+        "\\right\\rvert$ for $\\langle nn\\rangle'_{12}$ and {0.029} for $\\langle nn\\rangle'_{23}$",
         lambda r: list(_cells(r).values()),
     ),
     # In words, for a referee
     Quote(
         RESULTS,
-        "*simulated* strain-5 fabric the claim is refuted (T = {-0.050} [{-0.089}, {-0.011}])",
+        "*simulated* strain-5 fabric the claim is refuted ($T = {-0.050}$ [{-0.089}, {-0.011}])",
         lambda r: interval(choice(r, "state: simulated", "C1")),
     ),
     Quote(
         RESULTS,
-        "**C2, G-W underestimates the effect on <nn>_23 at large angles: confirmed, narrowly** ({0.038} "
-        "[{0.015}, {0.060}] against an effect size of 1.25)",
+        "**C2, G-W underestimates the effect on $\\langle nn\\rangle_{23}$ at large angles: confirmed, narrowly** "
+        "({0.038} [{0.015}, {0.060}] against an effect size of 1.25)",
         lambda r: interval(choice(r, "primary", "C2")),
     ),
     Quote(
         RESULTS,
-        "<nn>'_23 transient is too large there: E23 {0.62} against the simulation's {0.43} at 90) and "
-        "confirmed at 135-165 ({0.50} against {0.79} at 135)",
+        "$\\langle nn\\rangle'_{23}$ transient is too large there: $E_{23}$ {0.62} against the simulation's {0.43} at "
+        "90) and confirmed at 135-165 ({0.50} against {0.79} at 135)",
         lambda r: [
             per_angle(r, "C2", 90)["reference"],
             per_angle(r, "C2", 90)["sim"],
@@ -371,7 +373,7 @@ QUOTES: list[Quote] = [
     ),
     Quote(
         RESULTS,
-        "it is larger, because it overshoots: <nn>'_12 by {49}% of steady at 90 degrees",
+        "it is larger, because it overshoots: $\\langle nn\\rangle'_{12}$ by {49}% of steady at 90 degrees",
         lambda r: [100 * per_angle(r, "C5", 90)["challenger"]],
     ),
     Quote(
@@ -386,7 +388,8 @@ QUOTES: list[Quote] = [
     ),
     Quote(
         RESULTS,
-        "<nn>'_23 transient (E23 {1.04}-{1.30} at 105-150 degrees against the simulation's {0.54}-{0.83}).",
+        "$\\langle nn\\rangle'_{23}$ transient ($E_{23}$ {1.04}-{1.30} at 105-150 degrees against the simulation's "
+        "{0.54}-{0.83}).",
         lambda r: [
             min(per_angle(r, "C2", t)["challenger"] for t in (105, 120, 135, 150)),
             max(per_angle(r, "C2", t)["challenger"] for t in (105, 120, 135, 150)),
@@ -396,12 +399,13 @@ QUOTES: list[Quote] = [
     ),
     Quote(
         RESULTS,
-        "kinetic (velocity fluctuations, {0.0001} on sigma_12 at reference v2's steady state)",
+        "kinetic (velocity fluctuations, {0.0001} on $\\sigma_{12}$ at reference v2's steady state)",
         lambda r: [steady(r, "kinetic_12")],
     ),
     Quote(
         RESULTS,
-        "**C5, the modified model overshoots <nn>_12 near 90 degrees: confirmed** ({0.41} above the 5% threshold)",
+        "**C5, the modified model overshoots $\\langle nn\\rangle_{12}$ near 90 degrees: confirmed** ({0.41} above the "
+        "5% threshold)",
         lambda r: [choice(r, "primary", "C5")["mean"]],
     ),
     Quote(
@@ -412,7 +416,7 @@ QUOTES: list[Quote] = [
     # System size
     Quote(
         RESULTS,
-        "The viscosity dip after a rotation at N = 1000 (v2): V = {0.073} [{0.024}, {0.122}] at 90 degrees and "
+        "The viscosity dip after a rotation at N = 1000 (v2): $V = {0.073}$ [{0.024}, {0.122}] at 90 degrees and "
         "{0.198} [{0.159}, {0.237}] at 120; the seed-mean curve's minimum is {0.863} [{0.838}, {0.881}] of steady "
         "at 90",
         lambda r: [
@@ -427,7 +431,7 @@ QUOTES: list[Quote] = [
     Quote(
         RESULTS,
         "its deficit exceeds v2's by {0.080} [{0.003}, {0.156}] at 90 degrees and {0.096} [{0.031}, {0.160}] "
-        "at 120, and its N2 is lower by {0.57} [{0.23}, {0.90}]",
+        "at 120, and its $N_2$ is lower by {0.57} [{0.23}, {0.90}]",
         lambda r: [
             *interval(compared(r, "N = 500,", "viscosity_deficit", 90), "difference"),
             *interval(compared(r, "N = 500,", "viscosity_deficit", 120), "difference"),
@@ -444,9 +448,10 @@ QUOTES: list[Quote] = [
     ),
     Quote(
         RESULTS,
-        "<nn>_12 {-0.1052} [{-0.1061}, {-0.1044}], Z {3.503}, eta_r {15.46} [{15.31}, {15.61}], N2 {-5.57}; "
-        "differences to v2 within +-{0.006} in the fabric, +-{0.41} in eta_r) and in the viscosity deficit "
-        "at every angle (90 degrees: {0.042} [{0.013}, {0.071}], difference {-0.031} [{-0.086}, {0.025}])",
+        "$\\langle nn\\rangle_{12}$ {-0.1052} [{-0.1061}, {-0.1044}], $Z$ {3.503}, $\\eta_r$ {15.46} "
+        "[{15.31}, {15.61}], $N_2$ {-5.57}; differences to v2 within ±{0.006} in the fabric, ±{0.41} in $\\eta_r$) "
+        "and in the viscosity deficit at every angle (90 degrees: {0.042} [{0.013}, {0.071}], difference {-0.031} "
+        "[{-0.086}, {0.025}])",
         lambda r: [
             *interval(compared(r, "N = 2000", "n12")),
             compared(r, "N = 2000", "Z")["mean"],
@@ -463,7 +468,7 @@ QUOTES: list[Quote] = [
     ),
     Quote(
         RESULTS,
-        "Its fits: G-W beta {10.96} +- {0.04}, modified beta {9.34}, A {45.3}.",
+        "Its fits: G-W $\\beta$ {10.96} ± {0.04}, modified $\\beta$ {9.34}, $A$ {45.3}.",
         lambda: [
             dataset_fits("data/reference_n2000")["models"]["gw"]["parameters"]["beta"],
             dataset_fits("data/reference_n2000")["models"]["gw"]["errors"]["beta"],
@@ -490,8 +495,8 @@ QUOTES: list[Quote] = [
     # the fabric-model leaderboard
     Quote(
         RESULTS,
-        "at 90 degrees its peak of <nn>'_12/<nn>_12^ss is {1.092}, the simulation's {1.095}, the modified "
-        "model's {1.486})",
+        "at 90 degrees its peak of $\\langle nn\\rangle'_{12}/\\langle nn\\rangle^{\\mathrm{ss}}_{12}$ is {1.092}, the "
+        "simulation's {1.095}, the modified model's {1.486})",
         lambda r: [peaks(r).loc[90.0, c] for c in ("separate_rates", "simulation", "modified")],
     ),
     Quote(
@@ -529,10 +534,10 @@ QUOTES: list[Quote] = [
     # the paper-scale stress
     Quote(
         RESULTS,
-        "the steady state is eta_r = {15.53} +- {0.14} (contact {10.50} +- {0.14}, lubrication {2.906} +- {0.004}), "
-        "N1 = {-1.22} +- {0.11}, N2 = {-5.56} +- {0.10}, Pi = {12.24} +- {0.18}; the relation fitted on the "
-        "simulated fabric (a_H = {25.44} +- {0.07}, a_C = {131.8} +- {1.1}) predicts N1 = +{1.57}, N2 = {-10.8}, "
-        "Pi = {15.8}",
+        "the steady state is $\\eta_r = {15.53} \\pm {0.14}$ (contact {10.50} ± {0.14}, lubrication {2.906} ± "
+        "{0.004}), $N_1 = {-1.22} \\pm {0.11}$, $N_2 = {-5.56} \\pm {0.10}$, $\\Pi = {12.24} \\pm {0.18}$; the "
+        "relation fitted on the simulated fabric ($a_H = {25.44} \\pm {0.07}$, $a_C = {131.8} \\pm {1.1}$) predicts "
+        "$N_1 = +{1.57}$, $N_2 = {-10.8}$, $\\Pi = {15.8}$",
         lambda r: [
             *(
                 steady(r, q, c)
@@ -581,8 +586,8 @@ QUOTES: list[Quote] = [
     ),
     Quote(
         RESULTS,
-        "Contacts carry {68}% of eta_r ({79}% of the particle part) and all of the pressure. Fitted coefficients: "
-        "simulated fabric a_H = {25.2} +- {0.2}, a_C = {134} +- {3}; G-W fabric {56.7}, {224}; modified fabric "
+        "Contacts carry {68}% of $\\eta_r$ ({79}% of the particle part) and all of the pressure. Fitted coefficients: "
+        "simulated fabric $a_H = {25.2} \\pm {0.2}$, $a_C = {134} \\pm {3}$; G-W fabric {56.7}, {224}; modified fabric "
         "{26.6}, {140}.",
         lambda r: [
             100 * steady(r, "contact_12") / steady(r, "eta_r"),
@@ -594,9 +599,9 @@ QUOTES: list[Quote] = [
     ),
     Quote(
         RESULTS,
-        "it predicts N1 = +{1.5} (simulated {-0.74}), N2 = {-11.0} ({-6.1}) and Pi = {16.0} ({12.2}): N2 and Pi too "
-        "large by {79}% and {31}%, N1 of the wrong sign. On the model fabrics N2 is {-12.9} (G-W) and {-7.9} "
-        "(modified).",
+        "it predicts $N_1 = +{1.5}$ (simulated {-0.74}), $N_2 = {-11.0}$ ({-6.1}) and $\\Pi = {16.0}$ ({12.2}): $N_2$ "
+        "and $\\Pi$ too large by {79}% and {31}%, $N_1$ of the wrong sign. On the model fabrics $N_2$ is {-12.9} (G-W) "
+        "and {-7.9} (modified).",
         lambda r: [
             *(
                 r.row("stress_relation_fits.csv", source="simulation")[f"{q}_{c}"]
@@ -614,7 +619,7 @@ QUOTES: list[Quote] = [
     ),
     Quote(
         RESULTS,
-        "At the rotation eta_r is predicted within {0.04} at every angle ({0.85} against {0.86} at 90 degrees, "
+        "At the rotation $\\eta_r$ is predicted within {0.04} at every angle ({0.85} against {0.86} at 90 degrees, "
         "{0.59} against {0.58} at reversal), but the contact part is too high ({0.51} against {0.25} at 90 degrees, "
         "{0.27} against {0.00} at reversal) and the lubrication jump ({0.18} to {0.48} at 90 degrees) is missing",
         lambda r: [
@@ -652,7 +657,7 @@ QUOTES: list[Quote] = [
     ),
     Quote(
         RESULTS,
-        "rms error of eta_r: {0.06} for theta <= 60 degrees, {0.09}-{0.20} beyond.",
+        "rms error of $\\eta_r$: {0.06} for $\\theta \\le 60$ degrees, {0.09}-{0.20} beyond.",
         lambda r: [
             max(rms(r, "simulation", "eta_r", (0, 30, 60))),
             min(rms(r, "simulation", "eta_r", (90, 120, 150, 180))),
@@ -663,7 +668,7 @@ QUOTES: list[Quote] = [
     Quote(
         RESULTS,
         "Its minima ({0.74}, {0.57}, {0.42}, {0.37} at 90, 120, 150, 180 degrees) match the simulated ones ({0.77}, "
-        "{0.60}, {0.44}, {0.37}) but occur at the rotation, not 0.2-0.3 strain later; rms error of eta_r "
+        "{0.60}, {0.44}, {0.37}) but occur at the rotation, not 0.2-0.3 strain later; rms error of $\\eta_r$ "
         "{0.04}-{0.09} at 0-150 degrees",
         lambda r: [
             *(lowest(relation_curve(r, "gw", t))[0] for t in (90, 120, 150, 180)),
@@ -675,14 +680,14 @@ QUOTES: list[Quote] = [
     ),
     Quote(
         RESULTS,
-        "all along at 60-90 degrees (rms up to {0.26}), the worst for eta_r from 60 degrees on",
+        "all along at 60-90 degrees (rms up to {0.26}), the worst for $\\eta_r$ from 60 degrees on",
         lambda r: [max(rms(r, "modified", "eta_r", (0, 30, 60, 90, 120, 150, 180)))],
         "default_reference",
     ),
     Quote(
         RESULTS,
         "The relation gives +{0.04} to +{0.15} at 30-150 degrees from its contact term; the simulation's is within "
-        "+-{0.08} and negative at 30-60 degrees, where the lubrication part ({-0.11} and {-0.15} at the rotation) "
+        "±{0.08} and negative at 30-60 degrees, where the lubrication part ({-0.11} and {-0.15} at the rotation) "
         "outweighs the contact part (+{0.05} and +{0.11}); the relation's hydrodynamic term gives almost none (at "
         "most {0.01}).",
         lambda r: [
