@@ -161,6 +161,10 @@ def test_report_table_names_the_level_and_each_interval():
         (1.94, 1.94, 1.94, "1.940 [1.940, 1.940]"),
         (0.3, -np.inf, np.inf, "0.3000 [—]"),
         (0.3, np.nan, np.nan, "0.3000 [—]"),
+        # a bound that would round to 0 keeps its sign: two significant figures of its own
+        (0.05, -0.0035, 0.11, "0.05 [-0.0035, 0.11]"),
+        (-0.08, -0.15, 0.0021, "-0.08 [-0.15, 0.0021]"),
+        (0.05, 0.0, 0.11, "0.05 [0.00, 0.11]"),
     ],
 )
 def test_format_interval(value, low, high, expected):

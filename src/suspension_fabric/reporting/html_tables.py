@@ -99,7 +99,10 @@ def format_value_error(value, error, error_digits: int = 2) -> str:
 def format_interval(value, low, high, digits: int = 2) -> str:
     """Format as "value [low, high]", all three rounded to the decimal place of the interval's
     width to ``digits`` significant figures, e.g. (0.2791, 0.1434, 0.4148) -> "0.28 [0.14, 0.41]".
-    A missing or infinite bound (one seed) gives "value [—]"."""
+    A bound that rounding would turn into 0 or into the other sign keeps ``digits`` significant
+    figures of its own, so that the printed interval says on which side of 0 it lies:
+    (0.05, -0.0035, 0.11) -> "0.05 [-0.0035, 0.11]". A missing or infinite bound (one seed) gives
+    "value [—]"."""
     if is_missing(value):
         return MISSING
     value = float(value)
@@ -110,8 +113,14 @@ def format_interval(value, low, high, digits: int = 2) -> str:
     if width <= 0.0 or not math.isfinite(value):
         return f"{format_number(value)} [{format_number(low)}, {format_number(high)}]"
     decimals = max(digits - 1 - math.floor(math.log10(width)), 0)
-    shown = [f"{round(x, decimals) + 0.0:.{decimals}f}" for x in (value, low, high)]
-    return f"{shown[0]} [{shown[1]}, {shown[2]}]"
+
+    def bound(x: float) -> str:
+        rounded = round(x, decimals) + 0.0
+        if x != 0.0 and (rounded == 0.0 or (rounded > 0.0) != (x > 0.0)):
+            return format_number(x, digits)  # its sign would be lost
+        return f"{rounded:.{decimals}f}"
+
+    return f"{round(value, decimals) + 0.0:.{decimals}f} [{bound(low)}, {bound(high)}]"
 
 
 def format_angle(degrees) -> str:
