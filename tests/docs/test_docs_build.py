@@ -7,6 +7,7 @@ at build time (docs/hooks/mathml.py), the site loads nothing from outside itself
 stylesheet or web font), and every page shows what its Markdown meant: lists as lists, brackets
 as written, every image it names, and links where it names another page."""
 
+import html
 import importlib.util
 import re
 import subprocess
@@ -161,6 +162,8 @@ PAGES = sorted("" if page.stem == "index" else page.stem for page in DOCS.glob("
 _LIST_LINE = re.compile(r"^[ \t]*(?:[-*]|\d+\.)[ \t]+\S", re.M)
 #: A docs page named as a file in a code span, where a link to the page belongs.
 _PAGE_AS_CODE = re.compile(r"<code>(?:docs/)?(\w+)\.md(?:#[^<]*)?</code>")
+#: Files outside docs/ that are pages of the site (included whole): a link to the page belongs.
+_PAGE_SOURCES = {"config/README.md": "configuration", "BENCHMARKS.md": "benchmarks"}
 #: The elements the pages are made of: HTML, and the SVG of the theme's icons and the MathML of the
 #: equations. Any other name is text the browser swallowed as a tag (`<account>` of a command that
 #: did not render as code).
@@ -289,5 +292,54 @@ def test_map_page_shows_its_figures(site):
 def test_pages_are_linked_not_named(site, name):
     """A docs page is named by a link to it, not as a file in backticks (`docs/campaign.md`)."""
     pages = {"index" if page == "" else page for page in PAGES}
-    named = [m.group(0) for m in _PAGE_AS_CODE.finditer(_CODE_BLOCK.sub("", _page(site, name))) if m.group(1) in pages]
+    prose = _CODE_BLOCK.sub("", _page(site, name))
+    named = [m.group(0) for m in _PAGE_AS_CODE.finditer(prose) if m.group(1) in pages]
+    named += [f"<code>{source}</code>" for source in _PAGE_SOURCES if f"<code>{source}</code>" in prose]
     assert not named, f"{name or 'index'}: pages named as files, not linked: {named}"
+
+
+def _article(site: Path, name: str) -> str:
+    """A page's own content, without the theme's navigation."""
+    return re.search(r"<article\b.*?</article>", _page(site, name), re.S).group(0)
+
+
+def _links(site: Path, name: str) -> set[str]:
+    return set(re.findall(r'<a\b[^>]*\bhref="([^"]*)"', _article(site, name)))
+
+
+def test_home_page_lists_every_page_and_states_the_headline(site):
+    """The home page links every page of the site and states the main result with the generated
+    headline (docs/generated/headline.md, the fragment README.md quotes), not prose of its own."""
+    linked = {href.split("#")[0].rstrip("/") for href in _links(site, "")}
+    assert {"protocols", "thickening", "configuration"} <= linked
+    assert set(PAGES) - {""} - linked == set()
+    headline = (DOCS / "generated" / "headline.md").read_text().strip()
+    paragraphs = [html.unescape(paragraph).strip() for paragraph in _reading(site, "").paragraphs]
+    assert headline in paragraphs
+    assert '--8<-- "docs/generated/headline.md"' in (DOCS / "index.md").read_text()
+
+
+def test_protocols_page_links_how_to_write_a_protocol(site):
+    """The protocols page links the workflow page's section on protocols as config entries."""
+    assert "../workflow/#protocols-any-flow-history" in _links(site, "protocols")
+    assert 'id="protocols-any-flow-history"' in _page(site, "workflow")
+
+
+def test_configuration_page_is_config_readme(site):
+    """config/README.md, the one source of the configuration reference, is the configuration page
+    (included, not copied), with its tables."""
+    assert (DOCS / "configuration.md").read_text().strip() == '--8<-- "config/README.md"'
+    page = _article(site, "configuration")
+    for title in re.findall(r"^##? (.+)$", (REPO / "config" / "README.md").read_text(), re.M):
+        assert f">{html.escape(title, quote=False)}<" in page, title
+    assert page.count("<table") >= 3
+    assert "../configuration/" in _links(site, "workflow")
+
+
+def test_output_table_cells_are_whole(site):
+    """The outputs table of Getting started shows each description whole: a bare | in a cell's
+    Markdown would cut it short (tests/docs/test_docs_markdown.py checks every table's source)."""
+    row = re.search(
+        r"<td><code>tables/model_errors.csv</code></td>\s*<td>(.*?)</td>", _page(site, "getting_started"), re.S
+    )
+    assert row and "per protocol, model, angle and component" in row.group(1), row
