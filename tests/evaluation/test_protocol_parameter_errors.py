@@ -73,3 +73,28 @@ def test_a_fit_without_errors_keeps_the_seeds_interval_and_says_so():
     per_seed = _seed_mean_score(BETA)[0][:, 3]
     half = stats.t.ppf(0.975, 3) * per_seed.std(ddof=1) / 2.0
     assert row["mse_high"] - row["mse_low"] == pytest.approx(2 * half, rel=1e-9)
+
+
+def test_two_parameters_combine_by_their_correlation_and_are_bounded_without_it():
+    """Modified G-W (beta, A): with h_k the half difference of the seed-mean score when parameter k
+    moves by its error, the standard error is sqrt(h_b^2 + h_A^2 + 2 r h_b h_A) for correlation r,
+    and |h_b| + |h_A| (the case r = +-1 at worst) when r is not known."""
+    modified = resolve_models(["modified"])["modified"]
+    curves = _curves([101, 102, 103, 104])
+    params, errors = {"beta": 9.0, "A": 40.0}, {"beta": 0.05, "A": 0.3}
+
+    def half_step(name):
+        scores = []
+        for sign in (1.0, -1.0):
+            predicted = pb.model_protocol_predictions(
+                modified, {**params, name: params[name] + sign * errors[name]}, PHI, curves
+            )
+            scores.append(pb.fabric_protocol_scores(predicted, curves, N12_SS).mean(axis=0))
+        return 0.5 * (scores[0] - scores[1])
+
+    h_b, h_a = half_step("beta"), half_step("A")
+    for r in (-0.6, 0.0, 0.66):
+        spread = pb.parameter_spread(modified, params, errors, PHI, curves, N12_SS, {"beta,A": r})
+        np.testing.assert_allclose(spread[:6], np.sqrt(h_b**2 + h_a**2 + 2 * r * h_b * h_a), rtol=1e-9, atol=1e-15)
+    bound = pb.parameter_spread(modified, params, errors, PHI, curves, N12_SS, None)
+    np.testing.assert_allclose(bound[:6], np.abs(h_b) + np.abs(h_a), rtol=1e-12)

@@ -135,6 +135,11 @@ def test_the_reference_study_rebuilds_the_fits_without_simulating(tmp_path, floa
     assert made[text].equals(committed[text])
     np.testing.assert_allclose(made["value"], committed["value"], rtol=1e-4)
     np.testing.assert_allclose(made["error"], committed["error"], rtol=1e-2)
+    # each fit's leave-one-out correlations, which the protocol scores propagate the errors with
+    for mine, theirs in zip(made["correlations"], committed["correlations"]):
+        mine, theirs = json.loads(mine), json.loads(theirs)
+        assert mine.keys() == theirs.keys()
+        np.testing.assert_allclose([mine[k] for k in mine], [theirs[k] for k in mine], atol=0.02)
     board = pd.read_csv(workdir / "results/reference/tables/leaderboard.csv")
     models = ("gw", "modified", "separate_rates", "gw_hybrid", "sparse")
     assert set(zip(board["model"], board["mode"])) == {(m, f) for m in models for f in ("steady", "global")}

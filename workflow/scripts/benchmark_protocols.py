@@ -1,6 +1,8 @@
 """Snakemake: every fabric model and stress relation on each of the study's own protocols (rule
 benchmark_protocols)."""
 
+import json
+
 import pandas as pd
 
 from suspension_fabric.analysis.protocol_tables import read_protocol_table
@@ -49,6 +51,13 @@ with logged(sm.log[0]), checked_tables(sm):
         }
         for mode in ("steady", "global")
     }
+    parameter_correlations = {
+        mode: {
+            key: json.loads(rows["correlations"].iloc[0]) if "correlations" in rows else {}
+            for key, rows in fitted[fitted["mode"] == mode].groupby("model")
+        }
+        for mode in ("steady", "global")
+    }
     board, predictions = protocol_benchmark.fabric_protocol_leaderboard(
         models,
         mode_parameters,
@@ -59,6 +68,7 @@ with logged(sm.log[0]), checked_tables(sm):
         reference=sm.params.reference,
         level=sm.params.level,
         parameter_errors=parameter_errors,
+        parameter_correlations=parameter_correlations,
     )
     fitted_on = fitted.groupby(["model", "mode"])["fitted_on"].first()
     board.insert(3, "fitted_on", [fitted_on[key] for key in zip(board["model"], board["mode"])])

@@ -27,6 +27,7 @@ frames along a curve are correlated, so the AIC ranks models but its absolute va
 
 from __future__ import annotations
 
+import json
 from typing import NamedTuple
 
 import numpy as np
@@ -38,6 +39,8 @@ from suspension_fabric.analysis.tables import fabric_tensors
 from suspension_fabric.io.fit_provenance import seeds_text
 from suspension_fabric.io.protocols import PAPER_STARTUP, paper_rotation_name
 from suspension_fabric.models import fabric_models
+
+from .model_vs_simulation import leave_one_out_correlations
 
 __all__ = [
     "by_seed",
@@ -216,10 +219,12 @@ def fit_global(
 
 def global_fit_with_errors(fabric_model, curves: SeedCurves, phi: float, startup_strain: float, start: dict) -> dict:
     """[`fit_global`][suspension_fabric.evaluation.model_benchmark.fit_global] on every angle with jackknife errors over
-    seeds of the whole fit (NaN for fewer than 3 seeds: a leave-one-out fit needs two seeds for its weights)."""
+    seeds of the whole fit and the correlations of the leave-one-out parameters (NaN for fewer than 3 seeds: a
+    leave-one-out fit needs two seeds for its weights)."""
     fitted = fit_global(fabric_model, curves, phi, startup_strain, start)
     if len(curves.seeds) < 3:
         fitted["errors"] = dict.fromkeys(fabric_model.names, np.nan)
+        fitted["correlations"] = {}
         return fitted
     cache = {}
 
@@ -235,6 +240,9 @@ def global_fit_with_errors(fabric_model, curves: SeedCurves, phi: float, startup
         name: jackknife(lambda subset, name=name: parameter(subset, name), curves.seeds)[1]
         for name in fabric_model.names
     }
+    seeds = list(curves.seeds)
+    left_out = [cache[tuple(s for s in seeds if s != left)] for left in seeds]
+    fitted["correlations"] = leave_one_out_correlations(left_out, list(fabric_model.names))
     return fitted
 
 
@@ -331,6 +339,7 @@ def leaderboard(
             "steady": (steady, steady_fits[key]["errors"], None),
             "global": (fitted["parameters"], fitted["errors"], fitted),
         }
+        correlations = {"steady": steady_fits[key].get("correlations", {}), "global": fitted["correlations"]}
         for mode, (params, errors, fit) in modes.items():
             rotations = [paper_rotation_name(theta) for theta in curves.thetas] if mode == "global" else []
             for name, value in params.items():
@@ -342,6 +351,7 @@ def leaderboard(
                         "parameter": name,
                         "value": value,
                         "error": errors[name],
+                        "correlations": json.dumps(correlations[mode], sort_keys=True),
                         "fitted_on": study,
                         "fitted_seeds": seeds_text(curves.seeds),
                         "fitted_runs": " ".join([PAPER_STARTUP, *rotations]),

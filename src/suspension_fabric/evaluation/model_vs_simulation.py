@@ -156,7 +156,7 @@ def _steady_targets(steady: pd.DataFrame) -> dict[str, float]:
     return {name[1:]: _steady_value(steady, name)[0] for name in COMPONENTS}
 
 
-def _correlations(leave_one_out: list[dict], names: list[str]) -> dict[str, float]:
+def leave_one_out_correlations(leave_one_out: list[dict], names: list[str]) -> dict[str, float]:
     """{"a,b": r} of the leave-one-out values of every pair of parameters (NaN for fewer than 3
     subsets, a failed subset or a parameter that does not vary)."""
     values = np.array([[fit.get(name, np.nan) for name in names] for fit in leave_one_out], dtype=float)
@@ -222,7 +222,7 @@ def fit_listed_models(
             "parameters": fitted,
             "errors": errors,
             "errors_propagated": propagated_fit_errors(fabric_model, steady, phi),
-            "correlations": _correlations(leave_one_out, list(fabric_model.names)),
+            "correlations": leave_one_out_correlations(leave_one_out, list(fabric_model.names)),
             "steady_state": _as_components(fabric_models.steady_state(fabric_model, fitted, phi)),
         }
     return entries

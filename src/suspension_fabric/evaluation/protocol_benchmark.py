@@ -148,31 +148,39 @@ def fabric_protocol_floor(curves: ProtocolCurves, n12_ss: float) -> np.ndarray:
 
 def parameter_spread(
     fabric_model, params: Mapping[str, float], errors: Mapping[str, float] | None, phi: float,
-    curves: ProtocolCurves, n12_ss: float,
+    curves: ProtocolCurves, n12_ss: float, correlations: Mapping[str, float] | None = None,
 ) -> np.ndarray:  # fmt: skip
-    """(7,): per component and for their mean (the leaderboard's ``all``), a bound on the standard
-    error the fit's own uncertainty gives the seed-mean score, sum_k |S(p_k + s_k) - S(p_k - s_k)| / 2
-    with s_k parameter k's standard error (the score's response to each parameter by central
-    differences; the sum bounds the standard deviation of a linear combination whatever the
-    parameters' correlations). NaN where a parameter has no finite error or a moved model cannot be
-    integrated: not propagated."""
+    """(7,): per component and for their mean (the leaderboard's ``all``), the standard error the
+    fit's own uncertainty gives the seed-mean score S, to first order: with h_k = (S(p_k + s_k) -
+    S(p_k - s_k)) / 2, s_k parameter k's standard error, sqrt(sum_kl h_k h_l r_kl) where r is the
+    fit's leave-one-out correlation matrix (``correlations``: {"a,b": r}); where a pair's
+    correlation is missing, sum_k |h_k|, a bound whatever the correlations. NaN where a parameter
+    has no finite error or a moved model cannot be integrated: not propagated."""
+    names = list(params)
     missing = np.full(len(COMPONENTS) + 1, np.nan)
-    if errors is None or not all(np.isfinite(errors.get(name, np.nan)) for name in params):
+    if errors is None or not all(np.isfinite(errors.get(name, np.nan)) for name in names):
         return missing
-    bound = np.zeros(len(COMPONENTS) + 1)
-    for name, value in params.items():
+    half_steps = []
+    for name in names:
         moved = []
         for sign in (1.0, -1.0):
+            shifted = {**params, name: params[name] + sign * errors[name]}
             try:
-                predicted = model_protocol_predictions(
-                    fabric_model, {**params, name: value + sign * errors[name]}, phi, curves
-                )
+                predicted = model_protocol_predictions(fabric_model, shifted, phi, curves)
             except (ValueError, fabric_models.ModelError):
                 return missing
             per_seed = fabric_protocol_scores(predicted, curves, n12_ss).mean(axis=0)
             moved.append(np.append(per_seed, per_seed.mean()))
-        bound += 0.5 * np.abs(moved[0] - moved[1])
-    return bound
+        half_steps.append(0.5 * (moved[0] - moved[1]))
+    h = np.array(half_steps)  # (parameters, 7)
+    matrix = np.eye(len(names))
+    for i, first in enumerate(names):
+        for j in range(i + 1, len(names)):
+            r = (correlations or {}).get(f"{first},{names[j]}", (correlations or {}).get(f"{names[j]},{first}"))
+            if r is None or not np.isfinite(r):
+                return np.abs(h).sum(axis=0)
+            matrix[i, j] = matrix[j, i] = r
+    return np.sqrt(np.maximum(np.einsum("kc,kl,lc->c", h, matrix, h), 0.0))
 
 
 def _paired(
@@ -182,9 +190,9 @@ def _paired(
     """Adds to every row the paired per-seed difference of its scores (``scores[own_key(row)]``) from
     the reference's (``scores[reference_key(row)]``), with its t-interval, its t-test p-value and
     that p-value adjusted by Holm's method over every row of the table (NaN without a reference).
-    ``spread``: per key the parameters' standard-error bound on the seed-mean score; the
-    difference's is the sum of both rows' (a bound whatever their fits' correlation), added in
-    quadrature to the seeds' (NaN counts as 0: not propagated)."""
+    ``spread``: per key the parameters' standard error on the seed-mean score; the difference's is
+    the sum of both rows' (a bound whatever the correlation of the two fits), added in quadrature to
+    the seeds' (NaN counts as 0: not propagated)."""
     names = [f"difference{suffix}_vs_{reference}" for suffix in ("", "_low", "_high", "_p")]
     table[names] = np.nan
     spread = spread or {}
@@ -213,6 +221,7 @@ def fabric_protocol_leaderboard(
     reference: str,
     level: float = LEVEL,
     parameter_errors: Mapping[str, Mapping[str, Mapping[str, float]]] | None = None,
+    parameter_correlations: Mapping[str, Mapping[str, Mapping[str, float]]] | None = None,
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
     """(leaderboard, predictions): one row per model, mode, protocol and component (the six and
     ``all``) with the mean square error's t-interval over seeds and the paired difference from
@@ -220,12 +229,13 @@ def fabric_protocol_leaderboard(
     ``mode_parameters[mode][model]`` are each model's parameters in each mode; ``seen[(model, mode)]``
     the seeds its fit saw (suspension_fabric.io.fit_provenance.seen_seeds): a row is ``held_out``
     only if none of its seeds is among them, and ``seeds_seen`` counts those that are.
-    ``parameter_errors`` (the same layout: each parameter's standard error): the fits' uncertainty is
+    ``parameter_errors`` (the same layout: each parameter's standard error) and
+    ``parameter_correlations`` (per mode and model, {"a,b": r}): the fits' uncertainty is
     propagated into every interval and p-value
     ([`parameter_spread`][suspension_fabric.evaluation.protocol_benchmark.parameter_spread], column
     ``parameter_se``; NaN where a fit has no error, whose rows carry the seeds' spread only)."""
     rows, predictions, scores, spread = [], [], {}, {}
-    parameter_errors = parameter_errors or {}
+    parameter_errors, parameter_correlations = parameter_errors or {}, parameter_correlations or {}
     for mode, by_model in mode_parameters.items():
         for key, fabric_model in models.items():
             if key not in by_model:
@@ -236,7 +246,8 @@ def fabric_protocol_leaderboard(
                 per_seed = fabric_protocol_scores(predicted, one, n12_ss)
                 columns = {**{c: per_seed[:, k] for k, c in enumerate(COMPONENTS)}, ALL_COMPONENTS: per_seed.mean(1)}
                 errors = parameter_errors.get(mode, {}).get(key)
-                bounds = parameter_spread(fabric_model, by_model[key], errors, phi, one, n12_ss)
+                correlations = parameter_correlations.get(mode, {}).get(key)
+                bounds = parameter_spread(fabric_model, by_model[key], errors, phi, one, n12_ss, correlations)
                 for (component, values), bound in zip(columns.items(), bounds):
                     scores[(key, mode, name, component)] = values
                     spread[(key, mode, name, component)] = bound

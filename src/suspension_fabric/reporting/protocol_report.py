@@ -192,8 +192,8 @@ def _parameter_note(board: pd.DataFrame) -> str:
     )
     note = (
         " Fabric intervals and p-values carry the fits' own uncertainty: each parameter moved by its jackknife error, "
-        "the seed-mean score's response (summed over the parameters, a bound whatever their correlation) added in "
-        "quadrature to the seeds' standard error"
+        "the seed-mean score's responses combined with the fit's leave-one-out correlations (first order), added "
+        "in quadrature to the seeds' standard error"
     )
     return note + (f"; not for {names}, whose fits have no error." if names else ".")
 
