@@ -62,7 +62,7 @@ def save_figure(fig, stem: str | os.PathLike) -> list[Path]:
     stem = Path(stem)
     stem.parent.mkdir(parents=True, exist_ok=True)
     paths = [stem.with_suffix(".pdf"), stem.with_suffix(".png")]
-    fig.savefig(paths[0], dpi=200)
+    fig.savefig(paths[0], dpi=200, metadata={"CreationDate": None})  # no date: the same inputs, the same bytes
     # the PDF's layout holds for the PNG: without this the second save lays the figure out again,
     # measuring every label once more
     fig.set_layout_engine("none")
