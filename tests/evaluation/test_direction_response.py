@@ -71,14 +71,20 @@ def test_cells_get_t_intervals_and_holm_over_the_table():
     assert (table.loc["eta_r", "reading"], table.loc["n12", "reading"]) == ("lower", "not decided")
 
 
-def test_two_points_are_compared_by_welch():
-    per_seed = pd.DataFrame(
-        [{"point": point, "theta": 90.0, "quantity": "eta_r", "window_low": 0.0, "window_high": 0.5, "seed": s,
-          "response": r}
-         for point, values in (("a", (-0.5, -0.4)), ("b", (-0.1, -0.2))) for s, r in zip((1, 2), values)]
-    )  # fmt: skip
-    interval = direction_response.between_points(per_seed, "a", "b", theta=90.0, quantity="eta_r", window=(0.0, 0.5))
-    assert interval.mean == pytest.approx(-0.3)
+def test_two_points_are_compared_per_seed_when_they_share_their_seeds_and_by_welch_otherwise():
+    """Responses a = (-0.5, -0.4), b = (-0.1, -0.2) on seeds 1, 2: paired, the differences are
+    -0.4 and -0.2 (mean -0.3, s.e. 0.1); on other seeds for b, Welch's interval of the same means."""
+    rows = [
+        {"point": point, "theta": 90.0, "quantity": "eta_r", "window_low": 0.0, "window_high": 0.5, "seed": s,
+         "response": r}
+        for point, values in (("a", (-0.5, -0.4)), ("b", (-0.1, -0.2))) for s, r in zip((1, 2), values)
+    ]  # fmt: skip
+    cell = {"theta": 90.0, "quantity": "eta_r", "window": (0.0, 0.5)}
+    interval, test = direction_response.between_points(pd.DataFrame(rows), "a", "b", **cell)
+    assert test == "paired" and interval.mean == pytest.approx(-0.3) and interval.se == pytest.approx(0.1)
+    others = pd.DataFrame([row | {"seed": row["seed"] + 10} if row["point"] == "b" else row for row in rows])
+    interval, test = direction_response.between_points(others, "a", "b", **cell)
+    assert test == "Welch" and interval.mean == pytest.approx(-0.3)
     assert interval.low < -0.3 < interval.high
 
 

@@ -111,32 +111,37 @@ def response_table(per_seed: pd.DataFrame, level: float = LEVEL) -> pd.DataFrame
 
 
 def between_points(per_seed: pd.DataFrame, first: str, second: str, *, theta, quantity, window, level=LEVEL):
-    """Welch's interval of the mean response at point ``first`` minus that at ``second`` for one
-    angle, quantity and window (``per_seed`` with a ``point`` column)."""
+    """The mean response at point ``first`` minus that at ``second`` for one angle, quantity and
+    window (``per_seed`` with a ``point`` column), and how it was taken: per seed (a paired
+    t-interval) where both points have the same seeds, which then share their packings (a packing
+    depends on the seed and the particles only); Welch's interval otherwise. Returns (interval,
+    "paired" or "Welch")."""
     cell = (
         (per_seed["theta"] == theta)
         & (per_seed["quantity"] == quantity)
         & (per_seed["window_low"] == window[0])
         & (per_seed["window_high"] == window[1])
     )
-    values = [per_seed.loc[cell & (per_seed["point"] == point), "response"].to_numpy() for point in (first, second)]
-    return welch_interval(values[0], values[1], level)
+    values = [per_seed[cell & (per_seed["point"] == point)].set_index("seed")["response"] for point in (first, second)]
+    if set(values[0].index) == set(values[1].index):
+        return t_interval(values[0] - values[1].reindex(values[0].index), level), "paired"
+    return welch_interval(values[0].to_numpy(), values[1].to_numpy(), level), "Welch"
 
 
 def neighbour_comparisons(per_seed: pd.DataFrame, ordered, labels: dict, level=LEVEL) -> pd.DataFrame:
     """Each point of ``ordered`` (point names, by imposed rate or stress) against the one before it,
     for every angle and quantity over the first window (`between_points`): columns first, second (their
-    ``labels``), theta, quantity, window_low, window_high, mean, low, high."""
+    ``labels``), theta, quantity, window_low, window_high, mean, low, high, test (paired or Welch)."""
     window = RESPONSE_WINDOWS[0]
     rows = []
     for second, first in zip(ordered, ordered[1:]):
         for theta in sorted(set(per_seed["theta"])):
             for quantity, _ in RESPONSE_QUANTITIES:
-                interval = between_points(per_seed, first, second, theta=theta, quantity=quantity, window=window,
-                                          level=level)  # fmt: skip
+                interval, test = between_points(per_seed, first, second, theta=theta, quantity=quantity,
+                                                window=window, level=level)  # fmt: skip
                 rows.append(
                     {"first": labels[first], "second": labels[second], "theta": theta, "quantity": quantity,
                      "window_low": window[0], "window_high": window[1], "mean": interval.mean, "low": interval.low,
-                     "high": interval.high}
+                     "high": interval.high, "test": test}
                 )  # fmt: skip
     return pd.DataFrame(rows)

@@ -23,7 +23,8 @@ _QUANTITIES = {
 
 def direction_response_summary(table: pd.DataFrame, comparisons: pd.DataFrame, level: float) -> str:
     """The cells of the response table (point, angle, quantity, window: mean [t-interval], Holm-adjusted
-    p, reading), then the differences between points (Welch)."""
+    p, reading), then the differences between points (paired per seed where the points share their seeds,
+    Welch otherwise)."""
     header = ["point", "θ", "quantity", "strain after the change", "mean over seeds", "Holm p", "reading", "seeds"]
     rows = [
         [
@@ -49,6 +50,7 @@ def direction_response_summary(table: pd.DataFrame, comparisons: pd.DataFrame, l
         lines.append(
             f"- θ = {row['theta']:g}, {_QUANTITIES[row['quantity']]} over strain {row['window_low']:g} to "
             f"{row['window_high']:g}: {row['first']} minus {row['second']} = "
-            f"{format_interval(row['mean'], row['low'], row['high'])} (Welch, {level:.0%})."
+            f"{format_interval(row['mean'], row['low'], row['high'])} "
+            f"({'paired per seed' if row.get('test', 'Welch') == 'paired' else 'Welch'}, {level:.0%})."
         )
     return "\n".join(lines) + "\n"
