@@ -152,11 +152,27 @@ def rounds_table(rounds: list[Kill]) -> list[dict]:
 RUN_HISTORY = ("finished_utc", "wall_time_s", "segments", "command")
 
 
-def _run_record(path: Path, root: Path) -> str:
-    """A run record without its history (`RUN_HISTORY`) and with the study folder's own path
-    written as <study>: what the run made and from what."""
+def _relative(value):
+    """``value`` with every absolute path inside the study written from its results/ or build/
+    folder on (a study copied elsewhere, as pytest-xdist's workers copy the session's study, keeps
+    the paths it was made in)."""
+    if isinstance(value, dict):
+        return {key: _relative(item) for key, item in value.items()}
+    if isinstance(value, list):
+        return [_relative(item) for item in value]
+    if isinstance(value, str) and value.startswith("/"):
+        parts = Path(value).parts
+        for anchor in ("results", "build"):
+            if anchor in parts:
+                return str(Path(*parts[parts.index(anchor) :]))
+    return value
+
+
+def _run_record(path: Path) -> str:
+    """A run record without its history (`RUN_HISTORY`) and with the study's paths relative to it:
+    what the run made and from what."""
     record = {key: value for key, value in json.loads(path.read_text()).items() if key not in RUN_HISTORY}
-    return json.dumps(record, sort_keys=True).replace(str(root.resolve()), "<study>")
+    return json.dumps(_relative(record), sort_keys=True)
 
 
 def comparable_digests(workdir: Path) -> dict[str, str]:
@@ -171,7 +187,7 @@ def comparable_digests(workdir: Path) -> dict[str, str]:
             continue
         if path.name == "log.lammps":
             continue
-        data = _run_record(path, workdir).encode() if path.name == "run_complete.json" else path.read_bytes()
+        data = _run_record(path).encode() if path.name == "run_complete.json" else path.read_bytes()
         digests[str(path.relative_to(root))] = hashlib.sha256(data).hexdigest()
     return digests
 

@@ -439,6 +439,7 @@ LAYERED_ON = {
     "map.yaml": "campaign.yaml",
     "thickening_reference.yaml": "thickening.yaml",
     "thickening_rotation_reference.yaml": "thickening_rotation.yaml",
+    "thickening_stress_reference.yaml": "thickening_stress.yaml",
 }
 
 
