@@ -98,3 +98,16 @@ def test_two_parameters_combine_by_their_correlation_and_are_bounded_without_it(
         np.testing.assert_allclose(spread[:6], np.sqrt(h_b**2 + h_a**2 + 2 * r * h_b * h_a), rtol=1e-9, atol=1e-15)
     bound = pb.parameter_spread(modified, params, errors, PHI, curves, N12_SS, None)
     np.testing.assert_allclose(bound[:6], np.abs(h_b) + np.abs(h_a), rtol=1e-12)
+
+
+def test_the_committed_parameters_table_reads_per_mode_and_model():
+    """data/models/reference_parameters.csv: the modified model's steady fit has beta, A with their
+    errors and one correlation; G-W's single parameter has none."""
+    import pandas as pd
+
+    from workflow_helpers import REPO
+
+    values, errors, correlations = pb.parameters_by_mode(pd.read_csv(REPO / "data/models/reference_parameters.csv"))
+    assert set(values) == {"steady", "global"} and set(values["steady"]["modified"]) == {"beta", "A"}
+    assert errors["steady"]["modified"]["A"] > 0 and set(correlations["steady"]["modified"]) == {"beta,A"}
+    assert correlations["steady"]["gw"] == {} and values["global"]["gw"]["beta"] > values["steady"]["gw"]["beta"]

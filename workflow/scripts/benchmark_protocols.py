@@ -1,8 +1,6 @@
 """Snakemake: every fabric model and stress relation on each of the study's own protocols (rule
 benchmark_protocols)."""
 
-import json
-
 import pandas as pd
 
 from suspension_fabric.analysis.protocol_tables import read_protocol_table
@@ -36,28 +34,8 @@ with logged(sm.log[0]), checked_tables(sm):
     fitted = pd.read_csv(sm.input.model_parameters)
     check_provenance(fitted, sm.input.model_parameters)
     sources = {load_model(spec).key: model_file_source(spec) for spec in sm.params.models if spec.endswith(".json")}
-    mode_parameters = {
-        mode: {
-            key: rows.set_index("parameter")["value"].to_dict()
-            for key, rows in fitted[fitted["mode"] == mode].groupby("model")
-        }
-        for mode in ("steady", "global")
-    }
-    # each fit's jackknife errors, propagated into the scores' intervals (NaN: a fit without errors)
-    parameter_errors = {
-        mode: {
-            key: rows.set_index("parameter")["error"].astype(float).to_dict()
-            for key, rows in fitted[fitted["mode"] == mode].groupby("model")
-        }
-        for mode in ("steady", "global")
-    }
-    parameter_correlations = {
-        mode: {
-            key: json.loads(rows["correlations"].iloc[0]) if "correlations" in rows else {}
-            for key, rows in fitted[fitted["mode"] == mode].groupby("model")
-        }
-        for mode in ("steady", "global")
-    }
+    # each fit's values, and its jackknife errors and correlations, propagated into the scores' intervals
+    mode_parameters, parameter_errors, parameter_correlations = protocol_benchmark.parameters_by_mode(fitted)
     board, predictions = protocol_benchmark.fabric_protocol_leaderboard(
         models,
         mode_parameters,

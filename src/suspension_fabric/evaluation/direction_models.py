@@ -111,6 +111,14 @@ def _label(labels: Mapping[str, str], model: str) -> str:
     return NO_TRANSIENT_LABEL if model == NO_TRANSIENT else labels.get(model, model)
 
 
+def _holm_by_window(table: pd.DataFrame) -> pd.DataFrame:
+    """``p_holm``: Holm's adjustment of ``p`` over each window's cells (NaN p stays out)."""
+    table["p_holm"] = np.nan
+    for _, index in table.groupby("window").groups.items():
+        table.loc[index, "p_holm"] = adjusted_p(table.loc[index, "p"].to_numpy(dtype=float), "holm")
+    return table
+
+
 def skill_table(scores: pd.DataFrame, labels: Mapping[str, str], level: float = LEVEL) -> pd.DataFrame:
     """Per window, point, angle, component and model: the net error (mean [t-interval] over seeds)
     and D = E(instant steady state) - E(model) per seed with its interval, two-sided p, Holm's p
@@ -142,10 +150,7 @@ def skill_table(scores: pd.DataFrame, labels: Mapping[str, str], level: float = 
                 skill = t_interval(gain, level)
                 row |= {"skill": skill.mean, "skill_low": skill.low, "skill_high": skill.high, "p": t_test_p(gain)}
             rows.append(row)
-    table = pd.DataFrame(rows)
-    table["p_holm"] = np.nan
-    for _, index in table.groupby("window").groups.items():
-        table.loc[index, "p_holm"] = adjusted_p(table.loc[index, "p"].to_numpy(dtype=float), "holm")
+    table = _holm_by_window(pd.DataFrame(rows))
     readings = {"confirmed": "beats the jump", "refuted": "worse than the jump"}
     table["verdict"] = [
         np.nan if np.isnan(p) else readings.get(decide_adjusted(gain, adjusted, level), "undecided")
@@ -187,8 +192,4 @@ def state_comparison(scores: pd.DataFrame, labels: Mapping[str, str], level: flo
                 }
             )
     table = pd.DataFrame(rows)
-    if not table.empty:
-        table["p_holm"] = np.nan
-        for _, index in table.groupby("window").groups.items():
-            table.loc[index, "p_holm"] = adjusted_p(table.loc[index, "p"].to_numpy(dtype=float), "holm")
-    return table.assign(level=level)
+    return (table if table.empty else _holm_by_window(table)).assign(level=level)

@@ -26,6 +26,7 @@ below zero whose adjusted p-value is under 1 - level means the model beats G-W o
 
 from __future__ import annotations
 
+import json
 from collections.abc import Mapping
 from typing import NamedTuple
 
@@ -47,6 +48,7 @@ __all__ = [
     "fabric_protocol_scores",
     "fabric_protocol_floor",
     "parameter_spread",
+    "parameters_by_mode",
     "fabric_protocol_leaderboard",
     "stress_protocol_leaderboard",
     "STRESS_SCORED",
@@ -144,6 +146,20 @@ def fabric_protocol_floor(curves: ProtocolCurves, n12_ss: float) -> np.ndarray:
     ([`variance_pseudo_values`][suspension_fabric.analysis.seed_statistics.variance_pseudo_values]): their mean
     is the floor, and a score net of them carries the floor's own error into an interval over seeds."""
     return variance_pseudo_values(_scored_seed_components(curves)).mean(axis=1) / n12_ss**2
+
+
+def parameters_by_mode(fitted: pd.DataFrame) -> tuple[dict, dict, dict]:
+    """A parameters table (the model benchmark's model_parameters.csv) as three mappings
+    ``[mode][model]``: each parameter's value, its standard error (NaN for a fit without errors)
+    and the fit's leave-one-out correlations ({"a,b": r}; empty where the table has none)."""
+    values, errors, correlations = {}, {}, {}
+    for (mode, key), rows in fitted.groupby(["mode", "model"], sort=False):
+        by_name = rows.set_index("parameter")
+        values.setdefault(mode, {})[key] = by_name["value"].to_dict()
+        errors.setdefault(mode, {})[key] = by_name["error"].astype(float).to_dict()
+        has = "correlations" in rows and isinstance(rows["correlations"].iloc[0], str)
+        correlations.setdefault(mode, {})[key] = json.loads(rows["correlations"].iloc[0]) if has else {}
+    return values, errors, correlations
 
 
 def parameter_spread(
