@@ -64,7 +64,8 @@ def tables(tally: Tally) -> str:
 def main() -> int:
     tally = Tally()
     start = time.perf_counter()
-    code = pytest.main(["-m", "fault", "-q", "-p", "no:cacheprovider", str(TESTS)], plugins=[tally])
+    # in this process (-n0): pytest-xdist's workers would report to a controller that collects nothing
+    code = pytest.main(["-m", "fault", "-q", "-n0", "-p", "no:cacheprovider", str(TESTS)], plugins=[tally])
     print(f"\nfault suite: {time.perf_counter() - start:.0f} s, pytest exit code {int(code)}\n")
     print(tables(tally))
     return int(code)

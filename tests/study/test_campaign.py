@@ -39,25 +39,39 @@ def test_a_campaign_is_one_study_per_point_of_the_grid():
 @pytest.mark.parametrize(
     ("config_file", "points", "points_in_the_map"),
     [
-        ("campaign_newton_points.yaml", ["phi0.53_mu1", "phi0.55_mu0.5"], ["phi0.55_mu0.5"]),
         ("campaign_engine_iii_points.yaml", ["phi0.53_mu1", "phi0.55_mu1"], ["phi0.53_mu1", "phi0.55_mu1"]),
+        ("engine_rule_points.yaml", ["phi0.55_mu0.5", "phi0.53_mu0", "phi0.45_mu1"], ["phi0.55_mu0.5", "phi0.53_mu0"]),
     ],
 )
 def test_a_config_that_made_points_is_the_campaign_with_those_points_selected(config_file, points, points_in_the_map):
     """Each benchmarks/configs file that made points of data/campaign selects them from the campaign, and
-    the points of it the map still has (campaign_engine_iii_points.yaml made (0.53, 1) again) are the
-    same studies as in config/campaign.yaml, so that the map's points come from one config."""
+    the points of it the map has are the same studies as in config/campaign.yaml, whose engine the rule
+    chooses (run.engine: rule) where these set it by hand, so that the map's points come from one config."""
     campaign_config = load_config(REPO / "config" / "campaign.yaml")
     selected = load_config(REPO / "benchmarks" / "configs" / config_file)
     assert selected["campaign"]["points"] == points
     assert {key: selected["campaign"][key] for key in ("phi", "mu")} == {
         key: campaign_config["campaign"][key] for key in ("phi", "mu")
     }
+
+    def as_made(study):
+        # the results folder and who chose the engine aside: the simulations and the analysis
+        return {
+            **{key: value for key, value in study.items() if key != "study"},
+            "run": {key: value for key, value in study["run"].items() if key != "engine"},
+        }
+
     studies = {
-        name: study for name, study in study_configs(selected).items() if name.split("/")[-1] in points_in_the_map
+        name.split("/")[-1]: as_made(study)
+        for name, study in study_configs(selected).items()
+        if name.split("/")[-1] in points_in_the_map
     }
     assert len(studies) == len(points_in_the_map)
-    assert studies == {name: study for name, study in study_configs(campaign_config).items() if name in studies}
+    assert studies == {
+        name.split("/")[-1]: as_made(study)
+        for name, study in study_configs(campaign_config).items()
+        if name.split("/")[-1] in studies
+    }
 
 
 def test_overrides_subsets_and_points_not_run():

@@ -234,3 +234,27 @@ def test_a_full_disk_fails_the_rerun_naming_it_and_keeps_every_finished_run(smal
     assert again.returncode == 0, again.stderr[-3000:]
     assert "shear_segment" in job_counts(again.stdout + again.stderr)
     assert result_digests(small_disk) == before
+
+
+@pytest.mark.fault("named")
+def test_a_kn_too_soft_for_the_first_strains_pressure_fails_the_startups_stress_table(tmp_path):
+    """The startup checks the stiffness against the pressure it measures in its first strain
+    (engine_rule.check_first_strain: kn / (eta_f Pi) >= 3e4 / 1.5, Pi the mean over strain 0.5-1).
+    The test study sheared to strain 1 at a tenth of its kn (allowed by raising
+    run.max_contact_relaxation_strain) fails the startup's stress table naming forces.kn and the kn it
+    needs; the finished startup run is kept."""
+    workdir = copy_workflow(tmp_path)
+    config = yaml.safe_load((workdir / "config/test.yaml").read_text())
+    config["seeds"] = [1]
+    config["forces"]["kn"] /= 10.0
+    config["run"].update(startup_strain=1.0, max_contact_relaxation_strain=0.1)
+    soft = workdir / "config/soft.yaml"
+    soft.write_text(yaml.safe_dump(config))
+    table = f"{RESULTS}/seed1/startup/stress.csv"
+    result = snakemake(workdir, "--configfile", str(soft), "--", table)
+    assert result.returncode != 0
+    log = (workdir / RESULTS / "logs/stress_seed1_startup.log").read_text()
+    assert "config key 'forces.kn' = 5.6e+04 below the stiff limit" in log
+    assert "Raise forces.kn to at least" in log and "run.engine: rule" in log
+    assert (workdir / RESULTS / "seed1/startup/run_complete.json").is_file()
+    assert not (workdir / table).exists()

@@ -14,7 +14,8 @@ $$
 
 the particle parts each $-P$ of their LAMMPS pressure tensor (for the contacts and the lubrication
 the pair virial of the particle stress, Batchelor, J. Fluid Mech. 41, 545 (1970)), $2\hat{E}$ the
-solvent and $5\phi\,\hat{E}$ the Einstein term (Einstein, Ann. Phys. 19, 289 (1906)), with
+solvent and $5\phi\,\hat{E}$ the Einstein term (Einstein, Ann. Phys. 34, 591 (1911), correcting
+Ann. Phys. 19, 289 (1906)), with
 $\hat{E} = E/\dot\gamma$ the normalised strain rate (its 12 component is 1/2 in simple shear) and
 $\phi$ the volume fraction.
 

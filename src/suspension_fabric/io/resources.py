@@ -4,7 +4,8 @@ Every path the package needs outside its Python code is defined here and only he
 Snakefile imports the plugin's from this module too). The engine's files are package data of
 ``suspension_fabric.simulation.lammps``: the LAMMPS inputs in its ``inputs/`` folder, the plugin's
 C++ sources in ``plugin_source/``, found with importlib.resources in any install. The config schema
-lives in the repository (``config/schema.yaml``) and is found
+and the engine rule's pressure over the map live in the repository (``config/schema.yaml``,
+``config/engine_pressure_law.json``) and are found
 
 - in a regular install (``pip install .``, a wheel): as package data, which pyproject.toml
   maps into ``suspension_fabric/_data/``;
@@ -29,6 +30,7 @@ from urllib.parse import unquote, urlparse
 
 __all__ = [
     "SCHEMA_PATH",
+    "ENGINE_PRESSURE_LAW_PATH",
     "LAMMPS_SCRIPTS_DIR",
     "PLUGIN_SOURCE_DIR",
     "PLUGIN_BUILD_DIR",
@@ -71,6 +73,8 @@ def _located(packaged: str, in_checkout: str) -> Path:
 
 
 SCHEMA_PATH = _located("config/schema.yaml", "config/schema.yaml")
+#: the pressure over the map that the engine's rule reads (suspension_fabric.simulation.engine_rule)
+ENGINE_PRESSURE_LAW_PATH = _located("config/engine_pressure_law.json", "config/engine_pressure_law.json")
 _ENGINE = Path(str(importlib.resources.files("suspension_fabric") / "simulation" / "lammps"))
 LAMMPS_SCRIPTS_DIR = _ENGINE / "inputs"
 PLUGIN_SOURCE_DIR = _ENGINE / "plugin_source"

@@ -19,6 +19,8 @@ from __future__ import annotations
 import copy
 from itertools import product
 
+from suspension_fabric.simulation.engine_rule import ENGINE_KEYS
+
 from .config import ConfigError, ConfigSources, validate_config
 
 __all__ = [
@@ -85,6 +87,11 @@ def campaign_points(config: dict) -> dict[str, dict]:
     point name, in grid order (phi, then mu). Errors name the point and the key."""
     campaign = config["campaign"]
     base = {key: value for key, value in config.items() if key != "campaign"}
+    if base.get("run", {}).get("engine") == "rule":
+        # the rule chose the base's engine for the base's own state point: each point chooses its own
+        base = copy.deepcopy(base)
+        for section, key in ENGINE_KEYS:
+            base[section].pop(key, None)
     axis = flow_curve_axis(config)
     values = campaign[axis] if axis else [None]
 

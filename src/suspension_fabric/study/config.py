@@ -36,6 +36,7 @@ from suspension_fabric.io.resources import SCHEMA_PATH
 from suspension_fabric.io.schema import read_schema
 from suspension_fabric.models.fabric_models import ModelError, resolve_models
 from suspension_fabric.models.stress_relations import RelationError, resolve_relations
+from suspension_fabric.simulation.engine_rule import ENGINE_KEYS, choose_engine
 from suspension_fabric.simulation.scales import (
     contact_period,
     contact_relaxation_time,
@@ -441,7 +442,14 @@ def _validate(config: dict, schema_path) -> dict:
     schema = read_schema(schema_path)
     config.update(_coerce_command_line_text(dict(config), schema))
     _check_numbers(config)
+    engine_keys_given = [
+        f"{section}.{key}"
+        for section, key in ENGINE_KEYS
+        if isinstance(config.get(section), dict) and key in config[section]
+    ]
     _fill_and_validate(config, schema)
+    if config["run"]["engine"] == "rule":
+        _apply_engine_rule(config, engine_keys_given)
     try:
         _cross_check(config)
     except (ArithmeticError, ValueError) as err:  # derived scales of extreme but valid numbers
@@ -452,6 +460,30 @@ def _validate(config: dict, schema_path) -> dict:
             f"({type(err).__name__}: {err})"
         ) from None
     return config
+
+
+def _apply_engine_rule(config: dict, given: list[str]) -> None:
+    """run.engine = rule: the engine's settings from the state point (simulation.engine_rule). A
+    config validated before holds the rule's own values, which are accepted again."""
+    phi, mu = config["particles"]["phi"], config["forces"]["mu"]
+    try:
+        finest_output = min(config["run"]["table_strain"], config["run"]["dump_strain"])
+        choice = choose_engine(
+            phi, mu, config["forces"]["eta_f"], finest_output, ranks=config["run"]["mpi_ranks"]
+        ).as_record()
+    except ValueError as err:
+        raise ConfigError(
+            f"config key 'run.engine' (rule) cannot choose the engine at particles.phi = {phi:g}, "
+            f"forces.mu = {mu:g}: {err}; set run.engine: as_given with forces.kn and run.dt chosen by hand"
+        ) from None
+    differing = [name for name in given if config[name.split(".")[0]][name.split(".")[1]] != choice[name.split(".")[1]]]
+    if differing:
+        raise ConfigError(
+            f"config key 'run.engine' (rule) chooses {', '.join(differing)} from the state point; give none of "
+            "them, or set run.engine: as_given to set them yourself"
+        )
+    for section, key in ENGINE_KEYS:
+        config[section][key] = choice[key]
 
 
 #: The densest volume fraction the packing (pack.lmp: soft repulsion minimised at a fixed box) was
