@@ -192,3 +192,15 @@ def test_no_committed_startup_comes_near_the_first_strain_limit_as_the_docs_say(
     )
     assert quoted is not None
     assert (quoted.group(1), int(quoted.group(2))) == (mantissa, int(exponent))
+
+
+def test_the_docs_quote_the_rules_own_ratios():
+    """docs/physics.md states the stiff ratio and the first strain's limit the module defines."""
+    page = (engine_rule.LAW_FILE.parents[1] / "docs/physics.md").read_text()
+
+    def latex(value: float) -> str:
+        mantissa, exponent = f"{value:.1e}".split("e")
+        return f"{mantissa}\\times10^{int(exponent)}"
+
+    assert f"k_n/(\\eta_f \\Pi) \\ge {latex(STIFF_RATIO)}" in page
+    assert f"k_n/(\\eta_f\\Pi) = {latex(STIFF_RATIO / FIRST_STRAIN_MARGIN)}" in page
