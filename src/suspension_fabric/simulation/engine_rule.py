@@ -31,6 +31,7 @@ phi_J is the local divergence of that form, not a jamming analysis.
 from __future__ import annotations
 
 import argparse
+import functools
 import glob
 import json
 import math
@@ -103,6 +104,11 @@ class PressureLaw:
 
     @classmethod
     def read(cls, path: str | Path = LAW_FILE) -> PressureLaw:
+        """The law in ``path``, read once per process (every config validation asks for it)."""
+        return _read_law(str(Path(path).resolve()))
+
+    @classmethod
+    def _parse(cls, path: str | Path) -> PressureLaw:
         try:
             record = json.loads(Path(path).read_text())
             points = tuple((p["phi"], p["mu"], p["Pi"]) for p in record["points"])
@@ -154,6 +160,11 @@ class PressureLaw:
         weight = (mu - self.mu[lower]) / (self.mu[upper] - self.mu[lower])
         log_pressure = (1 - weight) * self._log_pressure_at(lower, phi) + weight * self._log_pressure_at(upper, phi)
         return math.exp(log_pressure)
+
+
+@functools.cache
+def _read_law(path: str) -> PressureLaw:
+    return PressureLaw._parse(path)
 
 
 @dataclass(frozen=True)
