@@ -242,3 +242,63 @@ def test_frictionless_points_join_each_seeds_fit_and_set_phi_j0():
     assert fit.loc["phi_Jmu", "value"] == pytest.approx(0.58, rel=1e-6)
     with pytest.raises(ValueError, match=r"no seed \[2\]"):
         flow_curve.wyart_cates_fit(pd.DataFrame(curve), 0.95, frictionless[frictionless["seed"] == 1])
+
+
+def shape_rows(rates_by_seed: dict[int, dict[float, float]]) -> pd.DataFrame:
+    """`per_seed_table` rows at controlled stress: per seed the measured rate at each stress."""
+    return pd.DataFrame(
+        [
+            {"phi": 0.56, "mu": 1.0, "control": "stress", "seed": seed, "target": sigma}
+            | {"sigma": sigma, "rate_ratio": rate}
+            for seed, rates in rates_by_seed.items()
+            for sigma, rate in rates.items()
+        ]
+    )
+
+
+def test_the_shape_is_the_per_seed_slope_and_quadratic_coefficient_of_ln_rate_in_ln_sigma():
+    """With x = ln sigma and y = ln rate: seed 1 has y = 0.5 x exactly (b = 0.5, c = 0); seed 2 has
+    y = 0.5 x + 0.3 (x - ln 0.1)^2 (c = 0.3; b over three points equally spaced about ln 0.1 is 0.5,
+    the symmetric quadratic adding no slope); for three points spaced by h, c = (y0 - 2 y1 + y2) / (2 h^2).
+    Means over the two seeds: b = 0.5, c = 0.15 with the t-interval of (0, 0.3). A seed missing a point
+    of the window is left out; the stress 0.5 outside the window is not used."""
+    h = math.log(2.0)
+    sigmas = (0.05, 0.1, 0.2)
+    rates = {
+        1: {s: math.exp(0.5 * math.log(s)) for s in (*sigmas, 0.5)},
+        2: {s: math.exp(0.5 * math.log(s) + 0.3 * (math.log(s) - math.log(0.1)) ** 2) for s in sigmas},
+        3: {0.05: 1.0, 0.2: 2.0},
+    }
+    shape = flow_curve.curve_shape(shape_rows(rates), [0.05, 0.2], 0.95).set_index("statistic")
+    assert shape.loc["slope", "value"] == pytest.approx(0.5, abs=1e-12)
+    assert shape.loc["curvature", "value"] == pytest.approx(0.15, abs=1e-12)
+    y2 = [math.log(rates[2][s]) for s in sigmas]
+    assert (y2[0] - 2 * y2[1] + y2[2]) / (2 * h * h) == pytest.approx(0.3, rel=1e-12)
+    half = stats.t.ppf(0.975, 1) * np.std([0.0, 0.3], ddof=1) / math.sqrt(2)
+    assert shape.loc["curvature", "high"] - 0.15 == pytest.approx(half, rel=1e-9)
+    assert shape.loc["slope", "n_seeds"] == 2 and shape.loc["slope", "targets"] == "0.05 0.1 0.2"
+    per_seed = dict(item.split("=") for item in shape.loc["curvature", "per_seed"].split("; "))
+    assert per_seed.keys() == {"1", "2"} and float(per_seed["2"]) == pytest.approx(0.3, abs=1e-4)
+    assert float(per_seed["1"]) == pytest.approx(0.0, abs=1e-4)
+
+
+def test_the_shape_needs_three_points_and_is_empty_without_a_window():
+    rows = shape_rows({1: {0.05: 1.0, 0.1: 1.0, 0.2: 1.0}, 2: {0.05: 1.0, 0.1: 1.0, 0.2: 1.0}})
+    assert flow_curve.curve_shape(rows, None).empty
+    with pytest.raises(ValueError, match=r"2 point\(s\) in the shape window \[0.06, 0.2\]"):
+        flow_curve.curve_shape(rows, [0.06, 0.2])
+
+
+def test_the_summary_reads_the_shape_against_zero_and_the_named_effect_size():
+    """A slope interval inside +-SLOPE_EFFECT reads as vertical within it; the curvature's side of 0 is
+    printed with its interval."""
+    rates = {seed: {0.05: 1.0 + 0.01 * seed, 0.1: 0.9, 0.2: 1.0 - 0.005 * seed} for seed in (1, 2, 3, 4)}
+    per_seed = shape_rows(rates)
+    shape = flow_curve.curve_shape(per_seed, [0.05, 0.2], 0.95)
+    empty = pd.DataFrame(columns=["phi", "mu", "control"])
+    text = flow_curve_summary(pd.DataFrame(), empty, empty, empty, pd.DataFrame(columns=["mu"]), 0.95, shape=shape)
+    slope = shape.set_index("statistic").loc["slope"]
+    assert -flow_curve.SLOPE_EFFECT < slope["low"] and slope["high"] < flow_curve.SLOPE_EFFECT
+    assert "shape over σ/σ₀ = 0.05, 0.1, 0.2, per seed with every one of these points (4 seeds)" in text
+    assert f"inside ±{flow_curve.SLOPE_EFFECT:g}: vertical within that" in text
+    assert "quadratic coefficient c = " in text and "(interval above 0)" in text

@@ -109,6 +109,19 @@ def test_a_flow_curve_axis_names_its_points_and_sets_its_key():
         campaign_points(campaign(mu=[1.0], critical_load_rate=[0.1], critical_load_stress=[0.1]))
 
 
+def test_a_shape_window_needs_three_imposed_values_inside_it():
+    """campaign.shape_window measures a curve's slope and curvature over its points inside [low, high]:
+    a window holding two stresses, or a grid without a flow-curve axis, is refused naming the key."""
+    three = campaign(mu=[1.0], critical_load_stress=[0.05, 0.1, 0.2], shape_window=[0.05, 0.2])
+    assert len(campaign_points(three)) == 6
+    for refused in (
+        campaign(mu=[1.0], critical_load_stress=[0.05, 0.1, 0.2], shape_window=[0.06, 0.2]),
+        campaign(mu=[1.0], shape_window=[0.05, 0.2]),
+    ):
+        with pytest.raises(ConfigError, match=r"'campaign.shape_window' .* needs 3 or more"):
+            campaign_points(refused)
+
+
 @pytest.mark.parametrize(
     "section, message",
     [

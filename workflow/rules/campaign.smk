@@ -89,7 +89,7 @@ rule flow_curve:
     """Flow curves of a campaign over critical-load rates or stresses (campaign.critical_load_rate or
     campaign.critical_load_stress): per point and
     seed the steady stress, contacts and frictional fraction against sigma / sigma_0, their t-intervals,
-    each curve's Wyart-Cates onset stress and thickening exponents, the Wyart-Cates viscosity fitted over the curves of each
+    each curve's Wyart-Cates onset stress, thickening exponents and shape (campaign.shape_window), the Wyart-Cates viscosity fitted over the curves of each
     friction coefficient, a Markdown fragment for the docs and the figure."""
     input:
         stress_runs=per_point(rules.aggregate_stress_startup.output.runs),
@@ -99,6 +99,7 @@ rule flow_curve:
         seeds=f"{CAMPAIGN_RESULTS}/tables/flow_curve_seeds.csv",
         onsets=f"{CAMPAIGN_RESULTS}/tables/flow_curve_onsets.csv",
         exponents=f"{CAMPAIGN_RESULTS}/tables/flow_curve_exponents.csv",
+        shape=f"{CAMPAIGN_RESULTS}/tables/flow_curve_shape.csv",
         wyart_cates=f"{CAMPAIGN_RESULTS}/tables/flow_curve_wyart_cates.csv",
         frictionless=f"{CAMPAIGN_RESULTS}/tables/flow_curve_frictionless.csv",
         summary=f"{CAMPAIGN_RESULTS}/tables/flow_curve_summary.md",
@@ -119,6 +120,7 @@ rule flow_curve:
             for name, study in POINTS.items()
         },
         steady_window=config["analysis"]["steady_window"],
+        shape_window=config["campaign"]["shape_window"],
         level=config["verdicts"]["level"],
         code=code_version("../scripts/flow_curve.py"),
     conda:

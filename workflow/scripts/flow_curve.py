@@ -1,5 +1,5 @@
 """Snakemake: the flow curves of a campaign over critical-load rates, their per-seed table, the onset
-stress and thickening exponents of each curve, the Wyart-Cates fit and the figure (rule flow_curve)."""
+stress, thickening exponents and shape of each curve, the Wyart-Cates fit and the figure (rule flow_curve)."""
 
 from pathlib import Path
 
@@ -39,12 +39,16 @@ with logged(sm.log[0]), checked_tables(sm):
     wyart_cates = flow_curve.wyart_cates_fit(per_seed, sm.params.level, frictionless)
     exponents = flow_curve.thickening_exponents(per_seed, sm.params.level)
     exponents.to_csv(sm.output.exponents, index=False)
+    shape = flow_curve.curve_shape(per_seed, sm.params.shape_window, sm.params.level)
+    shape.to_csv(sm.output.shape, index=False)
     wyart_cates.to_csv(sm.output.wyart_cates, index=False)
     per_seed.to_csv(sm.output.seeds, index=False)
     table.to_csv(sm.output.table, index=False)
     onsets.to_csv(sm.output.onsets, index=False)
     with open(sm.output.summary, "w") as out:
-        out.write(flow_curve_summary(table, onsets, differences, exponents, wyart_cates, sm.params.level, frictionless))
+        out.write(
+            flow_curve_summary(table, onsets, differences, exponents, wyart_cates, sm.params.level, frictionless, shape)
+        )
     save_figure(figure_flow_curve(table, onsets, sm.params.level), str(Path(sm.output.figure_png).with_suffix("")))
     shown = ["point", "rate_ratio", "sigma", "eta_r", "frictional_fraction", "Z_touching", "Z_frictional"]
     print(table[shown].to_string())

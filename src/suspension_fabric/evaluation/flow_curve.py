@@ -36,6 +36,14 @@ $\beta > 1$ is a rate that falls while the stress rises, the S-shaped curve of d
 thickening. Under rate control $\beta = x/(x + r)$ with $x = \Delta\ln\eta_r$ and
 $r = \Delta\ln\dot\gamma > 0$, below 1 whenever the stress rises, even across a jump: there it
 only describes the steepness, and the test is the stress-controlled curve's.
+
+Shape. Over the points of a curve inside a window of imposed values (``campaign.shape_window``), per
+seed, with $y = \ln(\dot\gamma/\dot\gamma_0)$ and $x = \ln(\sigma/\sigma_0)$, the least-squares
+slope $b$ of $y$ on $x$ and the quadratic coefficient $c$ of the least-squares quadratic
+(``curve_shape``): linear statistics of the seed's points, so their t-intervals over seeds are exact
+for normal seed errors. $b = 0$ is a vertical curve (a viscosity exponent $1 - b$ of 1), $b < 0$ a
+turn-back on average, $c > 0$ a dip and recovery of the rate. For three points equally spaced by $h$
+in $x$, $c = (y_0 - 2y_1 + y_2)/(2h^2)$.
 """
 
 from __future__ import annotations
@@ -59,6 +67,9 @@ __all__ = [
     "onset_stress",
     "onset_differences",
     "thickening_exponents",
+    "SHAPE_STATISTICS",
+    "SLOPE_EFFECT",
+    "curve_shape",
     "WYART_CATES_PARAMETERS",
     "wyart_cates_viscosity",
     "frictionless_steady",
@@ -224,6 +235,53 @@ def thickening_exponents(per_seed: pd.DataFrame, level: float = LEVEL) -> pd.Dat
             rows.append(row)
     columns = ["phi", "mu", "control", "target_low", "target_high", "exponent", "low", "high", "n_seeds"]
     return pd.DataFrame(rows, columns=columns)
+
+
+#: Statistics of ``curve_shape``: the slope and the quadratic coefficient of ln rate in ln sigma
+SHAPE_STATISTICS = ("slope", "curvature")
+#: The slope's effect size, named before the fresh packings of docs/thickening.md ran: |b| = 0.1, a
+#: viscosity exponent of 0.9 or 1.1; a slope interval inside (-0.1, 0.1) reads as vertical within it
+SLOPE_EFFECT = 0.1
+SHAPE_COLUMNS = ["phi", "mu", "control", "statistic", "targets", "value", "low", "high", "n_seeds", "per_seed"]
+
+
+def curve_shape(per_seed: pd.DataFrame, window, level: float = LEVEL) -> pd.DataFrame:
+    """The shape of each curve of ``per_seed`` (`per_seed_table`) over its imposed values inside
+    ``window`` ([low, high]; module docstring): per seed with every one of those points, the slope and
+    the quadratic coefficient of ln rate_ratio in ln sigma; one row per (phi, mu, control, statistic)
+    with the mean over seeds, its t-interval at ``level``, n_seeds, the targets used ("0.05 0.1 0.2")
+    and the per-seed values ("seed=value; ..."). Empty (with its columns) when ``window`` is None."""
+    rows = []
+    if window is not None:
+        low, high = window
+        for (phi, mu, control), curve in per_seed.groupby(["phi", "mu", "control"]):
+            inside = curve[(curve["target"] >= low - 1e-12) & (curve["target"] <= high + 1e-12)]
+            targets = sorted(inside["target"].unique())
+            if len(targets) < 3:
+                raise ValueError(
+                    f"the curve at phi = {phi:g}, mu = {mu:g} has {len(targets)} point(s) in the shape window "
+                    f"{list(window)}; its slope and curvature need 3 or more"
+                )
+            values = {statistic: {} for statistic in SHAPE_STATISTICS}
+            for seed, rows_of_seed in inside.groupby("seed"):
+                if len(rows_of_seed) != len(targets):
+                    continue  # a seed missing a point would change what the statistic measures
+                x = np.log(rows_of_seed["sigma"].to_numpy(dtype=float))
+                y = np.log(rows_of_seed["rate_ratio"].to_numpy(dtype=float))
+                values["slope"][seed] = float(np.polyfit(x, y, 1)[0])
+                values["curvature"][seed] = float(np.polyfit(x, y, 2)[0])
+            for statistic, by_seed in values.items():
+                row = {"phi": phi, "mu": mu, "control": control, "statistic": statistic}
+                row["targets"] = " ".join(f"{target:g}" for target in targets)
+                row["n_seeds"] = len(by_seed)
+                row["per_seed"] = "; ".join(f"{seed}={value:.4f}" for seed, value in sorted(by_seed.items()))
+                if len(by_seed) >= 2:
+                    interval = t_interval(np.fromiter(by_seed.values(), dtype=float), level)
+                    row.update({"value": interval.mean, "low": interval.low, "high": interval.high})
+                else:
+                    row.update({"value": np.nan, "low": np.nan, "high": np.nan})
+                rows.append(row)
+    return pd.DataFrame(rows, columns=SHAPE_COLUMNS)
 
 
 #: Parameters of the Wyart-Cates viscosity (``wyart_cates_fit``)

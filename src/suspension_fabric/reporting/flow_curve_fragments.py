@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import pandas as pd
 
+from ..evaluation.flow_curve import SLOPE_EFFECT
 from .html_tables import MISSING, format_interval, format_number, is_missing
 from .leaderboard_fragments import markdown_table
 
@@ -41,10 +42,12 @@ def flow_curve_summary(
     wyart_cates: pd.DataFrame,
     level: float,
     frictionless: pd.DataFrame | None = None,
+    shape: pd.DataFrame | None = None,
 ) -> str:
     """Per point the rate ratio and the steady sigma/sigma_0, eta_r, frictional fraction, contacts per
-    particle and Pi with their t-intervals; then each curve's Wyart-Cates onset stress and its thickening
-    exponents between neighbouring rates, and the Wyart-Cates viscosity fitted per friction coefficient."""
+    particle and Pi with their t-intervals; then each curve's Wyart-Cates onset stress, its thickening
+    exponents between neighbouring rates and its shape (``curve_shape`` rows, if any), and the
+    Wyart-Cates viscosity fitted per friction coefficient."""
     header = [
         "φ, μ",
         "imposed",
@@ -108,6 +111,17 @@ def flow_curve_summary(
             f"- φ = {phi:.2f}, μ = {mu:g}: thickening exponent Δln η_r / Δln σ between neighbouring imposed "
             f"{imposed}, per seed ({_EXPONENT_READING[control]}): {secants}."
         )
+    shapes = shape if shape is not None else pd.DataFrame(columns=["phi", "mu"])
+    for (phi, mu), curve in shapes.groupby(["phi", "mu"]):
+        by_statistic = curve.set_index("statistic")
+        slope, curvature = by_statistic.loc["slope"], by_statistic.loc["curvature"]
+        lines.append(
+            f"- φ = {phi:.2f}, μ = {mu:g}: shape over σ/σ₀ = {slope['targets'].replace(' ', ', ')}, "
+            f"per seed with every one of these points ({slope['n_seeds']:d} seeds): slope of ln γ̇ in ln σ "
+            f"b = {format_interval(slope['value'], slope['low'], slope['high'], 3)} ({_slope_reading(slope)}); "
+            f"quadratic coefficient c = {format_interval(curvature['value'], curvature['low'], curvature['high'], 3)} "
+            f"(interval {_side_of_zero(curvature['low'], curvature['high'])})."
+        )
     joined = ""
     if frictionless is not None and not frictionless.empty:
         curve_phis = set(table["phi"]) if "phi" in table else set()
@@ -123,3 +137,17 @@ def flow_curve_summary(
             f"with the measured f, fitted per seed over every point of the curves{joined}: {values}."
         )
     return "\n".join(lines) + "\n"
+
+
+def _side_of_zero(low: float, high: float) -> str:
+    if is_missing(low) or is_missing(high):
+        return "not defined"
+    return "above 0" if low > 0 else "below 0" if high < 0 else "contains 0"
+
+
+def _slope_reading(slope: pd.Series) -> str:
+    """The slope's interval against 0 and against the effect size named before the fresh runs."""
+    side = _side_of_zero(slope["low"], slope["high"])
+    if side != "not defined" and -SLOPE_EFFECT < slope["low"] and slope["high"] < SLOPE_EFFECT:
+        return f"interval {side}, inside ±{SLOPE_EFFECT:g}: vertical within that"
+    return f"interval {side}"

@@ -94,6 +94,15 @@ def campaign_points(config: dict) -> dict[str, dict]:
             base[section].pop(key, None)
     axis = flow_curve_axis(config)
     values = campaign[axis] if axis else [None]
+    window = campaign.get("shape_window")
+    if window is not None:
+        inside = [value for value in (values if axis else []) if window[0] <= value <= window[1]]
+        if len(inside) < 3:
+            raise ConfigError(
+                f"config key 'campaign.shape_window' ({window}): the shape of a flow curve needs 3 or more of "
+                f"its imposed values (campaign.critical_load_rate or critical_load_stress) inside [low, high], "
+                f"got {inside}"
+            )
 
     def named(phi, mu, value):
         return point_name(phi, mu, **({axis: value} if axis else {}))
