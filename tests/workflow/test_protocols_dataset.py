@@ -34,7 +34,9 @@ def test_the_dataset_serves_the_rebuild_and_is_small():
     assert size < 20e6, f"{size / 1e6:.1f} MB"
 
 
-@pytest.mark.parametrize("float_config", sorted(FLOAT_CONFIGS))
+# the second floating-point configuration's run takes 80 s: CI runs it for the reference rebuild
+# (test_reference.py), whose fits are the flattest; this one's with `-m full_rebuild`
+@pytest.mark.parametrize("float_config", ["native", pytest.param("second", marks=pytest.mark.full_rebuild)])
 def test_the_rebuild_plans_no_simulation_and_writes_the_documented_results(tmp_path, float_config):
     env = FLOAT_CONFIGS[float_config]()
     workdir = copy_workflow(tmp_path)
