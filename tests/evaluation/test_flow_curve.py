@@ -105,6 +105,21 @@ def test_onset_stress_recovers_the_wyart_cates_sigma_star_per_seed():
     assert onset["low"] < 0.1 < 0.3 < onset["high"]
 
 
+def test_the_equal_weight_onset_is_the_geometric_mean_of_the_per_point_estimates():
+    """The slope through the origin of -ln f against 1/sigma weights each point by (1/sigma)^2; with
+    every point weighted alike the per-seed estimate is the geometric mean of -ln f sigma. For one seed
+    with estimates 0.05 at sigma = 0.1 and 0.2 at sigma = 1: the slope is
+    (10 * 0.5 + 1 * 0.2) / (100 + 1) = 0.0515 (the low stress dominates), the geometric mean 0.1."""
+    rows = [
+        {"seed": seed, "sigma": sigma, "frictional_fraction": math.exp(-estimate / sigma)}
+        for seed in (1, 2)
+        for sigma, estimate in ((0.1, 0.05), (1.0, 0.2))
+    ]
+    onset = flow_curve.onset_stress(pd.DataFrame(rows), 0.95)
+    assert onset["sigma_star"] == pytest.approx(5.2 / 101, rel=1e-12)
+    assert onset["sigma_star_equal_weights"] == pytest.approx(0.1, rel=1e-12)
+
+
 def test_onset_differences_are_welch_intervals_between_neighbouring_volume_fractions():
     """Per-seed sigma* (0.07, 0.08) at phi = 0.50 and (0.09, 0.10) at 0.54: the difference 0.02 with
     Welch's interval; a curve without per-seed values is skipped."""

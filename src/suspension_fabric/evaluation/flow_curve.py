@@ -28,7 +28,8 @@ $\sigma^*$ is the least-squares slope of $-\ln f$ against $\sigma_0/\sigma$ over
 $0 < f < 1$ (``onset_stress``), and its t-interval over seeds is reported with the spread of the
 per-point estimates $-\ln f \cdot \sigma/\sigma_0$ (equal for every point if the form holds). The fit
 through the origin weights each point by $(\sigma_0/\sigma)^2$, so the lowest-stress point with $f > 0$
-sets most of the slope. ``onset_differences`` compares the curves' $\sigma^*$ by Welch's interval.
+sets most of the slope. Beside it, with every point weighted alike, the per-seed geometric mean of the
+per-point estimates (``sigma_star_equal_weights``): the two agree if the form holds. ``onset_differences`` compares the curves' $\sigma^*$ by Welch's interval.
 
 Thickening exponent. Between neighbouring imposed values of one curve, per seed, the secant
 $\beta = \Delta\ln\eta_r / \Delta\ln\sigma$ (``thickening_exponents``): 0 on a Newtonian plateau.
@@ -165,9 +166,10 @@ def flow_curve_table(per_seed: pd.DataFrame, level: float = LEVEL) -> pd.DataFra
 def onset_stress(per_seed: pd.DataFrame, level: float = LEVEL) -> dict:
     """sigma* / sigma_0 of f = exp(-sigma*/sigma) (module docstring) from the `per_seed_table` rows of
     one flow curve (one per seed and point): the per-seed slopes'
-    t-interval, how many points per seed had 0 < f < 1, and the smallest and largest per-point
+    t-interval, that of the per-seed geometric means of the per-point estimates (every point weighted
+    alike), how many points per seed had 0 < f < 1, and the smallest and largest per-point
     estimate -ln f sigma / sigma_0 (over seeds and points). NaN where a seed has no such point."""
-    slopes, estimates, used = [], [], []
+    slopes, equal_weights, estimates, used = [], [], [], []
     for _, seed_rows in per_seed.groupby("seed"):
         fraction = seed_rows["frictional_fraction"].to_numpy(dtype=float)
         sigma = seed_rows["sigma"].to_numpy(dtype=float)
@@ -175,18 +177,24 @@ def onset_stress(per_seed: pd.DataFrame, level: float = LEVEL) -> dict:
         used.append(int(usable.sum()))
         if not usable.any():
             slopes.append(np.nan)
+            equal_weights.append(np.nan)
             continue
         x, y = 1.0 / sigma[usable], -np.log(fraction[usable])
         slopes.append(float(x @ y / (x @ x)))
+        equal_weights.append(float(np.exp(np.mean(np.log(y * sigma[usable])))))
         estimates.extend(y * sigma[usable])
     slopes = np.asarray(slopes)
     if np.isnan(slopes).any() or len(slopes) < 2:
         return {"sigma_star": np.nan, "low": np.nan, "high": np.nan, "points_per_seed": used}
     interval = t_interval(slopes, level)
+    equal = t_interval(np.asarray(equal_weights), level)
     return {
         "sigma_star": interval.mean,
         "low": interval.low,
         "high": interval.high,
+        "sigma_star_equal_weights": equal.mean,
+        "equal_weights_low": equal.low,
+        "equal_weights_high": equal.high,
         "points_per_seed": used,
         "estimate_min": float(np.min(estimates)),
         "estimate_max": float(np.max(estimates)),

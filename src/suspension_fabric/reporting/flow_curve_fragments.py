@@ -93,7 +93,7 @@ def flow_curve_summary(
         lines.append(
             f"- {curve}: σ*/σ₀ = {format_interval(star, onset['low'], onset['high'])} (per-seed slope of "
             f"−ln f against σ₀/σ over {onset['points_per_seed']} points with 0 < f < 1 per seed; "
-            f"the per-point estimates −ln f · σ/σ₀ span {spread})."
+            f"the per-point estimates −ln f · σ/σ₀ span {spread}){_equal_weights(onset)}."
         )
     for _, row in differences.iterrows():
         lines.append(
@@ -151,3 +151,13 @@ def _slope_reading(slope: pd.Series) -> str:
     if side != "not defined" and -SLOPE_EFFECT < slope["low"] and slope["high"] < SLOPE_EFFECT:
         return f"interval {side}, inside ±{SLOPE_EFFECT:g}: vertical within that"
     return f"interval {side}"
+
+
+def _equal_weights(onset: pd.Series) -> str:
+    """The onset stress with every point weighted alike, if the onset has it."""
+    if is_missing(onset.get("sigma_star_equal_weights")):
+        return ""
+    value = format_interval(
+        onset["sigma_star_equal_weights"], onset["equal_weights_low"], onset["equal_weights_high"]
+    )
+    return f"; every point weighted alike (per seed the geometric mean of those estimates): {value}"
