@@ -29,7 +29,8 @@ $0 < f < 1$ (``onset_stress``), and its t-interval over seeds is reported with t
 per-point estimates $-\ln f \cdot \sigma/\sigma_0$ (equal for every point if the form holds). The fit
 through the origin weights each point by $(\sigma_0/\sigma)^2$, so the lowest-stress point with $f > 0$
 sets most of the slope. Beside it, with every point weighted alike, the per-seed geometric mean of the
-per-point estimates (``sigma_star_equal_weights``): the two agree if the form holds. ``onset_differences`` compares the curves' $\sigma^*$ by Welch's interval.
+per-point estimates (``sigma_star_equal_weights``): the two agree if the form holds.
+``onset_differences`` compares the curves' $\sigma^*$ by Welch's interval.
 
 Thickening exponent. Between neighbouring imposed values of one curve, per seed, the secant
 $\beta = \Delta\ln\eta_r / \Delta\ln\sigma$ (``thickening_exponents``): 0 on a Newtonian plateau.
