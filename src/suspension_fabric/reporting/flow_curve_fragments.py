@@ -157,7 +157,5 @@ def _equal_weights(onset: pd.Series) -> str:
     """The onset stress with every point weighted alike, if the onset has it."""
     if is_missing(onset.get("sigma_star_equal_weights")):
         return ""
-    value = format_interval(
-        onset["sigma_star_equal_weights"], onset["equal_weights_low"], onset["equal_weights_high"]
-    )
+    value = format_interval(onset["sigma_star_equal_weights"], onset["equal_weights_low"], onset["equal_weights_high"])
     return f"; every point weighted alike (per seed the geometric mean of those estimates): {value}"
