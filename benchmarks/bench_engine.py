@@ -35,8 +35,9 @@ from __future__ import annotations
 import argparse
 import os
 import platform
-import re
 from pathlib import Path
+
+from mpi_scaling import figures
 
 from suspension_fabric.simulation.lammps import (
     PACK_FILES,
@@ -52,6 +53,7 @@ from suspension_fabric.simulation.lammps import (
 
 ROOT = Path("results/bench_engine")
 SIZES = (250, 500, 1000, 2000, 4000)
+BASE_N = 500  # the size of the single runs and of the ratios
 PREPARE_STRAIN = 1.5
 PRODUCTION_DT = 2.0e-5  # the implicit integrator with explicit contact springs (engine speed I)
 SPRINGS_DT = float(os.environ.get("SPRINGS_DT", "1e-4"))  # implicit springs: the step measured (Engine speed II)
@@ -61,7 +63,6 @@ REFERENCE_KN = 1.25e9  # the stiffness of the explicit-spring engine that made t
 # continuation strain per method: long enough for >= 10 s of loop time at N = 500
 LADDER_DTS = (2e-5, 5e-5, 1e-4, 2e-4, 4e-4)
 STRAIN = {"explicit": 0.02, "implicit": 0.2, "stock": 0.01, "default": 1.0, "jacobi": 1.0, "dilu_tol1e-5": 0.5}
-LOOP_TIME = re.compile(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms")
 
 
 def checkpoint(n: int) -> Path:
@@ -87,24 +88,15 @@ def prepare() -> None:
             )
 
 
-def loop_time(log: Path) -> tuple[float, int]:
-    matches = LOOP_TIME.findall(log.read_text())
-    if not matches:
-        raise RuntimeError(f"no 'Loop time' line in {log}")
-    seconds, _, steps, _ = matches[-1]
-    return float(seconds), int(steps)
-
-
-def mean_iterations(log: Path) -> float | None:
-    rows = [line.split() for line in log.read_text().splitlines()]
-    values = [float(r[-1]) for r in rows if len(r) == 10 and r[0].isdigit()]
-    return sum(values[1:]) / len(values[1:]) if len(values) > 1 else None
-
-
 TABLE_HEAD = (
     "| method | N | dt | steps per unit strain | strain | loop s | core-s per particle per unit strain "
     "| mean CG iterations per step |\n|---|---|---|---|---|---|---|---|"
 )
+
+
+def print_head(what: str) -> None:
+    """The machine, one core per run and ``what``, then the table's head."""
+    print(f"# {platform.machine()}, {platform.python_version()}, one core per run; {what}\n\n{TABLE_HEAD}")
 
 
 def timed_continuation(label: str, model: ForceModel, dt: float, n: int, strain: float, out: Path) -> float | None:
@@ -135,9 +127,9 @@ def timed_continuation(label: str, model: ForceModel, dt: float, n: int, strain:
     except LammpsRunError as err:
         print(f"| {label} | {n} | {dt:g} | failed: {str(err).splitlines()[0][:120]} |||||", flush=True)
         return None
-    seconds, _ = loop_time(run.log_file)  # the LAMMPS log of the run (one segment: resume=False)
+    found = figures(run.log_file.read_text())  # the LAMMPS log of the run (one segment: resume=False)
+    seconds, iterations = found["loop_s"], found["iterations"] if model.integrator == "implicit" else None
     cost = seconds / (n * run.strain)
-    iterations = mean_iterations(run.log_file) if model.integrator == "implicit" else None
     print(
         f"| {label} | {n} | {dt:g} | {round(1 / dt)} | {run.strain:g} | {seconds:.1f} | {cost:.4f} | "
         f"{'' if iterations is None else f'{iterations:.1f}'} |",
@@ -147,32 +139,16 @@ def timed_continuation(label: str, model: ForceModel, dt: float, n: int, strain:
 
 
 def ladder(kn: float) -> None:
-    """Cost and CG iterations of the implicit springs against dt at N = 500, both preconditioners."""
-    print(
-        f"# {platform.machine()}, {platform.python_version()}, one core per run; N = 500, kn = {kn:g}; "
-        f"continuation of the startup shear from strain {PREPARE_STRAIN:g}\n"
-    )
-    print(TABLE_HEAD)
+    """Cost and CG iterations of the implicit springs against dt at N = BASE_N, both preconditioners."""
+    print_head(f"N = {BASE_N}, kn = {kn:g}; continuation of the startup shear from strain {PREPARE_STRAIN:g}")
     for dt in LADDER_DTS:
         for preconditioner in ("jacobi", "dilu"):
             model = ForceModel(contact_springs="implicit", preconditioner=preconditioner, kn=kn, solver_tol=1e-5)
-            timed_continuation(
-                f"implicit springs, {preconditioner}",
-                model,
-                dt,
-                500,
-                max(0.1, 2000 * dt),
-                ROOT / "n500" / f"ladder_kn{kn:g}_{preconditioner}_dt{dt:g}",
-            )
+            out = ROOT / f"n{BASE_N}" / f"ladder_kn{kn:g}_{preconditioner}_dt{dt:g}"
+            timed_continuation(f"implicit springs, {preconditioner}", model, dt, BASE_N, max(0.1, 2000 * dt), out)
 
 
 def measure() -> None:
-    methods = (
-        [("default", n) for n in SIZES]
-        + [("jacobi", n) for n in SIZES]
-        + [("implicit", n) for n in SIZES]
-        + [("dilu_tol1e-5", 500), ("explicit", 500), ("stock", 500)]
-    )
     default_dt = ShearSettings().dt
     models = {
         "default": (ForceModel(), default_dt),
@@ -198,27 +174,25 @@ def measure() -> None:
         "explicit": f"explicit plugin (Verlet), kn {REFERENCE_KN:g}",
         "stock": f"stock lubricate/poly + granular, kn {REFERENCE_KN:g}",
     }
+    runs = [(method, n) for method in ("default", "jacobi", "implicit") for n in SIZES]
+    runs += [(method, BASE_N) for method in ("dilu_tol1e-5", "explicit", "stock")]
+    print_head(f"continuation of the startup shear from strain {PREPARE_STRAIN:g} (phi = 0.45)")
     cost = {}
-    print(
-        f"# {platform.machine()}, {platform.python_version()}, one core per run; continuation of the "
-        f"startup shear from strain {PREPARE_STRAIN:g} (phi = 0.45)\n"
-    )
-    print(TABLE_HEAD)
-    for method, n in methods:
+    for method, n in runs:
         model, dt = models[method]
         result = timed_continuation(label[method], model, dt, n, STRAIN[method], ROOT / f"n{n}" / f"measure_{method}")
         if result is not None:
             cost[method, n] = result
     ratios = [
-        f"{method} / default = {cost[method, 500] / cost['default', 500]:.1f}x"
+        f"{method} / default = {cost[method, BASE_N] / cost['default', BASE_N]:.1f}x"
         for method in ("implicit", "jacobi", "dilu_tol1e-5", "explicit", "stock")
-        if (method, 500) in cost and ("default", 500) in cost
+        if (method, BASE_N) in cost and ("default", BASE_N) in cost
     ]
-    print(f"\nat N = 500: {', '.join(ratios)}; target: <= 0.012 core-s per particle per unit strain")
-    for n in SIZES[1:]:
-        if ("default", n) in cost and ("default", 500) in cost:
+    print(f"\nat N = {BASE_N}: {', '.join(ratios)}; target: <= 0.012 core-s per particle per unit strain")
+    for n in SIZES:
+        if n > BASE_N and ("default", n) in cost and ("default", BASE_N) in cost:
             print(
-                f"default engine, N = {n} / N = 500: {cost['default', n] / cost['default', 500]:.2f}"
+                f"default engine, N = {n} / N = {BASE_N}: {cost['default', n] / cost['default', BASE_N]:.2f}"
                 + (" (target <= 1.3)" if n == 4000 else "")
             )
 
@@ -227,11 +201,7 @@ def alternate(sizes=(500, 1000), repeats: int = 3) -> None:
     """The two preconditioners of the default engine timed back to back, alternating, `repeats`
     times per N: separate runs of `measure` on this machine differ by 10-30%, more than the
     difference sought."""
-    print(
-        f"# {platform.machine()}, {platform.python_version()}, one core per run; default engine, "
-        f"block Jacobi and dilu alternating\n"
-    )
-    print(TABLE_HEAD)
+    print_head("default engine, block Jacobi and dilu alternating")
     for n in sizes:
         for repeat in range(repeats):
             for preconditioner in ("jacobi", "dilu"):
@@ -240,24 +210,17 @@ def alternate(sizes=(500, 1000), repeats: int = 3) -> None:
                     ForceModel(preconditioner=preconditioner),
                     ShearSettings().dt,
                     n,
-                    1.0,
+                    STRAIN["default"],
                     ROOT / f"n{n}" / f"alternate_{preconditioner}",
                 )
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("phase", choices=("prepare", "measure", "ladder", "alternate"))
     parser.add_argument("--kn", type=float, default=REFERENCE_KN, help="ladder: normal contact stiffness")
-    args = parser.parse_args()
-    if args.phase == "prepare":
-        prepare()
-    elif args.phase == "ladder":
-        ladder(args.kn)
-    elif args.phase == "alternate":
-        alternate()
-    else:
-        measure()
+    args = parser.parse_args(argv)
+    {"prepare": prepare, "measure": measure, "ladder": lambda: ladder(args.kn), "alternate": alternate}[args.phase]()
 
 
 if __name__ == "__main__":

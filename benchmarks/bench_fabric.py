@@ -63,11 +63,11 @@ def median_seconds(function, repeats):
     return float(np.median(times))
 
 
-def main():
+def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--sizes", type=int, nargs="+", default=[500, 2000])
     parser.add_argument("--seed", type=int, default=0)
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
 
     print(
         f"# {platform.processor() or platform.machine()}, Python {platform.python_version()}, "

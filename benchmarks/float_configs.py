@@ -84,10 +84,10 @@ def compare(first: Path, second: Path) -> tuple[list[str], list[str]]:
     return fragments, tables
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--studies", nargs="+", default=list(STUDIES), choices=list(STUDIES))
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     for study in args.studies:
         with tempfile.TemporaryDirectory() as scratch:
             native, native_s = rebuild(study, None, Path(scratch) / "native")

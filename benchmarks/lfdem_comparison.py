@@ -41,13 +41,12 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
-from stresslet_vs_dipole import ENGINE, ETA_F, startup_run
+from stresslet_vs_dipole import ENGINE, ETA_F, STRAIN, WINDOW, mean_se, startup_run
 
 from suspension_fabric.analysis.fabric import FabricAnalysis
 from suspension_fabric.analysis.stress import stress_parts
 from suspension_fabric.io.stressio import read_stress_table
 
-STRAIN, WINDOW = 3.0, (1.5, 3.0)
 PEER_COMMIT = "00fa7cc0"
 EPS = 0.01  # near contact: gap < EPS * min(d_i, d_j), the project's default
 BUILD_HELP = f"""LF_DEM was not found (give --lfdem PATH or set LF_DEM=PATH). To build it (about a minute):
@@ -105,9 +104,9 @@ def write_lfdem_configuration(packing: Path, target: Path) -> tuple[float, float
     return sum(vf), float(radii.min())
 
 
-def lfdem_parameters(small_radius: float, strain: float, engine: dict = ENGINE) -> str:
+def lfdem_parameters(small_radius: float, strain: float, engine: dict = ENGINE, friction_model: int = 1) -> str:
     """LF_DEM's parameter file for ``engine``'s physics (module docstring; keys kn, kt, mu, h_out,
-    delta, eta_f, rate), hydrodynamic units."""
+    delta, eta_f, rate), hydrodynamic units; friction_model 2: critical-load friction."""
     kn_small_pairs = engine["kn"] / (6.0 * math.pi * engine["eta_f"] * engine["rate"] * small_radius)
     return "\n".join(
         [
@@ -116,7 +115,7 @@ def lfdem_parameters(small_radius: float, strain: float, engine: dict = ENGINE) 
             f"lub_reduce_parameter = {engine['delta']};",
             "contact_relaxation_time = -1h;",
             "contact_relaxation_time_tan = -1h;",
-            "friction_model = 1;",
+            f"friction_model = {friction_model};",
             f"mu_static = {engine['mu']};",
             f"mu_dynamic = {engine['mu']};",
             "mu_rolling = 0;",
@@ -137,6 +136,12 @@ def lfdem_parameters(small_radius: float, strain: float, engine: dict = ENGINE) 
     )
 
 
+def write_lfdem_inputs(packing: Path, folder: Path, strain: float, engine: dict = ENGINE, friction_model: int = 1):
+    """LF_DEM's configuration (conf.dat) of ``packing`` and its parameters (shear.txt) in ``folder``."""
+    _, small_radius = write_lfdem_configuration(packing, folder / "conf.dat")
+    (folder / "shear.txt").write_text(lfdem_parameters(small_radius, strain, engine, friction_model))
+
+
 def snapshots(path: Path):
     """(strain, rows) of each snapshot of an LF_DEM par_/int_ file."""
     strain, rows = None, []
@@ -152,11 +157,11 @@ def snapshots(path: Path):
         yield strain, np.array(rows, dtype=float).reshape(len(rows), -1)
 
 
-def start_lfdem(binary: Path, folder: Path, out) -> subprocess.Popen:
-    """LF_DEM on ``folder``'s conf.dat and shear.txt at shear rate 1 (hydrodynamic units), one
-    thread, its output to the open file ``out``."""
+def start_lfdem(binary: Path, folder: Path, out, rate: str = "1h") -> subprocess.Popen:
+    """LF_DEM on ``folder``'s conf.dat and shear.txt at shear rate ``rate`` (its ``-r`` argument; 1h:
+    1 in hydrodynamic units), one thread, its output to the open file ``out``."""
     return subprocess.Popen(
-        [str(binary), "-f", "-r", "1h", "conf.dat", "shear.txt"],
+        [str(binary), "-f", "-r", rate, "conf.dat", "shear.txt"],
         cwd=folder,
         stdout=out,
         stderr=subprocess.STDOUT,
@@ -165,13 +170,38 @@ def start_lfdem(binary: Path, folder: Path, out) -> subprocess.Popen:
 
 
 def run_lfdem(binary: Path, packing: Path, folder: Path, strain: float = STRAIN) -> Path:
-    phi, small_radius = write_lfdem_configuration(packing, folder / "conf.dat")
-    (folder / "shear.txt").write_text(lfdem_parameters(small_radius, strain))
+    write_lfdem_inputs(packing, folder, strain)
     with open(folder / "lfdem.out", "w") as out:
         returncode = start_lfdem(binary, folder, out).wait()
     if returncode != 0:
         raise RuntimeError(f"{packing}: LF_DEM failed ({returncode}); see {folder}/lfdem.out")
     return folder
+
+
+def data_columns(path: Path) -> dict[str, int]:
+    """LF_DEM's data file header ``#k: name`` as name -> 0-based column."""
+    columns = {}
+    for line in path.read_text().splitlines():
+        if not line.startswith("#"):
+            break
+        number, _, name = line[1:].partition(":")
+        if number.strip().isdigit():
+            columns[name.strip()] = int(number) - 1
+    return columns
+
+
+def reached_strain(folder: Path) -> float:
+    """The cumulated shear strain of the last complete row of LF_DEM's data table in ``folder``, read
+    from the tail of the file as LF_DEM writes it (0 without a row)."""
+    path = next(folder.glob("data_*.dat"), None)
+    if path is None:
+        return 0.0
+    with open(path, "rb") as handle:
+        handle.seek(0, os.SEEK_END)
+        handle.seek(max(handle.tell() - 8192, 0))
+        tail = handle.read().decode(errors="replace")
+    lines = [line for line in tail.split("\n")[:-1] if line.strip() and not line.startswith("#")]
+    return float(lines[-1].split()[data_columns(path)["cumulated shear strain"]]) if lines else 0.0
 
 
 def lfdem_observables(folder: Path, window=WINDOW) -> dict[str, float]:
@@ -284,15 +314,7 @@ def compare(binary: Path, packing: Path, keep: Path | None, strain: float, windo
             shutil.rmtree(folder, ignore_errors=True)
 
 
-def mean_se(values) -> str:
-    values = np.asarray(values, dtype=float)
-    if np.all(np.isnan(values)):
-        return ""
-    se = values.std(ddof=1) / math.sqrt(len(values)) if len(values) > 1 else float("nan")
-    return f"{values.mean():.4g} +- {se:.2g}"
-
-
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("packings", nargs="+", type=Path)
     parser.add_argument(
@@ -310,7 +332,7 @@ def main() -> None:
         default=WINDOW,
         help=f"strain window of the means (default {WINDOW[0]:g} {WINDOW[1]:g})",
     )
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     if args.lfdem is None or not Path(args.lfdem).is_file():
         print(BUILD_HELP)
         sys.exit(0)

@@ -25,30 +25,19 @@ from __future__ import annotations
 import argparse
 import os
 import shutil
-import subprocess
 import sys
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from lfdem_comparison import BUILD_HELP, lfdem_parameters, mean_se, write_lfdem_configuration
+from lfdem_comparison import BUILD_HELP, data_columns, reached_strain, start_lfdem, write_lfdem_inputs
+from stresslet_vs_dipole import mean_se
 
 from suspension_fabric.study.campaign import point_name
 from suspension_fabric.study.config import load_config
 
 STRAIN, WINDOW = 4.0, (2.0, 4.0)
-
-
-def reached_strain(folder: Path) -> float:
-    """The last cumulated shear strain of LF_DEM's data file in ``folder`` (0 without one)."""
-    paths = list(folder.glob("data_*.dat"))
-    if not paths:
-        return 0.0
-    rows = [line for line in paths[0].read_text().splitlines() if line and not line.startswith("#")]
-    if not rows:
-        return 0.0
-    return float(rows[-1].split()[data_columns(paths[0])["cumulated shear strain"]])
 
 
 def lfdem_run(
@@ -71,33 +60,13 @@ def lfdem_run(
             return folder
         raise RuntimeError(f"{folder}: LF_DEM has reached strain {reached_strain(folder):g}, not {read_until:g}")
     folder.mkdir(parents=True, exist_ok=True)
-    _, small_radius = write_lfdem_configuration(packing, folder / "conf.dat")
-    parameters = lfdem_parameters(small_radius, strain, engine).replace("friction_model = 1;", "friction_model = 2;")
-    (folder / "shear.txt").write_text(parameters)
+    write_lfdem_inputs(packing, folder, strain, engine, friction_model=2)
     with open(folder / "lfdem.out", "w") as out:
-        code = subprocess.run(
-            [str(binary), "-f", "-r", f"{ratio:g}cl", "conf.dat", "shear.txt"],
-            cwd=folder,
-            stdout=out,
-            stderr=subprocess.STDOUT,
-            env={**os.environ, "OMP_NUM_THREADS": "1"},
-        ).returncode
+        code = start_lfdem(binary, folder, out, f"{ratio:g}cl").wait()
     if code != 0:
         raise RuntimeError(f"{packing} at {ratio:g}cl: LF_DEM failed ({code}); see {folder}/lfdem.out")
     finished.write_text(f"{packing.resolve()} {ratio:g}cl {strain:g}\n")
     return folder
-
-
-def data_columns(path: Path) -> dict[str, int]:
-    """LF_DEM's data file header ``#k: name`` as name -> 0-based column."""
-    columns = {}
-    for line in path.read_text().splitlines():
-        if not line.startswith("#"):
-            break
-        number, _, name = line[1:].partition(":")
-        if number.strip().isdigit():
-            columns[name.strip()] = int(number) - 1
-    return columns
 
 
 def lfdem_observables(folder: Path, window) -> dict[str, float]:
@@ -122,7 +91,7 @@ def project_observables(table: Path, phi: float, window) -> dict[str, float]:
     }
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--lfdem", type=Path, default=os.environ.get("LF_DEM") or shutil.which("LF_DEM"))
     parser.add_argument("--config", type=Path, default=Path("config/thickening.yaml"))
@@ -139,7 +108,7 @@ def main() -> None:
         action="store_true",
         help="read runs (finished or not) that have passed the window's end instead of running LF_DEM",
     )
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     if args.lfdem is None or not Path(args.lfdem).is_file():
         print(BUILD_HELP)
         sys.exit(0)

@@ -72,8 +72,6 @@ import subprocess
 import sys
 from pathlib import Path
 
-from bench_engine import LOOP_TIME
-
 from suspension_fabric.io.schema import load_schema, schema_default
 from suspension_fabric.simulation.lammps import (
     PACK_FILES,
@@ -109,6 +107,7 @@ EXCHANGES_PER_ITERATION = 2
 SUMS_FIXED = 5
 SUMS_PER_ITERATION = 3
 LATENCY_SOURCE = Path(__file__).with_name("mpi_latency.c")
+LOOP_TIME = re.compile(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms")
 SECTION = re.compile(r"^(Comm|Modify)\s*\|\s*[0-9.eE+-]+\s*\|\s*([0-9.eE+-]+)\s*\|", re.MULTILINE)
 GHOSTS = re.compile(r"^Nghost:\s+([0-9.eE+-]+) ave", re.MULTILINE)
 BOX = re.compile(r"triclinic box = \(([^)]*)\) to \(([^)]*)\)")

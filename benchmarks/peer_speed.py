@@ -39,7 +39,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from lfdem_comparison import BUILD_HELP, lfdem_parameters, start_lfdem, write_lfdem_configuration
+from lfdem_comparison import BUILD_HELP, data_columns, reached_strain, start_lfdem, write_lfdem_inputs
 
 from suspension_fabric.simulation.lammps import ForceModel, ShearSettings, pack, run_startup
 from suspension_fabric.study.campaign import campaign_points
@@ -66,7 +66,8 @@ def point_study(name: str, contact_solve: str | None = None) -> dict:
         return study
     if contact_solve != "newton":
         raise SystemExit(f"--contact-solve: {name} runs the Newton solve; only 'newton' changes a lagged point")
-    run = {**study["run"], "contact_solve": "newton", "dt": 10 * study["run"]["dt"], "max_dt_per_relaxation": 0.25}
+    run = {**study["run"], "engine": "as_given", "contact_solve": "newton", "dt": 10 * study["run"]["dt"]}
+    run["max_dt_per_relaxation"] = 0.25
     return validate_config({**study, "study": "peer_speed", "run": run})
 
 
@@ -86,45 +87,17 @@ def window_slope(strain, wall, window) -> float:
     return float(np.polyfit(strain[inside], wall[inside], 1)[0])
 
 
-def last_data_row(path: Path) -> list[str] | None:
-    """The last complete row of an LF_DEM data table (the tail of the file), split."""
-    try:
-        with open(path, "rb") as handle:
-            handle.seek(0, os.SEEK_END)
-            size = handle.tell()
-            handle.seek(max(size - 8192, 0))
-            tail = handle.read().decode(errors="replace")
-    except FileNotFoundError:
-        return None
-    lines = [line for line in tail.split("\n")[:-1] if line.strip() and not line.startswith("#")]
-    return lines[-1].split() if lines else None
-
-
-def lfdem_columns(path: Path) -> dict[str, int]:
-    """Column name -> 0-based index from an LF_DEM data table's header lines ("#1: time")."""
-    columns = {}
-    for line in path.read_text().splitlines():
-        if not line.startswith("#"):
-            break
-        head, _, name = line[1:].partition(":")
-        if head.strip().isdigit():
-            columns[name.strip()] = int(head) - 1
-    return columns
-
-
 def run_peer(binary: Path, packing: Path, force_model: ForceModel, folder: Path, strain: float, clock: list) -> Path:
     """LF_DEM on ``packing`` to ``strain``; appends (strain, elapsed wall s) to ``clock`` as it runs."""
-    _, small_radius = write_lfdem_configuration(packing, folder / "conf.dat")
-    (folder / "shear.txt").write_text(lfdem_parameters(small_radius, strain, lfdem_engine(force_model)))
+    write_lfdem_inputs(packing, folder, strain, lfdem_engine(force_model))
     start = time.monotonic()
     with open(folder / "lfdem.out", "w") as out:
         process = start_lfdem(binary, folder, out)
         while process.poll() is None:
             time.sleep(POLL_S)
-            data = next(folder.glob("data_*.dat"), None)
-            row = last_data_row(data) if data else None
-            if row and (not clock or float(row[1]) > clock[-1][0]):
-                clock.append((float(row[1]), time.monotonic() - start))
+            reached = reached_strain(folder)
+            if reached > (clock[-1][0] if clock else 0.0):
+                clock.append((reached, time.monotonic() - start))
     if process.returncode != 0:
         raise RuntimeError(f"LF_DEM failed ({process.returncode}); see {folder}/lfdem.out")
     return next(folder.glob("data_*.dat"))
@@ -132,26 +105,21 @@ def run_peer(binary: Path, packing: Path, force_model: ForceModel, folder: Path,
 
 def lfdem_steps_per_strain(data: Path, window) -> float:
     table = np.loadtxt(data, ndmin=2)
-    columns = lfdem_columns(data)
+    columns = data_columns(data)
     strain, dt = table[:, columns["cumulated shear strain"]], table[:, columns["dt"]]
     inside = (strain >= window[0]) & (strain <= window[1])
     return float(np.mean(1.0 / dt[inside]))
 
 
-def measure(binary: Path, point: str, window, keep: Path | None, contact_solve: str | None = None) -> dict:
+def measure(
+    binary: Path, point: str, window, keep: Path | None, contact_solve: str | None = None, n: int | None = None
+) -> dict:
+    """Both codes timed at ``point`` (with ``n`` particles instead of the point's N if given): the table's row."""
     study = point_study(point, contact_solve)
     folder = Path(tempfile.mkdtemp(prefix="peer_speed_", dir=keep))
-    particles = study["particles"]
-    packing = pack(
-        folder / "packing",
-        n_particles=particles["n"],
-        phi=particles["phi"],
-        seed=SEED,
-        split=particles["split"],
-        fraction_large=particles["fraction_large"],
-        d_small=particles["d_small"],
-        d_large=particles["d_large"],
-    ).data_file
+    particles = {**study["particles"], "n": n or study["particles"]["n"]}
+    shape = {key: particles[key] for key in ("split", "fraction_large", "d_small", "d_large")}
+    packing = pack(folder / "packing", particles["n"], particles["phi"], SEED, **shape).data_file
     strain = window[1] + 0.01
     force_model = ForceModel.from_config(study)
     project_clock, peer_clock, peer_outcome = [], [], {}
@@ -217,7 +185,7 @@ def report(table: pd.DataFrame) -> str:
     return "\n".join(lines)
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True)
     run = sub.add_parser("run", help="time both codes at one point and append the row")
@@ -236,7 +204,7 @@ def main() -> None:
         help="newton: the Newton solve at ten times the lagged step at a lagged point (default: the point's own)",
     )
     sub.add_parser("report", help="print benchmarks/data/peer_speed.csv as a table")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     if args.command == "report":
         print(report(pd.read_csv(TABLE)))
         return

@@ -81,9 +81,9 @@ def startup_run(packing: Path, folder: Path, strain: float = STRAIN, dump_strain
     return folder
 
 
-def shear(packing: Path, folder: Path) -> dict[str, float]:
-    table = read_stress_table(startup_run(packing, folder) / "stress.txt")
-    inside = (table["strain"] >= WINDOW[0]) & (table["strain"] <= WINDOW[1])
+def shear(packing: Path, folder: Path, strain: float = STRAIN, window=WINDOW) -> dict[str, float]:
+    table = read_stress_table(startup_run(packing, folder, strain) / "stress.txt")
+    inside = (table["strain"] >= window[0]) & (table["strain"] <= window[1])
 
     def mean(name):  # stress = -P, in units eta_f gammadot (gammadot = 1)
         return float(-np.mean(table[name][inside]) / ETA_F)
@@ -97,29 +97,35 @@ def shear(packing: Path, folder: Path) -> dict[str, float]:
     }
 
 
-def main() -> None:
+def mean_se(values) -> str:
+    """``mean +- standard error`` of ``values`` ("" if all are NaN; the error NaN for one value)."""
+    values = np.asarray(values, dtype=float)
+    if np.all(np.isnan(values)):
+        return ""
+    se = values.std(ddof=1) / np.sqrt(len(values)) if len(values) > 1 else float("nan")
+    return f"{values.mean():.4g} +- {se:.2g}"
+
+
+def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("packings", nargs="+", type=Path)
-    args = parser.parse_args()
+    parser.add_argument("--strain", type=float, default=STRAIN, help=f"startup strain (default {STRAIN:g})")
+    parser.add_argument("--window", type=float, nargs=2, default=WINDOW, help="strain window of the means")
+    args = parser.parse_args(argv)
     rows = []
     for packing in args.packings:
         folder = Path(tempfile.mkdtemp(prefix="stresslet_"))
         try:
-            rows.append(shear(packing, folder))
+            rows.append(shear(packing, folder, args.strain, args.window))
         finally:
             shutil.rmtree(folder, ignore_errors=True)
         print(packing, {k: round(v, 4) for k, v in rows[-1].items()}, flush=True)
-    names = list(rows[0])
-    values = np.array([[row[n] for n in names] for row in rows])
-    print(
-        f"\n| quantity (eta_f gammadot, strain {WINDOW[0]:g}-{WINDOW[1]:g}) | mean | s.e. over {len(rows)} packings |"
-    )
-    print("|---|--:|--:|")
-    for k, name in enumerate(names):
-        se = values[:, k].std(ddof=1) / np.sqrt(len(rows)) if len(rows) > 1 else float("nan")
-        print(f"| {name} | {values[:, k].mean():.4f} | {se:.4f} |")
-    ratio = values[:, names.index("stresslet_12")] / values[:, names.index("dipole_12")]
-    print(f"\nstresslet_12 / dipole_12 per packing: {np.round(ratio, 4).tolist()}")
+    window = f"strain {args.window[0]:g}-{args.window[1]:g}"
+    print(f"\n| quantity (eta_f gammadot, {window}) | mean +- s.e. over {len(rows)} packings |\n|---|--:|")
+    for name in rows[0]:
+        print(f"| {name} | {mean_se([row[name] for row in rows])} |")
+    ratios = [round(row["stresslet_12"] / row["dipole_12"], 4) for row in rows]
+    print(f"\nstresslet_12 / dipole_12 per packing: {ratios}")
 
 
 if __name__ == "__main__":
