@@ -440,6 +440,7 @@ LAYERED_ON = {
     "thickening_reference.yaml": "thickening.yaml",
     "thickening_rotation_reference.yaml": "thickening_rotation.yaml",
     "thickening_stress_reference.yaml": "thickening_stress.yaml",
+    "thickening_stress_fresh_reference.yaml": "thickening_stress_fresh.yaml",
 }
 
 

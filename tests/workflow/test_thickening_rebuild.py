@@ -41,27 +41,34 @@ def test_the_flow_curves_rebuild_from_the_committed_datasets_as_the_docs_show_th
     assert not problems, problems
 
 
-STRESS_CONFIG = ["--configfile", "config/thickening_stress.yaml", "config/thickening_stress_reference.yaml"]
-STRESS_SUMMARY = "results/thickening_stress_reference/tables/flow_curve_summary.md"
+#: The curves at controlled stress (config/<study>.yaml, data/<study>) and their fragments in docs/generated
+STRESS_CURVES = {
+    "thickening_stress": "thickening_stress_flow_curve_summary.md",
+    "thickening_stress_fresh": "thickening_stress_fresh_flow_curve_summary.md",
+}
 
 
-def test_the_flow_curve_at_controlled_stress_rebuilds_from_its_committed_datasets(tmp_path):
-    """config/thickening_stress.yaml with its reference config: every stress of the grid from
-    data/thickening_stress, no simulation, the docs' fragment as committed."""
+@pytest.mark.parametrize("study", sorted(STRESS_CURVES))
+def test_the_flow_curve_at_controlled_stress_rebuilds_from_its_committed_datasets(tmp_path, study):
+    """config/<study>.yaml with its reference config: every stress of the grid from data/<study>, no
+    simulation, the docs' fragment as committed (the named test's shape line among it)."""
+    fragment = STRESS_CURVES[study]
+    configs = [f"config/{study}.yaml", f"config/{study}_reference.yaml"]
     workdir = copy_workflow(tmp_path)
-    shutil.copytree(REPO / "data" / "thickening_stress", workdir / "data" / "thickening_stress")
-    plan = snakemake(workdir, "-n", *STRESS_CONFIG)
+    shutil.copytree(REPO / "data" / study, workdir / "data" / study)
+    plan = snakemake(workdir, "-n", "--configfile", *configs)
     assert plan.returncode == 0, (plan.stdout + plan.stderr)[-3000:]
     rules = {job["rule"] for job in dry_run_jobs(plan.stdout + plan.stderr)}
     assert "flow_curve" in rules and not rules & {"pack", "shear_segment", "fabric_table", "stress_table"}, rules
-    result = snakemake(workdir, *STRESS_CONFIG, timeout=600)
+    result = snakemake(workdir, "--configfile", *configs, timeout=600)
     assert result.returncode == 0, result.stderr[-3000:]
-    campaign = load_layered_config(
-        [REPO / "config/thickening_stress.yaml", REPO / "config/thickening_stress_reference.yaml"]
-    )
-    table = pd.read_csv(workdir / "results/thickening_stress_reference/tables/flow_curve.csv")
+    campaign = load_layered_config([REPO / config for config in configs])
+    tables = workdir / f"results/{study}_reference/tables"
+    table = pd.read_csv(tables / "flow_curve.csv")
     assert sorted(table["point"]) == sorted(campaign_points(campaign))
     assert (table["n_seeds"] == len(campaign["seeds"])).all()
-    committed = (REPO / "docs/generated/thickening_stress_flow_curve_summary.md").read_text()
-    problems = fragment_problems((workdir / STRESS_SUMMARY).read_text(), committed)
+    shape = pd.read_csv(tables / "flow_curve_shape.csv")
+    assert set(shape["n_seeds"]) == {len(campaign["seeds"])}
+    committed = (REPO / "docs/generated" / fragment).read_text()
+    problems = fragment_problems((tables / "flow_curve_summary.md").read_text(), committed)
     assert not problems, problems
