@@ -9,6 +9,7 @@ import pandas as pd
 import pytest
 
 from quoted_numbers import fragment_problems
+from suspension_fabric.evaluation import flow_curve
 from suspension_fabric.study.campaign import campaign_points
 from suspension_fabric.study.config import load_layered_config
 from workflow_helpers import REPO, copy_workflow, dry_run_jobs, snakemake
@@ -72,3 +73,11 @@ def test_the_flow_curve_at_controlled_stress_rebuilds_from_its_committed_dataset
     committed = (REPO / "docs/generated" / fragment).read_text()
     problems = fragment_problems((tables / "flow_curve_summary.md").read_text(), committed)
     assert not problems, problems
+    if study == "thickening_stress":
+        # docs/thickening.md: the named test's statistic (the curvature through 0.05, 0.1 and 0.2) on
+        # seeds 1-4 has an interval containing 0, where their five-point fit lies above 0
+        seeds = pd.read_csv(tables / "flow_curve_seeds.csv")
+        three = flow_curve.curve_shape(seeds[seeds["target"].isin([0.05, 0.1, 0.2])], [0.05, 0.2])
+        curvature = three.set_index("statistic").loc["curvature"]
+        assert curvature["low"] < 0 < curvature["high"], curvature
+        assert shape.set_index("statistic").loc["curvature", "low"] > 0
