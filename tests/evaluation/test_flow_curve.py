@@ -118,6 +118,7 @@ def test_the_equal_weight_onset_is_the_geometric_mean_of_the_per_point_estimates
     onset = flow_curve.onset_stress(pd.DataFrame(rows), 0.95)
     assert onset["sigma_star"] == pytest.approx(5.2 / 101, rel=1e-12)
     assert onset["sigma_star_equal_weights"] == pytest.approx(0.1, rel=1e-12)
+    assert onset["weighting_difference"] == pytest.approx(0.1 - 5.2 / 101, rel=1e-12)
 
 
 def test_onset_differences_are_welch_intervals_between_neighbouring_volume_fractions():
@@ -314,6 +315,6 @@ def test_the_summary_reads_the_shape_against_zero_and_the_named_effect_size():
     text = flow_curve_summary(pd.DataFrame(), empty, empty, empty, pd.DataFrame(columns=["mu"]), 0.95, shape=shape)
     slope = shape.set_index("statistic").loc["slope"]
     assert -flow_curve.SLOPE_EFFECT < slope["low"] and slope["high"] < flow_curve.SLOPE_EFFECT
-    assert "shape over σ/σ₀ = 0.05, 0.1, 0.2, per seed with every one of these points (4 seeds)" in text
+    assert "shape over imposed σ/σ₀ = 0.05, 0.1, 0.2, per seed with every one of these points (4 seeds)" in text
     assert f"inside ±{flow_curve.SLOPE_EFFECT:g}: vertical within that" in text
     assert "quadratic coefficient c = " in text and "(interval above 0)" in text

@@ -29,7 +29,8 @@ $0 < f < 1$ (``onset_stress``), and its t-interval over seeds is reported with t
 per-point estimates $-\ln f \cdot \sigma/\sigma_0$ (equal for every point if the form holds). The fit
 through the origin weights each point by $(\sigma_0/\sigma)^2$, so the lowest-stress point with $f > 0$
 sets most of the slope. Beside it, with every point weighted alike, the per-seed geometric mean of the
-per-point estimates (``sigma_star_equal_weights``): the two agree if the form holds.
+per-point estimates (``sigma_star_equal_weights``), and the two's paired difference per seed
+(``weighting_difference``, weighted alike minus the fit): 0 if the form holds.
 ``onset_differences`` compares the curves' $\sigma^*$ by Welch's interval.
 
 Thickening exponent. Between neighbouring imposed values of one curve, per seed, the secant
@@ -168,7 +169,8 @@ def onset_stress(per_seed: pd.DataFrame, level: float = LEVEL) -> dict:
     """sigma* / sigma_0 of f = exp(-sigma*/sigma) (module docstring) from the `per_seed_table` rows of
     one flow curve (one per seed and point): the per-seed slopes'
     t-interval, that of the per-seed geometric means of the per-point estimates (every point weighted
-    alike), how many points per seed had 0 < f < 1, and the smallest and largest per-point
+    alike) and that of their paired difference from the slopes, how many points per seed had 0 < f < 1,
+    and the smallest and largest per-point
     estimate -ln f sigma / sigma_0 (over seeds and points). NaN where a seed has no such point."""
     slopes, equal_weights, estimates, used = [], [], [], []
     for _, seed_rows in per_seed.groupby("seed"):
@@ -189,6 +191,7 @@ def onset_stress(per_seed: pd.DataFrame, level: float = LEVEL) -> dict:
         return {"sigma_star": np.nan, "low": np.nan, "high": np.nan, "points_per_seed": used}
     interval = t_interval(slopes, level)
     equal = t_interval(np.asarray(equal_weights), level)
+    weighting = t_interval(np.asarray(equal_weights) - slopes, level)  # paired: the same seeds
     return {
         "sigma_star": interval.mean,
         "low": interval.low,
@@ -196,6 +199,9 @@ def onset_stress(per_seed: pd.DataFrame, level: float = LEVEL) -> dict:
         "sigma_star_equal_weights": equal.mean,
         "equal_weights_low": equal.low,
         "equal_weights_high": equal.high,
+        "weighting_difference": weighting.mean,
+        "weighting_difference_low": weighting.low,
+        "weighting_difference_high": weighting.high,
         "points_per_seed": used,
         "estimate_min": float(np.min(estimates)),
         "estimate_max": float(np.max(estimates)),

@@ -24,6 +24,9 @@ _COLUMNS = (
 )
 
 
+#: The imposed quantity of each control as printed
+_IMPOSED = {"rate": "γ̇/γ̇₀", "stress": "σ/σ₀"}
+
 #: What a thickening exponent can say under each control
 _EXPONENT_READING = {
     "stress": "above 1 where the rate falls as the stress rises",
@@ -106,7 +109,7 @@ def flow_curve_summary(
             f"{format_interval(row['exponent'], row['low'], row['high'])}"
             for _, row in curve.iterrows()
         )
-        imposed = "γ̇/γ̇₀" if control == "rate" else "σ/σ₀"
+        imposed = _IMPOSED[control]
         lines.append(
             f"- φ = {phi:.2f}, μ = {mu:g}: thickening exponent Δln η_r / Δln σ between neighbouring imposed "
             f"{imposed}, per seed ({_EXPONENT_READING[control]}): {secants}."
@@ -116,7 +119,8 @@ def flow_curve_summary(
         by_statistic = curve.set_index("statistic")
         slope, curvature = by_statistic.loc["slope"], by_statistic.loc["curvature"]
         lines.append(
-            f"- φ = {phi:.2f}, μ = {mu:g}: shape over σ/σ₀ = {slope['targets'].replace(' ', ', ')}, "
+            f"- φ = {phi:.2f}, μ = {mu:g}: shape over imposed {_IMPOSED[slope['control']]} = "
+            f"{slope['targets'].replace(' ', ', ')}, "
             f"per seed with every one of these points ({slope['n_seeds']:d} seeds): slope of ln γ̇ in ln σ "
             f"b = {format_interval(slope['value'], slope['low'], slope['high'], 3)} ({_slope_reading(slope)}); "
             f"quadratic coefficient c = {format_interval(curvature['value'], curvature['low'], curvature['high'], 3)} "
@@ -158,4 +162,10 @@ def _equal_weights(onset: pd.Series) -> str:
     if is_missing(onset.get("sigma_star_equal_weights")):
         return ""
     value = format_interval(onset["sigma_star_equal_weights"], onset["equal_weights_low"], onset["equal_weights_high"])
-    return f"; every point weighted alike (per seed the geometric mean of those estimates): {value}"
+    difference = format_interval(
+        onset["weighting_difference"], onset["weighting_difference_low"], onset["weighting_difference_high"]
+    )
+    return (
+        f"; every point weighted alike (per seed the geometric mean of those estimates): {value}, "
+        f"paired per seed minus the fit {difference}"
+    )
