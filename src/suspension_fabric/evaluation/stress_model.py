@@ -1,9 +1,8 @@
 """The Gillissen-Wilson stress relation: fitted on the steady state, tested through shear rotations.
 
 In the Gillissen-Wilson (G-W) model the stress is a static function of the fabric and the
-strain rate (J. J. J. Gillissen and H. J. Wilson, "Modeling sphere suspension microstructure
-and stress", Phys. Rev. E 98, 033119 (2018); the shear-thickening version: Gillissen, Ness,
-Peterson, Wilson and Cates, Phys. Rev. Lett. 123, 214504 (2019)). The particle stress has a
+strain rate (as the paper, Acharya and Mari, arXiv:2506.05222, writes it; the shear-thickening
+version: Gillissen, Ness, Peterson, Wilson and Cates, Phys. Rev. Lett. 123, 214504 (2019)). The particle stress has a
 hydrodynamic term on the full strain rate and a contact term on its compressive part, both
 through the fourth moment <nnnn> of the contact directions:
 

@@ -23,10 +23,9 @@ original G-W model (Eq. 1). Contractions are
 $(T:\langle nnnn\rangle)_{ij} = T_{kl}\langle n_i n_j n_k n_l\rangle$. The fourth moment is the
 paper's (Hinch-Leal) closure, see [`hinch_leal_closure`][suspension_fabric.models.gillissen_wilson.hinch_leal_closure].
 
-References: J. J. J. Gillissen and H. J. Wilson, "Modeling sphere suspension microstructure and
-stress", Phys. Rev. E 98, 033119 (2018) (the model); P. Acharya and R. Mari, "Modelling the
-evolution of flow-induced anisotropy of concentrated suspensions", arXiv:2506.05222 (the paper,
-whose Eqs. 1 and 2 are written above).
+Reference: P. Acharya and R. Mari, "Modelling the evolution of flow-induced anisotropy of
+concentrated suspensions", arXiv:2506.05222 (2025): its Eqs. 1 and 2, the Gillissen-Wilson model
+as the paper writes it, are written above.
 
 Frames: all tensors here are in the paper frame (e1 flow, e2 gradient, e3
 vorticity) unless stated; simple shear is $L = \dot\gamma\,e_1e_2$. A shear rotation by

@@ -23,7 +23,7 @@ Einstein $2.5\phi$ on $\sigma_{12}$, $\eta_r = 1 + 2.5\phi + \sigma^p_{12}/(\eta
 Built in (`BUILT_IN`), with $\hat{E}$ and $\hat{E}_c$ the normalised strain rate of simple
 shear and its compressional part and $\langle nnnn\rangle$ the paper's closure:
 
-- ``gw``: Gillissen and Wilson (Phys. Rev. E 98, 033119 (2018)),
+- ``gw``: the Gillissen-Wilson relation,
   $H = \langle nnnn\rangle:\hat{E}$, $C = \langle nnnn\rangle:\hat{E}_c$; no shape parameter.
 - ``gw_jamming``: the same with a contact coefficient that grows with the coordination $Z$ and
   diverges at a jamming coordination $Z_J$ (infinite for $Z \ge Z_J$):
