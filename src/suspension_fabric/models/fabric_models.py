@@ -48,8 +48,9 @@ $$
 $(b_e, b_c, a) = (\beta, \beta, \beta)$ for G-W, $(\beta, \beta, A)$ for the modified model and
 $(\beta_e, \beta_c, A)$ for separate rates, $\langle nnnn\rangle$ by the paper's closure
 ([`suspension_fabric.models.gillissen_wilson.hinch_leal_closure`][]; `GW_HYBRID` is G-W
-with the hybrid closure of [`suspension_fabric.models.closures`][suspension_fabric.models.closures]). References:
-the paper, Acharya and Mari, arXiv:2506.05222, Eqs. 1 and 2 (the Gillissen-Wilson model as it writes it). A user's model is named in the config as ``module:attribute`` or
+with the hybrid closure of [`suspension_fabric.models.closures`][suspension_fabric.models.closures]). Reference:
+the paper, Acharya and Mari, arXiv:2506.05222, Eqs. 1 and 2 (the Gillissen-Wilson model as it
+writes it). A user's model is named in the config as ``module:attribute`` or
 ``path/to/file.py:attribute`` ([`load_model`][suspension_fabric.models.fabric_models.load_model]).
 """
 
