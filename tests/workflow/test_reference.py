@@ -42,6 +42,17 @@ SUMMARY_FRAGMENTS = (
     "viscosity_transients.md",
 )
 
+#: The reference study's rules that draw figures or report pages, from the tables the test reads.
+FIGURE_AND_REPORT_RULES = (
+    "figure_claims",
+    "figure_rotation",
+    "figure_startup",
+    "figure_stress_rotation",
+    "figure_stress_startup",
+    "report_stress",
+    "report_tables",
+)
+
 
 def rules_run(result) -> set[str]:
     """The rules of the jobs a Snakemake run started."""
@@ -102,7 +113,10 @@ def test_the_reference_study_rebuilds_the_fits_without_simulating(tmp_path, floa
         "figure_stress_rotation",
         "benchmark_stress_relations",
     } <= rules, rules
-    result = snakemake(workdir, "--configfile", "config/reference.yaml", timeout=600, env=env)
+    # figures and report pages print no digit the docs quote: under the second configuration the
+    # tables and fragments alone
+    omit = [] if float_config == "native" else ["--omit-from", *FIGURE_AND_REPORT_RULES]
+    result = snakemake(workdir, "--configfile", "config/reference.yaml", *omit, timeout=600, env=env)
     assert result.returncode == 0, result.stderr[-3000:]
     fits = json.loads((workdir / "results/reference/fits.json").read_text())
     recorded = read_dataset(DATASET)["fits"]  # written in fits format 1, read as format 2
@@ -117,7 +131,7 @@ def test_the_reference_study_rebuilds_the_fits_without_simulating(tmp_path, floa
     assert (workdir / "results/reference/tables/verdicts.csv").is_file()
     choices = pd.read_csv(workdir / "results/reference/tables/verdict_choices.csv")
     assert set(load_config(REPO / "config" / "reference.yaml")["verdicts"]["comparisons"]) <= set(choices["choice"])
-    for figure in ("fig3_stress.png", "fig4_stress_rotation.png"):
+    for figure in ("fig3_stress.png", "fig4_stress_rotation.png") if float_config == "native" else ():
         assert (workdir / "results/reference/figures" / figure).is_file()
     # Fig. 2 without a patchwork: every plotted cell's seed-mean standard error within 5% of |<nn>_12^ss|
     cells = polar_cell_errors(
