@@ -8,16 +8,21 @@ results/thickening/phi0.54_mu1_rate0.01/seed1/packing/packing.data) and each rat
 friction (friction_model 2, forced by the ``cl`` unit): |F_t| <= mu (F_n - F_CL) above F_CL,
 frictionless with the spring reset below, the project's law. The other physics are matched as in
 ``lfdem_comparison.py`` (lubrication, cutoff, regularisation, contact dashpot, kt = 2/7 kn, the spring
-kn matched on small-small pairs) with the flow-curve campaign's kn and mu (config/thickening.yaml).
+kn matched on small-small pairs) with the config's kn and mu (config/thickening.yaml, or a config at
+another kn: benchmarks/configs/lfdem_soft_kn.yaml). LF_DEM shears the packing with the gradient along
+z, the project along y: the runs start from the same packing but do not follow one trajectory.
 The project's run of the same packing and ratio is read from its finished study (the stress table of
-results/<study>/<point>/seed<k>/startup), not run again.
+<tables>/<point>/seed<k>/startup, ``--tables`` defaulting to the study), not run again.
 
 Per run the mean over WINDOW of eta_r - 1 - 2.5 phi for the project (LF_DEM's viscosity has the
-solvent and no Einstein term: its viscosity - 1), the contacts per particle and the frictional ones;
-then per ratio the mean and standard error over packings of each code and of the paired difference.
+solvent and no Einstein term: its viscosity - 1), the contacts per particle and the frictional ones,
+and LF_DEM's step in strain; then per ratio the mean and standard error over packings of each code and
+of the difference per packing. ``--save`` adds the runs to a table (benchmarks/data/lfdem_critical_load.csv).
 
+    .venv/bin/snakemake --cores 2 --configfile config/thickening.yaml -- \\
+        results/thickening/phi0.54_mu1_rate0.1/seed1/packing/packing.data
     .venv/bin/python benchmarks/lfdem_critical_load.py --lfdem /path/to/LF_DEM --study results/thickening \\
-        --phi 0.54 --seeds 1 2 --ratios 0.01 0.1
+        --tables data/thickening --phi 0.54 --seeds 1 --ratios 0.1 --strain 0.5 --window 0.3 0.5
 """
 
 from __future__ import annotations
@@ -34,6 +39,7 @@ import pandas as pd
 from lfdem_comparison import BUILD_HELP, data_columns, reached_strain, start_lfdem, write_lfdem_inputs
 from stresslet_vs_dipole import mean_se
 
+from suspension_fabric.analysis.stress import run_stress_table
 from suspension_fabric.study.campaign import point_name
 from suspension_fabric.study.config import load_config
 
@@ -78,11 +84,20 @@ def lfdem_observables(folder: Path, window) -> dict[str, float]:
         "eta_r - 1 - 2.5 phi": float(data[inside, columns["viscosity"]].mean() - 1.0),
         "contacts per particle": float(data[inside, columns["contact number"]].mean()),
         "frictional contacts per particle": float(data[inside, columns["frictional contact number"]].mean()),
+        # its explicit step, set by the largest displacement (disp_max), in strain
+        "strain per step": float((data[inside, columns["dt"]] * data[inside, columns["shear rate"]]).mean()),
     }
 
 
 def project_observables(table: Path, phi: float, window) -> dict[str, float]:
-    frame = pd.read_csv(table)
+    """The project's observables over ``window`` from a run's stress table, or, where the workflow
+    refused to write it (a kn softer than the stiff limit, chosen on purpose to meet LF_DEM's step),
+    from the run's own files by the same function."""
+    if table.exists():
+        frame = pd.read_csv(table)
+    else:
+        run = table.parent
+        frame = run_stress_table(run / "stress.txt", run / "run_complete.json", run / "fabric.csv")
     rows = frame[(frame["strain"] >= window[0] - 1e-9) & (frame["strain"] <= window[1] + 1e-9)]
     return {
         "eta_r - 1 - 2.5 phi": float(rows["eta_r"].mean() - 1.0 - 2.5 * phi),
@@ -95,7 +110,8 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--lfdem", type=Path, default=os.environ.get("LF_DEM") or shutil.which("LF_DEM"))
     parser.add_argument("--config", type=Path, default=Path("config/thickening.yaml"))
-    parser.add_argument("--study", type=Path, default=Path("results/thickening"))
+    parser.add_argument("--study", type=Path, default=Path("results/thickening"), help="the packings' study")
+    parser.add_argument("--tables", type=Path, help="the project's runs (default: the study; or its dataset)")
     parser.add_argument("--phi", type=float, default=0.54)
     parser.add_argument("--seeds", type=int, nargs="+", default=[1, 2])
     parser.add_argument("--ratios", type=float, nargs="+", default=[0.01, 0.1])
@@ -108,19 +124,21 @@ def main(argv: list[str] | None = None) -> None:
         action="store_true",
         help="read runs (finished or not) that have passed the window's end instead of running LF_DEM",
     )
+    parser.add_argument("--save", type=Path, help="add each run's observables to this table (CSV)")
     args = parser.parse_args(argv)
     if args.lfdem is None or not Path(args.lfdem).is_file():
         print(BUILD_HELP)
         sys.exit(0)
     config = load_config(args.config)
     mu = config["campaign"]["mu"][0]
-    runs = {}
+    runs, kn_of = {}, {}
     with ThreadPoolExecutor(max_workers=args.jobs) as pool:
         for ratio in args.ratios:
             point = point_name(args.phi, mu, ratio)
             overrides = config["campaign"]["overrides"].get(point, {})
             kn = overrides.get("forces", {}).get("kn", config["forces"]["kn"])
             engine = {**config["forces"], "kn": kn, "kt": 2.0 / 7.0 * kn, "mu": mu, "rate": 1.0}
+            kn_of[ratio] = kn
             for seed in args.seeds:
                 run = args.study / point / f"seed{seed}"
                 folder = args.keep / point / f"seed{seed}"
@@ -134,20 +152,44 @@ def main(argv: list[str] | None = None) -> None:
                     args.strain,
                     args.window[1] if args.read_running else None,
                 )
-                runs[(ratio, seed)] = (run / "startup/stress.csv", peer)
+                tables = (args.tables or args.study) / point / f"seed{seed}"
+                runs[(ratio, seed)] = (tables / "startup/stress.csv", peer)
     print(f"LF_DEM {args.lfdem}; phi {args.phi:g}, mu {mu:g}; strain {args.strain:g}, window {list(args.window)}")
+    window = f"{args.window[0]:g}-{args.window[1]:g}"
+    observed = {
+        (ratio, seed): (
+            project_observables(table, args.phi, args.window),
+            lfdem_observables(peer.result(), args.window),
+        )
+        for (ratio, seed), (table, peer) in runs.items()
+    }
     for ratio in args.ratios:
-        pairs = [
-            (project_observables(table, args.phi, args.window), lfdem_observables(peer.result(), args.window))
-            for (r, _), (table, peer) in runs.items()
-            if r == ratio
-        ]
+        pairs = [pair for (r, _), pair in observed.items() if r == ratio]
         heading = f"gammadot/gammadot_0 = {ratio:g} (mean +- s.e. over {len(pairs)} packings)"
-        print(f"\n| {heading} | project | LF_DEM | project - LF_DEM (paired) |")
+        print(f"\n| {heading} | project | LF_DEM | project - LF_DEM (per packing) |")
         print("|---|--:|--:|--:|")
         for name in pairs[0][0]:
             ours, theirs = [p[0][name] for p in pairs], [p[1][name] for p in pairs]
             print(f"| {name} | {mean_se(ours)} | {mean_se(theirs)} | {mean_se(np.subtract(ours, theirs))} |")
+        print(f"| LF_DEM's strain per step | | {mean_se([p[1]['strain per step'] for p in pairs])} | |")
+    records = [
+        {"kn": kn_of[ratio], "ratio": ratio, "seed": seed, "window": window, "code": code, "quantity": name, "value": v}
+        for (ratio, seed), pair in observed.items()
+        for code, values in zip(("project", "LF_DEM"), pair)
+        for name, v in values.items()
+    ]
+    if args.save is not None:
+        save_records(args.save, pd.DataFrame(records))
+
+
+def save_records(path: Path, records: pd.DataFrame) -> None:
+    """Add ``records`` to the table at ``path``, in place of its rows of the same kn, ratio, seed and window."""
+    key = ["kn", "ratio", "seed", "window"]
+    if path.exists():
+        kept = pd.read_csv(path, dtype={"window": str})
+        merged = kept.merge(records[key].drop_duplicates(), on=key, how="left", indicator=True)
+        records = pd.concat([kept[(merged["_merge"] == "left_only").to_numpy()], records], ignore_index=True)
+    records.sort_values(key + ["code", "quantity"]).to_csv(path, index=False, float_format="%.6g")
 
 
 if __name__ == "__main__":

@@ -357,7 +357,12 @@ def test_lfdem_outputs_are_read_by_name_in_the_paper_frame(tmp_path):
 
     critical = benchmark_script("lfdem_critical_load")
     assert critical.lfdem_observables(tmp_path / "run", (0.1, 0.2)) == pytest.approx(
-        {"eta_r - 1 - 2.5 phi": 2.15, "contacts per particle": 2.0, "frictional contacts per particle": 1.0}
+        {
+            "eta_r - 1 - 2.5 phi": 2.15,
+            "contacts per particle": 2.0,
+            "frictional contacts per particle": 1.0,
+            "strain per step": 1e-3,  # dt 1e-3 at shear rate 1
+        }
     )
     table = tmp_path / "stress.csv"
     pd.DataFrame(
@@ -467,11 +472,18 @@ def test_lfdem_critical_load_with_lfdem(packings, tmp_path, capsys):
         pd.DataFrame(frame).to_csv(run / "startup" / "stress.csv", index=False)
     arguments = ["--lfdem", str(LFDEM), "--study", str(tmp_path / "study"), "--keep", str(tmp_path / "runs")]
     arguments += ["--seeds", "1", "2", "--ratios", "0.1", "--strain", "0.05", "--window", "0.02", "0.05"]
-    script.main(arguments)
+    saved = tmp_path / "critical_load.csv"
+    script.main([*arguments, "--save", str(saved)])
     out = capsys.readouterr().out
     assert "phi 0.54, mu 1; strain 0.05" in out
     rows = {name: cells for name, *cells in markdown_rows(out, "| gammadot/gammadot_0 = 0.1 (mean +- s.e. over 2")}
-    assert list(rows) == ["eta_r - 1 - 2.5 phi", "contacts per particle", "frictional contacts per particle"]
+    assert list(rows) == [
+        "eta_r - 1 - 2.5 phi",
+        "contacts per particle",
+        "frictional contacts per particle",
+        "LF_DEM's strain per step",
+    ]
+    assert 0 < mean_and_error(rows["LF_DEM's strain per step"][1])[0] < 1e-2
     assert mean_and_error(rows["eta_r - 1 - 2.5 phi"][0]) == pytest.approx((5.5 - 1 - 2.5 * 0.54, 0.0))
     peer_eta = mean_and_error(rows["eta_r - 1 - 2.5 phi"][1])[0]
     assert 0 < peer_eta < 20, rows  # LF_DEM's viscosity less its solvent, at strain 0.02-0.05
@@ -480,6 +492,13 @@ def test_lfdem_critical_load_with_lfdem(packings, tmp_path, capsys):
         assert "friction_model = 2;" in (folder / "shear.txt").read_text()
         assert script.reached_strain(folder) == pytest.approx(0.05)
         assert (folder / "finished").read_text().endswith(" 0.1cl 0.05\n")
+    # the saved table: a row per run, code and quantity at the config's kn; saved again, replaced, not doubled
+    table = pd.read_csv(saved)
+    assert len(table) == 2 * (3 + 4) and set(table["kn"]) == {5e9} and set(table["window"]) == {"0.02-0.05"}
+    project = table[(table["code"] == "project") & (table["quantity"] == "eta_r - 1 - 2.5 phi")]
+    assert project["value"].to_numpy() == pytest.approx([5.5 - 1 - 2.5 * 0.54] * 2)
+    script.main([*arguments, "--save", str(saved)])
+    assert pd.read_csv(saved).equals(table)
 
 
 @needs_lfdem
