@@ -1770,7 +1770,8 @@ QUOTES += [
         "{218} ± {9} here and {271} ± {12} in LF_DEM (mean ± standard error over the packings), the "
         "difference per packing {-53} with a 95% t-interval of [{-84}, {-22}]. With so few packings that "
         "interval rests on their differences being alike. Why LF_DEM is higher is not known: at constant "
-        'friction the codes agree on the viscosity (BENCHMARKS.md, "Against the peer code LF_DEM"), and the '
+        'friction the codes agree on the viscosity ([Benchmarks, "Against the peer code LF_DEM"]'
+        "(benchmarks.md#against-the-peer-code-lf_dem)), and the "
         "soft spring's overlaps of several percent of a diameter, where dashpots and the regularised "
         "lubrication of overlapping pairs carry more of the stress, are a candidate.",
         ["n", "pr_zf", "lf_zf", "pr", "pr_se", "lf", "lf_se", "d", "lo", "hi"],
