@@ -512,3 +512,18 @@ def test_peer_speed_with_lfdem(tmp_path, monkeypatch):
         assert math.isfinite(row[key]) and row[key] > 0, row
     assert row["ratio"] == pytest.approx(row["peer_s_per_strain"] / row["project_s_per_strain"])
     assert (next(tmp_path.glob("peer_speed_*")) / "project" / RUN_FILES["checkpoint"]).is_file()
+
+
+def test_lfdem_critical_load_reads_a_refused_run_from_its_files(study, tmp_path):
+    """A run whose stress table the workflow refused (a kn below the stiff limit, chosen on purpose) is
+    read from its own files by the function that writes the table: the numbers of the table."""
+    critical = benchmark_script("lfdem_critical_load")
+    run, copy = study / "results/test/seed1/startup", tmp_path / "startup"
+    copy.mkdir()
+    for name in ("stress.txt", "run_complete.json", "fabric.csv"):
+        shutil.copy(run / name, copy / name)
+    window = (0.1, 0.3)
+    from_files = critical.project_observables(copy / "stress.csv", 0.45, window)
+    assert not (copy / "stress.csv").exists()
+    assert from_files == pytest.approx(critical.project_observables(run / "stress.csv", 0.45, window), rel=1e-6)
+    assert from_files["contacts per particle"] > 0
