@@ -22,7 +22,11 @@ of the difference per packing. ``--save`` adds the runs to a table (benchmarks/d
     .venv/bin/snakemake --cores 2 --configfile config/thickening.yaml -- \\
         results/thickening/phi0.54_mu1_rate0.1/seed1/packing/packing.data
     .venv/bin/python benchmarks/lfdem_critical_load.py --lfdem /path/to/LF_DEM --study results/thickening \\
-        --tables data/thickening --phi 0.54 --seeds 1 --ratios 0.1 --strain 0.5 --window 0.3 0.5
+        --tables data/thickening --keep benchmarks/lfdem_runs_stiff --phi 0.54 --seeds 1 --ratios 0.1 \\
+        --strain 0.5 --window 0.3 0.5
+
+Each kn needs its own ``--keep`` folder: a folder whose ``finished`` record names another packing or
+strain is run again, over the run it holds.
 """
 
 from __future__ import annotations
