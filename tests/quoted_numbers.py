@@ -1764,12 +1764,13 @@ QUOTES += [
     ),
     critical_load_quote(
         "docs/thickening.md",
-        "**With a spring 100 times softer both codes thicken, LF_DEM about a fifth higher.** With $k_n = "
+        "**With a spring 100 times softer both codes thicken, LF_DEM about a quarter higher.** With $k_n = "
         "5\\times10^7$ (`benchmarks/configs/lfdem_soft_kn.yaml`), over strain 1-2 of {3} packings, this "
         "project has {3.46} frictional contacts per particle and LF_DEM {3.51}; $\\eta_r - 1 - 2.5\\phi$ is "
         "{227} ± {10} here and {280} ± {11} in LF_DEM (mean ± standard error over the packings), the "
-        "difference per packing {-53} with a 95% t-interval of [{-59}, {-47}]. With so few packings that "
-        "interval rests on their differences being alike. Why LF_DEM is higher is not known: at constant "
+        "difference per packing {-53} with a 95% t-interval of [{-59}, {-47}]. That paired interval assumes "
+        "the codes' run-to-run scatter cancels in the differences, which nothing measured shows: the codes "
+        "follow different trajectories and no run was repeated. Why LF_DEM is higher is not known: at constant "
         'friction the codes agree on the viscosity ([Benchmarks, "Against the peer code LF_DEM"]'
         "(benchmarks.md#against-the-peer-code-lf_dem)), and the "
         "soft spring's overlaps of several percent of a diameter, where dashpots and the regularised "
@@ -1785,7 +1786,8 @@ QUOTES += [
     ),
     critical_load_quote(
         "docs/thickening.md",
-        "LF_DEM gives {159.4} there, and this project {132}: the account is refuted, and at $10^9$ LF_DEM is "
+        "LF_DEM gives {159.4} there, and this project {132}: by the named test the step limit as the whole "
+        "cause is refuted (one packing, one run), and at $10^9$ LF_DEM is "
         "again above this project, as at $5\\times10^7$.",
         ["k9", "k9_pr"],
     ),
@@ -1793,7 +1795,7 @@ QUOTES += [
         "BENCHMARKS.md",
         "At the flow curves' kn = 5e9 LF_DEM falls far behind once friction engages: eta_r - 1 - 2.5 phi "
         "{30.5} over strain 0.3-0.5 of one packing, against {71.4} for LF_DEM at kn = 5e7 on the same "
-        "packing and {89.1} for the project at 5e9. At kn = 5e7 both thicken, LF_DEM about a fifth higher: "
+        "packing and {89.1} for the project at 5e9. At kn = 5e7 both thicken, LF_DEM about a quarter higher: "
         "{227} against {280} over strain 1-2, difference per packing {-53} [{-59}, {-47}] (95% t-interval "
         "over {3} packings). LF_DEM's explicit step ({6.5}e-5 strain at 5e9) is longer than the stiff "
         "tangential springs' relaxation, but the test named before its run, LF_DEM low at kn = 1e9 as well, "
