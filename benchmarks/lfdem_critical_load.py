@@ -18,6 +18,14 @@ Per run the mean over WINDOW of eta_r - 1 - 2.5 phi for the project (LF_DEM's vi
 solvent and no Einstein term: its viscosity - 1), the contacts per particle and the frictional ones,
 and LF_DEM's step in strain; then per ratio the mean and standard error over packings of each code and
 of the difference per packing. ``--save`` adds the runs to a table (benchmarks/data/lfdem_critical_load.csv).
+``--continue-from <keep folder>`` continues that folder's finished LF_DEM runs from their checkpoints to
+``--strain`` instead of starting from rest, and ``--dt-max`` caps LF_DEM's step there (the table's
+``lfdem_dt_max``; "own" for LF_DEM's own step):
+
+    .venv/bin/python benchmarks/lfdem_critical_load.py --lfdem /path/to/LF_DEM --study results/thickening \\
+        --tables data/thickening --continue-from benchmarks/lfdem_runs_stiff \\
+        --keep benchmarks/lfdem_runs_stepcap/capped --dt-max 2e-6 --phi 0.54 --seeds 1 --ratios 0.1 \\
+        --strain 0.55 --window 0.52 0.55
 
     .venv/bin/snakemake --cores 2 --configfile config/thickening.yaml -- \\
         results/thickening/phi0.54_mu1_rate0.1/seed1/packing/packing.data
@@ -34,6 +42,7 @@ from __future__ import annotations
 import argparse
 import os
 import shutil
+import subprocess
 import sys
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
@@ -58,25 +67,60 @@ def lfdem_run(
     engine: dict,
     strain: float,
     read_until: float | None = None,
+    continue_from: Path | None = None,
+    dt_max: float | None = None,
 ) -> Path:
     """LF_DEM on ``packing`` at gammadot / gammadot_0 = ``ratio`` (``-r <ratio>cl``), one thread; a
     folder holding a finished run of the same input (its ``finished`` file) is kept as it is, and with
-    ``read_until`` so is a run still going (or stopped) that has passed that strain."""
+    ``read_until`` so is a run still going (or stopped) that has passed that strain.
+
+    With ``continue_from`` (a finished run's folder) that run is copied into ``folder`` and continued
+    from its last checkpoint (positions and tangential springs: LF_DEM's ``-c`` restart) to ``strain``;
+    ``dt_max`` caps LF_DEM's step, in strain (its ``dt_max`` parameter in hydrodynamic time)."""
     finished = folder / "finished"
-    if finished.exists() and finished.read_text() == f"{packing.resolve()} {ratio:g}cl {strain:g}\n":
+    record = f"{packing.resolve()} {ratio:g}cl {strain:g}"
+    if continue_from is not None:
+        record += f" from {continue_from.resolve()} dt_max {dt_max:g}" if dt_max else f" from {continue_from.resolve()}"
+    if finished.exists() and finished.read_text() == record + "\n":
         return folder
     if read_until is not None:
         if reached_strain(folder) >= read_until:
             return folder
         raise RuntimeError(f"{folder}: LF_DEM has reached strain {reached_strain(folder):g}, not {read_until:g}")
-    folder.mkdir(parents=True, exist_ok=True)
-    write_lfdem_inputs(packing, folder, strain, engine, friction_model=2)
+    if continue_from is None:
+        folder.mkdir(parents=True, exist_ok=True)
+        write_lfdem_inputs(packing, folder, strain, engine, friction_model=2)
+        process = lambda out: start_lfdem(binary, folder, out, f"{ratio:g}cl")  # noqa: E731
+    else:
+        process = continuation(binary, continue_from, folder, ratio, strain, dt_max)
     with open(folder / "lfdem.out", "w") as out:
-        code = start_lfdem(binary, folder, out, f"{ratio:g}cl").wait()
+        code = process(out).wait()
     if code != 0:
         raise RuntimeError(f"{packing} at {ratio:g}cl: LF_DEM failed ({code}); see {folder}/lfdem.out")
-    finished.write_text(f"{packing.resolve()} {ratio:g}cl {strain:g}\n")
+    finished.write_text(record + "\n")
     return folder
+
+
+def continuation(binary: Path, source: Path, folder: Path, ratio: float, strain: float, dt_max: float | None):
+    """``source``'s finished run copied into ``folder`` with its end moved to ``strain`` (and its step
+    capped at ``dt_max``): a function that starts LF_DEM on it from the checkpoint. LF_DEM appends
+    to the copied output files, so their rows before the checkpoint are the source's."""
+    if not (source / "finished").exists():
+        raise RuntimeError(f"{source}: no finished LF_DEM run to continue")
+    if folder.exists():
+        shutil.rmtree(folder)
+    shutil.copytree(source, folder)
+    (folder / "finished").unlink()
+    lines = [line for line in (folder / "shear.txt").read_text().splitlines() if not line.startswith("dt_max")]
+    lines = [f"time_end = {strain:g}h;" if line.startswith("time_end") else line for line in lines]
+    if dt_max:
+        lines.append(f"dt_max = {dt_max:g}h;")
+    (folder / "shear.txt").write_text("\n".join(lines) + "\n")
+    checkpoint = next(folder.glob("chk_*.dat")).name
+    configuration = "conf_" + checkpoint.removeprefix("chk_")
+    command = [str(binary), "-f", "-r", f"{ratio:g}cl", "-n", "-c", checkpoint, configuration, "shear.txt"]
+    env = {**os.environ, "OMP_NUM_THREADS": "1"}
+    return lambda out: subprocess.Popen(command, cwd=folder, stdout=out, stderr=subprocess.STDOUT, env=env)
 
 
 def lfdem_observables(folder: Path, window) -> dict[str, float]:
@@ -129,6 +173,12 @@ def main(argv: list[str] | None = None) -> None:
         help="read runs (finished or not) that have passed the window's end instead of running LF_DEM",
     )
     parser.add_argument("--save", type=Path, help="add each run's observables to this table (CSV)")
+    parser.add_argument(
+        "--continue-from",
+        type=Path,
+        help="continue the finished LF_DEM runs under this folder (a --keep folder) from their checkpoints",
+    )
+    parser.add_argument("--dt-max", type=float, help="with --continue-from: cap LF_DEM's step at this strain")
     args = parser.parse_args(argv)
     if args.lfdem is None or not Path(args.lfdem).is_file():
         print(BUILD_HELP)
@@ -155,6 +205,8 @@ def main(argv: list[str] | None = None) -> None:
                     engine,
                     args.strain,
                     args.window[1] if args.read_running else None,
+                    args.continue_from / point / f"seed{seed}" if args.continue_from else None,
+                    args.dt_max,
                 )
                 tables = (args.tables or args.study) / point / f"seed{seed}"
                 runs[(ratio, seed)] = (tables / "startup/stress.csv", peer)
@@ -176,8 +228,19 @@ def main(argv: list[str] | None = None) -> None:
             ours, theirs = [p[0][name] for p in pairs], [p[1][name] for p in pairs]
             print(f"| {name} | {mean_se(ours)} | {mean_se(theirs)} | {mean_se(np.subtract(ours, theirs))} |")
         print(f"| LF_DEM's strain per step | | {mean_se([p[1]['strain per step'] for p in pairs])} | |")
+    # LF_DEM's step: its own (displacement-limited) or capped at --dt-max strain
+    step = f"{args.dt_max:g}" if args.dt_max else "own"
     records = [
-        {"kn": kn_of[ratio], "ratio": ratio, "seed": seed, "window": window, "code": code, "quantity": name, "value": v}
+        {
+            "kn": kn_of[ratio],
+            "ratio": ratio,
+            "seed": seed,
+            "window": window,
+            "lfdem_dt_max": step,
+            "code": code,
+            "quantity": name,
+            "value": v,
+        }
         for (ratio, seed), pair in observed.items()
         for code, values in zip(("project", "LF_DEM"), pair)
         for name, v in values.items()
@@ -187,10 +250,11 @@ def main(argv: list[str] | None = None) -> None:
 
 
 def save_records(path: Path, records: pd.DataFrame) -> None:
-    """Add ``records`` to the table at ``path``, in place of its rows of the same kn, ratio, seed and window."""
-    key = ["kn", "ratio", "seed", "window"]
+    """Add ``records`` to the table at ``path``, in place of its rows of the same kn, ratio, seed, window
+    and LF_DEM step."""
+    key = ["kn", "ratio", "seed", "window", "lfdem_dt_max"]
     if path.exists():
-        kept = pd.read_csv(path, dtype={"window": str})
+        kept = pd.read_csv(path, dtype={"window": str, "lfdem_dt_max": str})
         merged = kept.merge(records[key].drop_duplicates(), on=key, how="left", indicator=True)
         records = pd.concat([kept[(merged["_merge"] == "left_only").to_numpy()], records], ignore_index=True)
     records.sort_values(key + ["code", "quantity"]).to_csv(path, index=False, float_format="%.6g")

@@ -1702,16 +1702,18 @@ QUOTES += MPI_SUMMARY_QUOTES
 @cache
 def critical_load_runs() -> pd.DataFrame:
     """benchmarks/data/lfdem_critical_load.csv: a row per run, code and quantity."""
-    return pd.read_csv(REPO / "benchmarks/data/lfdem_critical_load.csv", dtype={"window": str})
+    return pd.read_csv(REPO / "benchmarks/data/lfdem_critical_load.csv", dtype={"window": str, "lfdem_dt_max": str})
 
 
-def critical_load_values(kn: float, window: str, code: str, quantity: str) -> np.ndarray:
-    """The runs' values of one quantity at gammadot / gammadot_0 = 0.1, by seed."""
+def critical_load_values(kn: float, window: str, code: str, quantity: str, lfdem_dt_max: str = "own") -> np.ndarray:
+    """The runs' values of one quantity at gammadot / gammadot_0 = 0.1, by seed, with LF_DEM's step its
+    own or capped at ``lfdem_dt_max``."""
     table = critical_load_runs()
     rows = table[
         np.isclose(table["kn"], kn)
         & np.isclose(table["ratio"], 0.1)
         & (table["window"] == window)
+        & (table["lfdem_dt_max"] == lfdem_dt_max)
         & (table["code"] == code)
         & (table["quantity"] == quantity)
     ].sort_values("seed")

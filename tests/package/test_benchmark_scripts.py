@@ -468,7 +468,8 @@ def test_lfdem_critical_load_with_lfdem(packings, tmp_path, capsys):
         (run / "packing").mkdir(parents=True)
         (run / "startup").mkdir()
         shutil.copy(packing, run / "packing" / "packing.data")
-        frame = {"strain": [0.0, 0.02, 0.04], "eta_r": [4.0, 5.0, 6.0], "Z_touching": 1.0, "Z_frictional": 0.5}
+        frame = {"strain": [0.0, 0.02, 0.04, 0.06, 0.08], "eta_r": [4.0, 5.0, 6.0, 6.0, 6.0]}
+        frame |= {"Z_touching": 1.0, "Z_frictional": 0.5}
         pd.DataFrame(frame).to_csv(run / "startup" / "stress.csv", index=False)
     arguments = ["--lfdem", str(LFDEM), "--study", str(tmp_path / "study"), "--keep", str(tmp_path / "runs")]
     arguments += ["--seeds", "1", "2", "--ratios", "0.1", "--strain", "0.05", "--window", "0.02", "0.05"]
@@ -499,6 +500,21 @@ def test_lfdem_critical_load_with_lfdem(packings, tmp_path, capsys):
     assert project["value"].to_numpy() == pytest.approx([5.5 - 1 - 2.5 * 0.54] * 2)
     script.main([*arguments, "--save", str(saved)])
     assert pd.read_csv(saved).equals(table)
+    # continued from the runs' checkpoints with the step capped: the earlier rows kept, the later ones at
+    # most the cap in strain, a row set of their own in the table
+    continued = ["--lfdem", str(LFDEM), "--study", str(tmp_path / "study"), "--keep", str(tmp_path / "capped")]
+    continued += ["--seeds", "1", "2", "--ratios", "0.1", "--strain", "0.08", "--window", "0.06", "0.08"]
+    script.main([*continued, "--continue-from", str(tmp_path / "runs"), "--dt-max", "1e-4", "--save", str(saved)])
+    for seed in (1, 2):
+        source, folder = (tmp_path / name / point / f"seed{seed}" for name in ("runs", "capped"))
+        assert "dt_max = 0.0001h;" in (folder / "shear.txt").read_text()
+        assert (folder / "finished").read_text().endswith(f" 0.1cl 0.08 from {source.resolve()} dt_max 0.0001\n")
+        before, after = (np.loadtxt(next(f.glob("data_*.dat"))) for f in (source, folder))
+        assert np.array_equal(after[: len(before)], before)  # LF_DEM appends after its checkpoint
+        strain, step = after[len(before) :, 1], after[len(before) :, 22] * after[len(before) :, 2]
+        assert strain[-1] == pytest.approx(0.08) and np.all(step <= 1e-4 * (1 + 1e-9)), step
+    capped = pd.read_csv(saved, dtype={"lfdem_dt_max": str})
+    assert set(capped["lfdem_dt_max"]) == {"own", "0.0001"} and len(capped) == 2 * len(table)
 
 
 @needs_lfdem
