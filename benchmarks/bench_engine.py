@@ -6,6 +6,7 @@ LAMMPS (BENCHMARKS.md, "Engine speed II: speed").
     .venv/bin/python benchmarks/bench_engine.py measure      # the timings: run on an idle machine
     .venv/bin/python benchmarks/bench_engine.py ladder       # cost and iterations against dt (idle machine)
     .venv/bin/python benchmarks/bench_engine.py alternate    # Jacobi and dilu back to back (idle machine)
+    .venv/bin/python benchmarks/bench_engine.py work         # CG iterations per unit strain against dt (any load)
 
 `prepare`: for N = 250, 500, 1000, 2000, 4000 (phi = 0.45, packing seed 1, default forces) a
 startup to strain 1.5 with the implicit springs at SPRINGS_DT and SPRINGS_KN, where the
@@ -37,6 +38,7 @@ import os
 import platform
 from pathlib import Path
 
+import pandas as pd
 from mpi_scaling import figures
 
 from suspension_fabric.simulation.lammps import (
@@ -62,6 +64,11 @@ EXPLICIT_DT = 2.0e-7
 REFERENCE_KN = 1.25e9  # the stiffness of the explicit-spring engine that made the committed reference data
 # continuation strain per method: long enough for >= 10 s of loop time at N = 500
 LADDER_DTS = (2e-5, 5e-5, 1e-4, 2e-4, 4e-4)
+# solve_work: the Newton solve's steps against the lagged default's, and where the table goes
+WORK_N, WORK_STRAIN = 1000, 0.5
+WORK_DUMP_STRAIN = 0.05  # the overlaps' frames: a whole number of steps at every dt, dividing the checkpoint's step
+WORK_NEWTON_DTS = (2.5e-4, 5e-4, 1e-3, 2e-3)
+WORK_TABLE = Path(__file__).resolve().parent / "data" / "solve_work.csv"
 STRAIN = {"explicit": 0.02, "implicit": 0.2, "stock": 0.01, "default": 1.0, "jacobi": 1.0, "dilu_tol1e-5": 0.5}
 
 
@@ -69,8 +76,8 @@ def checkpoint(n: int) -> Path:
     return ROOT / f"n{n}" / "startup" / RUN_FILES["checkpoint"]
 
 
-def prepare() -> None:
-    for n in SIZES:
+def prepare(sizes=SIZES) -> None:
+    for n in sizes:
         packing = ROOT / f"n{n}" / "packing"
         if not is_complete(packing):
             pack(packing, n, phi=0.45, seed=1)
@@ -99,31 +106,40 @@ def print_head(what: str) -> None:
     print(f"# {platform.machine()}, {platform.python_version()}, one core per run; {what}\n\n{TABLE_HEAD}")
 
 
+def continuation(model: ForceModel, dt: float, n: int, strain: float, out: Path, thermo_steps: int = 50, **settings):
+    """The N = n checkpoint's shear continued for `strain` at step `dt` (thermo every `thermo_steps`,
+    the trajectory every 1000 steps; `settings` override ShearSettings)."""
+    # strides of 1000 / 100 / thermo_steps steps: they divide the checkpoint's step (15000 at the
+    # prepare step 1e-4, 75000 at 2e-5), so the outputs stay on LAMMPS's grid of multiples
+    settings = ShearSettings(
+        **{
+            "dt": dt,
+            "dump_strain": 1000 * dt,
+            "table_strain": 100 * dt,
+            "thermo_strain": thermo_steps * dt,
+            "restart_strain": strain,
+            "max_stress_jitter": None,
+        }
+        | settings
+    )
+    return run_rotation(
+        out,
+        checkpoint(n),
+        0.0,
+        strain,
+        force_model=model,
+        settings=settings,
+        overwrite=True,
+        resume=False,
+        progress=None,
+    )
+
+
 def timed_continuation(label: str, model: ForceModel, dt: float, n: int, strain: float, out: Path) -> float | None:
     """Continues the N = n checkpoint for `strain` and prints one table row; returns the cost in
     core-s per particle per unit strain (None if the run failed)."""
     try:
-        # strides of 1000 / 100 / 50 steps: they divide the checkpoint's step (15000 at the
-        # prepare step 1e-4, 75000 at 2e-5), so the outputs stay on LAMMPS's grid of multiples
-        settings = ShearSettings(
-            dt=dt,
-            dump_strain=1000 * dt,
-            table_strain=100 * dt,
-            thermo_strain=50 * dt,
-            restart_strain=strain,
-            max_stress_jitter=None,
-        )
-        run = run_rotation(
-            out,
-            checkpoint(n),
-            0.0,
-            strain,
-            force_model=model,
-            settings=settings,
-            overwrite=True,
-            resume=False,
-            progress=None,
-        )
+        run = continuation(model, dt, n, strain, out)
     except LammpsRunError as err:
         print(f"| {label} | {n} | {dt:g} | failed: {str(err).splitlines()[0][:120]} |||||", flush=True)
         return None
@@ -146,6 +162,38 @@ def ladder(kn: float) -> None:
             model = ForceModel(contact_springs="implicit", preconditioner=preconditioner, kn=kn, solver_tol=1e-5)
             out = ROOT / f"n{BASE_N}" / f"ladder_kn{kn:g}_{preconditioner}_dt{dt:g}"
             timed_continuation(f"implicit springs, {preconditioner}", model, dt, BASE_N, max(0.1, 2000 * dt), out)
+
+
+def solve_work() -> None:
+    """The solve's work per unit strain against the step at N = WORK_N (default forces): CG
+    iterations per step (every step's, all passes: thermo every step) times steps per unit strain,
+    for the lagged solve at the default step and the Newton solve at WORK_NEWTON_DTS; with the
+    largest overlap over frames every WORK_DUMP_STRAIN. Iteration counts do not depend on the machine's
+    load; the loop time does, and includes a thermo line every step."""
+    prepare((WORK_N,))
+    rows = []
+    print(f"# N = {WORK_N}, continuation of the startup shear from strain {PREPARE_STRAIN:g} by {WORK_STRAIN:g}\n")
+    print("| contact solve | dt | CG iterations per step | per unit strain | largest overlap (d) | loop s |")
+    print("|---|--:|--:|--:|--:|--:|")
+    engines = [("lagged", ShearSettings().dt)] + [("newton", dt) for dt in WORK_NEWTON_DTS]
+    for solve, dt in engines:
+        out = ROOT / f"n{WORK_N}" / f"work_{solve}_dt{dt:g}"
+        model = ForceModel(contact_solve=solve)
+        # the overlap is recorded here, not refused (run.max_overlap is a blow-up detector)
+        frames = {"dump_strain": WORK_DUMP_STRAIN, "max_overlap": 1.0}
+        run = continuation(model, dt, WORK_N, WORK_STRAIN, out, thermo_steps=1, **frames)
+        found = figures(run.log_file.read_text())
+        row = {"contact_solve": solve, "dt": dt, "iterations_per_step": found["iterations"]}
+        row |= {"iterations_per_strain": found["iterations"] / dt, "max_overlap": run.max_overlap}
+        row["loop_s"] = found["loop_s"]
+        rows.append(row)
+        print(
+            f"| {solve} | {dt:g} | {row['iterations_per_step']:.1f} | {row['iterations_per_strain']:.0f} | "
+            f"{row['max_overlap']:.4f} | {row['loop_s']:.1f} |",
+            flush=True,
+        )
+    WORK_TABLE.parent.mkdir(parents=True, exist_ok=True)
+    pd.DataFrame(rows).to_csv(WORK_TABLE, index=False, float_format="%.6g")
 
 
 def measure() -> None:
@@ -217,10 +265,12 @@ def alternate(sizes=(500, 1000), repeats: int = 3) -> None:
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("phase", choices=("prepare", "measure", "ladder", "alternate"))
+    parser.add_argument("phase", choices=("prepare", "measure", "ladder", "alternate", "work"))
     parser.add_argument("--kn", type=float, default=REFERENCE_KN, help="ladder: normal contact stiffness")
     args = parser.parse_args(argv)
-    {"prepare": prepare, "measure": measure, "ladder": lambda: ladder(args.kn), "alternate": alternate}[args.phase]()
+    phases = {"prepare": prepare, "measure": measure, "ladder": lambda: ladder(args.kn), "alternate": alternate}
+    phases["work"] = solve_work
+    phases[args.phase]()
 
 
 if __name__ == "__main__":

@@ -148,6 +148,20 @@ def test_bench_engine_ladder_and_alternate_time_both_preconditioners(bench_engin
     assert {row["strain"] for row in ladder_rows} == {0.2}
 
 
+def test_bench_engine_work_counts_the_solves_iterations_per_unit_strain(bench_engine, tmp_path, monkeypatch, capsys):
+    """iterations per unit strain = CG iterations per step (every step's) / dt, a row per engine, in the table"""
+    tiny = {"WORK_N": N, "WORK_STRAIN": 0.05, "WORK_NEWTON_DTS": (5e-4,), "WORK_TABLE": tmp_path / "w.csv"}
+    for name, value in tiny.items():
+        monkeypatch.setattr(bench_engine, name, value)
+    bench_engine.main(["work"])
+    table = pd.read_csv(tmp_path / "w.csv")
+    assert list(table["contact_solve"]) == ["lagged", "newton"] and list(table["dt"]) == [1e-4, 5e-4]
+    assert table["iterations_per_strain"].to_numpy() == pytest.approx(table["iterations_per_step"] / table["dt"])
+    assert (table["iterations_per_step"] > 0).all() and (table["max_overlap"] > 0).all()
+    rows = markdown_rows(capsys.readouterr().out, "| contact solve | dt |")
+    assert [row[:2] for row in rows] == [["lagged", "0.0001"], ["newton", "0.0005"]]
+
+
 # -- bench_fabric.py and bench_models.py: the analysis and the models' cost ----------------------------------
 
 
