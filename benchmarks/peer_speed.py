@@ -20,9 +20,12 @@ step of each output interval; time = strain at rate 1); the project's are 1 / dt
 
     .venv/bin/python benchmarks/peer_speed.py run --lfdem /path/to/LF_DEM/LF_DEM --point phi0.45_mu0.5
     .venv/bin/python benchmarks/peer_speed.py run --lfdem ... --point phi0.50_mu0.5 --contact-solve newton
+    .venv/bin/python benchmarks/peer_speed.py run --lfdem ... --point phi0.45_mu0.5 --n 1000 \\
+        --contact-solve lagged newton --newton-gain 5
     .venv/bin/python benchmarks/peer_speed.py report
 
-`run` appends one row per point to benchmarks/data/peer_speed.csv; `report` prints the table.
+`run` appends one row per point and project engine to benchmarks/data/peer_speed.csv (several
+engines are timed one after the other while one LF_DEM run goes on); `report` prints the table.
 """
 
 from __future__ import annotations
@@ -52,12 +55,14 @@ CAMPAIGN = REPO / "config" / "campaign.yaml"
 WINDOW = (1.5, 2.5)
 SEED = 1
 POLL_S = 0.5
+NEWTON_GAIN = 10.0
 
 
-def point_study(name: str, contact_solve: str | None = None) -> dict:
+def point_study(name: str, contact_solve: str | None = None, newton_gain: float = NEWTON_GAIN) -> dict:
     """The study config/campaign.yaml runs at point ``name``; with ``contact_solve`` "newton" at a
-    point the campaign runs with the lagged solve, the Newton solve at ten times its step (0.24 of
-    the contact relaxation time instead of 0.024: BENCHMARKS.md, "Engine III")."""
+    point the campaign runs with the lagged solve, the Newton solve at ``newton_gain`` times its step
+    (10: 0.24 of the contact relaxation time instead of 0.024, docs/physics.md, "The contact law
+    solved by Newton passes"; 5 at the paper's point, the step validated against data/reference)."""
     points = campaign_points(load_config(CAMPAIGN))
     if name not in points:
         raise SystemExit(f"{CAMPAIGN}: no point {name!r} (points: {', '.join(points)})")
@@ -66,7 +71,7 @@ def point_study(name: str, contact_solve: str | None = None) -> dict:
         return study
     if contact_solve != "newton":
         raise SystemExit(f"--contact-solve: {name} runs the Newton solve; only 'newton' changes a lagged point")
-    run = {**study["run"], "engine": "as_given", "contact_solve": "newton", "dt": 10 * study["run"]["dt"]}
+    run = {**study["run"], "engine": "as_given", "contact_solve": "newton", "dt": newton_gain * study["run"]["dt"]}
     run["max_dt_per_relaxation"] = 0.25
     return validate_config({**study, "study": "peer_speed", "run": run})
 
@@ -112,17 +117,38 @@ def lfdem_steps_per_strain(data: Path, window) -> float:
 
 
 def measure(
-    binary: Path, point: str, window, keep: Path | None, contact_solve: str | None = None, n: int | None = None
+    binary: Path,
+    point: str,
+    window,
+    keep: Path | None,
+    contact_solve: str | None = None,
+    n: int | None = None,
+    newton_gain: float = NEWTON_GAIN,
 ) -> dict:
     """Both codes timed at ``point`` (with ``n`` particles instead of the point's N if given): the table's row."""
-    study = point_study(point, contact_solve)
+    return measure_engines(binary, point, window, keep, [contact_solve], n, newton_gain)[0]
+
+
+def measure_engines(
+    binary: Path,
+    point: str,
+    window,
+    keep: Path | None,
+    contact_solves: list[str | None],
+    n: int | None = None,
+    newton_gain: float = NEWTON_GAIN,
+) -> list[dict]:
+    """One LF_DEM run at ``point`` and, while it runs, the project's run with each of ``contact_solves``
+    one after the other on the other core: a row per project engine, each against the same LF_DEM run."""
+    studies = [point_study(point, solve, newton_gain) for solve in contact_solves]
+    study = studies[0]
     folder = Path(tempfile.mkdtemp(prefix="peer_speed_", dir=keep))
     particles = {**study["particles"], "n": n or study["particles"]["n"]}
     shape = {key: particles[key] for key in ("split", "fraction_large", "d_small", "d_large")}
     packing = pack(folder / "packing", particles["n"], particles["phi"], SEED, **shape).data_file
     strain = window[1] + 0.01
     force_model = ForceModel.from_config(study)
-    project_clock, peer_clock, peer_outcome = [], [], {}
+    peer_clock, peer_outcome = [], {}
     (folder / "peer").mkdir()
 
     def peer():
@@ -133,28 +159,39 @@ def measure(
 
     worker = threading.Thread(target=peer)
     worker.start()
-    settings = ShearSettings.from_config(study)
-    run_startup(
-        folder / "project",
-        packing,
-        strain,
-        force_model=force_model,
-        settings=settings,
-        progress=lambda label, reached, total, elapsed: project_clock.append((reached, elapsed)),
-        progress_interval=0.0,
-    )
+    timed = []
+    for index, engine_study in enumerate(studies):
+        project_clock = []
+        settings = ShearSettings.from_config(engine_study)
+        run_startup(
+            folder / ("project" if index == 0 else f"project{index + 1}"),
+            packing,
+            strain,
+            force_model=ForceModel.from_config(engine_study),
+            settings=settings,
+            progress=lambda label, reached, total, elapsed, clock=project_clock: clock.append((reached, elapsed)),
+            progress_interval=0.0,
+        )
+        timed.append((engine_study, settings, window_slope(*zip(*project_clock), window)))
     worker.join()
     if "error" in peer_outcome:
         raise peer_outcome["error"]
-    project_per_strain = window_slope(*zip(*project_clock), window)
     peer_per_strain = window_slope(*zip(*peer_clock), window)
-    project_steps = 1.0 / (settings.dt * settings.rate)
     peer_steps = lfdem_steps_per_strain(peer_outcome["data"], window)
+    return [
+        row(point, particles["n"], engine_study, settings, window, project_per_strain, peer_per_strain, peer_steps)
+        for engine_study, settings, project_per_strain in timed
+    ]
+
+
+def row(point, n, study, settings, window, project_per_strain, peer_per_strain, peer_steps) -> dict:
+    """The table's row of one project engine against the LF_DEM run."""
+    project_steps = 1.0 / (settings.dt * settings.rate)
     return {
         "date": date.today().isoformat(),
         "machine": f"{platform.machine()} {os.cpu_count()} cores",
         "point": point,
-        "n": particles["n"],
+        "n": n,
         "kn": study["forces"]["kn"],
         "engine": f"{study['run']['contact_solve']} dt {settings.dt:g}",
         "window": f"{window[0]:g}-{window[1]:g}",
@@ -201,8 +238,12 @@ def main(argv: list[str] | None = None) -> None:
     run.add_argument(
         "--contact-solve",
         choices=("lagged", "newton"),
-        help="newton: the Newton solve at ten times the lagged step at a lagged point (default: the point's own)",
+        nargs="+",
+        help="newton: the Newton solve at --newton-gain times the lagged step at a lagged point (default: the "
+        "point's own); several: each timed in turn against one LF_DEM run",
     )
+    run.add_argument("--newton-gain", type=float, default=NEWTON_GAIN, help="the Newton step over the lagged one")
+    run.add_argument("--n", type=int, help="particles (default: the point's N)")
     sub.add_parser("report", help="print benchmarks/data/peer_speed.csv as a table")
     args = parser.parse_args(argv)
     if args.command == "report":
@@ -213,11 +254,19 @@ def main(argv: list[str] | None = None) -> None:
         sys.exit(1)
     if args.window[0] < 1.5:
         raise SystemExit(f"--window: starts at strain {args.window[0]:g}; steady state needs 1.5 or later")
-    row = measure(args.lfdem.resolve(), args.point, tuple(args.window), args.keep, args.contact_solve)
-    table = pd.concat([pd.read_csv(TABLE), pd.DataFrame([row])]) if TABLE.is_file() else pd.DataFrame([row])
+    rows = measure_engines(
+        args.lfdem.resolve(),
+        args.point,
+        tuple(args.window),
+        args.keep,
+        args.contact_solve or [None],
+        args.n,
+        args.newton_gain,
+    )
+    table = pd.concat([pd.read_csv(TABLE), pd.DataFrame(rows)]) if TABLE.is_file() else pd.DataFrame(rows)
     TABLE.parent.mkdir(parents=True, exist_ok=True)
     table.to_csv(TABLE, index=False)
-    print(report(pd.DataFrame([row])))
+    print(report(pd.DataFrame(rows)))
 
 
 if __name__ == "__main__":

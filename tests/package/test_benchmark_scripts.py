@@ -544,6 +544,18 @@ def test_peer_speed_with_lfdem(tmp_path, monkeypatch):
     assert (next(tmp_path.glob("peer_speed_*")) / "project" / RUN_FILES["checkpoint"]).is_file()
 
 
+@needs_lfdem
+def test_peer_speed_times_several_engines_against_one_lfdem_run(tmp_path, monkeypatch):
+    script = benchmark_script("peer_speed")
+    monkeypatch.setattr(script, "POLL_S", 0.01)
+    rows = script.measure_engines(LFDEM, "phi0.45_mu0.5", (0.05, 0.15), tmp_path, ["lagged", "newton"], N, 5.0)
+    assert [row["engine"] for row in rows] == ["lagged dt 0.0001", "newton dt 0.0005"]
+    assert rows[0]["peer_s_per_strain"] == rows[1]["peer_s_per_strain"]  # one LF_DEM run
+    assert [row["project_steps_per_strain"] for row in rows] == pytest.approx([1e4, 2e3])
+    folder = next(tmp_path.glob("peer_speed_*"))
+    assert all((folder / name / RUN_FILES["checkpoint"]).is_file() for name in ("project", "project2"))
+
+
 def test_lfdem_critical_load_reads_a_refused_run_from_its_files(study, tmp_path):
     """A run whose stress table the workflow refused (a kn below the stiff limit, chosen on purpose) is
     read from its own files by the function that writes the table: the numbers of the table."""
