@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import contextlib
 import importlib.util
+import io
 import json
 import re
 import sys
@@ -82,6 +83,19 @@ class Quote:
     passage: str
     values: Callable[..., list[float]]
     study: str | None = "reference"
+
+
+@dataclass(frozen=True)
+class GeneratedTable:
+    """A table of a page that a script prints from committed data: its head line, and the rows the
+    script prints now (tests/docs/test_benchmarks_numbers.py compares each row of the page with them)."""
+
+    page: str
+    head: str
+    rows: Callable[[], list[str]]
+
+
+GENERATED_TABLES: list[GeneratedTable] = []
 
 
 def passage_text(quote: Quote) -> str:
@@ -1694,6 +1708,165 @@ MPI_SUMMARY_QUOTES = [
     ),
 ]
 QUOTES += MPI_SUMMARY_QUOTES
+
+
+# -- BENCHMARKS.md's generated tables: printed again by their scripts from the committed data --------------
+
+
+def printed_rows(print_table: Callable[[], None]) -> list[str]:
+    """The table rows (lines starting with "|") that a script's function prints, run from the repository."""
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.chdir(REPO):
+        print_table()
+    return [line for line in out.getvalue().splitlines() if line.startswith("|")]
+
+
+GENERATED_TABLES += [
+    GeneratedTable(  # mpi_accuracy.py model --n 16000 --labels 20261206f 20261206g
+        "BENCHMARKS.md",
+        "| ranks P | grid |",
+        lambda: printed_rows(lambda: benchmark_script("mpi_accuracy").model(16000, list(CALM_TIMINGS))),
+    ),
+    GeneratedTable(  # mpi_scaling.py sizes --n 500 4000 16000 (benchmarks/data/mpi_scaling/n*/split.csv)
+        "BENCHMARKS.md",
+        "| N | ms per step | CG iterations |",
+        lambda: printed_rows(lambda: benchmark_script("mpi_scaling").sizes([500, 4000, 16000])),
+    ),
+    GeneratedTable(  # dataset_cost.py on the reference datasets' run records
+        "BENCHMARKS.md",
+        "| dataset ",
+        lambda: printed_rows(
+            lambda: benchmark_script("dataset_cost").main(
+                ["data/reference", "data/reference_v1", "data/reference_n2000"]
+            )
+        ),
+    ),
+]
+
+
+# -- BENCHMARKS.md's MPI measurement at N = 16000 (benchmarks/data/mpi_scaling/n16000/measure.csv) ------------
+
+
+def measure_figures() -> list[float]:
+    """The 1-rank and the 2-rank runs of mpi_scaling.py measure: least and largest loop time, CG iterations."""
+    table = scaling_table("n16000/measure.csv")
+    figures = []
+    for ranks in (1, 2):
+        rows = table[table["ranks"] == ranks]
+        figures += [rows["loop_s"].min(), rows["loop_s"].max(), rows["iterations"].median()]
+    return figures
+
+
+QUOTES += [
+    Quote(
+        "BENCHMARKS.md",
+        "each (1 rank: {42.5}-{42.9} s, {9.90} CG iterations per step; 2 ranks: {27.6}-{28.9} s, {15.35}):",
+        measure_figures,
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "Output: speed-up of 2 ranks over 1 (loop time), per pair: {1.55}, {1.48}, {1.53}; median {1.53} "
+        "(target >= 1.7)",
+        lambda: mpi_speedups("measure.csv"),
+        None,
+    ),
+]
+
+
+# -- BENCHMARKS.md's campaign costs (benchmarks/dataset_cost.py data/campaign: the points' run records) ---------
+
+
+@cache
+def campaign_costs() -> pd.DataFrame:
+    """dataset_cost.py's row of each campaign point, with the point's contact solve."""
+    from suspension_fabric.study.dataset import read_dataset
+
+    cost = benchmark_script("dataset_cost")
+    rows = []
+    for folder in MAP_FOLDERS:
+        run = read_dataset(REPO / folder)["config"]["run"]
+        rows.append({**cost.dataset_cost(REPO / folder), "solve": run.get("contact_solve", "lagged")})
+    table = pd.DataFrame(rows)
+    table["point"] = table["dataset"].map(lambda d: Path(d).name)
+    return table.set_index("point")
+
+
+def lagged_costs() -> list[float]:
+    """The least and the largest core-hours of the points on the lagged solve (NaN if not the points the
+    page names), then their sum."""
+    hours = campaign_costs().loc[lambda t: t["solve"] == "lagged", "core_hours"]
+    least = hours.min() if hours.idxmin() == "phi0.40_mu0" else np.nan
+    largest = hours.max() if hours.idxmax() == "phi0.53_mu0.5" else np.nan
+    return [least, largest, hours.sum()]
+
+
+QUOTES += [
+    Quote(
+        "BENCHMARKS.md",
+        "cost {0.076} (phi0.40_mu0) to {0.945} core-hours (phi0.53_mu0.5), {3.49} together",
+        lagged_costs,
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "| phi0.53_mu1 | 3.125e9 | 4e-5 | {0.674} | {0.0808} | | phi0.55_mu0.5 | 3.125e9 | 4e-5 | {0.529} | {0.0635} | "
+        "| phi0.55_mu1 | 7.8125e9 | 1.6e-5 | {1.37} | {0.165} | | all fifteen | | | {6.06} | |",
+        lambda: [
+            *(
+                campaign_costs().loc[point, column]
+                for point in ("phi0.53_mu1", "phi0.55_mu0.5", "phi0.55_mu1")
+                for column in ("core_hours", "core_s_per_particle_strain")
+            ),
+            campaign_costs()["core_hours"].sum(),
+        ],
+        None,
+    ),
+]
+
+
+# -- BENCHMARKS.md's random kills (benchmarks/chaos.py: benchmarks/data/chaos_rounds.csv) --------------------
+
+
+def chaos_kills() -> list[int]:
+    """The kills that landed, then those of Snakemake, of a LAMMPS run and of an analysis job."""
+    rounds = pd.read_csv(REPO / "benchmarks/data/chaos_rounds.csv")
+    landed = rounds[rounds["victim"] != "nothing"]
+    return [len(landed), *(int((landed["kind"] == kind).sum()) for kind in ("workflow", "lammps", "analysis"))]
+
+
+QUOTES.append(
+    Quote(
+        "BENCHMARKS.md",
+        "made once, then again while {20} SIGKILLs landed at random (Snakemake {10}, a LAMMPS run {2}, an analysis "
+        "job {8}; schedule in",
+        chaos_kills,
+        None,
+    )
+)
+
+
+# -- BENCHMARKS.md's table of the models' right-hand sides (benchmarks/data/model_vector_forms.csv) ----------
+
+VECTOR_FORM_COLUMNS = ["call_tensor_us", "call_vector_us", "call_ratio", "curves_tensor_s", "curves_vector_s"]
+VECTOR_FORM_COLUMNS += ["curves_ratio", "max_difference"]
+
+
+def vector_form_row(model: str, exponent: int) -> list[float]:
+    """A model's row of the table, its largest difference in units of 10^-exponent (as the page prints it)."""
+    row = vector_forms().set_index("model").loc[model, VECTOR_FORM_COLUMNS].astype(float)
+    return [*row.iloc[:-1], 10.0**exponent * row.iloc[-1]]
+
+
+QUOTES.append(
+    Quote(
+        "BENCHMARKS.md",
+        "| gw_hybrid | {111.3} | {31.4} | {3.54} | {0.163} | {0.058} | {2.8} | {7.2}e-09 | "
+        "| sparse | {57.8} | {8.4} | {6.86} | {0.091} | {0.026} | {3.5} | {1.4}e-14 |",
+        lambda: vector_form_row("gw_hybrid", 9) + vector_form_row("sparse", 14),
+        None,
+    )
+)
 
 
 # -- LF_DEM's critical-load friction against the project's (benchmarks/lfdem_critical_load.py --save) ------
