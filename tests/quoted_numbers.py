@@ -2327,3 +2327,68 @@ QUOTES.append(
         None,
     )
 )
+
+
+# -- BENCHMARKS.md's fuzz tests: the cases tests/package/test_fuzz.py asks for --------------------------------
+
+
+@cache
+def fuzz_counts() -> dict:
+    """tests/package/test_fuzz.py's examples per target (CASES), its tests (one per parameter set) and, per
+    target, its properties (one per parameter set)."""
+    import inspect
+    import math
+    from collections import Counter
+
+    spec = importlib.util.spec_from_file_location("fuzz_cases", REPO / "tests/package/test_fuzz.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # its dataclasses look their module up
+    try:
+        spec.loader.exec_module(module)
+    finally:
+        del sys.modules[spec.name]
+    tests, properties = 0, Counter()
+    for name, test in vars(module).items():
+        if name.startswith("test_") and callable(test):
+            marks = [mark for mark in getattr(test, "pytestmark", []) if mark.name == "parametrize"]
+            cases = math.prod(len(mark.args[1]) for mark in marks)
+            tests += cases
+            target = re.search(r'@fuzz\("([^"]+)"', inspect.getsource(test))
+            if target:
+                properties[target.group(1)] += cases
+    return {"examples": module.CASES, "extreme": len(module.EXTREME_CASES), "tests": tests, "properties": properties}
+
+
+QUOTES += [
+    Quote(
+        "BENCHMARKS.md",
+        "derandomized; {132} tests in",
+        lambda: [fuzz_counts()["tests"]],
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "Cases per target: config mutations {300}, sections as text {120}, NaN {100}, extreme numbers",
+        lambda: [
+            fuzz_counts()["examples"][name] for name in ("config mutations", "config sections as text", "config NaN")
+        ],
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "(exhaustive); file corruption {40} per (file, kind), {86} pairs; dataset run files {100}; frames {300} per "
+        "property ({5}); model {300} per property ({5}); model rotations {150} per property and model ({4}); fabric "
+        "models {150} per property and model ({7}).",
+        lambda: [
+            fuzz_counts()["examples"]["file corruption"],
+            fuzz_counts()["properties"]["file corruption"],
+            fuzz_counts()["examples"]["dataset run files"],
+            *(
+                figure
+                for name in ("frames", "model", "model rotations", "fabric models")
+                for figure in (fuzz_counts()["examples"][name], fuzz_counts()["properties"][name])
+            ),
+        ],
+        None,
+    ),
+]
