@@ -1964,11 +1964,17 @@ def validation_means(source: str) -> pd.DataFrame:
     return table[table["source"] == source].drop(columns="source")
 
 
+@cache
+def _seed_series(source: str) -> dict[tuple[str, str, str], pd.Series]:
+    return {
+        key: rows.set_index("seed")["value"].sort_index()
+        for key, rows in validation_means(source).groupby(["run", "quantity", "window"])
+    }
+
+
 def seed_values(source: str, run: str, quantity: str, window: str) -> pd.Series:
     """Per seed (the index), one quantity's mean in one window of one run."""
-    table = validation_means(source)
-    chosen = (table["run"] == run) & (table["quantity"] == quantity) & (table["window"] == window)
-    return table[chosen].set_index("seed")["value"].sort_index()
+    return _seed_series(source)[(run, quantity, window)]
 
 
 def steady_values(source: str, quantity: str) -> pd.Series:
