@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import contextlib
 import importlib.util
+import io
 import json
 import re
 import sys
@@ -82,6 +83,19 @@ class Quote:
     passage: str
     values: Callable[..., list[float]]
     study: str | None = "reference"
+
+
+@dataclass(frozen=True)
+class GeneratedTable:
+    """A table of a page that a script prints from committed data: its head line, and the rows the
+    script prints now (tests/docs/test_benchmarks_numbers.py compares each row of the page with them)."""
+
+    page: str
+    head: str
+    rows: Callable[[], list[str]]
+
+
+GENERATED_TABLES: list[GeneratedTable] = []
 
 
 def passage_text(quote: Quote) -> str:
@@ -1696,6 +1710,483 @@ MPI_SUMMARY_QUOTES = [
 QUOTES += MPI_SUMMARY_QUOTES
 
 
+# -- BENCHMARKS.md's generated tables: printed again by their scripts from the committed data --------------
+
+
+def printed_rows(print_table: Callable[[], None]) -> list[str]:
+    """The table rows (lines starting with "|") that a script's function prints, run from the repository."""
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.chdir(REPO):
+        print_table()
+    return [line for line in out.getvalue().splitlines() if line.startswith("|")]
+
+
+GENERATED_TABLES += [
+    GeneratedTable(  # mpi_accuracy.py model --n 16000 --labels 20261206f 20261206g
+        "BENCHMARKS.md",
+        "| ranks P | grid |",
+        lambda: printed_rows(lambda: benchmark_script("mpi_accuracy").model(16000, list(CALM_TIMINGS))),
+    ),
+    GeneratedTable(  # mpi_scaling.py sizes --n 500 4000 16000 (benchmarks/data/mpi_scaling/n*/split.csv)
+        "BENCHMARKS.md",
+        "| N | ms per step | CG iterations |",
+        lambda: printed_rows(lambda: benchmark_script("mpi_scaling").sizes([500, 4000, 16000])),
+    ),
+    GeneratedTable(  # dataset_cost.py on the reference datasets' run records
+        "BENCHMARKS.md",
+        "| dataset ",
+        lambda: printed_rows(
+            lambda: benchmark_script("dataset_cost").main(
+                ["data/reference", "data/reference_v1", "data/reference_n2000"]
+            )
+        ),
+    ),
+]
+
+
+# -- BENCHMARKS.md's MPI measurement at N = 16000 (benchmarks/data/mpi_scaling/n16000/measure.csv) ------------
+
+
+def measure_figures() -> list[float]:
+    """The 1-rank and the 2-rank runs of mpi_scaling.py measure: least and largest loop time, CG iterations."""
+    table = scaling_table("n16000/measure.csv")
+    figures = []
+    for ranks in (1, 2):
+        rows = table[table["ranks"] == ranks]
+        figures += [rows["loop_s"].min(), rows["loop_s"].max(), rows["iterations"].median()]
+    return figures
+
+
+QUOTES += [
+    Quote(
+        "BENCHMARKS.md",
+        "each (1 rank: {42.5}-{42.9} s, {9.90} CG iterations per step; 2 ranks: {27.6}-{28.9} s, {15.35}):",
+        measure_figures,
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "Output: speed-up of 2 ranks over 1 (loop time), per pair: {1.55}, {1.48}, {1.53}; median {1.53} "
+        "(target >= 1.7)",
+        lambda: mpi_speedups("measure.csv"),
+        None,
+    ),
+]
+
+
+# -- BENCHMARKS.md's campaign costs (benchmarks/dataset_cost.py data/campaign: the points' run records) ---------
+
+
+@cache
+def campaign_costs() -> pd.DataFrame:
+    """dataset_cost.py's row of each campaign point, with the point's contact solve."""
+    from suspension_fabric.study.dataset import read_dataset
+
+    cost = benchmark_script("dataset_cost")
+    rows = []
+    for folder in MAP_FOLDERS:
+        run = read_dataset(REPO / folder)["config"]["run"]
+        rows.append({**cost.dataset_cost(REPO / folder), "solve": run.get("contact_solve", "lagged")})
+    table = pd.DataFrame(rows)
+    table["point"] = table["dataset"].map(lambda d: Path(d).name)
+    return table.set_index("point")
+
+
+def lagged_costs() -> list[float]:
+    """The least and the largest core-hours of the points on the lagged solve (NaN if not the points the
+    page names), then their sum."""
+    hours = campaign_costs().loc[lambda t: t["solve"] == "lagged", "core_hours"]
+    least = hours.min() if hours.idxmin() == "phi0.40_mu0" else np.nan
+    largest = hours.max() if hours.idxmax() == "phi0.53_mu0.5" else np.nan
+    return [least, largest, hours.sum()]
+
+
+QUOTES += [
+    Quote(
+        "BENCHMARKS.md",
+        "cost {0.076} (phi0.40_mu0) to {0.945} core-hours (phi0.53_mu0.5), {3.49} together",
+        lagged_costs,
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "| phi0.53_mu1 | 3.125e9 | 4e-5 | {0.674} | {0.0808} | | phi0.55_mu0.5 | 3.125e9 | 4e-5 | {0.529} | {0.0635} | "
+        "| phi0.55_mu1 | 7.8125e9 | 1.6e-5 | {1.37} | {0.165} | | all fifteen | | | {6.06} | |",
+        lambda: [
+            *(
+                campaign_costs().loc[point, column]
+                for point in ("phi0.53_mu1", "phi0.55_mu0.5", "phi0.55_mu1")
+                for column in ("core_hours", "core_s_per_particle_strain")
+            ),
+            campaign_costs()["core_hours"].sum(),
+        ],
+        None,
+    ),
+]
+
+
+# -- BENCHMARKS.md's random kills (benchmarks/chaos.py: benchmarks/data/chaos_rounds.csv) --------------------
+
+
+def chaos_kills() -> list[int]:
+    """The kills that landed, then those of Snakemake, of a LAMMPS run and of an analysis job."""
+    rounds = pd.read_csv(REPO / "benchmarks/data/chaos_rounds.csv")
+    landed = rounds[rounds["victim"] != "nothing"]
+    return [len(landed), *(int((landed["kind"] == kind).sum()) for kind in ("workflow", "lammps", "analysis"))]
+
+
+QUOTES.append(
+    Quote(
+        "BENCHMARKS.md",
+        "made once, then again while {20} SIGKILLs landed at random (Snakemake {10}, a LAMMPS run {2}, an analysis "
+        "job {8}; schedule in",
+        chaos_kills,
+        None,
+    )
+)
+
+
+# -- BENCHMARKS.md's table of the models' right-hand sides (benchmarks/data/model_vector_forms.csv) ----------
+
+VECTOR_FORM_COLUMNS = ["call_tensor_us", "call_vector_us", "call_ratio", "curves_tensor_s", "curves_vector_s"]
+VECTOR_FORM_COLUMNS += ["curves_ratio", "max_difference"]
+
+
+def vector_form_row(model: str, exponent: int) -> list[float]:
+    """A model's row of the table, its largest difference in units of 10^-exponent (as the page prints it)."""
+    row = vector_forms().set_index("model").loc[model, VECTOR_FORM_COLUMNS].astype(float)
+    return [*row.iloc[:-1], 10.0**exponent * row.iloc[-1]]
+
+
+QUOTES.append(
+    Quote(
+        "BENCHMARKS.md",
+        "| gw_hybrid | {111.3} | {31.4} | {3.54} | {0.163} | {0.058} | {2.8} | {7.2}e-09 | "
+        "| sparse | {57.8} | {8.4} | {6.86} | {0.091} | {0.026} | {3.5} | {1.4}e-14 |",
+        lambda: vector_form_row("gw_hybrid", 9) + vector_form_row("sparse", 14),
+        None,
+    )
+)
+
+
+# -- BENCHMARKS.md's engine validations (commit 85ba66c: benchmarks/engine_validation.py) -------------------
+# The runs compared with a committed dataset are in git history only: benchmarks/data/engine_validation/
+# seed_means.csv keeps what the comparison reads of them (write_seed_means), and the committed datasets
+# are read the same way here.
+
+VALIDATION_FABRIC = ("n11", "n22", "n33", "n12", "n13", "n23", "Z")
+VALIDATION_STRESS = ("eta_r", "contact_12", "lubrication_12", "N1", "N2", "Pi")
+VALIDATION_ANGLES = (0, 45, 90, 135, 180)
+#: after each rotation: (table, column) in each strain bin (engine_ladder.BINS; the last one closed at its end)
+VALIDATION_TRANSIENTS = (("fabric", "n12"), ("fabric", "n23"), ("stress", "total_12"), ("stress", "total_23"))
+VALIDATION_BINS = ((0.0, 0.05), (0.05, 0.1), (0.1, 0.2), (0.2, 0.3), (0.3, 0.5), (0.5, 1.0), (1.0, 2.0))
+#: the strains [low, high) after the reversal over which the page reads <nn>'_12's recovery
+REVERSAL_WINDOW = (0.2, 0.5)
+SEED_MEANS = REPO / "benchmarks/data/engine_validation/seed_means.csv"
+#: the seed folders in git history that seed_means.csv keeps: (its name there, commit, folder)
+HISTORY_RUNS = [
+    (
+        "newton_paper",
+        "85ba66cd05eefedc91b9e4868d634795f95bde49",
+        "benchmarks/data/engine_validation/engine_newton_paper",
+    ),
+    (
+        "newton_paper",
+        "85ba66cd05eefedc91b9e4868d634795f95bde49",
+        "benchmarks/data/engine_validation/engine_newton_paper_seeds5-8",
+    ),
+    # the map's first datasets of the points the engine's rule made again (the commit before b71fca33)
+    ("first_phi0.53_mu0", "f3502a093a156c0b78fb52797f861b7551ad0bfc", "data/campaign/phi0.53_mu0"),
+    ("first_phi0.55_mu0.5", "f3502a093a156c0b78fb52797f861b7551ad0bfc", "data/campaign/phi0.55_mu0.5"),
+]
+
+
+def _window_mean(strain: np.ndarray, values: np.ndarray, low: float, high: float, closed: bool) -> float:
+    return float(values[(strain >= low) & ((strain < high) | (closed & (strain <= high)))].mean())
+
+
+def seed_means(folder: Path) -> pd.DataFrame:
+    """Per seed of a folder of seed folders, what engine_validation.py compares: each steady quantity's
+    mean over the startup's strain 2-5 (window "2-5"), each transient's mean in each strain bin after
+    each rotation, <nn>'_12 over REVERSAL_WINDOW after the reversal, and each run's wall time."""
+    rows = []
+    for seed_folder in sorted(folder.glob("seed*")):
+        seed = int(seed_folder.name.removeprefix("seed"))
+
+        def add(run: str, quantity: str, window: str, value: float, seed=seed) -> None:
+            rows.append({"seed": seed, "run": run, "quantity": quantity, "window": window, "value": value})
+
+        for kind, columns in (("fabric", VALIDATION_FABRIC), ("stress", VALIDATION_STRESS)):
+            table = pd.read_csv(seed_folder / "startup" / f"{kind}.csv", usecols=["strain", *columns])
+            for column in columns:
+                value = _window_mean(table["strain"].to_numpy(), table[column].to_numpy(float), *STEADY_STRAINS, True)
+                add("startup", column, "2-5", value)
+        for angle in VALIDATION_ANGLES:
+            run = f"rotation_theta{angle}"
+            for kind, column in VALIDATION_TRANSIENTS:
+                table = pd.read_csv(seed_folder / run / f"{kind}.csv", usecols=["strain", column])
+                strain, values = table["strain"].to_numpy(), table[column].to_numpy(float)
+                for k, (low, high) in enumerate(VALIDATION_BINS):
+                    add(run, column, f"{low:g}-{high:g}", _window_mean(strain, values, low, high, k == 6))
+                if angle == 180 and column == "n12":
+                    add(
+                        run,
+                        column,
+                        "{:g}-{:g}".format(*REVERSAL_WINDOW),
+                        _window_mean(strain, values, *REVERSAL_WINDOW, False),
+                    )
+        for record in sorted(seed_folder.glob("*/run.json")):
+            add(record.parent.name, "wall_time_s", "run", json.loads(record.read_text())["wall_time_s"])
+    return pd.DataFrame(rows)
+
+
+def write_seed_means() -> None:
+    """Writes SEED_MEANS from the seed folders of HISTORY_RUNS, read out of git history (run once; kept)."""
+    import subprocess
+    import tempfile
+
+    tables = []
+    with tempfile.TemporaryDirectory() as scratch:
+        for name, commit, folder in HISTORY_RUNS:
+            archive = subprocess.run(["git", "archive", commit, folder], cwd=REPO, check=True, capture_output=True)
+            subprocess.run(["tar", "-x", "-C", scratch], input=archive.stdout, check=True)
+            tables.append(seed_means(Path(scratch) / folder).assign(source=name))
+    table = pd.concat(tables, ignore_index=True)
+    table[["source", *table.columns[:-1]]].to_csv(SEED_MEANS, index=False, float_format="%.10g")
+
+
+@cache
+def validation_means(source: str) -> pd.DataFrame:
+    """seed_means of a committed folder of seed folders (a path), or of runs SEED_MEANS keeps (their name)."""
+    if (REPO / source).is_dir():
+        return seed_means(REPO / source)
+    table = pd.read_csv(SEED_MEANS)
+    return table[table["source"] == source].drop(columns="source")
+
+
+@cache
+def _seed_series(source: str) -> dict[tuple[str, str, str], pd.Series]:
+    return {
+        key: rows.set_index("seed")["value"].sort_index()
+        for key, rows in validation_means(source).groupby(["run", "quantity", "window"])
+    }
+
+
+def seed_values(source: str, run: str, quantity: str, window: str) -> pd.Series:
+    """Per seed (the index), one quantity's mean in one window of one run."""
+    return _seed_series(source)[(run, quantity, window)]
+
+
+def steady_values(source: str, quantity: str) -> pd.Series:
+    return seed_values(source, "startup", quantity, "{:g}-{:g}".format(*STEADY_STRAINS))
+
+
+def welch_row(study: str, dataset: str, quantity: str) -> list[float]:
+    """engine_validation.py's steady row: each side's mean, standard error and seeds, the difference,
+    it in percent of the dataset's mean, z and Welch's p."""
+    from scipy import stats
+
+    x, y = steady_values(study, quantity).to_numpy(), steady_values(dataset, quantity).to_numpy()
+    sems = [v.std(ddof=1) / np.sqrt(len(v)) for v in (x, y)]
+    difference = x.mean() - y.mean()
+    z = difference / np.hypot(*sems)
+    p = stats.ttest_ind(x, y, equal_var=False).pvalue
+    return [x.mean(), sems[0], len(x), y.mean(), sems[1], len(y), difference, 100 * difference / abs(y.mean()), z, p]
+
+
+def bin_zs(study: str, dataset: str) -> np.ndarray:
+    """z of each strain bin after each rotation (Welch's, over the seeds of each side)."""
+    zs = []
+    for angle in VALIDATION_ANGLES:
+        for _, column in VALIDATION_TRANSIENTS:
+            for low, high in VALIDATION_BINS:
+                x, y = (seed_values(s, f"rotation_theta{angle}", column, f"{low:g}-{high:g}") for s in (study, dataset))
+                zs.append(
+                    (x.mean() - y.mean()) / np.hypot(x.std(ddof=1) / np.sqrt(len(x)), y.std(ddof=1) / np.sqrt(len(y)))
+                )
+    return np.array(zs)
+
+
+def paired_interval(study: str, dataset: str, run: str, quantity: str, window: str, level: float = 0.95):
+    """Over the seeds both sides ran: the mean of the per-seed differences and its t-interval."""
+    from scipy import stats
+
+    x, y = seed_values(study, run, quantity, window), seed_values(dataset, run, quantity, window)
+    d = (x - y).dropna().to_numpy()
+    half = stats.t.ppf(0.5 + level / 2, len(d) - 1) * d.std(ddof=1) / np.sqrt(len(d))
+    return [d.mean(), d.mean() - half, d.mean() + half]
+
+
+def welch_null(seeds_a: int, seeds_b: int, count: int, draws: int = 20000, level: float = 0.95) -> list[float]:
+    """engine_validation.py's Monte Carlo of Welch's z of ``count`` normal quantities (fixed seed): how many
+    exceed 2 on average, and the |z| that the largest exceeds in 1 - level of the draws."""
+    rng = np.random.default_rng(0)
+    a = rng.normal(size=(draws, seeds_a, count))
+    b = rng.normal(size=(draws, seeds_b, count))
+    z = np.abs(a.mean(axis=1) - b.mean(axis=1)) / np.sqrt(
+        a.var(axis=1, ddof=1) / seeds_a + b.var(axis=1, ddof=1) / seeds_b
+    )
+    return [float((z > 2.0).sum(axis=1).mean()), float(np.quantile(z.max(axis=1), level))]
+
+
+def sidak_bound(count: int, level: float = 0.95) -> float:
+    """|z| that the largest of ``count`` independent standard normals exceeds with 1 - level."""
+    from scipy import stats
+
+    return float(stats.norm.ppf(1.0 - (1.0 - level ** (1.0 / count)) / 2.0))
+
+
+PAPER_STUDY, PAPER_DATASET = "newton_paper", "data/reference"
+
+
+def paper_point_reading() -> list[float]:
+    """The Newton solve at the paper's point against data/reference, in the order the page reads it."""
+    zs = np.abs(bin_zs(PAPER_STUDY, PAPER_DATASET))
+    fabric = [abs(welch_row(PAPER_STUDY, PAPER_DATASET, c)[6]) for c in VALIDATION_FABRIC if c != "Z"]
+    return [
+        welch_row(PAPER_STUDY, PAPER_DATASET, "eta_r")[7],
+        welch_row(PAPER_STUDY, PAPER_DATASET, "Pi")[7],
+        max(fabric),
+        len(zs),
+        int((zs > 2).sum()),
+        0.0455 * len(zs),  # the normal expectation engine_validation.py prints
+        zs.max(),
+        sidak_bound(len(zs)),
+    ]
+
+
+QUOTES += [
+    Quote(
+        "BENCHMARKS.md",
+        "| Z | {3.4984} +- {0.0056} ({8}) | {3.4994} +- {0.0052} ({16}) | "
+        "{-0.0010} ({-0.0}%) | {-0.13} | {0.897} | "
+        "| eta_r | {15.3865} +- {0.1801} ({8}) | {15.5348} +- {0.1447} ({16}) | "
+        "{-0.1483} ({-1.0}%) | {-0.64} | {0.530} | "
+        "| N1 | {-1.4174} +- {0.1891} ({8}) | {-1.2152} +- {0.1075} ({16}) | "
+        "{-0.2021} ({-16.6}%) | {-0.93} | {0.372} | "
+        "| N2 | {-5.2768} +- {0.1012} ({8}) | {-5.5605} +- {0.0977} ({16}) | "
+        "{+0.2837} ({+5.1}%) | {+2.02} | {0.058} | "
+        "| Pi | {12.2049} +- {0.2292} ({8}) | {12.2364} +- {0.1846} ({16}) | "
+        "{-0.0315} ({-0.3}%) | {-0.11} | {0.916} |",
+        lambda: [v for q in ("Z", "eta_r", "N1", "N2", "Pi") for v in welch_row(PAPER_STUDY, PAPER_DATASET, q)],
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "The paper's point agrees: eta_r {-1.0}%, Pi {-0.3}%, every fabric component within {0.0025}; {140} transient "
+        "bins, {5} with |z| > 2 ({6.4} expected by chance), the largest ({2.74}) inside the Sidak 95% bound ({3.56}).",
+        paper_point_reading,
+        None,
+    ),
+]
+
+
+# the engine's rule against the map's first datasets (benchmarks/configs/engine_rule_points.yaml, now in data/campaign)
+RULE_POINTS = {point: (f"data/campaign/{point}", f"first_{point}") for point in ("phi0.53_mu0", "phi0.55_mu0.5")}
+
+
+def rule_row(point: str) -> list[float]:
+    """A point's row: eta_r's paired difference with its 95% t-interval, Welch's p, the bins beyond |z| = 2
+    and the largest |z|."""
+    study, first = RULE_POINTS[point]
+    zs = np.abs(bin_zs(study, first))
+    return [
+        *paired_interval(study, first, "startup", "eta_r", "2-5"),
+        welch_row(study, first, "eta_r")[9],
+        int((zs > 2).sum()),
+        zs.max(),
+    ]
+
+
+def rule_ratio(point: str) -> float:
+    """kn / (eta_f Pi) in units of 1e4 at the rule study's stiffness, Pi the steady pressure of the point's
+    dataset in data/campaign (the first one, for a point the rule did not make again)."""
+    import yaml
+
+    config = yaml.safe_load((REPO / "benchmarks/configs/engine_rule_points.yaml").read_text())["forces"]
+    return config["kn"] / (config["eta_f"] * steady_stress(f"data/campaign/{point}", "Pi")) / 1e4
+
+
+def solver_reading() -> list[float]:
+    """(0.55, 0.5): eta_r's paired change in percent of the first dataset's mean (lowered: positive) with its
+    interval, Pi's change, the seeds' eta_r on both sides, the rerun's reversal recovery and both costs."""
+    study, first = RULE_POINTS["phi0.55_mu0.5"]
+    mean = steady_values(first, "eta_r").mean()
+    change, low, high = (100 * v / mean for v in paired_interval(study, first, "startup", "eta_r", "2-5"))
+    first_hours = validation_means(first).query("quantity == 'wall_time_s'")["value"].sum() / 3600
+    return [
+        -change,
+        low,
+        high,
+        -welch_row(study, first, "Pi")[7],
+        *steady_values(study, "eta_r"),
+        *steady_values(first, "eta_r"),
+        *paired_interval(study, first, "rotation_theta180", "n12", "{:g}-{:g}".format(*REVERSAL_WINDOW)),
+        campaign_costs().loc["phi0.55_mu0.5", "core_hours"],
+        first_hours,
+    ]
+
+
+QUOTES += [
+    Quote(
+        "BENCHMARKS.md",
+        "(0.45, 1) at the ratio {3}e4, which the rule does not take",
+        lambda: [rule_ratio("phi0.45_mu1")],
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "| phi0.53_mu0 | kn 1.25e8, dt 1e-4 | kn 2.5e8, dt 5e-5 | {-0.02} [{-0.28}, {+0.25}]; {0.97} | {4} | {3.82} | "
+        "| phi0.55_mu0.5 | Newton, extrapolated start, local solves, tol 3e-4 | Newton, tol 1e-3 | {-14.5} [{-21.0}, "
+        "{-8.0}]; {0.13} | {12} | {4.95} |",
+        lambda: rule_row("phi0.53_mu0") + rule_row("phi0.55_mu0.5"),
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "Welch's z of {4} against {4} seeds is heavy-tailed: for {140} independent normal bins {13} are expected "
+        "beyond 2 and the largest beyond {7.12} in 5% of draws",
+        lambda: [
+            *(len(steady_values(s, "eta_r")) for s in RULE_POINTS["phi0.53_mu0"]),
+            len(bin_zs(*RULE_POINTS["phi0.53_mu0"])),
+            *welch_null(4, 4, len(bin_zs(*RULE_POINTS["phi0.53_mu0"]))),
+        ],
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "and the reason the rule's ratio lies above {3.1}e4. (0.53, 0), which the rule keeps at the default "
+        "stiffness (ratio {3.7}e4), shows none: {+0.0016} [{-0.0040}, {+0.0072}].",
+        lambda: [
+            rule_ratio("phi0.45_mu1"),
+            rule_ratio("phi0.53_mu0"),
+            *paired_interval(*RULE_POINTS["phi0.53_mu0"], "rotation_theta180", "n12", "0.2-0.5"),
+        ],
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "the rule's solve lowers eta_r by {8.1}% (paired [{-11.8}, {-4.5}]%, all 4 packings) and Pi by {9.5}% "
+        "against the first dataset; per packing {182}, {160}, {155}, {158} against {193}, {180}, {171}, {169}.",
+        lambda: solver_reading()[:12],
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "at this point carries a solver uncertainty of about {8}-{10}%.",
+        lambda: [solver_reading()[0], solver_reading()[3]],
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "later recovery as (0.45, 1), {+0.0090} [{+0.0022}, {+0.0157}] (not investigated). Its cost, {0.529} "
+        "against {1.32} core-hours,",
+        lambda: solver_reading()[12:],
+        None,
+    ),
+]
+
+
 # -- LF_DEM's critical-load friction against the project's (benchmarks/lfdem_critical_load.py --save) ------
 
 
@@ -1842,3 +2333,68 @@ QUOTES.append(
         None,
     )
 )
+
+
+# -- BENCHMARKS.md's fuzz tests: the cases tests/package/test_fuzz.py asks for --------------------------------
+
+
+@cache
+def fuzz_counts() -> dict:
+    """tests/package/test_fuzz.py's examples per target (CASES), its tests (one per parameter set) and, per
+    target, its properties (one per parameter set)."""
+    import inspect
+    import math
+    from collections import Counter
+
+    spec = importlib.util.spec_from_file_location("fuzz_cases", REPO / "tests/package/test_fuzz.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # its dataclasses look their module up
+    try:
+        spec.loader.exec_module(module)
+    finally:
+        del sys.modules[spec.name]
+    tests, properties = 0, Counter()
+    for name, test in vars(module).items():
+        if name.startswith("test_") and callable(test):
+            marks = [mark for mark in getattr(test, "pytestmark", []) if mark.name == "parametrize"]
+            cases = math.prod(len(mark.args[1]) for mark in marks)
+            tests += cases
+            target = re.search(r'@fuzz\("([^"]+)"', inspect.getsource(test))
+            if target:
+                properties[target.group(1)] += cases
+    return {"examples": module.CASES, "extreme": len(module.EXTREME_CASES), "tests": tests, "properties": properties}
+
+
+QUOTES += [
+    Quote(
+        "BENCHMARKS.md",
+        "derandomized; {132} tests in",
+        lambda: [fuzz_counts()["tests"]],
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "Cases per target: config mutations {300}, sections as text {120}, NaN {100}, extreme numbers",
+        lambda: [
+            fuzz_counts()["examples"][name] for name in ("config mutations", "config sections as text", "config NaN")
+        ],
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "(exhaustive); file corruption {40} per (file, kind), {86} pairs; dataset run files {100}; frames {300} per "
+        "property ({5}); model {300} per property ({5}); model rotations {150} per property and model ({4}); fabric "
+        "models {150} per property and model ({7}).",
+        lambda: [
+            fuzz_counts()["examples"]["file corruption"],
+            fuzz_counts()["properties"]["file corruption"],
+            fuzz_counts()["examples"]["dataset run files"],
+            *(
+                figure
+                for name in ("frames", "model", "model rotations", "fabric models")
+                for figure in (fuzz_counts()["examples"][name], fuzz_counts()["properties"][name])
+            ),
+        ],
+        None,
+    ),
+]

@@ -4,10 +4,21 @@ datasets alone (their records, sizes and steady states) are the data's, at the p
 The numbers of a rebuilt study are compared with its tables inside its rebuild test
 (tests/workflow/test_reference.py)."""
 
+import re
+
 import pytest
 
 import quoted_numbers
-from quoted_numbers import QUOTES, Quote, passage_problems, printed, value_problems
+from quoted_numbers import (
+    GENERATED_TABLES,
+    QUOTES,
+    REPO,
+    Quote,
+    fragment_problems,
+    passage_problems,
+    printed,
+    value_problems,
+)
 
 
 def test_every_quoted_passage_is_in_its_page():
@@ -18,6 +29,21 @@ def test_every_quoted_passage_is_in_its_page():
 def test_the_numbers_quoted_from_the_committed_datasets_are_theirs():
     problems = value_problems([q for q in QUOTES if q.study is None], {})
     assert not problems, "\n".join(problems)
+
+
+@pytest.mark.parametrize("table", GENERATED_TABLES, ids=lambda table: f"{table.page} {table.head}")
+def test_each_generated_table_is_what_its_script_prints_now(table):
+    """Each row of the page's table (its head too) is a row the script prints from the committed data
+    now, to a unit in the last digit."""
+    lines = (REPO / table.page).read_text().splitlines()
+    first = next(k for k, line in enumerate(lines) if line.startswith(table.head))
+    last = first
+    while last + 1 < len(lines) and lines[last + 1].startswith("|"):
+        last += 1
+    page_rows = [lines[first], *lines[first + 2 : last + 1]]  # the head and the rows, not the delimiter
+    made = [re.sub(r"\s+", " ", row) for row in table.rows()]
+    problems = [row for row in page_rows if not any(not fragment_problems(m, re.sub(r"\s+", " ", row)) for m in made)]
+    assert not problems, "no row the script prints now matches:\n" + "\n".join(problems)
 
 
 def test_every_quote_reads_a_known_study():
