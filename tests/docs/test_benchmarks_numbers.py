@@ -63,8 +63,6 @@ UNTIED: list[tuple[str | None, str, str]] = [
     ("The workflow's own cost", r"\d+ s\b|\d+ jobs", "the rebuilds' wall times"),
     ("Random kills", r"\d+ of \d+ result files|in \d+ files", "chaos.py keeps only the kills"),
     ("Fuzz tests: cases per target", r"in \d+ s on one core", "the run's time"),
-    # stale: tests/package/test_fuzz.py draws len(EXTREME_CASES) = 238 cases now
-    ("Fuzz tests: cases per target", r"extreme numbers 231", "disagrees with its table"),
 ]
 
 

@@ -17,7 +17,7 @@ config sections as text
     Giving any mapping or list of a (mutated, text-free) config as its YAML text gives the same
     outcome as giving it as such: the same validated config or the same ``ConfigError``
     (``config._coerce_command_line_text``: overrides validate like files).
-config extreme numbers (not random: all 231 EXTREME_CASES, exhaustively)
+config extreme numbers (not random: all EXTREME_CASES, exhaustively)
     Every number of the minimal config with its defaults filled set, one at a time, to NaN,
     +-inf, +-10**400 or a subnormal float: validated or ``ConfigError`` naming a key, never
     another exception.
