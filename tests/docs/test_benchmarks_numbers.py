@@ -27,6 +27,7 @@ SETTINGS: list[tuple[str | None, str, str]] = [
     (None, r"\b(?:N|kn|dt|phi|mu|tol|solver_tol)(?: = | )\d[\d.e+-]*", "a setting, named"),
     (None, r"\(0\.\d+, \d(?:\.\d+)?\)", "a state point (phi, mu)"),
     (None, r"\b\d+(?:-\d+)? (?:seeds|packings|states|rounds|ranks?|idle cores|cores)\b(?: against 1)?", "the runs"),
+    (None, r"\bSeed \d+ of\b", "the packing's seed"),
     (None, r"\bon \d+ (?:and on \d+ ranks|rank)|\bmedians of \d+|\bnice \d+", "ranks, rounds, a priority"),
     (None, r"\b(?:to )?strain \d[\d.]*(?:-\d[\d.]*)?|\b[\d.]+ strain\b|\(\d+ steps\)", "the strain run"),
     (None, r"\| the target of engine III \| [\d.]+ \|", "a target the issues name"),
@@ -48,7 +49,6 @@ UNTIED: list[tuple[str | None, str, str]] = [
     ("The rebuilds under two floating-point configurations", r".*", "float_configs.py"),
     ("Pair stresslets against force dipoles", r".*", "stresslet_vs_dipole.py"),
     # edited on another branch now: to tie when it lands
-    ("Speed against LF_DEM: the same packing, in the same run", r".*", "benchmarks/data/peer_speed.csv"),
     ("Shear thickening: critical-load friction", r".*", "the costs: dataset_cost.py on data/thickening*"),
     # runs whose records are not kept
     ("The cost per atom against N", r"~20% slow", "the slow run"),
