@@ -800,9 +800,9 @@ QUOTES += [
     ),
     Quote(
         GW_STRESS,
-        "In the steady state that pressure is almost nil ({0.025} of Pi = {12.24} in the reference data: approaching "
-        "and separating pairs cancel), early in startup it dominates ({2.9} of Pi = {3.8} at strain 0.2-0.3 in the "
-        "reference data",
+        "In the steady state that pressure is almost nil ({0.025} of $\\Pi = {12.24}$ in the reference data: "
+        "approaching and separating pairs cancel), early in startup it dominates ({2.9} of $\\Pi = {3.8}$ at strain "
+        "0.2-0.3 in the reference data",
         lambda r: [
             _lubrication_pressure(r.table("stress_steady_state.csv").set_index("quantity")["mean"]),
             steady(r, "Pi"),
