@@ -725,14 +725,15 @@ FABRIC_MODELS = "docs/fabric_models.md"
 QUOTES += [
     Quote(
         FABRIC_MODELS,
-        "(it needs $b_c \\approx {-4.6}$), hence the choice of <nn>_33 (<nn>_22 and <nn>_33 differ by {0.5}% there)",
+        "(it needs $b_c \\approx {-4.6}$), hence the choice of $\\langle nn\\rangle_{33}$ "
+        "($\\langle nn\\rangle_{22}$ and $\\langle nn\\rangle_{33}$ differ by {0.5}% there)",
         lambda: [_separate_rates_fitted_to_22()["beta_c"], _n22_over_n33_percent()],
         None,
     ),
     Quote(
         FABRIC_MODELS,
         "(its peak is within {0.03} of the simulation's from 45 to 105 degrees, where the modified model overshoots "
-        "by {23}-{42}% of <nn>_12^ss)",
+        "by {23}-{42}% of $\\langle nn\\rangle^{\\mathrm{ss}}_{12}$)",
         lambda r: [
             max(abs(peaks(r).loc[t, "separate_rates"] - peaks(r).loc[t, "simulation"]) for t in (45, 60, 75, 90, 105)),
             min(100 * (peaks(r).loc[t, "modified"] - peaks(r).loc[t, "simulation"]) for t in (45, 60, 75, 90, 105)),
@@ -742,7 +743,7 @@ QUOTES += [
     Quote(
         FABRIC_MODELS,
         "(better by {0.004} [{0.001}, {0.007}]). The separate-rates model recovers slowly after the rotation (its "
-        "breaking rate beta_e = {4.6} is less than half G-W's beta = {11.0})",
+        "breaking rate $\\beta_e = {4.6}$ is less than half G-W's $\\beta = {11.0}$)",
         lambda r: [
             -_board(r, "modified", "global", "n23")["held_out_difference_vs_gw"],
             -_board(r, "modified", "global", "n23")["held_out_difference_high_vs_gw"],
@@ -765,7 +766,7 @@ QUOTES += [
     ),
     Quote(
         FABRIC_MODELS,
-        "and beta = {50} ruins <nn>'_12.",
+        "and $\\beta = {50}$ ruins $\\langle nn\\rangle'_{12}$.",
         lambda r: [r.row("model_parameters.csv", model="gw", mode="global", parameter="beta")["value"]],
     ),
     Quote(
@@ -813,9 +814,9 @@ QUOTES += [
     ),
     Quote(
         GW_STRESS,
-        "In the steady state that pressure is almost nil ({0.025} of Pi = {12.24} in the reference data: approaching "
-        "and separating pairs cancel), early in startup it dominates ({2.9} of Pi = {3.8} at strain 0.2-0.3 in the "
-        "reference data",
+        "In the steady state that pressure is almost nil ({0.025} of $\\Pi = {12.24}$ in the reference data: "
+        "approaching and separating pairs cancel), early in startup it dominates ({2.9} of $\\Pi = {3.8}$ at strain "
+        "0.2-0.3 in the reference data",
         lambda r: [
             _lubrication_pressure(r.table("stress_steady_state.csv").set_index("quantity")["mean"]),
             steady(r, "Pi"),

@@ -44,25 +44,21 @@ $l = 2$ and $l = 4$ amplitudes are linear in $\langle nn\rangle$ and $\langle nn
 $a_{20} = \sqrt{5/(16\pi)}\,(3\langle nn\rangle_{33} - \operatorname{Tr}\langle nn\rangle)$). Both
 in the frame of the current flow, as $\langle nn\rangle$.
 
-Frames
-    [`fabric_tensor`][suspension_fabric.analysis.fabric.fabric_tensor] works in the simulation frame (LAMMPS x, y, z; z
-    is the gradient direction). [`FabricAnalysis`][suspension_fabric.analysis.fabric.FabricAnalysis] reports the paper
-    frame of the current shear, whose flow direction is (cos t, sin t, 0) with t the flow angle:
-    t = 0 for startup shear, t = theta after a shear rotation by theta
-    ([`suspension_fabric.analysis.frames.simulation_to_paper`][suspension_fabric.analysis.frames.simulation_to_paper]).
-
-Strain
-    MDAnalysis' dump reader stores the LAMMPS step in ``ts.data['step']`` (and
-    ``ts.time`` = step, dt being unknown to it), and the box tilts flip, so the strain
-    is computed as (step - shear_start_step) * dt * shear_rate, counted from the step
-    at which the current shear started (the rotation step for a rotated run).
-
-Precision
-    MDAnalysis stores positions and box in float32; the kernel computes in float64
-    from what it is given. Pairs whose gap lies within ~1e-6 (times the box length)
-    of the threshold may therefore be classified differently from an exact float64
-    calculation on the unrounded coordinates; LAMMPS' default dump format (%g, six
-    significant digits) is a much larger source of such rounding than float32.
+- **Frames**: [`fabric_tensor`][suspension_fabric.analysis.fabric.fabric_tensor] works in the
+  simulation frame (LAMMPS x, y, z; z is the gradient direction).
+  [`FabricAnalysis`][suspension_fabric.analysis.fabric.FabricAnalysis] reports the paper frame of
+  the current shear, whose flow direction is (cos t, sin t, 0) with t the flow angle: t = 0 for
+  startup shear, t = theta after a shear rotation by theta
+  ([`suspension_fabric.analysis.frames.simulation_to_paper`][suspension_fabric.analysis.frames.simulation_to_paper]).
+- **Strain**: MDAnalysis' dump reader stores the LAMMPS step in ``ts.data['step']`` (and
+  ``ts.time`` = step, dt being unknown to it), and the box tilts flip, so the strain is computed
+  as (step - shear_start_step) * dt * shear_rate, counted from the step at which the current
+  shear started (the rotation step for a rotated run).
+- **Precision**: MDAnalysis stores positions and box in float32; the kernel computes in float64
+  from what it is given. Pairs whose gap lies within ~1e-6 (times the box length) of the
+  threshold may therefore be classified differently from an exact float64 calculation on the
+  unrounded coordinates; LAMMPS' default dump format (%g, six significant digits) is a much
+  larger source of such rounding than float32.
 """
 
 from __future__ import annotations

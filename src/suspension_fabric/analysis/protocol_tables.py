@@ -1,50 +1,52 @@
 """Per-frame tables along a flow history: the runs of a protocol's segments joined, and their seed
 means.
 
-Protocol table ([`protocol_table`][suspension_fabric.analysis.protocol_tables.protocol_table]), one row per frame of
-every segment of every seed
-    ========== ===========================================================
-    protocol   protocol name ([`suspension_fabric.io.protocols.Protocol`][suspension_fabric.io.protocols.Protocol])
-    segment    index of the segment in the protocol (0 from rest)
-    seed       integer seed of the run
-    frame      ``flow``: tensors in the frame of the current flow, e1 the flow
-               direction at that strain, e2 the gradient, e3 = e1 x e2
-    theta      flow angle of that frame, degrees about e2 from the first
-               segment's flow direction
-    N, phi     as in the run tables
-    step       LAMMPS step of the frame
-    segment_strain  strain since the segment started
-    strain     strain since the protocol started (rest)
-    values     the per-run table's value columns (fabric or stress)
-    ========== ===========================================================
+**Protocol table** ([`protocol_table`][suspension_fabric.analysis.protocol_tables.protocol_table]).
+One row per frame of every segment of every seed, with the columns:
 
-    Where one segment ends and the next begins, both rows are kept at the same ``strain``: the
-    last frame of a segment and the first of the next are the same configuration, seen in the
-    frames of the two flows (a shear rotation turns the frame, not the particles).
+| column | meaning |
+|---|---|
+| ``protocol`` | protocol name ([`Protocol`][suspension_fabric.io.protocols.Protocol]) |
+| ``segment`` | index of the segment in the protocol (0 from rest) |
+| ``seed`` | integer seed of the run |
+| ``frame`` | ``flow``: tensors in the frame of the current flow (e1 the flow direction, e2 the gradient) |
+| ``theta`` | flow angle of that frame, degrees about e2 from the first segment's flow direction |
+| ``N``, ``phi`` | as in the run tables |
+| ``step`` | LAMMPS step of the frame |
+| ``segment_strain`` | strain since the segment started |
+| ``strain`` | strain since the protocol started (rest) |
+| values | the per-run table's value columns (fabric or stress) |
 
-Seed aggregate ([`aggregate_protocol_seeds`][suspension_fabric.analysis.protocol_tables.aggregate_protocol_seeds])
-    Per (protocol, segment, frame): the strains, the frame angle, n_seeds and ``c_mean``,
-    ``c_sem`` for every value column ``c`` (as
-    [`suspension_fabric.analysis.tables.aggregate_seeds`][suspension_fabric.analysis.tables.aggregate_seeds]).
+The frame of the current flow has e1 the flow direction at that strain, e2 the gradient and
+e3 = e1 x e2. Where one segment ends and the next begins, both rows are kept at the same
+``strain``: the last frame of a segment and the first of the next are the same configuration, seen
+in the frames of the two flows (a shear rotation turns the frame, not the particles).
 
-Late states ([`segment_states`][suspension_fabric.analysis.protocol_tables.segment_states])
-    Where a flow history settles: per protocol, segment after the first and value column, each
-    seed's mean over the last half of the segment (in the frame of the current flow, so a steady
-    state in rotary shear is steady in the turning frame, and the states after successive
-    reversals are comparable), the seed mean with its t-interval, and the paired per-seed
-    difference from the seed's steady state of the protocol's first segment (the startup; mean
-    over the steady window), with its t-interval. An interval of the difference that excludes 0
-    says the segment settles elsewhere than simple shear, or has not settled yet.
+**Seed aggregate**
+([`aggregate_protocol_seeds`][suspension_fabric.analysis.protocol_tables.aggregate_protocol_seeds]).
+Per (protocol, segment, frame): the strains, the frame angle, n_seeds and ``c_mean``, ``c_sem`` for
+every value column ``c`` (as
+[`suspension_fabric.analysis.tables.aggregate_seeds`][suspension_fabric.analysis.tables.aggregate_seeds]).
 
-Drift over repeated segments ([`segment_drift`][suspension_fabric.analysis.protocol_tables.segment_drift])
-    For a protocol of many repeated segments (an oscillation): the first change of direction
-    leaves the steady state of simple shear, so the drift is measured from the second segment after
-    the startup on, over at least `DRIFT_MIN_SEGMENTS` segments: per seed, the least-squares slope
-    of the late state against the segment's index (per segment), with its t-interval, t-test
-    p-value and the slope a test at the same level would detect with 80% power over these seeds
-    (``detectable_slope``), and the paired difference of the last segment's late state from the
-    second's. A state repeated from segment to segment has no slope; a slow organisation over the
-    cycles (random organisation towards fewer contacts, say) has one.
+**Late states** ([`segment_states`][suspension_fabric.analysis.protocol_tables.segment_states]).
+Where a flow history settles: per protocol, segment after the first and value column, each seed's
+mean over the last half of the segment (in the frame of the current flow, so a steady state in
+rotary shear is steady in the turning frame, and the states after successive reversals are
+comparable), the seed mean with its t-interval, and the paired per-seed difference from the seed's
+steady state of the protocol's first segment (the startup; mean over the steady window), with its
+t-interval. An interval of the difference that excludes 0 says the segment settles elsewhere than
+simple shear, or has not settled yet.
+
+**Drift over repeated segments**
+([`segment_drift`][suspension_fabric.analysis.protocol_tables.segment_drift]). For a protocol of
+many repeated segments (an oscillation): the first change of direction leaves the steady state of
+simple shear, so the drift is measured from the second segment after the startup on, over at least
+`DRIFT_MIN_SEGMENTS` segments: per seed, the least-squares slope of the late state against the
+segment's index (per segment), with its t-interval, t-test p-value and the slope a test at the same
+level would detect with 80% power over these seeds (``detectable_slope``), and the paired
+difference of the last segment's late state from the second's. A state repeated from segment to
+segment has no slope; a slow organisation over the cycles (random organisation towards fewer
+contacts, say) has one.
 """
 
 from __future__ import annotations

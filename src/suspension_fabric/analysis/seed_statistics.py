@@ -133,9 +133,11 @@ def interval_t_test_p(mean: float, low: float, high: float, n: int, level: float
 
 
 def seeds_needed(interval: Interval, max_seeds: int = 10_000) -> float:
-    """Smallest n for which the interval would exclude 0 if the observed mean and spread held:
-    t_{1-a/2, n-1} sd / sqrt(n) < |mean|; inf if the mean is 0 or more than ``max_seeds`` are
-    needed, nan if the spread is unknown (one seed)."""
+    r"""Smallest $n$ for which the interval would exclude 0 if the observed mean and spread held:
+    $t_{1-\alpha/2,\,n-1}\,s/\sqrt{n} < |\bar x|$ ($\bar x$ the mean, $s$ the standard deviation
+    over seeds, $t_{1-\alpha/2,\,n-1}$ Student's two-sided quantile at the interval's level
+    $1 - \alpha$); inf if the mean is 0 or more than ``max_seeds`` are needed, nan if the spread
+    is unknown (one seed)."""
     if interval.n < 2:
         return np.nan
     sd = interval.se * np.sqrt(interval.n)

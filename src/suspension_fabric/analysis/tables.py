@@ -1,56 +1,47 @@
 """Tidy fabric tables: per-run CSV, seed aggregation, steady-state estimates.
 
-Per-run table (one row per analysed frame; CSV written by
-[`write_fabric_table`][suspension_fabric.analysis.tables.write_fabric_table])
-    Columns, in this order:
+**Per-run table.** One row per analysed frame, a CSV written by
+[`write_fabric_table`][suspension_fabric.analysis.tables.write_fabric_table]. Its columns, in this
+order:
 
-    ======== ===============================================================
-    seed     integer seed of the run (packing / initial condition)
-    theta    flow angle of the frame in degrees about e2 (0 for startup shear,
-             theta after a shear rotation by theta, turning with the strain in
-             rotary shear); the components are in the frame of this flow
-             (e1' the flow direction, e2 the gradient, e3' = e1' x e2)
-    N        number of particles
-    phi      volume fraction sum(4/3 pi a^3) / V (measured from the dump
-             unless given)
-    step     LAMMPS step of the frame
-    strain   strain since the start of this shear, (step - start) dt rate
-    n11 n22 n33 n12 n13 n23
-             fabric components <nn>_kl (1/N sum over near contacts of n_k n_l)
-    Z        near-contact coordination number, 2 n_pairs / N = 2 Tr<nn>
-    n1111 ... n3333
-             the 15 independent components of <nnnn> (i <= j <= k <= l), same
-             normalisation, same frame (MOMENT_COLUMNS)
-    Y0_0 ... Y6_p6
-             spherical-harmonic amplitudes a_lm of the near-contact directions,
-             l = 0, 2, 4, 6 (suspension_fabric.analysis.fabric)
-    ======== ===============================================================
+| column | meaning |
+|---|---|
+| ``seed`` | integer seed of the run (packing / initial condition) |
+| ``theta`` | flow angle of the frame in degrees about e2 (below) |
+| ``N`` | number of particles |
+| ``phi`` | volume fraction sum(4/3 pi a^3) / V (measured from the dump unless given) |
+| ``step`` | LAMMPS step of the frame |
+| ``strain`` | strain since the start of this shear, (step - start) dt rate |
+| ``n11 n22 n33 n12 n13 n23`` | fabric components <nn>_kl (1/N sum over near contacts of n_k n_l) |
+| ``Z`` | near-contact coordination number, 2 n_pairs / N = 2 Tr<nn> |
+| ``n1111`` ... ``n3333`` | the 15 independent components of <nnnn> (i <= j <= k <= l) (`MOMENT_COLUMNS`) |
+| ``Y0_0`` ... ``Y6_p6`` | spherical-harmonic amplitudes a_lm of the near-contact directions, l = 0, 2, 4, 6 |
 
-    The last two groups are absent from tables made before they were recorded;
-    [`read_fabric_table`][suspension_fabric.analysis.tables.read_fabric_table] with ``moments=True`` reads them as empty
-    (NaN).
+``theta`` is 0 for startup shear, theta after a shear rotation by theta, and turns with the strain
+in rotary shear; the components are in the frame of this flow (e1' the flow direction, e2 the
+gradient, e3' = e1' x e2). <nnnn> has the normalisation and the frame of <nn>; the amplitudes a_lm
+are defined in [`suspension_fabric.analysis.fabric`][suspension_fabric.analysis.fabric]. These
+last two groups are absent from tables made before they were recorded;
+[`read_fabric_table`][suspension_fabric.analysis.tables.read_fabric_table] with ``moments=True``
+reads them as empty (NaN).
 
-    The file is plain comma-separated text with one header line, no index column,
-    floats written with full round-trip precision (pandas ``to_csv`` defaults), the moment
-    columns with MOMENT_DIGITS = 9 significant digits;
-    ``pandas.read_csv(path)`` reads it, [`read_fabric_table`][suspension_fabric.analysis.tables.read_fabric_table] also
-    checks it.
+The file is plain comma-separated text with one header line, no index column, floats written with
+full round-trip precision (pandas ``to_csv`` defaults), the moment columns with `MOMENT_DIGITS` = 9
+significant digits; ``pandas.read_csv(path)`` reads it,
+[`read_fabric_table`][suspension_fabric.analysis.tables.read_fabric_table] also checks it.
 
-Seed aggregation ([`aggregate_seeds`][suspension_fabric.analysis.tables.aggregate_seeds])
-    Per (theta, frame): the strain, n_seeds, and for every value column ``c``
-    ``c_mean`` and ``c_sem`` (standard error of the mean over seeds,
-    std(ddof=1)/sqrt(n_seeds); NaN for a single seed). All seeds of one theta must
-    have the same strain grid, else ``ValueError``.
+**Seed aggregation** ([`aggregate_seeds`][suspension_fabric.analysis.tables.aggregate_seeds]). Per
+(theta, frame): the strain, n_seeds, and for every value column ``c`` ``c_mean`` and ``c_sem``
+(standard error of the mean over seeds, std(ddof=1)/sqrt(n_seeds); NaN for a single seed). All
+seeds of one theta must have the same strain grid, else ``ValueError``.
 
-Steady state ([`steady_state`][suspension_fabric.analysis.tables.steady_state])
-    For every theta and value column, the mean over the frames with
-    strain_min <= strain <= strain_max of each seed, averaged over seeds with equal
-    weights. The error accounts for time correlation through the integrated
-    autocorrelation time tau of each seed's series (Sokal's automatic window:
-    the smallest window M with M >= c tau(M), c = 5): the variance of a seed's mean
-    is C(0) 2 tau / n, and the error of the seed average is
-    sqrt(sum_s var_s) / n_seeds. The spread of the seed means,
-    std(ddof=1)/sqrt(n_seeds), is reported alongside as an assumption-free check.
+**Steady state** ([`steady_state`][suspension_fabric.analysis.tables.steady_state]). For every theta
+and value column, the mean over the frames with strain_min <= strain <= strain_max of each seed,
+averaged over seeds with equal weights. The error accounts for time correlation through the
+integrated autocorrelation time tau of each seed's series (Sokal's automatic window: the smallest
+window M with M >= c tau(M), c = 5): the variance of a seed's mean is C(0) 2 tau / n, and the error
+of the seed average is sqrt(sum_s var_s) / n_seeds. The spread of the seed means,
+std(ddof=1)/sqrt(n_seeds), is reported alongside as an assumption-free check.
 """
 
 from __future__ import annotations
@@ -314,13 +305,12 @@ def aggregate_seeds(table: pd.DataFrame, value_columns=VALUE_COLUMNS) -> pd.Data
 
 
 def integrated_autocorrelation_time(series, window_factor: float = 5.0) -> float:
-    """Integrated autocorrelation time tau = 1/2 + sum_{t>=1} rho(t), in frames.
+    r"""Integrated autocorrelation time $\tau = 1/2 + \sum_{t \ge 1} \rho(t)$, in frames.
 
-    rho is the normalised autocovariance (FFT, biased estimator); the sum is cut at
-    Sokal's automatic window, the smallest M with M >= window_factor * tau(M) (or the
-    whole series if none). tau = 1/2 for uncorrelated data, so that the variance of
-    the mean is C(0) 2 tau / n; the result is clipped below at 1/2, and a constant
-    series gives 1/2.
+    $\rho$ is the normalised autocovariance (FFT, biased estimator); the sum is cut at
+    Sokal's automatic window, the smallest $M$ with $M \ge c\,\tau(M)$, $c$ = ``window_factor``
+    (or the whole series if none). $\tau = 1/2$ for uncorrelated data, so that the variance of
+    the mean is $2\tau C(0)/n$; the result is clipped below at 1/2, and a constant series gives 1/2.
     """
     x = np.asarray(series, dtype=float)
     n = len(x)

@@ -14,8 +14,9 @@ quantity $q$ is averaged over the frames in $W$, $\bar q_s(\theta, W)$, and comp
 The seeds are the independent units: each cell (state point, angle, quantity, window) gets the mean
 over seeds with its t-interval, the t-test's p-value, and the Holm-adjusted p-value over every cell
 of the table, read at once. A cell is ``lower`` or ``higher`` where the adjusted p is below
-$1 - $ level, else ``not decided``. ``between_points`` compares two state points' per-seed values of
-one cell (Welch's interval: different steady states, independent runs).
+$1 - \mathrm{level}$ (``level`` the confidence level, `LEVEL` by default), else ``not decided``.
+``between_points`` compares two state points' per-seed values of one cell (Welch's interval:
+different steady states, independent runs).
 """
 
 from __future__ import annotations

@@ -264,9 +264,12 @@ def _forced_propagators(M: np.ndarray, step: float) -> tuple[np.ndarray, np.ndar
 
 
 def solve_forced(M, b, v0, strains, forcing) -> np.ndarray:
-    """v at ``strains`` (S, 6) of dv/dgamma = M v + b + g(gamma) from v0 at strains[0], g linear
-    between its values ``forcing`` (S, 6) at the strains: exact on every interval,
-    v_{k+1} = e^{Mh} v_k + J0 (b + g_k) + J1 (g_{k+1} - g_k)/h (`_forced_propagators`)."""
+    r"""$v$ at ``strains`` (S, 6) of $\mathrm{d}v/\mathrm{d}\gamma = Mv + b + g(\gamma)$ from ``v0``
+    at ``strains[0]``, $g$ linear between its values ``forcing`` (S, 6) at the strains: exact on
+    every interval (of length $h = \gamma_{k+1} - \gamma_k$),
+    $v_{k+1} = e^{Mh}v_k + J_0(b + g_k) + J_1(g_{k+1} - g_k)/h$ with
+    $J_0 = \int_0^h e^{M(h - s)}\,\mathrm{d}s$ and $J_1 = \int_0^h e^{M(h - s)}\,s\,\mathrm{d}s$
+    (`_forced_propagators`)."""
     M, b, v0 = (np.asarray(x, dtype=float) for x in (M, b, v0))
     strains, forcing = np.asarray(strains, dtype=float), np.asarray(forcing, dtype=float)
     steps = np.diff(strains)

@@ -4,29 +4,25 @@ The project's trajectories are ``dump custom`` text files with the columns
 ``id type radius x y z`` (see `DUMP_COLUMNS`) in a restricted triclinic box
 (LAMMPS ``xy xz yz`` tilts; the shear uses ``xz`` and ``yz`` with z the gradient).
 
-Restricted triclinic box (https://docs.lammps.org/Howto_triclinic.html)
-    Edge vectors a = (lx, 0, 0), b = (xy, ly, 0), c = (xz, yz, lz) from the origin
-    (xlo, ylo, zlo). A point is x = origin + s_a a + s_b b + s_c c with fractional
-    (LAMMPS "scaled") coordinates s in [0, 1) for the primary cell.
-
-Triclinic dump header
-    ``ITEM: BOX BOUNDS xy xz yz pp pp pp`` followed by three lines
-    ``xlo_bound xhi_bound xy`` / ``ylo_bound yhi_bound xz`` / ``zlo_bound zhi_bound yz``
-    where the bounds are those of the axis-aligned bounding box of the tilted cell:
-    xlo_bound = xlo + min(0, xy, xz, xy + xz), xhi_bound = xhi + max(0, xy, xz, xy + xz),
-    ylo_bound = ylo + min(0, yz), yhi_bound = yhi + max(0, yz), z bounds unchanged.
-    MDAnalysis' ``DumpReader`` inverts exactly this.
-
-Reading with MDAnalysis (checked in tests/analysis/test_fabric*.py)
-    ``DumpReader`` takes the first coordinate set it finds in the order unscaled
-    (x y z), scaled (xs ys zs), unwrapped (xu yu zu), scaled unwrapped, unless
-    ``lammps_coordinate_convention`` forces one; scaled coordinates are converted to
-    Cartesian ones. It translates positions so that the box origin is 0, sorts atoms
-    by ``id``, stores positions and box as float32 (so lengths carry a relative
-    error of ~1e-7), and sets ``ts.time`` = step x dt with dt = 1, i.e. the LAMMPS
-    step. It assumes every frame has the same number of lines, which is why
-    [`scan_dump`][suspension_fabric.io.dumpio.scan_dump] checks the headers of all frames before MDAnalysis opens a
-    file.
+- **Restricted triclinic box** (<https://docs.lammps.org/Howto_triclinic.html>): edge vectors
+  a = (lx, 0, 0), b = (xy, ly, 0), c = (xz, yz, lz) from the origin (xlo, ylo, zlo). A point is
+  x = origin + s_a a + s_b b + s_c c with fractional (LAMMPS "scaled") coordinates s in [0, 1)
+  for the primary cell.
+- **Triclinic dump header**: ``ITEM: BOX BOUNDS xy xz yz pp pp pp`` followed by three lines
+  ``xlo_bound xhi_bound xy`` / ``ylo_bound yhi_bound xz`` / ``zlo_bound zhi_bound yz`` where the
+  bounds are those of the axis-aligned bounding box of the tilted cell:
+  xlo_bound = xlo + min(0, xy, xz, xy + xz), xhi_bound = xhi + max(0, xy, xz, xy + xz),
+  ylo_bound = ylo + min(0, yz), yhi_bound = yhi + max(0, yz), z bounds unchanged. MDAnalysis'
+  ``DumpReader`` inverts exactly this.
+- **Reading with MDAnalysis** (checked in tests/analysis/test_fabric*.py): ``DumpReader`` takes
+  the first coordinate set it finds in the order unscaled (x y z), scaled (xs ys zs), unwrapped
+  (xu yu zu), scaled unwrapped, unless ``lammps_coordinate_convention`` forces one; scaled
+  coordinates are converted to Cartesian ones. It translates positions so that the box origin is
+  0, sorts atoms by ``id``, stores positions and box as float32 (so lengths carry a relative error
+  of ~1e-7), and sets ``ts.time`` = step x dt with dt = 1, i.e. the LAMMPS step. It assumes every
+  frame has the same number of lines, which is why
+  [`scan_dump`][suspension_fabric.io.dumpio.scan_dump] checks the headers of all frames before
+  MDAnalysis opens a file.
 """
 
 from __future__ import annotations

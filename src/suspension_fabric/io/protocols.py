@@ -1,33 +1,29 @@
 """Flow histories as data: a protocol is a list of segments of simple shear, and the protocols of a
 study form a tree of runs that share their common prefixes.
 
-Segment
-    ``strain`` sheared at flow angle ``flow_angle_deg`` (degrees about the gradient axis e2,
-    measured from the flow direction of the first segment, right-handed: the flow direction is
-    e1' = cos(t) e1 - sin(t) e3 in the paper frame of the first segment, (cos t, sin t, 0) in the
-    simulation frame), turning at ``turning_deg_per_strain`` (0: a fixed direction; w: rotary
-    shear, t(gamma) = flow_angle_deg + w gamma with gamma the strain since the segment started).
-    A change of angle between two segments is a shear rotation; 180 degrees is a reversal.
-
-Protocol
-    A name and its segments, the first one from rest (a packing). The paper's family is
-    ``startup`` (one segment of ``run.startup_strain`` at angle 0) and, per angle theta of
-    ``angles_deg``, ``rotation_theta<theta>`` (the startup, then ``run.rotation_strain`` at theta)
-    ([`paper_protocols`][suspension_fabric.io.protocols.paper_protocols]).
-
-Run tree
-    Every prefix of a protocol is one simulation run ([`run_tree`][suspension_fabric.io.protocols.run_tree]). Protocols
-    with a common prefix share its runs; each run continues from the checkpoint of its parent, the run of the
-    prefix one segment shorter. The paper's runs keep their names, ``startup`` and
-    ``rotation_theta<theta>`` ([`paper_run_names`][suspension_fabric.study.dataset.paper_run_names]); any other run is
-    named by its parent's name and its own segment's label, ``<parent>_<label>``, or by the label alone from a packing:
-    ``rotation_theta180_theta0for2`` reverses the shear back after a reversal,
-    ``startup_theta0turn45for5`` is rotary shear turning at 45 degrees per unit strain after the
-    startup. A name that would pass `RUN_NAME_MAX` characters (a long oscillation) is shortened to
-    ``<first run>_seg<index>_<digest>_<label>``, the digest a hash of the whole history, so that
-    it still names the history and nothing else. A run's tables hold the
-    strain since its segment started and tensors in the frame of the current flow (e1 the flow
-    direction at that strain, e2 the gradient, e3 = e1 x e2).
+- **Segment**: ``strain`` sheared at flow angle ``flow_angle_deg`` (degrees about the gradient
+  axis e2, measured from the flow direction of the first segment, right-handed: the flow direction
+  is e1' = cos(t) e1 - sin(t) e3 in the paper frame of the first segment, (cos t, sin t, 0) in the
+  simulation frame), turning at ``turning_deg_per_strain`` (0: a fixed direction; w: rotary shear,
+  t(gamma) = flow_angle_deg + w gamma with gamma the strain since the segment started). A change
+  of angle between two segments is a shear rotation; 180 degrees is a reversal.
+- **Protocol**: a name and its segments, the first one from rest (a packing). The paper's family
+  is ``startup`` (one segment of ``run.startup_strain`` at angle 0) and, per angle theta of
+  ``angles_deg``, ``rotation_theta<theta>`` (the startup, then ``run.rotation_strain`` at theta)
+  ([`paper_protocols`][suspension_fabric.io.protocols.paper_protocols]).
+- **Run tree**: every prefix of a protocol is one simulation run
+  ([`run_tree`][suspension_fabric.io.protocols.run_tree]). Protocols with a common prefix share
+  its runs; each run continues from the checkpoint of its parent, the run of the prefix one
+  segment shorter. The paper's runs keep their names, ``startup`` and ``rotation_theta<theta>``
+  ([`paper_run_names`][suspension_fabric.study.dataset.paper_run_names]); any other run is named
+  by its parent's name and its own segment's label, ``<parent>_<label>``, or by the label alone
+  from a packing: ``rotation_theta180_theta0for2`` reverses the shear back after a reversal,
+  ``startup_theta0turn45for5`` is rotary shear turning at 45 degrees per unit strain after the
+  startup. A name that would pass `RUN_NAME_MAX` characters (a long oscillation) is shortened to
+  ``<first run>_seg<index>_<digest>_<label>``, the digest a hash of the whole history, so that it
+  still names the history and nothing else. A run's tables hold the strain since its segment
+  started and tensors in the frame of the current flow (e1 the flow direction at that strain, e2
+  the gradient, e3 = e1 x e2).
 """
 
 from __future__ import annotations

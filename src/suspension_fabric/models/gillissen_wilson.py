@@ -395,7 +395,8 @@ def steady_state(beta, A=None, phi=0.45, as_printed=False) -> np.ndarray:
 
 
 def steady_state_ode(beta, A=None, phi=0.45, velocity_gradient=None) -> np.ndarray:
-    """Fixed point of the ODE, -M^{-1} b, under L (default simple shear e1 e2)."""
+    r"""Fixed point of the ODE, $v_{\mathrm{ss}} = -M^{-1}b$, under $L$ (default simple shear
+    $L = \dot\gamma\,e_1e_2$)."""
     grad = simple_shear_gradient() if velocity_gradient is None else velocity_gradient
     M, b = affine_rhs(grad, beta, A, phi)
     return vec_to_sym(-np.linalg.solve(M, b[..., None])[..., 0])
