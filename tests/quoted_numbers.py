@@ -2436,3 +2436,76 @@ QUOTES.append(
         None,
     )
 )
+
+
+# -- BENCHMARKS.md's costs of the thickening datasets (benchmarks/dataset_cost.py on their run records) ---------
+
+
+@cache
+def thickening_costs(name: str) -> pd.DataFrame:
+    """dataset_cost.py's rows of data/<name>, one per point, with phi as a column."""
+    script = benchmark_script("dataset_cost")
+    with contextlib.chdir(REPO):
+        return pd.DataFrame([script.dataset_cost(folder) for folder in script.folders([Path("data") / name])])
+
+
+def cost_range(name: str, phi: float | None = None) -> list[float]:
+    """The smallest and largest core-hours of a point of data/<name> (at ``phi``), then the same of the
+    core-seconds per particle per strain."""
+    table = thickening_costs(name)
+    if phi is not None:
+        table = table[np.isclose(table["phi"], phi)]
+    hours, per_strain = table["core_hours"], table["core_s_per_particle_strain"]
+    return [hours.min(), hours.max(), per_strain.min(), per_strain.max()]
+
+
+def total_hours(name: str) -> float:
+    return thickening_costs(name)["core_hours"].sum()
+
+
+def rotation_costs() -> list[float]:
+    table = thickening_costs("thickening_rotation").sort_values("dataset")  # stress 0.0106 before 1.157
+    low, high = table.iloc[0], table.iloc[1]
+    return [
+        low["core_hours"],
+        low["core_s_per_particle_strain"],
+        high["core_hours"],
+        high["core_s_per_particle_strain"],
+        total_hours("thickening_rotation"),
+    ]
+
+
+QUOTES += [
+    Quote(
+        "BENCHMARKS.md",
+        "at phi = 0.50 (kn = 1.25e9, dt = 1e-4) {0.0457} to {0.095} core-hours from gammadot/gammadot_0 = 0.003 to 1 "
+        "({0.0164} to {0.0342} core-s per particle per strain); at phi = 0.54 (kn = 5e9, dt = 2.5e-5) {0.126} to "
+        "{0.291} ({0.0454} to {0.105}); at phi = 0.56 (kn = 2e10, dt = 6.25e-6) {0.446} to {0.869} for the rates "
+        "0.003 to 1 ({0.16} to {0.313}; beside other jobs); all: {6.64} core-hours.",
+        lambda: [
+            *(figure for phi in (0.50, 0.54, 0.56) for figure in cost_range("thickening", phi)),
+            total_hours("thickening"),
+        ],
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "unthickened (stress 0.0106; 8 seeds, 32 runs, 80 strain) {0.57} core-hours, {0.0513} core-s per particle "
+        "per strain; thickened (stress 1.157) {1.07} and {0.0959}; all: {1.64} core-hours.",
+        rotation_costs,
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "{0.471} to {0.947} core-hours per stress from 0.01 to 0.5 ({0.17} to {0.341} core-s per particle per "
+        "strain); all eight stresses: {5.05} core-hours.",
+        lambda: [*cost_range("thickening_stress"), total_hours("thickening_stress")],
+        None,
+    ),
+    Quote(
+        "BENCHMARKS.md",
+        "{0.666} to {0.958} per stress, {2.34} core-hours.",
+        lambda: [*cost_range("thickening_stress_fresh")[:2], total_hours("thickening_stress_fresh")],
+        None,
+    ),
+]

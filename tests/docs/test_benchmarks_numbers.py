@@ -28,6 +28,11 @@ SETTINGS: list[tuple[str | None, str, str]] = [
     (None, r"\(0\.\d+, \d(?:\.\d+)?\)", "a state point (phi, mu)"),
     (None, r"\b\d+(?:-\d+)? (?:seeds|packings|states|rounds|ranks?|idle cores|cores)\b(?: against 1)?", "the runs"),
     (None, r"\bSeed \d+ of\b", "the packing's seed"),
+    (
+        "Shear thickening: critical-load friction",
+        r"\d+ runs, \d+\b|seeds \d+-\d+ at [\d., ]+|gammadot_0 = 0\.1 \(|windows [\d.-]+ and [\d.-]+",
+        "the runs, stresses and strain windows",
+    ),
     (None, r"\bon \d+ (?:and on \d+ ranks|rank)|\bmedians of \d+|\bnice \d+", "ranks, rounds, a priority"),
     (None, r"\b(?:to )?strain \d[\d.]*(?:-\d[\d.]*)?|\b[\d.]+ strain\b|\(\d+ steps\)", "the strain run"),
     (None, r"\| the target of engine III \| [\d.]+ \|", "a target the issues name"),
@@ -49,7 +54,6 @@ UNTIED: list[tuple[str | None, str, str]] = [
     ("The rebuilds under two floating-point configurations", r".*", "float_configs.py"),
     ("Pair stresslets against force dipoles", r".*", "stresslet_vs_dipole.py"),
     # edited on another branch now: to tie when it lands
-    ("Shear thickening: critical-load friction", r".*", "the costs: dataset_cost.py on data/thickening*"),
     # runs whose records are not kept
     ("The cost per atom against N", r"~20% slow", "the slow run"),
     ("What the datasets cost", r"1\.32 and 1\.48 core-hours \(seeds 1-8, 9-16\)", "the remade runs"),
