@@ -128,7 +128,7 @@ def figure_startup(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: di
     columns = min(len(keys), 2)
     rows = -(-len(keys) // columns)
     fig, grid = plt.subplots(
-        rows, columns, figsize=(4.5 * columns, 4.9 * rows), sharey=True, constrained_layout=True, squeeze=False
+        rows, columns, figsize=(4.5 * columns, 5.2 * rows), sharey=True, constrained_layout=True, squeeze=False
     )
     axes = list(grid.ravel())
     for ax in axes[len(keys) :]:
@@ -152,7 +152,7 @@ def figure_startup(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: di
         ax.set_xlabel(r"strain $\gamma$")
         ax.set_title(f"({'abcdefgh'[keys.index(key)]}) {title}")
         # under the panel, off the data; 9 pt: 12 px in the docs' column (DOCS_COLUMN_PX)
-        ax.legend(fontsize=9, loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=2)
+        ax.legend(fontsize=9, loc="upper center", bbox_to_anchor=(0.5, -0.15))
     for row in grid:
         row[0].set_ylabel(r"$\langle nn\rangle_{ij}$")
     n_seeds = int(sim["n_seeds"].iloc[0]) if "n_seeds" in sim else 0
@@ -307,7 +307,7 @@ def _band(ax, frame: pd.DataFrame, column: str, color: str, label: str, max_mark
 
 def figure_stress_startup(simulation: pd.DataFrame, relation_predictions: pd.DataFrame, relation: pd.DataFrame):
     """Paper-style Fig. 3 from the startup stress seed aggregate and the relation's predictions."""
-    fig, (ax_eta, ax_normal) = plt.subplots(1, 2, figsize=(9, 5.6), constrained_layout=True)
+    fig, (ax_eta, ax_normal) = plt.subplots(1, 2, figsize=(9, 6.6), constrained_layout=True)
     sim = simulation.sort_values("strain")
     predicted = relation_predictions[relation_predictions["protocol"] == "startup"]
     labels = dict(zip(relation["source"], relation["label"]))
@@ -332,8 +332,7 @@ def figure_stress_startup(simulation: pd.DataFrame, relation_predictions: pd.Dat
     ax_eta.set_xlabel(r"strain $\gamma$")
     ax_eta.set_ylabel(r"$\sigma_{12} / \eta_f\dot\gamma$")
     ax_eta.set_title("(a) relative viscosity and its parts", fontsize=10)
-    # under the panels: inside, the legend covered the eta_r points at strain 0.3-1.5
-    ax_eta.legend(fontsize=9, loc="upper center", bbox_to_anchor=(0.5, -0.15))
+    # one legend under both panels: inside (a) it covered the eta_r points at strain 0.3-1.5
     for column, color, label in (("N1", "C2", "$N_1$"), ("N2", "C4", "$N_2$")):
         _band(ax_normal, sim, column, color, label)
         for source, style in _source_styles(relation["source"]).items():
@@ -343,9 +342,13 @@ def figure_stress_startup(simulation: pd.DataFrame, relation_predictions: pd.Dat
     ax_normal.set_xlabel(r"strain $\gamma$")
     ax_normal.set_ylabel(r"$N / \eta_f\dot\gamma$")
     ax_normal.set_title("(b) normal stress differences\n(lines: relation, styles as in (a))", fontsize=10)
-    ax_normal.legend(fontsize=9, loc="upper center", bbox_to_anchor=(0.5, -0.15))
-    fits = ", ".join(f"{row.source}: $a_H$ = {row.a_H:.3g}, $a_C$ = {row.a_C:.3g}" for row in relation.itertuples())
-    fig.suptitle(f"Startup shear. Stress relation fitted per fabric source ({fits})", fontsize=9, wrap=True)
+    handles, labels = [
+        sum(pair, []) for pair in zip(ax_eta.get_legend_handles_labels(), ax_normal.get_legend_handles_labels())
+    ]
+    fig.legend(handles, labels, loc="outside lower center", ncol=2, fontsize=9)
+    fits = [f"{row.source}: $a_H$ = {row.a_H:.3g}, $a_C$ = {row.a_C:.3g}" for row in relation.itertuples()]
+    lines = ["; ".join(fits[k : k + 3]) for k in range(0, len(fits), 3)]  # three a line: wrap=True ran off the page
+    fig.suptitle("Startup shear. Stress relation fitted per fabric source:\n" + "\n".join(lines), fontsize=9)
     return fig
 
 
@@ -422,7 +425,10 @@ def _viscosity_transient_panels(fig, cell, transients: pd.DataFrame):
     ax_rec.set_title(
         f"(g) strain to recover $\\eta_r$\nto within 10% (seed\nbootstrap {percent}; description)", fontsize=9
     )
-    ax_rec.legend(fontsize=9)
+    # room above the bars for the legend, so that it covers none of them
+    low, high = ax_rec.get_ylim()
+    ax_rec.set_ylim(low, high + 0.45 * (high - low))
+    ax_rec.legend(fontsize=9, loc="upper left")
     for ax in (ax_def, ax_min, ax_rec):
         ax.set_xlabel(r"angle $\theta$ (deg)", fontsize=9)
         ax.tick_params(labelsize=9)
@@ -548,7 +554,7 @@ def figure_claims(statistics: pd.DataFrame, level: float):
     ax.axhline(0.0, color="0.6", lw=0.6)
     ax.axvspan(*ranges["C4"], ymin=0.0, ymax=0.06, color="C3", alpha=0.25, zorder=0)  # C4's range, on the axis
     ax.set_title(
-        f"(c) paired MSE, {labels['reference']} $-$ {labels['challenger']} (> 0: {labels['challenger']} closer)",
+        f"(c) paired MSE, {labels['reference']} $-$ {labels['challenger']}\n(> 0: {labels['challenger']} closer)",
         fontsize=9.5,
     )
     for ax in axes.flat:
