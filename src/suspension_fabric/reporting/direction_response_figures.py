@@ -66,6 +66,6 @@ def figure_direction_response(points: dict[str, dict], level: float):
         for row, (_, label) in enumerate(_ROWS):
             axes[row, 0].set_ylabel(label)
         # outside, under the panels: inside it covered the orange band
-        fig.legend(loc="outside lower center", ncol=len(traces), fontsize=10, title="dashed: θ = 0", title_fontsize=10)
+        fig.legend(loc="outside lower center", ncol=len(traces), fontsize=11, title="dashed: θ = 0", title_fontsize=11)
         fig.suptitle(f"Response to a change of flow direction (mean over seeds, {level:.0%} t-intervals)", fontsize=11)
     return fig

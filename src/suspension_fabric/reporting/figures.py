@@ -124,11 +124,11 @@ def figure_startup(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: di
     stride = max(1, -(-len(sim) // max_markers))  # ceil: at most max_markers markers
     shown = sim.iloc[::stride]
     keys = list(dict.fromkeys(predictions["model"]))
-    # two panels a row, 4.5 in each: the docs show it 868 px wide (DOCS_COLUMN_PX), a row of five was unreadable
+    # two panels a row, 4 in each: the docs show it 868 px wide (DOCS_COLUMN_PX), a row of five was unreadable
     columns = min(len(keys), 2)
     rows = -(-len(keys) // columns)
     fig, grid = plt.subplots(
-        rows, columns, figsize=(4.5 * columns, 5.2 * rows), sharey=True, constrained_layout=True, squeeze=False
+        rows, columns, figsize=(4.0 * columns, 5.0 * rows), sharey=True, constrained_layout=True, squeeze=False
     )
     axes = list(grid.ravel())
     for ax in axes[len(keys) :]:
@@ -151,15 +151,15 @@ def figure_startup(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: di
         ax.axhline(0.0, color="0.7", lw=0.5)
         ax.set_xlabel(r"strain $\gamma$")
         ax.set_title(f"({'abcdefgh'[keys.index(key)]}) {title}")
-        # under the panel, off the data; 9 pt: 12 px in the docs' column (DOCS_COLUMN_PX)
-        ax.legend(fontsize=9, loc="upper center", bbox_to_anchor=(0.5, -0.15))
+        # under the panel, off the data; 9.5 pt: 14.3 px in the docs' column (DOCS_COLUMN_PX)
+        ax.legend(fontsize=9.5, loc="upper center", bbox_to_anchor=(0.5, -0.15))
     for row in grid:
         row[0].set_ylabel(r"$\langle nn\rangle_{ij}$")
     n_seeds = int(sim["n_seeds"].iloc[0]) if "n_seeds" in sim else 0
     fig.suptitle(
         f"Startup shear, N = {int(sim['N'].iloc[0])}, phi = {fits['phi']:.3g}, "
         f"{n_seeds} seeds (error bars: standard error over seeds)",
-        fontsize=9,
+        fontsize=10,
         wrap=True,
     )
     return fig
@@ -267,7 +267,7 @@ def figure_rotation(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: d
             ax.set_thetamin(-180)
             ax.set_thetamax(180)
             ax.set_title(f"({'abcdefghijklmnop'[2 * r + c]}) {row_name}", fontsize=10)
-            ax.tick_params(labelsize=9)
+            ax.tick_params(labelsize=10)
             if r == len(rows) - 1:
                 fig.colorbar(mesh, ax=axes[:, c], orientation="horizontal", shrink=0.8, label=label)
     cell = polar_cell_errors(simulation, n12_ss)
@@ -278,7 +278,7 @@ def figure_rotation(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: d
     )
     if mirrored:
         note += " theta < 0 of the simulation filled by symmetry (12 even, 23 odd in theta)."
-    fig.suptitle(note, fontsize=9, wrap=True)
+    fig.suptitle(note, fontsize=10, wrap=True)
     return fig
 
 
@@ -307,7 +307,7 @@ def _band(ax, frame: pd.DataFrame, column: str, color: str, label: str, max_mark
 
 def figure_stress_startup(simulation: pd.DataFrame, relation_predictions: pd.DataFrame, relation: pd.DataFrame):
     """Paper-style Fig. 3 from the startup stress seed aggregate and the relation's predictions."""
-    fig, (ax_eta, ax_normal) = plt.subplots(1, 2, figsize=(9, 6.6), constrained_layout=True)
+    fig, (ax_eta, ax_normal) = plt.subplots(1, 2, figsize=(8, 6.8), constrained_layout=True)
     sim = simulation.sort_values("strain")
     predicted = relation_predictions[relation_predictions["protocol"] == "startup"]
     labels = dict(zip(relation["source"], relation["label"]))
@@ -345,10 +345,10 @@ def figure_stress_startup(simulation: pd.DataFrame, relation_predictions: pd.Dat
     handles, labels = [
         sum(pair, []) for pair in zip(ax_eta.get_legend_handles_labels(), ax_normal.get_legend_handles_labels())
     ]
-    fig.legend(handles, labels, loc="outside lower center", ncol=2, fontsize=9)
+    fig.legend(handles, labels, loc="outside lower center", ncol=2, fontsize=9.5)
     fits = [f"{row.source}: $a_H$ = {row.a_H:.3g}, $a_C$ = {row.a_C:.3g}" for row in relation.itertuples()]
     lines = ["; ".join(fits[k : k + 3]) for k in range(0, len(fits), 3)]  # three a line: wrap=True ran off the page
-    fig.suptitle("Startup shear. Stress relation fitted per fabric source:\n" + "\n".join(lines), fontsize=9)
+    fig.suptitle("Startup shear. Stress relation fitted per fabric source:\n" + "\n".join(lines), fontsize=9.5)
     return fig
 
 
@@ -392,13 +392,13 @@ def _viscosity_transient_panels(fig, cell, transients: pd.DataFrame):
     ax_def.axhline(0.0, color="0.6", lw=0.6)
     ax_def.set_ylabel(rf"$\int_0^{{{window:g}}} (1 - \eta_r / \eta_r^{{ss}})\, d\gamma$")
     ax_def.set_title(
-        f"(e) deficit over {window:g} strain\n(seed mean, {percent} t-interval,\n{n_seeds} seeds)", fontsize=9
+        f"(e) deficit over {window:g} strain\n(seed mean, {percent} t-interval,\n{n_seeds} seeds)", fontsize=10
     )
     _interval_bars(
         ax_min, theta, transients["minimum"], transients["minimum_low"], transients["minimum_high"], "k", fmt="o-", lw=1
     )
     ax_min.set_ylabel(r"min $\eta_r / \eta_r^{ss}$")
-    ax_min.set_title(f"(f) viscosity minimum\n(seed bootstrap {percent};\ndescription)", fontsize=9)
+    ax_min.set_title(f"(f) viscosity minimum\n(seed bootstrap {percent};\ndescription)", fontsize=10)
     settled = transients["recovery_settled"].astype(bool).to_numpy()
     _interval_bars(
         ax_rec,
@@ -423,16 +423,16 @@ def _viscosity_transient_panels(fig, cell, transients: pd.DataFrame):
         )
     ax_rec.set_ylabel("recovery strain")
     ax_rec.set_title(
-        f"(g) strain to recover $\\eta_r$\nto within 10% (seed\nbootstrap {percent}; description)", fontsize=9
+        f"(g) strain to recover $\\eta_r$\nto within 10% (seed\nbootstrap {percent}; description)", fontsize=10
     )
     # room above the bars for the legend, so that it covers none of them
     low, high = ax_rec.get_ylim()
     ax_rec.set_ylim(low, high + 0.45 * (high - low))
-    ax_rec.legend(fontsize=9, loc="upper left")
+    ax_rec.legend(fontsize=10, loc="upper left")
     for ax in (ax_def, ax_min, ax_rec):
-        ax.set_xlabel(r"angle $\theta$ (deg)", fontsize=9)
-        ax.tick_params(labelsize=9)
-        ax.yaxis.label.set_size(9)
+        ax.set_xlabel(r"angle $\theta$ (deg)", fontsize=10)
+        ax.tick_params(labelsize=10)
+        ax.yaxis.label.set_size(10)
         ax.xaxis.set_major_locator(matplotlib.ticker.MultipleLocator(45))
     return ax_def, ax_min, ax_rec
 
@@ -478,7 +478,7 @@ def figure_stress_rotation(
             ax.set_thetamin(-180)
             ax.set_thetamax(180)
             ax.set_title(f"({'abcd'[2 * r + c]}) {row_name}", fontsize=10)
-            ax.tick_params(labelsize=9)
+            ax.tick_params(labelsize=10)
             fig.colorbar(mesh, ax=ax, orientation="horizontal", shrink=0.7, label=label, pad=0.08)
     _viscosity_transient_panels(fig, spec[2, :], transients)
     note = (
@@ -488,7 +488,7 @@ def figure_stress_rotation(
     )
     if mirrored:
         note += " theta < 0 filled by symmetry (12 even, 23 odd in theta)."
-    fig.suptitle(note, fontsize=9, wrap=True)
+    fig.suptitle(note, fontsize=10, wrap=True)
     return fig
 
 
@@ -511,11 +511,11 @@ def figure_claims(statistics: pd.DataFrame, level: float):
     from suspension_fabric.evaluation.claims import CLAIMS  # noqa: PLC0415
 
     ranges = {claim.key: claim.angles for claim in CLAIMS}
-    fig, axes = plt.subplots(2, 2, figsize=(9, 7.6), sharex=True)
+    fig, axes = plt.subplots(2, 2, figsize=(8, 7.8), sharex=True)
     panels = [
         (axes[0, 0], "D12", "C1", r"(a) deficit $D_{12}=\int_0^W (1 - r_{12})\,d\gamma$"),
         (axes[0, 1], "E23", "C2", r"(b) transverse effect $E_{23}=\mathrm{sgn}\,\theta\int_0^W r_{23}\,d\gamma$"),
-        (axes[1, 1], "X12", "C6", r"(d) excess $X_{12}$ in the challenger's overshoot window"),
+        (axes[1, 1], "X12", "C6", "(d) excess $X_{12}$ in the challenger's\novershoot window"),
     ]
     colors = {"reference": "C1", "challenger": "C2"}
     labels = {role: str(statistics[f"{role}_label"].iloc[0]) for role in colors}
@@ -557,9 +557,11 @@ def figure_claims(statistics: pd.DataFrame, level: float):
         f"(c) paired MSE, {labels['reference']} $-$ {labels['challenger']}\n(> 0: {labels['challenger']} closer)",
         fontsize=9.5,
     )
-    for ax in axes.flat:
-        ax.legend(fontsize=9, frameon=False)
+    axes[1, 0].legend(fontsize=9.5, frameon=False, loc="upper left")
     for ax in axes[1]:
         ax.set_xlabel(r"rotation angle $\theta$ (deg)")
-    fig.tight_layout()
+    # (a), (b) and (d) share their entries: one legend under the panels, where it covers no curve
+    handles, labels = axes[0, 0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=9.5, frameon=False)
+    fig.tight_layout(rect=(0, 0.045, 1, 1))
     return fig

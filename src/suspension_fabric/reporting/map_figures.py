@@ -57,13 +57,13 @@ def _per_mu(ax, table: pd.DataFrame, column: str, error):
 def _not_run_note(fig, table: pd.DataFrame) -> None:
     missing = table[~table["point"].isin(_simulated(table)["point"])]
     if len(missing):
-        fig.text(0.01, 0.005, "not run: " + ", ".join(missing["point"]), fontsize=9, color="0.4")
+        fig.text(0.01, 0.005, "not run: " + ", ".join(missing["point"]), fontsize=10, color="0.4")
 
 
 #: the docs show a figure at most 868 px wide (figures.DOCS_COLUMN_PX): at most this many panels a
-#: row, each PANEL_WIDTH inches, keeps 10 pt text at 12 px or more
+#: row, each PANEL_WIDTH inches, keeps 10 pt text at 13.7 px or more (digits 10 px tall)
 MAX_COLUMNS = 3
-PANEL_WIDTH = 3.1
+PANEL_WIDTH = 2.9
 
 
 def _row(table: pd.DataFrame, panels, height: float):

@@ -117,12 +117,12 @@ def _label_segments(ax, protocol: Protocol, end: float, rows: int = 2) -> None:
                     text,
                     (start, 1.0),
                     xycoords=("data", "axes fraction"),
-                    xytext=(0, 1 + 11 * row),
+                    xytext=(0, 1 + 12 * row),
                     textcoords="offset points",
-                    fontsize=9,
+                    fontsize=10,
                     va="bottom",
                 )
-                row_ends[row] = x + 0.024 * len(text) + 0.02  # 9 pt characters in a panel about 3.3 in wide
+                row_ends[row] = x + 0.027 * len(text) + 0.02  # 10 pt characters in a panel about 3.3 in wide
                 break
 
 
