@@ -128,7 +128,7 @@ def test_fig4_draws_the_deficit_t_interval_and_the_bootstrap_intervals():
     rec = table[["theta", "recovery_strain_low", "recovery_strain_high"]].to_numpy()
     np.testing.assert_allclose(bar_segments(ax_rec), np.vstack([rec[settled], rec[~settled]]), rtol=1e-12)
     markers = {line.get_label(): line for line in ax_rec.get_lines() if line.get_marker() in ("o", "^")}
-    open_marker = markers["not within 10% by the end (lower bound)"]
+    open_marker = markers["not within 10% by the end\n(lower bound)"]
     assert open_marker.get_marker() == "^" and open_marker.get_markerfacecolor() == "none"
     np.testing.assert_allclose(open_marker.get_ydata(), table["recovery_strain"][~settled])
     np.testing.assert_allclose(markers["recovered"].get_ydata(), table["recovery_strain"][settled])

@@ -65,6 +65,7 @@ def figure_direction_response(points: dict[str, dict], level: float):
             axes[-1, column].set_xlabel("strain since the change")
         for row, (_, label) in enumerate(_ROWS):
             axes[row, 0].set_ylabel(label)
-        axes[0, 0].legend(fontsize=9, loc="lower right", title="dashed: θ = 0", title_fontsize=8)
+        # outside, under the panels: inside it covered the orange band
+        fig.legend(loc="outside lower center", ncol=len(traces), fontsize=11, title="dashed: θ = 0", title_fontsize=11)
         fig.suptitle(f"Response to a change of flow direction (mean over seeds, {level:.0%} t-intervals)", fontsize=11)
     return fig

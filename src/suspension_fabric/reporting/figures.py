@@ -42,6 +42,9 @@ __all__ = [
     "figure_stress_rotation",
     "figure_claims",
     "save_figure",
+    "smallest_font_pt",
+    "displayed_font_px",
+    "DOCS_COLUMN_PX",
     "mirror_negative_angles",
 ]
 
@@ -56,17 +59,44 @@ _LABELS = {
 _PARITY = {"n11": 1, "n22": 1, "n33": 1, "n12": 1, "n13": -1, "n23": -1, "Z": 1}
 
 
+#: Width in CSS px of the docs' text column at a 1400 px window (docs/stylesheets/tables.css): a PNG
+#: wider than this is shown scaled down to it.
+DOCS_COLUMN_PX = 868
+#: PNG text key holding the smallest font drawn, in image px (tests/docs/test_figure_legibility.py).
+SMALLEST_FONT_KEY = "Smallest font px"
+_DPI = 200
+
+
+def smallest_font_pt(fig) -> float:
+    """The smallest font size (points) of the visible, non-empty texts in ``fig``: ticks, labels,
+    legends, titles, annotations."""
+    sizes = [
+        text.get_fontsize()
+        for text in fig.findobj(matplotlib.text.Text)
+        if text.get_visible() and text.get_text().strip() and (text.axes is None or text.axes.get_visible())
+    ]
+    return min(sizes) if sizes else float("inf")
+
+
+def displayed_font_px(font_pt: float, width_in: float, column_px: int = DOCS_COLUMN_PX) -> float:
+    """Height in CSS px of a ``font_pt`` font in a figure ``width_in`` inches wide saved at the
+    figures' dpi, as the docs show it: at most ``column_px`` wide."""
+    image_px = width_in * _DPI
+    return font_pt * _DPI / 72 * min(image_px, column_px) / image_px
+
+
 def save_figure(fig, stem: str | os.PathLike) -> list[Path]:
     """Save ``fig`` as ``<stem>.pdf`` and ``<stem>.png`` (200 dpi, and the PDF's rasterized parts); returns the
-    paths."""
+    paths. The PNG records its smallest font in image px (text chunk ``SMALLEST_FONT_KEY``)."""
     stem = Path(stem)
     stem.parent.mkdir(parents=True, exist_ok=True)
     paths = [stem.with_suffix(".pdf"), stem.with_suffix(".png")]
-    fig.savefig(paths[0], dpi=200, metadata={"CreationDate": None})  # no date: the same inputs, the same bytes
+    fig.savefig(paths[0], dpi=_DPI, metadata={"CreationDate": None})  # no date: the same inputs, the same bytes
     # the PDF's layout holds for the PNG: without this the second save lays the figure out again,
     # measuring every label once more
     fig.set_layout_engine("none")
-    fig.savefig(paths[1], dpi=200)
+    smallest = smallest_font_pt(fig) * _DPI / 72
+    fig.savefig(paths[1], dpi=_DPI, metadata={SMALLEST_FONT_KEY: f"{smallest:.2f}"})
     plt.close(fig)
     return paths
 
@@ -94,10 +124,15 @@ def figure_startup(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: di
     stride = max(1, -(-len(sim) // max_markers))  # ceil: at most max_markers markers
     shown = sim.iloc[::stride]
     keys = list(dict.fromkeys(predictions["model"]))
-    fig, axes = plt.subplots(
-        1, len(keys), figsize=(5 * len(keys), 4), sharey=True, constrained_layout=True, squeeze=False
+    # two panels a row, 4 in each: the docs show it 868 px wide (DOCS_COLUMN_PX), a row of five was unreadable
+    columns = min(len(keys), 2)
+    rows = -(-len(keys) // columns)
+    fig, grid = plt.subplots(
+        rows, columns, figsize=(4.0 * columns, 5.0 * rows), sharey=True, constrained_layout=True, squeeze=False
     )
-    axes = axes[0]
+    axes = list(grid.ravel())
+    for ax in axes[len(keys) :]:
+        ax.set_visible(False)
     for ax, (key, title) in zip(axes, model_labels(fits, keys).items()):
         pred = predictions[(predictions["model"] == key) & (predictions["protocol"] == "startup")]
         for name, colour in _STARTUP_COMPONENTS.items():
@@ -116,13 +151,16 @@ def figure_startup(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: di
         ax.axhline(0.0, color="0.7", lw=0.5)
         ax.set_xlabel(r"strain $\gamma$")
         ax.set_title(f"({'abcdefgh'[keys.index(key)]}) {title}")
-        ax.legend(fontsize=7, loc="best")
-    axes[0].set_ylabel(r"$\langle nn\rangle_{ij}$")
+        # under the panel, off the data; 9.5 pt: 14.3 px in the docs' column (DOCS_COLUMN_PX)
+        ax.legend(fontsize=9.5, loc="upper center", bbox_to_anchor=(0.5, -0.15))
+    for row in grid:
+        row[0].set_ylabel(r"$\langle nn\rangle_{ij}$")
     n_seeds = int(sim["n_seeds"].iloc[0]) if "n_seeds" in sim else 0
     fig.suptitle(
         f"Startup shear, N = {int(sim['N'].iloc[0])}, phi = {fits['phi']:.3g}, "
         f"{n_seeds} seeds (error bars: standard error over seeds)",
-        fontsize=9,
+        fontsize=10,
+        wrap=True,
     )
     return fig
 
@@ -228,8 +266,8 @@ def figure_rotation(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: d
             )
             ax.set_thetamin(-180)
             ax.set_thetamax(180)
-            ax.set_title(f"({'abcdefghijklmnop'[2 * r + c]}) {row_name}", fontsize=9)
-            ax.tick_params(labelsize=7)
+            ax.set_title(f"({'abcdefghijklmnop'[2 * r + c]}) {row_name}", fontsize=10)
+            ax.tick_params(labelsize=10)
             if r == len(rows) - 1:
                 fig.colorbar(mesh, ax=axes[:, c], orientation="horizontal", shrink=0.8, label=label)
     cell = polar_cell_errors(simulation, n12_ss)
@@ -240,7 +278,7 @@ def figure_rotation(simulation: pd.DataFrame, predictions: pd.DataFrame, fits: d
     )
     if mirrored:
         note += " theta < 0 of the simulation filled by symmetry (12 even, 23 odd in theta)."
-    fig.suptitle(note, fontsize=8, wrap=True)
+    fig.suptitle(note, fontsize=10, wrap=True)
     return fig
 
 
@@ -269,7 +307,7 @@ def _band(ax, frame: pd.DataFrame, column: str, color: str, label: str, max_mark
 
 def figure_stress_startup(simulation: pd.DataFrame, relation_predictions: pd.DataFrame, relation: pd.DataFrame):
     """Paper-style Fig. 3 from the startup stress seed aggregate and the relation's predictions."""
-    fig, (ax_eta, ax_normal) = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
+    fig, (ax_eta, ax_normal) = plt.subplots(1, 2, figsize=(8, 6.8), constrained_layout=True)
     sim = simulation.sort_values("strain")
     predicted = relation_predictions[relation_predictions["protocol"] == "startup"]
     labels = dict(zip(relation["source"], relation["label"]))
@@ -293,8 +331,8 @@ def figure_stress_startup(simulation: pd.DataFrame, relation_predictions: pd.Dat
     ax_eta.plot(sim["strain"], solvent, color="0.5", lw=1, label=r"solvent + Einstein $1 + 2.5\phi$")
     ax_eta.set_xlabel(r"strain $\gamma$")
     ax_eta.set_ylabel(r"$\sigma_{12} / \eta_f\dot\gamma$")
-    ax_eta.set_title("(a) relative viscosity and its parts", fontsize=9)
-    ax_eta.legend(fontsize=6)
+    ax_eta.set_title("(a) relative viscosity and its parts", fontsize=10)
+    # one legend under both panels: inside (a) it covered the eta_r points at strain 0.3-1.5
     for column, color, label in (("N1", "C2", "$N_1$"), ("N2", "C4", "$N_2$")):
         _band(ax_normal, sim, column, color, label)
         for source, style in _source_styles(relation["source"]).items():
@@ -303,10 +341,14 @@ def figure_stress_startup(simulation: pd.DataFrame, relation_predictions: pd.Dat
     ax_normal.axhline(0.0, color="0.7", lw=0.5)
     ax_normal.set_xlabel(r"strain $\gamma$")
     ax_normal.set_ylabel(r"$N / \eta_f\dot\gamma$")
-    ax_normal.set_title("(b) normal stress differences (lines: relation, styles as in (a))", fontsize=9)
-    ax_normal.legend(fontsize=7)
-    fits = ", ".join(f"{row.source}: $a_H$ = {row.a_H:.3g}, $a_C$ = {row.a_C:.3g}" for row in relation.itertuples())
-    fig.suptitle(f"Startup shear. Stress relation fitted per fabric source ({fits})", fontsize=8, wrap=True)
+    ax_normal.set_title("(b) normal stress differences\n(lines: relation, styles as in (a))", fontsize=10)
+    handles, labels = [
+        sum(pair, []) for pair in zip(ax_eta.get_legend_handles_labels(), ax_normal.get_legend_handles_labels())
+    ]
+    fig.legend(handles, labels, loc="outside lower center", ncol=2, fontsize=9.5)
+    fits = [f"{row.source}: $a_H$ = {row.a_H:.3g}, $a_C$ = {row.a_C:.3g}" for row in relation.itertuples()]
+    lines = ["; ".join(fits[k : k + 3]) for k in range(0, len(fits), 3)]  # three a line: wrap=True ran off the page
+    fig.suptitle("Startup shear. Stress relation fitted per fabric source:\n" + "\n".join(lines), fontsize=9.5)
     return fig
 
 
@@ -350,13 +392,13 @@ def _viscosity_transient_panels(fig, cell, transients: pd.DataFrame):
     ax_def.axhline(0.0, color="0.6", lw=0.6)
     ax_def.set_ylabel(rf"$\int_0^{{{window:g}}} (1 - \eta_r / \eta_r^{{ss}})\, d\gamma$")
     ax_def.set_title(
-        f"(e) viscosity deficit over {window:g} strain\n(seed mean, {percent} t-interval, {n_seeds} seeds)", fontsize=8
+        f"(e) deficit over {window:g} strain\n(seed mean, {percent} t-interval,\n{n_seeds} seeds)", fontsize=10
     )
     _interval_bars(
         ax_min, theta, transients["minimum"], transients["minimum_low"], transients["minimum_high"], "k", fmt="o-", lw=1
     )
     ax_min.set_ylabel(r"min $\eta_r / \eta_r^{ss}$")
-    ax_min.set_title(f"(f) viscosity minimum\n(seed bootstrap {percent}; description)", fontsize=8)
+    ax_min.set_title(f"(f) viscosity minimum\n(seed bootstrap {percent};\ndescription)", fontsize=10)
     settled = transients["recovery_settled"].astype(bool).to_numpy()
     _interval_bars(
         ax_rec,
@@ -377,17 +419,20 @@ def _viscosity_transient_panels(fig, cell, transients: pd.DataFrame):
             "C3",
             fmt="^",
             mfc="none",
-            label="not within 10% by the end (lower bound)",
+            label="not within 10% by the end\n(lower bound)",
         )
     ax_rec.set_ylabel("recovery strain")
     ax_rec.set_title(
-        f"(g) strain to recover $\\eta_r$ to within 10%\n(seed bootstrap {percent}; description)", fontsize=8
+        f"(g) strain to recover $\\eta_r$\nto within 10% (seed\nbootstrap {percent}; description)", fontsize=10
     )
-    ax_rec.legend(fontsize=6)
+    # room above the bars for the legend, so that it covers none of them
+    low, high = ax_rec.get_ylim()
+    ax_rec.set_ylim(low, high + 0.45 * (high - low))
+    ax_rec.legend(fontsize=10, loc="upper left")
     for ax in (ax_def, ax_min, ax_rec):
-        ax.set_xlabel(r"rotation angle $\theta$ (deg)", fontsize=8)
-        ax.tick_params(labelsize=7)
-        ax.yaxis.label.set_size(8)
+        ax.set_xlabel(r"angle $\theta$ (deg)", fontsize=10)
+        ax.tick_params(labelsize=10)
+        ax.yaxis.label.set_size(10)
         ax.xaxis.set_major_locator(matplotlib.ticker.MultipleLocator(45))
     return ax_def, ax_min, ax_rec
 
@@ -432,17 +477,18 @@ def figure_stress_rotation(
             )
             ax.set_thetamin(-180)
             ax.set_thetamax(180)
-            ax.set_title(f"({'abcd'[2 * r + c]}) {row_name}", fontsize=9)
-            ax.tick_params(labelsize=7)
+            ax.set_title(f"({'abcd'[2 * r + c]}) {row_name}", fontsize=10)
+            ax.tick_params(labelsize=10)
             fig.colorbar(mesh, ax=ax, orientation="horizontal", shrink=0.7, label=label, pad=0.08)
     _viscosity_transient_panels(fig, spec[2, :], transients)
     note = (
-        f"Radius: strain after rotation; angle: rotation angle theta. sigma_12^ss = eta_r^ss = {sigma12_ss:.4g} "
-        "eta_f gammadot (simulated steady state, solvent and Einstein terms included)."
+        # eta_r is dimensionless: the stress is in units of eta_f gammadot, the ratio is not
+        f"Radius: strain after rotation; angle: rotation angle theta. eta_r^ss = sigma_12^ss / (eta_f gammadot) "
+        f"= {sigma12_ss:.4g} (simulated steady state, solvent and Einstein terms included)."
     )
     if mirrored:
         note += " theta < 0 filled by symmetry (12 even, 23 odd in theta)."
-    fig.suptitle(note, fontsize=8, wrap=True)
+    fig.suptitle(note, fontsize=10, wrap=True)
     return fig
 
 
@@ -465,11 +511,11 @@ def figure_claims(statistics: pd.DataFrame, level: float):
     from suspension_fabric.evaluation.claims import CLAIMS  # noqa: PLC0415
 
     ranges = {claim.key: claim.angles for claim in CLAIMS}
-    fig, axes = plt.subplots(2, 2, figsize=(10, 7.2), sharex=True)
+    fig, axes = plt.subplots(2, 2, figsize=(8, 7.8), sharex=True)
     panels = [
         (axes[0, 0], "D12", "C1", r"(a) deficit $D_{12}=\int_0^W (1 - r_{12})\,d\gamma$"),
         (axes[0, 1], "E23", "C2", r"(b) transverse effect $E_{23}=\mathrm{sgn}\,\theta\int_0^W r_{23}\,d\gamma$"),
-        (axes[1, 1], "X12", "C6", r"(d) excess $X_{12}$ in the challenger's overshoot window"),
+        (axes[1, 1], "X12", "C6", "(d) excess $X_{12}$ in the challenger's\novershoot window"),
     ]
     colors = {"reference": "C1", "challenger": "C2"}
     labels = {role: str(statistics[f"{role}_label"].iloc[0]) for role in colors}
@@ -484,7 +530,7 @@ def figure_claims(statistics: pd.DataFrame, level: float):
             ax.plot(mean.index, mean.to_numpy(), "-", color=color, marker="s", ms=3, label=labels[role])
         ax.axvspan(*ranges[claim], color="0.9", zorder=0)
         ax.axhline(0.0, color="0.6", lw=0.6)
-        ax.set_title(title, fontsize=10)
+        ax.set_title(title, fontsize=9.5)
     ax = axes[1, 0]
     for component, color in (("12", "C0"), ("23", "C3")):
         difference = statistics.assign(
@@ -508,12 +554,14 @@ def figure_claims(statistics: pd.DataFrame, level: float):
     ax.axhline(0.0, color="0.6", lw=0.6)
     ax.axvspan(*ranges["C4"], ymin=0.0, ymax=0.06, color="C3", alpha=0.25, zorder=0)  # C4's range, on the axis
     ax.set_title(
-        f"(c) paired MSE, {labels['reference']} $-$ {labels['challenger']} (> 0: {labels['challenger']} closer)",
-        fontsize=9,
+        f"(c) paired MSE, {labels['reference']} $-$ {labels['challenger']}\n(> 0: {labels['challenger']} closer)",
+        fontsize=9.5,
     )
-    for ax in axes.flat:
-        ax.legend(fontsize=7, frameon=False)
+    axes[1, 0].legend(fontsize=9.5, frameon=False, loc="upper left")
     for ax in axes[1]:
         ax.set_xlabel(r"rotation angle $\theta$ (deg)")
-    fig.tight_layout()
+    # (a), (b) and (d) share their entries: one legend under the panels, where it covers no curve
+    handles, labels = axes[0, 0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=9.5, frameon=False)
+    fig.tight_layout(rect=(0, 0.045, 1, 1))
     return fig

@@ -67,10 +67,15 @@ def _draw(table: pd.DataFrame, onsets: pd.DataFrame, level: float):
     rate_axis.set_yscale("log")
     rate_axis.set_xlabel(r"$\dot\gamma / \dot\gamma_0$, $\dot\gamma_0 = F_{CL} / (6\pi\eta_f a^2)$")
     rate_axis.set_ylabel(r"$\sigma / \sigma_0$")
-    rate_axis.legend(fontsize=9, loc="upper left")
+    rate_axis.legend(fontsize=10.5, loc="upper left")
     if onset_lines:  # only the fitted forms: the markers' legend is the first panel's
+        # centre right, empty (f is near 1 at large stress): upper left covered the points at sigma/sigma_0 ~ 1
         axes[1].legend(
-            handles=onset_lines, fontsize=8, loc="upper left", title=r"$f = e^{-\sigma^*/\sigma}$", title_fontsize=8
+            handles=onset_lines,
+            fontsize=10.5,
+            loc="center right",
+            title=r"$f = e^{-\sigma^*/\sigma}$",
+            title_fontsize=10.5,
         )
     axes[1].set_ylim(-0.03, 1.03)
     fig.suptitle(f"Steady shear under critical-load friction (mean over seeds, {level:.0%} t-intervals)", fontsize=11)

@@ -57,21 +57,37 @@ def _per_mu(ax, table: pd.DataFrame, column: str, error):
 def _not_run_note(fig, table: pd.DataFrame) -> None:
     missing = table[~table["point"].isin(_simulated(table)["point"])]
     if len(missing):
-        fig.text(0.01, 0.005, "not run: " + ", ".join(missing["point"]), fontsize=7, color="0.4")
+        fig.text(0.01, 0.005, "not run: " + ", ".join(missing["point"]), fontsize=10, color="0.4")
 
 
-def _row(table: pd.DataFrame, panels, figsize):
-    """A row of panels, (column, error column, label) each, against phi with a line per mu."""
-    fig, axes = plt.subplots(1, len(panels), figsize=figsize, constrained_layout=True)
+#: the docs show a figure at most 868 px wide (figures.DOCS_COLUMN_PX): at most this many panels a
+#: row, each PANEL_WIDTH inches, keeps 10 pt text at 13.7 px or more (digits 10 px tall)
+MAX_COLUMNS = 3
+PANEL_WIDTH = 2.9
+
+
+def _row(table: pd.DataFrame, panels, height: float):
+    """Panels, (column, error column, label) each, against phi with a line per mu; a grid of at most
+    MAX_COLUMNS a row, ``height`` inches each row. Returns the figure and the used axes."""
+    columns = min(len(panels), MAX_COLUMNS if len(panels) != 4 else 2)
+    rows = -(-len(panels) // columns)
+    fig, grid = plt.subplots(
+        rows, columns, figsize=(max(PANEL_WIDTH * columns, 6.5), height * rows), constrained_layout=True, squeeze=False
+    )
+    axes = list(grid.ravel())
+    for ax in axes[len(panels) :]:
+        ax.set_visible(False)
     for ax, (column, error, label) in zip(axes, panels):
         _per_mu(ax, table, column, error)
         ax.set_xlabel(r"$\phi$")
         ax.set_ylabel(label)
-    return fig, axes
+    return fig, axes[: len(panels)]
 
 
 def _finish(table: pd.DataFrame, fig, axes):
-    axes[0].legend(fontsize=8)
+    # one legend for all panels, above them: inside a panel it covers points
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside upper center", ncol=len(labels), fontsize=10)
     _not_run_note(fig, table)
     return fig
 
@@ -88,22 +104,23 @@ def model_panels(table: pd.DataFrame) -> list[tuple[str, str, str]]:
 def figure_map_models(table: pd.DataFrame):
     """The compared models' fitted parameters against phi (jackknife errors over seeds)."""
     panels = model_panels(table)
-    return _finish(table, *_row(table, panels, (3.5 * len(panels), 3.3)))
+    return _finish(table, *_row(table, panels, 3.0))
 
 
 def figure_map_fabric(table: pd.DataFrame):
     """Steady <nn>_11, _22, _33, _12 and Z against phi (standard error over seeds)."""
     panels = [(column, f"{column}_sem", label) for column, label in [*_FABRIC.items(), ("Z", "$Z$")]]
-    return _finish(table, *_row(table, panels, (15, 3.2)))
+    return _finish(table, *_row(table, panels, 3.0))
 
 
 def figure_map_rheology(table: pd.DataFrame):
     """eta_r and Pi against phi (log scale) with the BGP (2011) law for frictional spheres."""
+    # eta_r is a ratio, dimensionless; Pi is a pressure, in units of eta_f gammadot
     panels = [
-        (column, f"{column}_sem", label + r" (units $\eta_f\dot\gamma$)")
-        for column, label in (("eta_r", r"$\eta_r$"), ("Pi", r"$\Pi$"))
+        ("eta_r", "eta_r_sem", r"$\eta_r$"),
+        ("Pi", "Pi_sem", r"$\Pi$ (units $\eta_f\dot\gamma$)"),
     ]
-    fig, axes = _row(table, panels, (9, 3.6))
+    fig, axes = _row(table, panels, 3.6)
     phi = np.linspace(max(0.3, table["phi"].min() - 0.02), min(0.575, table["phi"].max() + 0.02), 200)
     for ax, anchor in zip(axes, bgp_viscosities(phi)):
         ax.plot(phi, anchor, "k--", lw=1, label=r"BGP 2011, $\phi_m$ = 0.585")
@@ -122,7 +139,7 @@ def figure_map_model_errors(table: pd.DataFrame, level: float):
         (f"{claim}_mean", (f"{claim}_low", f"{claim}_high"), f"{claim}: modified better on {label} (> 0)")
         for claim, label in claims.items()
     ]
-    fig, axes = _row(table, panels, (9, 3.4))
+    fig, axes = _row(table, panels, 3.6)
     for ax in axes:
         ax.axhline(0.0, color="0.5", lw=0.8)
         ax.set_title(f"{level:.0%} t-intervals over seeds", fontsize=9)
