@@ -30,7 +30,7 @@ SETTINGS: list[tuple[str | None, str, str]] = [
     (None, r"\bSeed \d+ of\b", "the packing's seed"),
     (
         "Shear thickening: critical-load friction",
-        r"\d+ runs, \d+\b|seeds \d+-\d+ at [\d., ]+|gammadot_0 = 0\.1 \(|windows [\d.-]+ and [\d.-]+",
+        r"\d+ runs, \d+\b|seeds \d+-\d+ at [\d., ]+|gammadot_0 = 0\.1 \(|windows? [\d.-]+(?: and [\d.-]+)?|at 5e9\b",
         "the runs, stresses and strain windows",
     ),
     (None, r"\bon \d+ (?:and on \d+ ranks|rank)|\bmedians of \d+|\bnice \d+", "ranks, rounds, a priority"),
