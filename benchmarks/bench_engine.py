@@ -76,8 +76,8 @@ def checkpoint(n: int) -> Path:
     return ROOT / f"n{n}" / "startup" / RUN_FILES["checkpoint"]
 
 
-def prepare(sizes=SIZES) -> None:
-    for n in sizes:
+def prepare(sizes: tuple[int, ...] | None = None) -> None:
+    for n in sizes or SIZES:  # SIZES read at the call: a test sets it
         packing = ROOT / f"n{n}" / "packing"
         if not is_complete(packing):
             pack(packing, n, phi=0.45, seed=1)
