@@ -157,11 +157,12 @@ def snapshots(path: Path):
         yield strain, np.array(rows, dtype=float).reshape(len(rows), -1)
 
 
-def start_lfdem(binary: Path, folder: Path, out, rate: str = "1h") -> subprocess.Popen:
+def start_lfdem(binary: Path, folder: Path, out, rate: str = "1h", inputs: list[str] | None = None) -> subprocess.Popen:
     """LF_DEM on ``folder``'s conf.dat and shear.txt at shear rate ``rate`` (its ``-r`` argument; 1h:
-    1 in hydrodynamic units), one thread, its output to the open file ``out``."""
+    1 in hydrodynamic units), one thread, its output to the open file ``out``; ``inputs`` replace the
+    configuration and parameter files (a checkpoint restart's ``-n -c <checkpoint> <configuration> shear.txt``)."""
     return subprocess.Popen(
-        [str(binary), "-f", "-r", rate, "conf.dat", "shear.txt"],
+        [str(binary), "-f", "-r", rate, *(inputs or ["conf.dat", "shear.txt"])],
         cwd=folder,
         stdout=out,
         stderr=subprocess.STDOUT,

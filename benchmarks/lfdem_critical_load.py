@@ -42,7 +42,6 @@ from __future__ import annotations
 import argparse
 import os
 import shutil
-import subprocess
 import sys
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
@@ -90,21 +89,21 @@ def lfdem_run(
     if continue_from is None:
         folder.mkdir(parents=True, exist_ok=True)
         write_lfdem_inputs(packing, folder, strain, engine, friction_model=2)
-        process = lambda out: start_lfdem(binary, folder, out, f"{ratio:g}cl")  # noqa: E731
+        inputs = None
     else:
-        process = continuation(binary, continue_from, folder, ratio, strain, dt_max)
+        inputs = continuation(continue_from, folder, strain, dt_max)
     with open(folder / "lfdem.out", "w") as out:
-        code = process(out).wait()
+        code = start_lfdem(binary, folder, out, f"{ratio:g}cl", inputs).wait()
     if code != 0:
         raise RuntimeError(f"{packing} at {ratio:g}cl: LF_DEM failed ({code}); see {folder}/lfdem.out")
     finished.write_text(record + "\n")
     return folder
 
 
-def continuation(binary: Path, source: Path, folder: Path, ratio: float, strain: float, dt_max: float | None):
+def continuation(source: Path, folder: Path, strain: float, dt_max: float | None) -> list[str]:
     """``source``'s finished run copied into ``folder`` with its end moved to ``strain`` (and its step
-    capped at ``dt_max``): a function that starts LF_DEM on it from the checkpoint. LF_DEM appends
-    to the copied output files, so their rows before the checkpoint are the source's."""
+    capped at ``dt_max``); returns LF_DEM's input arguments that restart it from the checkpoint. LF_DEM
+    appends to the copied output files, so their rows before the checkpoint are the source's."""
     if not (source / "finished").exists():
         raise RuntimeError(f"{source}: no finished LF_DEM run to continue")
     if folder.exists():
@@ -118,9 +117,7 @@ def continuation(binary: Path, source: Path, folder: Path, ratio: float, strain:
     (folder / "shear.txt").write_text("\n".join(lines) + "\n")
     checkpoint = next(folder.glob("chk_*.dat")).name
     configuration = "conf_" + checkpoint.removeprefix("chk_")
-    command = [str(binary), "-f", "-r", f"{ratio:g}cl", "-n", "-c", checkpoint, configuration, "shear.txt"]
-    env = {**os.environ, "OMP_NUM_THREADS": "1"}
-    return lambda out: subprocess.Popen(command, cwd=folder, stdout=out, stderr=subprocess.STDOUT, env=env)
+    return ["-n", "-c", checkpoint, configuration, "shear.txt"]
 
 
 def lfdem_observables(folder: Path, window) -> dict[str, float]:
