@@ -2239,22 +2239,29 @@ def critical_load_numbers() -> dict[str, float]:
         "step_soft": 1e5 * critical_load_values(5e7, "0.3-0.5", "LF_DEM", step)[0],
         "k9": critical_load_values(1e9, "0.4-0.6", "LF_DEM", eta)[0],
         "k9_pr": critical_load_values(1e9, "0.4-0.6", "project", eta)[0],
-        # the second named test: LF_DEM continued from its strain-0.5 checkpoint, step capped (T) or its own (C)
-        "cap_T": critical_load_values(5e9, "0.52-0.55", "LF_DEM", eta, "2e-06")[0],
-        "cap_C": critical_load_values(5e9, "0.52-0.55", "LF_DEM", eta)[0],
-        "cap_ratio": (
-            critical_load_values(5e9, "0.52-0.55", "LF_DEM", eta, "2e-06")[0]
-            / critical_load_values(5e9, "0.52-0.55", "LF_DEM", eta)[0]
-        ),
-        "cap_step_C": 1e5 * critical_load_values(5e9, "0.52-0.55", "LF_DEM", step)[0],
-        "cap_step_ratio": (
-            critical_load_values(5e9, "0.52-0.55", "LF_DEM", step)[0]
-            / critical_load_values(5e9, "0.52-0.55", "LF_DEM", step, "2e-06")[0]
-        ),
-        "cap_zf_T": critical_load_values(5e9, "0.52-0.55", "LF_DEM", frictional, "2e-06")[0],
-        "cap_zf_C": critical_load_values(5e9, "0.52-0.55", "LF_DEM", frictional)[0],
-        "cap_pr": critical_load_values(5e9, "0.52-0.55", "project", eta)[0],
-        "cap_pr_zf": critical_load_values(5e9, "0.52-0.55", "project", frictional)[0],
+        **step_cap_numbers(),
+    }
+
+
+def step_cap_numbers() -> dict[str, float]:
+    """The second named test: LF_DEM continued from its strain-0.5 checkpoint at kn = 5e9 with its step
+    capped at 2e-6 strain (T) or its own (C), over strain 0.52-0.55; this project's run from rest beside."""
+    eta, frictional, step = "eta_r - 1 - 2.5 phi", "frictional contacts per particle", "strain per step"
+
+    def value(code: str, quantity: str, cap: str = "own") -> float:
+        return critical_load_values(5e9, "0.52-0.55", code, quantity, cap)[0]
+
+    capped, own = value("LF_DEM", eta, "2e-06"), value("LF_DEM", eta)
+    return {
+        "cap_T": capped,
+        "cap_C": own,
+        "cap_ratio": capped / own,
+        "cap_step_C": 1e5 * value("LF_DEM", step),
+        "cap_step_ratio": value("LF_DEM", step) / value("LF_DEM", step, "2e-06"),
+        "cap_zf_T": value("LF_DEM", frictional, "2e-06"),
+        "cap_zf_C": value("LF_DEM", frictional),
+        "cap_pr": value("project", eta),
+        "cap_pr_zf": value("project", frictional),
     }
 
 
